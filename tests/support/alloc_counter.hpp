@@ -1,0 +1,26 @@
+// Counts heap allocations made by this test process, to show that a piece of
+// lib/ allocates nothing (operator new and, on glibc, malloc itself).
+#ifndef CELLGUARD_TESTS_ALLOC_COUNTER_HPP
+#define CELLGUARD_TESTS_ALLOC_COUNTER_HPP
+
+#include <cstddef>
+
+namespace cellguard::test {
+
+/// Allocations (operator new, malloc, calloc, realloc) since the process started.
+std::size_t allocation_count() noexcept;
+
+/// Counts the allocations made during its lifetime.
+class AllocationScope {
+public:
+    AllocationScope() noexcept : start_(allocation_count()) {}
+    /// Allocations since construction.
+    [[nodiscard]] std::size_t allocations() const noexcept { return allocation_count() - start_; }
+
+private:
+    std::size_t start_;
+};
+
+}  // namespace cellguard::test
+
+#endif

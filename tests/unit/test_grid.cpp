@@ -1,0 +1,54 @@
+// Requirements: grid geometry, index math, world <-> voxel conversion.
+#include <doctest/doctest.h>
+
+#include <limits>
+
+#include "cellguard/grid.hpp"
+#include "contract_capture.hpp"
+
+using namespace cellguard;
+
+TEST_CASE("grid: the paper's grid has 34 x 30 x 30 voxels of 5 cm") {
+    const GridGeometry g = paper_grid_geometry();
+    CHECK(g.voxel_count() == 30600U);
+    CHECK(g.voxel_size() == doctest::Approx(0.05));
+    CHECK(g.max_corner().x() == doctest::Approx(0.85));
+    CHECK(whole_cell_grid_geometry().voxel_count() == 256U * 256U * 128U);
+}
+
+TEST_CASE("grid: linear index and coordinate are inverse, x fastest") {
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 1.0, GridDims{5, 4, 3}).value();
+    CHECK(g.index_of(VoxelCoord{1, 0, 0}) == 1U);
+    CHECK(g.index_of(VoxelCoord{0, 1, 0}) == 5U);
+    CHECK(g.index_of(VoxelCoord{0, 0, 1}) == 20U);
+    for (std::size_t i = 0; i < g.voxel_count(); ++i) {
+        CHECK(g.index_of(g.coord_of(i)) == i);
+    }
+    CHECK(test::violates_contract([&] { (void)g.coord_of(g.voxel_count()); }));
+}
+
+TEST_CASE("grid: world to voxel uses half-open cells and rejects points outside") {
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-1.0, -1.0, 0.0), 0.5, GridDims{4, 4, 2}).value();
+    CHECK(g.world_to_voxel(Eigen::Vector3d(-1.0, -1.0, 0.0)).value() == VoxelCoord{0, 0, 0});
+    CHECK(g.world_to_voxel(Eigen::Vector3d(-0.5, -1.0, 0.0)).value() == VoxelCoord{1, 0, 0});  // on a face: the voxel above
+    CHECK(g.world_to_voxel(Eigen::Vector3d(0.99, 0.99, 0.99)).value() == VoxelCoord{3, 3, 1});
+    CHECK(g.world_to_voxel(Eigen::Vector3d(1.0, 0.0, 0.0)).error() == ErrorCode::kOutOfGrid);  // max face is outside
+    CHECK(g.world_to_voxel(Eigen::Vector3d(0.0, 0.0, -1e-9)).error() == ErrorCode::kOutOfGrid);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    CHECK(g.world_to_voxel(Eigen::Vector3d(nan, 0.0, 0.0)).error() == ErrorCode::kNonFiniteValue);
+    const Eigen::Vector3d c = g.voxel_center(VoxelCoord{1, 2, 1});
+    CHECK(c.x() == doctest::Approx(-0.25));
+    CHECK(c.y() == doctest::Approx(0.25));
+    CHECK(c.z() == doctest::Approx(0.75));
+}
+
+TEST_CASE("grid: invalid geometries are rejected with a clear error") {
+    const Eigen::Vector3d o = Eigen::Vector3d::Zero();
+    CHECK(GridGeometry::make(o, 0.0, GridDims{1, 1, 1}).error() == ErrorCode::kInvalidArgument);
+    CHECK(GridGeometry::make(o, -1.0, GridDims{1, 1, 1}).error() == ErrorCode::kInvalidArgument);
+    CHECK(GridGeometry::make(o, std::numeric_limits<double>::infinity(), GridDims{1, 1, 1}).error() ==
+          ErrorCode::kNonFiniteValue);
+    CHECK(GridGeometry::make(o, 0.1, GridDims{0, 1, 1}).error() == ErrorCode::kInvalidArgument);
+    CHECK(GridGeometry::make(o, 0.1, GridDims{1, kMaxDimension + 1, 1}).error() == ErrorCode::kInvalidArgument);
+    CHECK(GridGeometry::make(o, 0.1, GridDims{4096, 4096, 16}).error() == ErrorCode::kCapacityExceeded);
+}
