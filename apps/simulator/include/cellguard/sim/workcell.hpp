@@ -1,0 +1,79 @@
+/// @file workcell.hpp
+/// A simulated workcell in the paper's arrangement: a 4 m x 4 m x 2 m frame
+/// (x and y in [-2, 2] m, floor at z = 0), one sensor in each upper corner
+/// near the ceiling aimed at the centre, boxes on the floor. Depth images are
+/// ray cast exactly (ideal sensors); noise models come with the evaluation.
+#ifndef CELLGUARD_SIM_WORKCELL_HPP
+#define CELLGUARD_SIM_WORKCELL_HPP
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cellguard/sensor_frame.hpp"
+
+namespace cellguard::sim {
+
+/// A box standing in the cell, rotated about the vertical axis.
+struct Box {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< centre, metres
+    Eigen::Vector3d size = Eigen::Vector3d::Ones();    ///< edge lengths along its own axes, metres
+    double yaw = 0.0;                                  ///< rotation about +z, radians
+    bool background = true;                            ///< part of the static background
+};
+
+/// What the sensors look at: the floor plane z = 0 and boxes.
+struct Scene {
+    std::vector<Box> boxes;  ///< the boxes
+    bool floor = true;       ///< whether the floor plane reflects
+};
+
+/// A depth sensor: where it is, where it looks, its image.
+struct SensorSpec {
+    std::string name;                                   ///< a label for reports
+    Eigen::Vector3d position = Eigen::Vector3d::Zero(); ///< optical centre, workcell frame
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();   ///< point on the optical axis
+    std::int32_t width = 0;                             ///< image columns
+    std::int32_t height = 0;                            ///< image rows
+    double hfov_deg = 0.0;                              ///< horizontal field of view, degrees
+    double vfov_deg = 0.0;                              ///< vertical field of view, degrees
+    float max_range = 10.0F;                            ///< readings beyond are dropped by fusion
+    /// Sensor frame -> workcell frame (x right, y down, z along the optical axis).
+    [[nodiscard]] Eigen::Isometry3d pose() const;
+    /// Pinhole intrinsics matching the fields of view.
+    [[nodiscard]] PinholeIntrinsics intrinsics() const;
+};
+
+/// The paper's four sensors (BENCHMARKING.md's reference frame): two
+/// 176 x 144 flash lidars (43.6 x 34.6 deg) and two 320 x 240 stereo
+/// cameras (60 x 45 deg), one in each upper corner at (+-1.9, +-1.9, 1.9) m,
+/// aimed at the centre of the floor; max range 10 m. Every pixel meets the
+/// floor or a box: 204,288 rays a frame.
+std::vector<SensorSpec> paper_sensors();
+
+/// The reference scene: floor plus two boxes near the centre.
+Scene reference_scene();
+
+/// Ray casts @p scene into a depth image (z along the optical axis, metres;
+/// 0 where nothing is hit within max_range). @p depth gets width * height values.
+void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth);
+
+/// Distance along the ray origin + t * dir (dir unit length) to the first
+/// surface of @p scene, or +infinity.
+double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
+
+/// A rendered frame: depth images of every sensor and the SensorReading
+/// descriptions that point into them (valid while the frame lives).
+struct SimulatedFrame {
+    std::vector<std::vector<float>> depth;  ///< one image per sensor
+    std::vector<SensorReading> readings;    ///< one description per sensor
+};
+
+/// Renders every sensor of @p sensors looking at @p scene.
+SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene);
+
+}  // namespace cellguard::sim
+
+#endif  // CELLGUARD_SIM_WORKCELL_HPP

@@ -1,0 +1,129 @@
+#include "cellguard/sim/workcell.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace cellguard::sim {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+double deg2rad(double d) { return d * kPi / 180.0; }
+
+// Slab test of a ray against a box rotated by yaw about its centre.
+double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    const Eigen::AngleAxisd inv_yaw(-b.yaw, Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d o = inv_yaw * (origin - b.center);
+    const Eigen::Vector3d d = inv_yaw * dir;
+    const Eigen::Vector3d half = 0.5 * b.size;
+    double t0 = 0.0;
+    double t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        if (std::fabs(d[a]) < 1e-15) {
+            if (o[a] < -half[a] || o[a] > half[a]) {
+                return std::numeric_limits<double>::infinity();
+            }
+            continue;
+        }
+        double ta = (-half[a] - o[a]) / d[a];
+        double tb = (half[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::fmax(t0, ta);
+        t1 = std::fmin(t1, tb);
+        if (t0 > t1) {
+            return std::numeric_limits<double>::infinity();
+        }
+    }
+    return t0;
+}
+}  // namespace
+
+Eigen::Isometry3d SensorSpec::pose() const {
+    const Eigen::Vector3d forward = (target - position).normalized();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear().col(0) = right;
+    t.linear().col(1) = down;
+    t.linear().col(2) = forward;
+    t.translation() = position;
+    return t;
+}
+
+PinholeIntrinsics SensorSpec::intrinsics() const {
+    PinholeIntrinsics k;
+    k.width = width;
+    k.height = height;
+    k.fx = 0.5 * width / std::tan(0.5 * deg2rad(hfov_deg));
+    k.fy = 0.5 * height / std::tan(0.5 * deg2rad(vfov_deg));
+    k.cx = 0.5 * (width - 1);
+    k.cy = 0.5 * (height - 1);
+    return k;
+}
+
+std::vector<SensorSpec> paper_sensors() {
+    const Eigen::Vector3d target(0.0, 0.0, 0.0);  // the centre of the floor: every pixel meets the floor within 10 m
+    std::vector<SensorSpec> s(4);
+    const double c = 1.9;
+    const double h = 1.9;
+    s[0] = SensorSpec{"lidar-a", {-c, -c, h}, target, 176, 144, 43.6, 34.6, 10.0F};
+    s[1] = SensorSpec{"lidar-b", {c, c, h}, target, 176, 144, 43.6, 34.6, 10.0F};
+    s[2] = SensorSpec{"stereo-a", {c, -c, h}, target, 320, 240, 60.0, 45.0, 10.0F};
+    s[3] = SensorSpec{"stereo-b", {-c, c, h}, target, 320, 240, 60.0, 45.0, 10.0F};
+    return s;
+}
+
+Scene reference_scene() {
+    Scene s;
+    s.boxes.push_back(Box{{-0.35, 0.2, 0.3}, {0.5, 0.4, 0.6}, 0.0, true});
+    s.boxes.push_back(Box{{0.4, -0.25, 0.2}, {0.4, 0.6, 0.4}, 0.3, true});
+    return s;
+}
+
+double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    double best = std::numeric_limits<double>::infinity();
+    if (scene.floor && dir.z() < 0.0) {
+        best = -origin.z() / dir.z();
+    }
+    for (const Box& b : scene.boxes) {
+        best = std::fmin(best, intersect_box(b, origin, dir));
+    }
+    return best;
+}
+
+void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth) {
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    depth.assign(static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height), 0.0F);
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u) {
+            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+            const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
+            const double t = cast_ray(scene, pose.translation(), dir);
+            const double z = t / ray_cam.norm();  // depth along the optical axis
+            if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
+                depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u)] =
+                    static_cast<float>(z);
+            }
+        }
+    }
+}
+
+SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene) {
+    SimulatedFrame f;
+    f.depth.resize(sensors.size());
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        render_depth(sensors[i], scene, f.depth[i]);
+    }
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        SensorReading r;
+        r.pose = sensors[i].pose();
+        r.kind = SensorDataKind::kDepthImage;
+        r.depth = Span<const float>(f.depth[i].data(), f.depth[i].size());
+        r.intrinsics = sensors[i].intrinsics();
+        r.max_range = sensors[i].max_range;
+        f.readings.push_back(r);
+    }
+    return f;
+}
+
+}  // namespace cellguard::sim
