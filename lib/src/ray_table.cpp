@@ -44,8 +44,9 @@ Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReadin
     const Eigen::Vector3d origin = sensor.pose.translation();
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
         for (std::int32_t u = 0; u < sensor.intrinsics.width; ++u) {
-            total += traverse(rasterization, grid, origin, pixel_ray(sensor, u, v).far_point,
-                              [](const TraversedVoxel& /*voxel*/) {});
+            // The pixel's voxels plus its end marker.
+            total += 1U + traverse(rasterization, grid, origin, pixel_ray(sensor, u, v).far_point,
+                                   [](const TraversedVoxel& /*voxel*/) {});
         }
     }
     return total;
@@ -84,6 +85,10 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
                 }
                 ++n;
             });
+            if (n < storage.steps.size()) {
+                storage.steps[n] = RayStep{kRayEndMarker, std::numeric_limits<float>::infinity()};
+            }
+            ++n;
             if (n > std::numeric_limits<std::uint32_t>::max()) {
                 overflow = true;
             }
@@ -121,6 +126,7 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     std::uint8_t* const obs = grid.observed().data();
     const RayStep* const steps = storage_.steps.data();
     const std::uint32_t* const begin = storage_.pixel_begin.data();
+    CG_ENFORCE(step_count_ <= storage_.steps.size(), "ray table storage changed size");
     const std::int16_t constant = model.constant_free_evidence();
     const std::int16_t peak = model.reading_evidence();
     const auto ramp = static_cast<float>(model.ramp_length());
@@ -150,25 +156,26 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
         }
         ++s.rays_fused;
         const RayStep* step = steps + begin[i];
-        const RayStep* const end = steps + begin[i + 1U];
-        if (step == end || range < storage_.pixel_enter[i]) {
-            continue;  // the ray misses the grid, or the reading lies before it
+        if (range < storage_.pixel_enter[i]) {
+            continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
         }
         const RayStep* const first = step;
+        // Every pixel's steps end with a marker whose t_exit is +inf, so the
+        // loops below need no end check: no finite range passes the marker.
         // The constant part of the profile: voxels left at least one ramp before the reading.
         const float free_until = range - ramp;
-        for (; step != end && step->t_exit <= free_until; ++step) {
+        for (; step->t_exit <= free_until; ++step) {
             lo[step->voxel] = add_finite_saturating(lo[step->voxel], constant);
             obs[step->voxel] = 1U;
         }
         // The ramp: voxels left before the reading.
-        for (; step != end && step->t_exit <= range; ++step) {
+        for (; step->t_exit <= range; ++step) {
             const std::int16_t e = model.free_evidence(static_cast<double>(range - step->t_exit));
             lo[step->voxel] = add_finite_saturating(lo[step->voxel], e);
             obs[step->voxel] = 1U;
         }
         // The voxel holding the reading, if the reading lies inside the grid.
-        if (step != end) {
+        if (step->voxel != kRayEndMarker) {
             lo[step->voxel] = add_finite_saturating(lo[step->voxel], peak);
             obs[step->voxel] = 1U;
             ++step;

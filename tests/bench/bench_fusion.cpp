@@ -3,11 +3,14 @@
 // 256 x 256 x 128 grid, against OctoMap on the same rays in the same run.
 // A program that prints figures, not a test with a time limit.
 //
-// Usage: bench_fusion [frames]   (default 20; medians and max over frames)
+// Usage: bench_fusion [frames] [--no-octomap]
+//   frames: default 20; medians and max over frames.
+//   --no-octomap: skip OctoMap (for callgrind runs, which count instructions).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "cellguard/fusion.hpp"
@@ -226,6 +229,10 @@ void print_run(const char* label, const GridRun& r) {
 
 int main(int argc, char** argv) {
     const int frames = argc > 1 ? std::max(1, std::atoi(argv[1])) : 20;
+    bool with_octomap = true;
+    for (int i = 1; i < argc; ++i) {
+        if (std::string(argv[i]) == "--no-octomap") with_octomap = false;
+    }
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     std::printf("cellguard fusion benchmark: 4 sensors (2 x 176x144, 2 x 320x240), %d frames, one thread, fresh grid per frame\n",
                 frames);
@@ -247,6 +254,7 @@ int main(int argc, char** argv) {
     std::printf("goal: a full frame in the paper's grid within 5 ms on one core: %s (%.2f ms median, best mode)\n",
                 best_paper <= 5.0 ? "met" : "NOT met", best_paper);
 #ifdef CELLGUARD_HAVE_OCTOMAP
+    if (!with_octomap) return 0;
     std::size_t nodes = 0;
     const Timing oct_whole = run_octomap_whole(frame.readings, std::max(3, frames / 4), &nodes);
     const Timing oct_clip = run_octomap_clipped(frame.readings, paper_grid_geometry(), std::max(3, frames / 4));

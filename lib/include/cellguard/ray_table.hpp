@@ -37,6 +37,9 @@ struct RayStep {
     float t_exit;         ///< metres from the sensor origin where the ray leaves the voxel
 };
 
+/// The voxel value of the marker that ends every pixel's steps (t_exit = +inf).
+constexpr std::uint32_t kRayEndMarker = 0xFFFFFFFFU;
+
 /// Caller storage of a ray table: steps for all pixels, and per pixel the
 /// offset of its first step (pixels + 1 entries) and where its ray enters
 /// the grid.
@@ -47,7 +50,8 @@ struct RayTableStorage {
     Span<float> pixel_norm{};             ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
 };
 
-/// Number of RayStep entries the table of this sensor needs in this grid.
+/// Number of RayStep entries the table of this sensor needs in this grid:
+/// every pixel's voxels plus one end marker per pixel.
 /// The sensor description is checked as by validate_sensor_reading (the
 /// depth view itself is not used). Errors: those of validate_sensor_reading.
 [[nodiscard]] Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReading& sensor,

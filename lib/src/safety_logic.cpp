@@ -1,0 +1,97 @@
+#include "cellguard/safety_logic.hpp"
+
+namespace cellguard {
+
+const char* to_string(Fault fault) noexcept {
+    switch (fault) {
+        case Fault::kSensorStale: return "sensor stale";
+        case Fault::kSensorMissing: return "sensor missing";
+        case Fault::kFrameInconsistent: return "frame inconsistent";
+        case Fault::kPriorCheckFailed: return "prior check failed";
+        case Fault::kCycleOverrun: return "cycle overrun";
+        case Fault::kCanError: return "CAN error";
+        case Fault::kInternalCheck: return "internal check failed";
+        case Fault::kClockFault: return "clock fault";
+        case Fault::kZoneEvaluation: return "zone evaluation failed";
+    }
+    return "unknown fault";
+}
+
+SafetyLogic::SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& zones) noexcept
+    : config_(config), zones_(&zones) {
+    CG_ENFORCE(config.fault_recovery_cycles >= 1U, "fault_recovery_cycles must be at least 1");
+    for (std::size_t z = 0U; z < zones.size(); ++z) {
+        const std::uint32_t bit = 1U << z;
+        if (zones.config(z).kind == ZoneKind::kProtective) {
+            protective_mask_ |= bit;
+        } else {
+            warning_mask_ |= bit;
+        }
+    }
+}
+
+SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
+    std::uint32_t detected = in.detected_faults & kAllFaults;
+    if (in.zones == nullptr || in.zones->count != zones_->size()) {
+        detected |= fault_bit(Fault::kZoneEvaluation);
+    }
+    if (have_time_ && in.now_us <= last_now_us_) {
+        detected |= fault_bit(Fault::kClockFault);
+    }
+    // Latch, and count fault-free cycles for the recoverable ones.
+    latched_ |= detected;
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        const std::uint32_t bit = 1U << f;
+        if ((detected & bit) != 0U) {
+            clean_cycles_[f] = 0U;
+        } else if ((latched_ & bit) != 0U && (bit & kNonRecoverableFaults) == 0U) {
+            if (++clean_cycles_[f] >= config_.fault_recovery_cycles) {
+                latched_ &= ~bit;
+                clean_cycles_[f] = 0U;
+            }
+        }
+    }
+    if (!have_time_ || in.now_us > last_now_us_) {
+        last_now_us_ = in.now_us;  // a clock that went back does not move the reference back
+    }
+    have_time_ = true;
+
+    SafetyOutputs out;
+    out.latched_faults = latched_;
+    const bool faulted = latched_ != 0U;
+    std::uint32_t not_clear = 0U;
+    if (faulted || in.zones == nullptr) {
+        out.fault_zone_mask = (zones_->size() >= 32U) ? 0xFFFFFFFFU : ((1U << zones_->size()) - 1U);
+        not_clear = out.fault_zone_mask;
+    } else {
+        out.intruded_mask = in.zones->intruded_mask;
+        out.unseen_mask = in.zones->unseen_mask;
+        not_clear = in.zones->not_clear_mask;
+    }
+    out.warning = (not_clear & warning_mask_) != 0U;
+    const bool protective_clear = !faulted && (not_clear & protective_mask_) == 0U;
+
+    const bool reset_edge = in.reset_input && !last_reset_;
+    last_reset_ = in.reset_input;
+    if (!protective_clear) {
+        clear_running_ = false;
+        out.stop_requested = true;
+        out.interlock_holding = false;
+    } else if (!out_.stop_requested) {
+        out.stop_requested = false;  // already running and still clear
+        out.interlock_holding = false;
+    } else {
+        if (!clear_running_) {
+            clear_running_ = true;
+            clear_since_us_ = in.now_us;
+        }
+        const bool delay_over = in.now_us - clear_since_us_ >= config_.restart_delay_us;
+        const bool released = delay_over && (!config_.reset_required || reset_edge);
+        out.stop_requested = !released;
+        out.interlock_holding = !released;
+    }
+    out_ = out;
+    return out;
+}
+
+}  // namespace cellguard

@@ -1,0 +1,178 @@
+// Requirements: protective stop, warning, restart interlock, fault latching
+// and recovery, clock monitoring.
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include "cellguard/safety_logic.hpp"
+
+using namespace cellguard;
+
+namespace {
+struct Cell {
+    GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{4, 4, 4}).value();
+    std::vector<std::uint32_t> mask = std::vector<std::uint32_t>(64);
+    CompiledZones zones;
+    ZoneEvaluation eval;
+    std::uint64_t now = 1000U;
+    Cell() {
+        ZoneConfig protective;
+        protective.box_max = Eigen::Vector3d(0.2, 0.2, 0.2);
+        ZoneConfig warning = protective;
+        warning.kind = ZoneKind::kWarning;
+        warning.box_max = Eigen::Vector3d(0.4, 0.4, 0.4);
+        const ZoneConfig zs[] = {protective, warning};
+        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+        set(ZoneState::kClear, ZoneState::kClear);
+    }
+    void set(ZoneState protective, ZoneState warning) {
+        eval = ZoneEvaluation{};
+        eval.count = 2U;
+        eval.zones[0].state = protective;
+        eval.zones[1].state = warning;
+        for (std::uint32_t z = 0; z < 2U; ++z) {
+            const ZoneState s = eval.zones[z].state;
+            if (s == ZoneState::kIntruded) eval.intruded_mask |= 1U << z;
+            if (s == ZoneState::kUnseen) eval.unseen_mask |= 1U << z;
+            if (s != ZoneState::kClear) eval.not_clear_mask |= 1U << z;
+        }
+    }
+    SafetyOutputs step(SafetyLogic& logic, std::uint32_t faults = 0U, bool reset = false, std::uint64_t dt = 10000U) {
+        now += dt;
+        SafetyInputs in;
+        in.now_us = now;
+        in.zones = &eval;
+        in.detected_faults = faults;
+        in.reset_input = reset;
+        return logic.step(in);
+    }
+};
+SafetyLogicConfig config(std::uint64_t delay_us, bool reset) {
+    SafetyLogicConfig c;
+    c.restart_delay_us = delay_us;
+    c.reset_required = reset;
+    c.fault_recovery_cycles = 3U;
+    return c;
+}
+}  // namespace
+
+TEST_CASE("safety logic: the stop is requested at start-up until the restart interlock releases it") {
+    Cell c;
+    SafetyLogic logic(config(50000U, false), c.zones);
+    CHECK(logic.outputs().stop_requested);
+    CHECK(c.step(logic).stop_requested);  // t = 0 of the clear period
+    for (int i = 0; i < 4; ++i) CHECK(c.step(logic).stop_requested);  // 40 ms < 50 ms
+    CHECK_FALSE(c.step(logic).stop_requested);                          // 50 ms
+}
+
+TEST_CASE("safety logic: an intrusion of a protective zone requests a stop in the same cycle") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    CHECK_FALSE(c.step(logic).stop_requested);
+    c.set(ZoneState::kIntruded, ZoneState::kClear);
+    const SafetyOutputs o = c.step(logic);
+    CHECK(o.stop_requested);
+    CHECK(o.intruded_mask == 1U);
+    c.set(ZoneState::kUnseen, ZoneState::kClear);  // unseen is not clear either
+    CHECK(c.step(logic).stop_requested);
+}
+
+TEST_CASE("safety logic: a warning zone raises a warning but no stop") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    (void)c.step(logic);
+    c.set(ZoneState::kClear, ZoneState::kIntruded);
+    const SafetyOutputs o = c.step(logic);
+    CHECK(o.warning);
+    CHECK_FALSE(o.stop_requested);
+    c.set(ZoneState::kClear, ZoneState::kClear);
+    CHECK_FALSE(c.step(logic).warning);  // no interlock on warnings
+}
+
+TEST_CASE("safety logic: the restart interlock keeps the stop for its full time, restarting on any interruption") {
+    Cell c;
+    SafetyLogic logic(config(100000U, false), c.zones);  // 100 ms
+    c.set(ZoneState::kIntruded, ZoneState::kClear);
+    (void)c.step(logic);
+    c.set(ZoneState::kClear, ZoneState::kClear);
+    for (int i = 0; i < 5; ++i) CHECK(c.step(logic).stop_requested);  // 0..40 ms clear
+    c.set(ZoneState::kIntruded, ZoneState::kClear);                      // interrupted
+    CHECK(c.step(logic).stop_requested);
+    c.set(ZoneState::kClear, ZoneState::kClear);
+    int cycles = 0;
+    while (c.step(logic).stop_requested) {
+        ++cycles;
+        REQUIRE(cycles < 100);
+    }
+    CHECK(cycles == 10);  // the full 100 ms again, counted from the interruption's end
+}
+
+TEST_CASE("safety logic: with reset required, only a rising edge after the delay releases the stop") {
+    Cell c;
+    SafetyLogic logic(config(20000U, true), c.zones);
+    CHECK(c.step(logic, 0U, true).stop_requested);   // reset held high before the delay: no edge later
+    CHECK(c.step(logic, 0U, true).stop_requested);
+    CHECK(c.step(logic, 0U, true).stop_requested);   // delay over, but the input never rose
+    CHECK(c.step(logic, 0U, false).stop_requested);
+    CHECK_FALSE(c.step(logic, 0U, true).stop_requested);  // rising edge after the delay
+}
+
+TEST_CASE("safety logic: a recoverable fault latches the safe state and clears after fault-free cycles") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    CHECK_FALSE(c.step(logic).stop_requested);
+    SafetyOutputs o = c.step(logic, fault_bit(Fault::kSensorStale));
+    CHECK(o.stop_requested);
+    CHECK(o.latched_faults == fault_bit(Fault::kSensorStale));
+    CHECK(o.fault_zone_mask == 0b11U);
+    CHECK(o.warning);  // warning zones are FAULT too
+    CHECK(c.step(logic).stop_requested);  // 1 clean cycle
+    CHECK(c.step(logic).stop_requested);  // 2
+    o = c.step(logic);                    // 3: cleared, then the interlock (0 delay) releases
+    CHECK(o.latched_faults == 0U);
+    CHECK_FALSE(o.stop_requested);
+}
+
+TEST_CASE("safety logic: a fault detected again restarts its recovery count") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    (void)c.step(logic, fault_bit(Fault::kCanError));
+    (void)c.step(logic);
+    (void)c.step(logic);
+    CHECK(c.step(logic, fault_bit(Fault::kCanError)).stop_requested);
+    CHECK(c.step(logic).stop_requested);
+    CHECK(c.step(logic).stop_requested);
+    CHECK_FALSE(c.step(logic).stop_requested);
+}
+
+TEST_CASE("safety logic: non-recoverable faults stay latched") {
+    for (const Fault f : {Fault::kPriorCheckFailed, Fault::kInternalCheck}) {
+        Cell c;
+        SafetyLogic logic(config(0U, false), c.zones);
+        (void)c.step(logic, fault_bit(f));
+        for (int i = 0; i < 50; ++i) {
+            const SafetyOutputs o = c.step(logic, 0U, true);
+            CHECK(o.stop_requested);
+            CHECK((o.latched_faults & fault_bit(f)) != 0U);
+        }
+    }
+}
+
+TEST_CASE("safety logic: a clock that does not advance latches a clock fault") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    CHECK_FALSE(c.step(logic).stop_requested);
+    const SafetyOutputs o = c.step(logic, 0U, false, 0U);  // same time again
+    CHECK(o.stop_requested);
+    CHECK((o.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
+}
+
+TEST_CASE("safety logic: missing zone results are a fault") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    SafetyInputs in;
+    in.now_us = 5U;
+    const SafetyOutputs o = logic.step(in);
+    CHECK(o.stop_requested);
+    CHECK((o.latched_faults & fault_bit(Fault::kZoneEvaluation)) != 0U);
+}

@@ -1,0 +1,113 @@
+// Requirements: background subtraction and zone states (CLEAR, INTRUDED, UNSEEN).
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include "cellguard/zone_evaluation.hpp"
+
+using namespace cellguard;
+
+namespace {
+struct Fixture {
+    GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{10, 10, 10}).value();
+    std::vector<std::int16_t> lo = std::vector<std::int16_t>(1000, 0);
+    std::vector<std::uint8_t> ob = std::vector<std::uint8_t>(1000, 1);  // all observed
+    std::vector<std::int16_t> prior = std::vector<std::int16_t>(1000, 0);  // P(fore) = 0.5 everywhere
+    std::vector<std::uint32_t> mask = std::vector<std::uint32_t>(1000);
+    EvidenceGrid frame;
+    CompiledZones zones;
+    Fixture() {
+        frame = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
+        ZoneConfig protective;
+        protective.box_min = Eigen::Vector3d(0.0, 0.0, 0.0);
+        protective.box_max = Eigen::Vector3d(0.5, 0.5, 0.5);
+        protective.max_unseen_voxels = 3U;
+        ZoneConfig warning = protective;
+        warning.kind = ZoneKind::kWarning;
+        warning.box_max = Eigen::Vector3d(1.0, 1.0, 1.0);
+        const ZoneConfig zs[] = {protective, warning};
+        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+    }
+    std::size_t at(int x, int y, int z) const { return g.index_of(VoxelCoord{x, y, z}); }
+    ZoneEvaluation run() {
+        ZoneEvaluation e;
+        REQUIRE(evaluate_zones(frame, {prior.data(), prior.size()}, zones, ZoneEvaluationParams{}, e).ok());
+        return e;
+    }
+};
+}  // namespace
+
+TEST_CASE("zone evaluation: the default thresholds are t_f = 0.73 and P(fore) >= 0.05") {
+    const ZoneEvaluationParams p;
+    CHECK(p.foreground_threshold == threshold_log_odds(0.73));
+    CHECK(p.accessible_min_prior == log_odds_from_probability(0.05));
+}
+
+TEST_CASE("zone evaluation: an empty, fully observed cell leaves every zone CLEAR") {
+    Fixture f;
+    const ZoneEvaluation e = f.run();
+    CHECK(e.count == 2U);
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    CHECK(e.zones[1].state == ZoneState::kClear);
+    CHECK(e.not_clear_mask == 0U);
+}
+
+TEST_CASE("zone evaluation: one foreground voxel intrudes every zone that holds it") {
+    Fixture f;
+    f.lo[f.at(2, 2, 2)] = 400;  // above t_f after adding the prior 0
+    const ZoneEvaluation e = f.run();
+    CHECK(e.zones[0].state == ZoneState::kIntruded);
+    CHECK(e.zones[0].foreground == 1U);
+    CHECK(e.zones[1].state == ZoneState::kIntruded);
+    CHECK(e.intruded_mask == 0b11U);
+}
+
+TEST_CASE("zone evaluation: the prior removes background: a never-foreground voxel cannot intrude") {
+    Fixture f;
+    f.lo[f.at(2, 2, 2)] = kLogOddsMax;
+    f.prior[f.at(2, 2, 2)] = kNeverForeground;
+    f.lo[f.at(3, 3, 3)] = 400;
+    f.prior[f.at(3, 3, 3)] = -300;  // P(fore) low: 400 - 300 stays below t_f
+    const ZoneEvaluation e = f.run();
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    std::vector<std::int16_t> sub(1000);
+    ZoneEvaluation e2;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e2, {sub.data(), 1000U}).ok());
+    CHECK(sub[f.at(2, 2, 2)] == kNeverForeground);
+    CHECK(sub[f.at(3, 3, 3)] == 100);
+}
+
+TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowance makes it UNSEEN") {
+    Fixture f;
+    for (int i = 0; i < 3; ++i) f.ob[f.at(i, 0, 0)] = 0U;
+    CHECK(f.run().zones[0].state == ZoneState::kClear);  // 3 unseen: within the allowance
+    f.ob[f.at(3, 0, 0)] = 0U;
+    ZoneEvaluation e = f.run();
+    CHECK(e.zones[0].state == ZoneState::kUnseen);
+    CHECK(e.zones[0].unseen == 4U);
+    CHECK(e.zones[1].state == ZoneState::kUnseen);  // the warning zone allows none
+    // Unobserved but inaccessible (inside background objects) does not count.
+    for (int i = 0; i < 4; ++i) f.prior[f.at(i, 0, 0)] = kNeverForeground;
+    e = f.run();
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    CHECK(e.zones[1].state == ZoneState::kClear);
+}
+
+TEST_CASE("zone evaluation: INTRUDED outranks UNSEEN") {
+    Fixture f;
+    for (int i = 0; i < 8; ++i) f.ob[f.at(i % 5, 1, 1)] = 0U;
+    f.lo[f.at(4, 4, 4)] = 1000;
+    CHECK(f.run().zones[0].state == ZoneState::kIntruded);
+}
+
+TEST_CASE("zone evaluation: zones of another grid or a short prior are refused") {
+    Fixture f;
+    ZoneEvaluation e;
+    CHECK(evaluate_zones(f.frame, {f.prior.data(), 999U}, f.zones, ZoneEvaluationParams{}, e).error() ==
+          ErrorCode::kStorageTooSmall);
+    Fixture other;
+    other.g = GridGeometry::make(Eigen::Vector3d::Ones(), 0.1, GridDims{10, 10, 10}).value();
+    other.frame = EvidenceGrid::make(other.g, {other.lo.data(), 1000U}, {other.ob.data(), 1000U}).value();
+    CHECK(evaluate_zones(other.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
+          ErrorCode::kGeometryMismatch);
+}

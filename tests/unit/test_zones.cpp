@@ -1,0 +1,100 @@
+// Requirements: zone configuration checks and compilation into voxel sets.
+#include <doctest/doctest.h>
+
+#include <limits>
+#include <vector>
+
+#include "cellguard/zones.hpp"
+
+using namespace cellguard;
+
+namespace {
+GridGeometry grid10() {  // 10 x 10 x 10 voxels of 0.1 m from the origin
+    return GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{10, 10, 10}).value();
+}
+ZoneConfig box(double x0, double y0, double z0, double x1, double y1, double z1) {
+    ZoneConfig z;
+    z.shape = ZoneShape::kBox;
+    z.box_min = Eigen::Vector3d(x0, y0, z0);
+    z.box_max = Eigen::Vector3d(x1, y1, z1);
+    return z;
+}
+ZoneConfig prism(std::initializer_list<PolygonVertex> pts, double z0, double z1) {
+    ZoneConfig z;
+    z.shape = ZoneShape::kPrism;
+    for (const auto& p : pts) z.polygon[z.polygon_size++] = p;
+    z.z_min = z0;
+    z.z_max = z1;
+    return z;
+}
+}  // namespace
+
+TEST_CASE("zones: a box holds exactly the voxels whose centres it contains") {
+    std::vector<std::uint32_t> mask(1000);
+    const ZoneConfig zs[] = {box(0.0, 0.0, 0.0, 0.3, 0.2, 0.1)};
+    ZoneError err;
+    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err).value();
+    CHECK(c.size() == 1U);
+    CHECK(c.voxel_count(0) == 3U * 2U * 1U);
+    CHECK(mask[0] == 1U);
+    CHECK(mask[3] == 0U);  // x = 3: centre 0.35 outside
+    CHECK(c.total_memberships() == 6U);
+}
+
+TEST_CASE("zones: a prism over a convex polygon is compiled in either winding, one bit per zone") {
+    std::vector<std::uint32_t> mask(1000);
+    const ZoneConfig zs[] = {
+        prism({{0.0, 0.0}, {0.99, 0.0}, {0.0, 0.99}}, 0.0, 0.5),  // counter-clockwise triangle
+        prism({{0.0, 0.0}, {0.0, 0.99}, {0.99, 0.0}}, 0.0, 0.5),  // the same, clockwise
+        box(0.5, 0.5, 0.5, 1.0, 1.0, 1.0),
+    };
+    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, nullptr).value();
+    CHECK(c.voxel_count(0) == c.voxel_count(1));
+    // centres (x+0.5)/10 + (y+0.5)/10 <= 0.99: x + y <= 8 gives 45 columns (no centre on the edge), 5 layers.
+    CHECK(c.voxel_count(0) == 45U * 5U);
+    CHECK(c.voxel_count(2) == 125U);
+    const std::size_t corner = grid10().index_of(VoxelCoord{0, 0, 0});
+    CHECK(mask[corner] == 0b011U);
+    const std::size_t top = grid10().index_of(VoxelCoord{9, 9, 9});
+    CHECK(mask[top] == 0b100U);
+}
+
+TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason") {
+    std::vector<std::uint32_t> mask(1000);
+    const auto rejected = [&](const ZoneConfig& bad, ErrorCode code) {
+        const ZoneConfig zs[] = {box(0, 0, 0, 0.5, 0.5, 0.5), bad};
+        ZoneError err;
+        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err);
+        CHECK(r.error() == code);
+        CHECK(err.zone == 1U);
+        CHECK(err.reason[0] != '\0');
+        return !r.ok();
+    };
+    CHECK(rejected(box(0, 0, 0, 0.5, 0.5, 1.5), ErrorCode::kOutOfGrid));
+    CHECK(rejected(box(0.5, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kInvalidArgument));  // empty
+    CHECK(rejected(box(0.6, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kInvalidArgument));  // inverted
+    CHECK(rejected(box(0, 0, std::numeric_limits<double>::quiet_NaN(), 0.5, 0.5, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(rejected(box(0.01, 0.01, 0.01, 0.02, 0.02, 0.02), ErrorCode::kInvalidArgument));  // holds no voxel centre
+    CHECK(rejected(prism({{0, 0}, {1, 0}}, 0, 0.5), ErrorCode::kInvalidArgument));             // too few vertices
+    CHECK(rejected(prism({{0, 0}, {0.5, 0}, {1, 0}}, 0, 0.5), ErrorCode::kInvalidArgument));  // collinear
+    CHECK(rejected(prism({{0, 0}, {1, 0}, {0.2, 0.2}, {0, 1}}, 0, 0.5), ErrorCode::kInvalidArgument));  // not convex
+    CHECK(rejected(prism({{0, 0}, {1, 0}, {0, 1}}, 0.5, 0.5), ErrorCode::kInvalidArgument));  // no height
+    CHECK(rejected(prism({{0, 0}, {1.5, 0}, {0, 1}}, 0, 0.5), ErrorCode::kOutOfGrid));
+    // A pentagram turns the same way at every vertex but is not convex.
+    CHECK(rejected(prism({{0.5, 1.0}, {0.2, 0.0}, {1.0, 0.65}, {0.0, 0.65}, {0.8, 0.0}}, 0, 0.5),
+                   ErrorCode::kInvalidArgument));
+    ZoneConfig zero_threshold = box(0, 0, 0, 0.5, 0.5, 0.5);
+    zero_threshold.min_foreground_voxels = 0U;
+    CHECK(rejected(zero_threshold, ErrorCode::kInvalidArgument));
+}
+
+TEST_CASE("zones: more than 32 zones or too little storage is refused") {
+    std::vector<std::uint32_t> mask(1000);
+    std::vector<ZoneConfig> many(kMaxZones + 1U, box(0, 0, 0, 0.5, 0.5, 0.5));
+    ZoneError err;
+    CHECK(CompiledZones::compile(grid10(), {many.data(), many.size()}, {mask.data(), mask.size()}, &err).error() ==
+          ErrorCode::kCapacityExceeded);
+    CHECK(CompiledZones::compile(grid10(), {many.data(), kMaxZones}, {mask.data(), mask.size()}, &err).ok());
+    CHECK(CompiledZones::compile(grid10(), {many.data(), 1U}, {mask.data(), 999U}, &err).error() ==
+          ErrorCode::kStorageTooSmall);
+}
