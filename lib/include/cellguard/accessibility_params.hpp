@@ -30,7 +30,9 @@ enum GridFace : std::uint8_t {
 };
 
 /// The paper's A_0: the four side faces open, floor and ceiling closed.
-constexpr std::uint8_t kPaperOpenFaces = kFaceMinX | kFaceMaxX | kFaceMinY | kFaceMaxY;
+constexpr std::uint8_t kPaperOpenFaces = static_cast<std::uint8_t>(
+    static_cast<unsigned>(kFaceMinX) | static_cast<unsigned>(kFaceMaxX) | static_cast<unsigned>(kFaceMinY) |
+    static_cast<unsigned>(kFaceMaxY));
 /// Mask of all six face bits; other bits are invalid.
 constexpr std::uint8_t kAllFaces = 0x3FU;
 

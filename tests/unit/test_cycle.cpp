@@ -1,0 +1,74 @@
+// Requirements: cycle stage timing, deadline monitor, worst-case work bound.
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include "cellguard/cycle.hpp"
+#include "cellguard/ray_traversal.hpp"
+#include "contract_capture.hpp"
+
+using namespace cellguard;
+
+TEST_CASE("cycle: stage durations add up and the worst case is kept") {
+    CycleMonitor m(5000U);
+    m.begin(100U);
+    m.end_stage(CycleStage::kFuse, 1100U);
+    m.end_stage(CycleStage::kSubtractAndZones, 1300U);
+    m.end_stage(CycleStage::kLogic, 1310U);
+    m.end_stage(CycleStage::kOutput, 1400U);
+    CHECK_FALSE(m.end(1400U));
+    CHECK(m.last().stage_us[0] == 1000U);
+    CHECK(m.last().stage_us[1] == 200U);
+    CHECK(m.last().total_us == 1300U);
+    m.begin(2000U);
+    m.end_stage(CycleStage::kFuse, 2500U);
+    m.end_stage(CycleStage::kSubtractAndZones, 2600U);
+    m.end_stage(CycleStage::kLogic, 2601U);
+    m.end_stage(CycleStage::kOutput, 2602U);
+    CHECK_FALSE(m.end(2602U));
+    CHECK(m.worst().stage_us[0] == 1000U);
+    CHECK(m.worst().total_us == 1300U);
+    CHECK(m.cycles() == 2U);
+}
+
+TEST_CASE("cycle: a cycle over its budget is reported as an overrun") {
+    CycleMonitor m(5000U);
+    m.begin(0U);
+    CHECK_FALSE(m.end(5000U));  // exactly the budget is allowed
+    m.begin(10000U);
+    CHECK(m.end(15001U));
+    CHECK(m.overruns() == 1U);
+}
+
+TEST_CASE("cycle: a clock that runs backwards within a cycle counts as an overrun") {
+    CycleMonitor m(5000U);
+    m.begin(1000U);
+    m.end_stage(CycleStage::kFuse, 900U);
+    CHECK(m.end(1200U));
+}
+
+TEST_CASE("cycle: stages out of order are a contract violation") {
+    CycleMonitor m(5000U);
+    m.begin(0U);
+    CHECK(test::violates_contract([&] { m.end_stage(CycleStage::kLogic, 10U); }));
+}
+
+TEST_CASE("cycle: the work bound follows from sensors, grid and zones") {
+    const GridGeometry g = paper_grid_geometry();
+    std::vector<std::uint32_t> mask(g.voxel_count());
+    ZoneConfig z;
+    z.box_min = Eigen::Vector3d(-0.5, -0.5, 0.0);
+    z.box_max = Eigen::Vector3d(0.5, 0.5, 1.0);
+    const ZoneConfig zs[] = {z, z};
+    const CompiledZones zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+    SensorReading cam;
+    cam.kind = SensorDataKind::kDepthImage;
+    cam.intrinsics.width = 320;
+    cam.intrinsics.height = 240;
+    const SensorReading sensors[] = {cam, cam};
+    const CycleWorkBound b = compute_work_bound(g, sensors, zones);
+    CHECK(b.rays == 2U * 320U * 240U);
+    CHECK(b.voxel_steps == b.rays * (34U + 30U + 30U - 2U));
+    CHECK(b.grid_voxels == 2U * 30600U);
+    CHECK(b.zone_updates == 2U * zones.voxel_count(0));
+}
