@@ -1,0 +1,141 @@
+/// @file safety_controller.hpp
+/// The cycle executive: one call per period runs the fixed stages
+/// fuse -> subtract and zones -> safety logic -> output, measures each,
+/// checks the deadline, and turns every fault it can detect into the safe
+/// state through the safety logic.
+///
+/// Faults detected, and when:
+/// - a configured sensor without a frame (kSensorMissing), a frame older
+///   than max_frame_age_us or stamped in the future (kSensorStale), a frame
+///   whose description fails its checks (kFrameInconsistent): this cycle;
+/// - the prior in RAM no longer matching its CRC (kPriorCheckFailed): at the
+///   end of the pass of the periodic check that reads the changed byte
+///   (prior_check_slice_bytes per cycle); a prior or zones that do not
+///   match the grid: at construction, latched for good;
+/// - zone evaluation failing (kZoneEvaluation): this cycle;
+/// - the output failing (kCanError) and the cycle overrunning its budget
+///   (kCycleOverrun): reported in the next cycle, since the current one has
+///   already been sent.
+/// The controller allocates nothing; its work per cycle is bounded by
+/// compute_work_bound (cycle.hpp).
+#ifndef CELLGUARD_SAFETY_CONTROLLER_HPP
+#define CELLGUARD_SAFETY_CONTROLLER_HPP
+
+#include <cstdint>
+
+#include "cellguard/cycle.hpp"
+#include "cellguard/fusion.hpp"
+#include "cellguard/ray_table.hpp"
+#include "cellguard/safety_logic.hpp"
+#include "cellguard/zone_evaluation.hpp"
+
+namespace cellguard {
+
+/// A monotonic clock in microseconds, provided by the port.
+class MonotonicClock {
+public:
+    /// Microseconds since an arbitrary fixed start; never decreases on a healthy clock.
+    virtual std::uint64_t now_us() noexcept = 0;
+
+protected:
+    MonotonicClock() = default;
+    ~MonotonicClock() = default;
+    MonotonicClock(const MonotonicClock&) = default;
+    MonotonicClock& operator=(const MonotonicClock&) = default;
+    MonotonicClock(MonotonicClock&&) = default;
+    MonotonicClock& operator=(MonotonicClock&&) = default;
+};
+
+/// One sensor's input to a cycle.
+struct SensorInput {
+    SensorReading reading{};         ///< what the sensor delivered
+    std::uint64_t captured_us = 0U;  ///< when it was captured, on the controller's clock
+    bool present = false;            ///< false: no frame arrived for this cycle
+    const RayTable* table = nullptr; ///< optional precomputed rays of this (static) depth sensor
+};
+
+/// Configuration of the cycle executive.
+struct ControllerConfig {
+    SafetyLogicConfig logic{};                 ///< safety logic and restart interlock
+    ZoneEvaluationParams zones{};              ///< t_f and the accessibility threshold for unseen
+    std::size_t sensor_count = 0U;             ///< sensors configured (1..kMaxSensors)
+    std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
+    std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
+    std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
+    Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
+};
+
+/// Everything one cycle produced.
+struct CycleReport {
+    std::uint64_t cycle = 0U;          ///< cycle number, from 1
+    std::uint64_t started_us = 0U;     ///< clock at the cycle's start
+    SafetyOutputs safety{};            ///< stop, warning, latched faults, zone bits
+    ZoneEvaluation zones{};            ///< per-zone counts and states (before fault override)
+    FusionStats fusion{};              ///< fusion counts of all sensors
+    std::uint32_t detected_faults = 0U;///< faults detected in this cycle
+    CycleTiming timing{};              ///< the previous cycle's stage timing (this one is still running when published)
+    CycleTiming worst{};               ///< the worst stage timing so far
+};
+
+/// Where a cycle's result goes (the CAN port, a log, a test).
+class CycleOutput {
+public:
+    /// Sends @p report; returns false when sending failed (a CAN error).
+    virtual bool publish(const CycleReport& report) noexcept = 0;
+
+protected:
+    CycleOutput() = default;
+    ~CycleOutput() = default;
+    CycleOutput(const CycleOutput&) = default;
+    CycleOutput& operator=(const CycleOutput&) = default;
+    CycleOutput(CycleOutput&&) = default;
+    CycleOutput& operator=(CycleOutput&&) = default;
+};
+
+/// The cycle executive. All references must outlive it.
+class SafetyController {
+public:
+    /// Binds the parts. A prior that does not hold one value per voxel, or
+    /// zones compiled for another grid, latch kPriorCheckFailed or
+    /// kInternalCheck: the controller then stays in the safe state. The
+    /// prior's bytes are CRC'd now; the periodic check compares against it.
+    SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<const std::int16_t> prior,
+                     const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
+                     CycleOutput* output) noexcept;
+
+    /// Runs one cycle on @p sensors (exactly config.sensor_count entries,
+    /// else kSensorMissing) with the reset input's level @p reset_input.
+    const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept;
+
+    /// The last cycle's report.
+    [[nodiscard]] const CycleReport& report() const noexcept { return report_; }
+    /// The deadline monitor.
+    [[nodiscard]] const CycleMonitor& monitor() const noexcept { return monitor_; }
+    /// CRC-32 of the prior's bytes taken at construction.
+    [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_crc_; }
+
+private:
+    std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
+    bool step_prior_check() noexcept;
+
+    ControllerConfig config_;
+    EvidenceGrid* grid_;
+    Span<const std::int16_t> prior_;
+    const CompiledZones* zones_;
+    const SensorModelTable* model_;
+    MonotonicClock* clock_;
+    CycleOutput* output_;
+    SafetyLogic logic_;
+    CycleMonitor monitor_;
+    CycleReport report_{};
+    std::uint32_t pending_faults_ = 0U;
+    std::uint32_t construction_faults_ = 0U;
+    std::uint32_t prior_crc_ = 0U;
+    std::uint32_t prior_check_state_ = 0U;
+    std::size_t prior_check_offset_ = 0U;
+    bool prior_failed_ = false;
+};
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_SAFETY_CONTROLLER_HPP

@@ -1,0 +1,130 @@
+#include "cellguard/safety_controller.hpp"
+
+#include "cellguard/crc32.hpp"
+
+namespace cellguard {
+
+namespace {
+
+Span<const std::uint8_t> bytes_of(Span<const std::int16_t> values) noexcept {
+    // Reading an object's bytes through unsigned char is always allowed.
+    return Span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
+                                    values.size() * sizeof(std::int16_t));
+}
+
+}  // namespace
+
+SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
+                                   Span<const std::int16_t> prior, const CompiledZones& zones,
+                                   const SensorModelTable& model, MonotonicClock& clock, CycleOutput* output) noexcept
+    : config_(config),
+      grid_(&frame_grid),
+      prior_(prior),
+      zones_(&zones),
+      model_(&model),
+      clock_(&clock),
+      output_(output),
+      logic_(config.logic, zones),
+      monitor_(config.cycle_budget_us) {
+    CG_ENFORCE(config.prior_check_slice_bytes > 0U, "prior_check_slice_bytes must be positive");
+    if (prior.size() != frame_grid.voxel_count()) {
+        construction_faults_ |= fault_bit(Fault::kPriorCheckFailed);
+    }
+    if (!(zones.geometry() == frame_grid.geometry()) || config.sensor_count == 0U ||
+        config.sensor_count > kMaxSensors) {
+        construction_faults_ |= fault_bit(Fault::kInternalCheck);
+    }
+    prior_crc_ = crc32(bytes_of(prior_));
+    prior_check_state_ = kCrc32Init;
+}
+
+bool SafetyController::step_prior_check() noexcept {
+    const Span<const std::uint8_t> bytes = bytes_of(prior_);
+    if (bytes.empty()) {
+        return false;
+    }
+    const std::size_t remaining = bytes.size() - prior_check_offset_;
+    const std::size_t n = remaining < config_.prior_check_slice_bytes ? remaining : config_.prior_check_slice_bytes;
+    prior_check_state_ = crc32_update(prior_check_state_, bytes.subspan(prior_check_offset_, n));
+    prior_check_offset_ += n;
+    if (prior_check_offset_ == bytes.size()) {
+        prior_failed_ = prior_failed_ || crc32_finish(prior_check_state_) != prior_crc_;
+        prior_check_state_ = kCrc32Init;
+        prior_check_offset_ = 0U;
+    }
+    return prior_failed_;
+}
+
+std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now,
+                                             FusionStats& stats) noexcept {
+    std::uint32_t faults = 0U;
+    if (sensors.size() != config_.sensor_count) {
+        faults |= fault_bit(Fault::kSensorMissing);
+    }
+    for (const SensorInput& s : sensors) {
+        if (!s.present) {
+            faults |= fault_bit(Fault::kSensorMissing);
+            continue;
+        }
+        if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us) {
+            faults |= fault_bit(Fault::kSensorStale);
+            continue;
+        }
+        const Result<FusionStats> r = (s.table != nullptr && s.reading.kind == SensorDataKind::kDepthImage)
+                                          ? s.table->fuse(*grid_, s.reading.depth, *model_)
+                                          : fuse_sensor(*grid_, s.reading, *model_, config_.rasterization);
+        if (!r.ok()) {
+            faults |= fault_bit(Fault::kFrameInconsistent);
+            continue;
+        }
+        stats.add(r.value());
+    }
+    return faults;
+}
+
+const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept {
+    const std::uint64_t start = clock_->now_us();
+    monitor_.begin(start);
+    CycleReport r;
+    r.cycle = report_.cycle + 1U;
+    r.started_us = start;
+    std::uint32_t detected = pending_faults_ | construction_faults_;
+    pending_faults_ = 0U;
+
+    grid_->clear();
+    detected |= fuse_sensors(sensors, start, r.fusion);
+    monitor_.end_stage(CycleStage::kFuse, clock_->now_us());
+
+    const bool zones_ok = (construction_faults_ == 0U) &&
+                          evaluate_zones(*grid_, prior_, *zones_, config_.zones, r.zones).ok();
+    if (!zones_ok) {
+        detected |= fault_bit(Fault::kZoneEvaluation);
+    }
+    if (step_prior_check()) {
+        detected |= fault_bit(Fault::kPriorCheckFailed);
+    }
+    monitor_.end_stage(CycleStage::kSubtractAndZones, clock_->now_us());
+
+    SafetyInputs in;
+    in.now_us = start;
+    in.zones = zones_ok ? &r.zones : nullptr;
+    in.detected_faults = detected;
+    in.reset_input = reset_input;
+    r.safety = logic_.step(in);
+    r.detected_faults = detected;
+    r.timing = monitor_.last();
+    r.worst = monitor_.worst();
+    monitor_.end_stage(CycleStage::kLogic, clock_->now_us());
+
+    report_ = r;
+    if (output_ != nullptr && !output_->publish(report_)) {
+        pending_faults_ |= fault_bit(Fault::kCanError);
+    }
+    monitor_.end_stage(CycleStage::kOutput, clock_->now_us());
+    if (monitor_.end(clock_->now_us())) {
+        pending_faults_ |= fault_bit(Fault::kCycleOverrun);
+    }
+    return report_;
+}
+
+}  // namespace cellguard
