@@ -1,0 +1,67 @@
+// Requirements: Intel signal placement in a CAN frame, layout table consistency checks.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+
+#include "cellguard/can_frame.hpp"
+#include "contract_capture.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+constexpr SignalLayout make(const char* name, std::uint8_t start, std::uint8_t length,
+                            Multiplex mux = Multiplex::kNone, std::uint8_t mux_value = 0U) {
+    return SignalLayout{name, start, length, ByteOrder::kIntel, 1U, "",
+                        static_cast<std::uint32_t>((std::uint64_t{1} << length) - 1U), mux, mux_value};
+}
+
+constexpr SignalLayout kGood[] = {make("a", 0U, 8U), make("b", 8U, 4U), make("sel", 12U, 2U, Multiplex::kMultiplexor),
+                                  make("m0", 16U, 8U, Multiplex::kMultiplexed, 0U),
+                                  make("m1", 16U, 8U, Multiplex::kMultiplexed, 1U)};
+constexpr SignalLayout kOverlap[] = {make("a", 0U, 8U), make("b", 7U, 4U)};
+constexpr SignalLayout kOutside[] = {make("a", 60U, 8U)};
+constexpr SignalLayout kMotorola[] = {SignalLayout{"a", 0U, 8U, ByteOrder::kMotorola, 1U, "", 255U, Multiplex::kNone, 0U}};
+constexpr SignalLayout kRawMaxTooWide[] = {SignalLayout{"a", 0U, 4U, ByteOrder::kIntel, 1U, "", 16U, Multiplex::kNone, 0U}};
+
+}  // namespace
+
+TEST_CASE("can frame: layout checks accept multiplexed signals sharing bits and reject overlaps and overflows") {
+    static_assert(layout_is_consistent(kGood), "multiplexed signals of different pages may share bits");
+    static_assert(!layout_is_consistent(kOverlap), "bit 7 used twice");
+    static_assert(!layout_is_consistent(kOutside), "signal past bit 63");
+    static_assert(!layout_is_consistent(kMotorola), "only Intel signals");
+    static_assert(!layout_is_consistent(kRawMaxTooWide), "raw_max must fit in the length");
+    CHECK(layout_used_bits(kGood) == 0x0000'0000'00FF'3FFFULL);
+    CHECK(signal_mask(make("x", 12U, 4U)) == 0xF000U);
+}
+
+TEST_CASE("can frame: an Intel signal's start bit is its least significant bit, byte 0 first") {
+    CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    set_signal(f, make("word", 24U, 16U), 0xBEEFU);
+    CHECK(f.data[3] == 0xEF);
+    CHECK(f.data[4] == 0xBE);
+    set_signal(f, make("nibble", 12U, 4U), 0xAU);
+    CHECK(f.data[1] == 0xA0);
+    set_signal(f, make("bit", 18U, 1U), 1U);
+    CHECK(f.data[2] == 0x04);
+    set_signal(f, make("odd", 43U, 11U), 0x7FFU);  // bits 43..53: byte 5 bits 3..7, byte 6 bits 0..5
+    CHECK(f.data[5] == 0xF8);
+    CHECK(f.data[6] == 0x3F);
+    CHECK(get_signal(f, make("word", 24U, 16U)) == 0xBEEFU);
+    CHECK(get_signal(f, make("odd", 43U, 11U)) == 0x7FFU);
+    CHECK(frame_bits(f) == 0x003F'F8BE'EF04'A000ULL);
+}
+
+TEST_CASE("can frame: writing a signal leaves every other bit as it was") {
+    CanFrame f{0x100U, 8U, {0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU}};
+    set_signal(f, make("mid", 20U, 9U), 0U);
+    CHECK(frame_bits(f) == ~(std::uint64_t{0x1FF} << 20U));
+}
+
+TEST_CASE("can frame: a value wider than its signal, or a Motorola signal, is a contract violation") {
+    CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    CHECK(test::violates_contract([&] { set_signal(f, make("n", 8U, 4U), 16U); }));
+    CHECK(test::violates_contract([&] { (void)get_signal(f, kMotorola[0]); }));
+    CHECK_FALSE(test::violates_contract([&] { set_signal(f, make("n", 8U, 4U), 15U); }));
+}

@@ -1,0 +1,309 @@
+// Requirements: safety and diagnostics frame encoding, inverted copy, field-by-field decoding, channel config rules.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <string>
+
+#include "cellguard/safety_frame.hpp"
+#include "contract_capture.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+constexpr E2eP01DataIdMode kAllModes[] = {E2eP01DataIdMode::kBoth, E2eP01DataIdMode::kAlt, E2eP01DataIdMode::kLow,
+                                          E2eP01DataIdMode::kNibble};
+
+SafetyChannelConfig channel(E2eP01DataIdMode mode = E2eP01DataIdMode::kBoth) {
+    SafetyChannelConfig c;
+    c.data_id_mode = mode;
+    return c;
+}
+
+SafetyMessage sample_message() {
+    SafetyMessage m;
+    m.protective_stop = true;
+    m.warning = false;
+    m.fault = true;
+    m.zone_intrusion = 0x0201U;
+    m.zone_unseen = 0x0402U;
+    m.zone_count = 11U;
+    return m;
+}
+
+/// Recomputes the CRC of @p f after a test changed its content on purpose.
+void reprotect(CanFrame& f, std::uint16_t data_id, E2eP01DataIdMode mode) {
+    const auto counter = static_cast<std::uint8_t>(get_signal(f, safety_layout::kCounter));
+    f.data[0] = e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, data_id, mode, counter);
+}
+
+FrameCheck check(const CanFrame& f, const SafetyChannelConfig& c) {
+    SafetyFrameContent out;
+    return check_safety_frame(f, c, out);
+}
+
+}  // namespace
+
+TEST_CASE("safety frame: the encoder puts every field at the bit the layout table names") {
+    const CanFrame f = encode_safety_frame(sample_message(), 9U, channel()).value();
+    CHECK(f.id == 0x101U);
+    CHECK(f.dlc == 8U);
+    CHECK(f.data[1] == 0x09);  // counter 9, no nibble outside NIBBLE mode
+    CHECK(f.data[2] == 0x05);  // stop (bit 16) and fault (bit 18)
+    CHECK(f.data[3] == 0x01);  // ZoneIntrusion 0x0201, little-endian
+    CHECK(f.data[4] == 0x02);
+    CHECK(f.data[5] == 0x02);  // ZoneUnseen 0x0402
+    CHECK(f.data[6] == 0x04);
+    CHECK(f.data[7] == 11U);   // ZoneCount
+    CHECK(f.data[0] == e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId,
+                                   E2eP01DataIdMode::kBoth, 9U));
+    const CanFrame n = encode_safety_frame(sample_message(), 9U, channel(E2eP01DataIdMode::kNibble)).value();
+    CHECK(n.data[1] == 0xC9);  // data ID 0x0C51: nibble 0xC in bits 12..15
+}
+
+TEST_CASE("safety frame: every counter and every data ID mode decodes back to what was encoded") {
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        for (std::uint8_t counter = 0U; counter <= kE2eP01CounterMax; ++counter) {
+            const CanFrame f = encode_safety_frame(sample_message(), counter, channel(mode)).value();
+            const SafetyFrameContent c = decode_safety_frame(f, channel(mode)).value();
+            CHECK(c.counter == counter);
+            CHECK(c.message == sample_message());
+        }
+    }
+    SafetyMessage all;
+    all.protective_stop = false;
+    all.warning = true;
+    all.zone_count = 16U;
+    all.zone_intrusion = 0xFFFFU;
+    all.zone_unseen = 0x8001U;
+    CHECK(decode_safety_frame(encode_safety_frame(all, 0U, channel()).value(), channel()).value().message == all);
+}
+
+TEST_CASE("safety frame: the inverted copy is on the next CAN ID with every data bit inverted") {
+    const CanFrame f = encode_safety_frame(sample_message(), 3U, channel()).value();
+    const CanFrame inv = inverted_copy(f);
+    CHECK(inv.id == 0x102U);
+    CHECK(inv.id == inverted_can_id(channel()));
+    CHECK(inv.dlc == 8U);
+    for (std::size_t k = 0U; k < 8U; ++k) {
+        CHECK((f.data[k] ^ inv.data[k]) == 0xFF);
+    }
+    CHECK(check(inv, channel()) == FrameCheck::kWrongCanId);  // a copy is not a safety frame
+    CHECK(inverted_copy(inv).data[5] == f.data[5]);
+}
+
+TEST_CASE("safety frame: with the default data IDs, inverted data never passes the check on the frame's own ID") {
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        for (std::uint8_t counter = 0U; counter <= kE2eP01CounterMax; ++counter) {
+            CanFrame inv = inverted_copy(encode_safety_frame(sample_message(), counter, channel(mode)).value());
+            inv.id = kDefaultSafetyCanId;
+            CHECK(check(inv, channel(mode)) != FrameCheck::kOk);
+        }
+    }
+}
+
+TEST_CASE("safety frame: every single flipped bit is caught by the CRC") {
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        const CanFrame good = encode_safety_frame(sample_message(), 6U, channel(mode)).value();
+        for (unsigned bit = 0U; bit < 64U; ++bit) {
+            CanFrame f = good;
+            f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] ^ (1U << (bit % 8U)));
+            const FrameCheck r = check(f, channel(mode));
+            if (mode == E2eP01DataIdMode::kNibble && bit >= 12U && bit < 16U) {
+                CHECK(r == FrameCheck::kWrongDataIdNibble);
+            } else {
+                CHECK(r == FrameCheck::kWrongCrc);
+            }
+        }
+    }
+}
+
+TEST_CASE("safety frame: a frame protected with another data ID is rejected") {
+    SafetyChannelConfig other = channel();
+    other.safety_data_id = 0x0C52U;
+    const CanFrame f = encode_safety_frame(sample_message(), 4U, other).value();
+    CHECK(check(f, channel()) == FrameCheck::kWrongCrc);
+    CHECK(decode_safety_frame(f, channel()).error() == ErrorCode::kCrcMismatch);
+    // NIBBLE mode: a different high nibble is seen explicitly, a different low byte by the CRC.
+    SafetyChannelConfig nib_other = channel(E2eP01DataIdMode::kNibble);
+    nib_other.safety_data_id = 0x0B51U;
+    CHECK(check(encode_safety_frame(sample_message(), 4U, nib_other).value(), channel(E2eP01DataIdMode::kNibble)) ==
+          FrameCheck::kWrongDataIdNibble);
+    nib_other.safety_data_id = 0x0C50U;
+    CHECK(check(encode_safety_frame(sample_message(), 4U, nib_other).value(), channel(E2eP01DataIdMode::kNibble)) ==
+          FrameCheck::kWrongCrc);
+}
+
+TEST_CASE("safety frame: the decoder checks the CAN ID, the length, the counter range and every content field") {
+    const SafetyChannelConfig c = channel();
+    const CanFrame good = encode_safety_frame(sample_message(), 2U, c).value();
+    CHECK(check(good, c) == FrameCheck::kOk);
+
+    CanFrame f = good;
+    f.id = 0x100U;
+    CHECK(check(f, c) == FrameCheck::kWrongCanId);
+    f = good;
+    f.dlc = 7U;
+    CHECK(check(f, c) == FrameCheck::kWrongLength);
+    CHECK(decode_safety_frame(f, c).error() == ErrorCode::kTruncatedInput);
+    f.dlc = 15U;
+    CHECK(check(f, c) == FrameCheck::kWrongLength);
+
+    f = good;  // counter 15 with a correct CRC: a sender error
+    set_signal(f, safety_layout::kCounter, 15U);
+    reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check(f, c) == FrameCheck::kCounterOutOfRange);
+
+    for (unsigned bit = 19U; bit <= 23U; ++bit) {  // reserved bits
+        f = good;
+        f.data[2] = static_cast<std::uint8_t>(f.data[2] | (1U << (bit - 16U)));
+        reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+        CHECK(check(f, c) == FrameCheck::kMalformedContent);
+    }
+    f = good;  // the nibble is reserved outside NIBBLE mode
+    set_signal(f, safety_layout::kDataIdNibble, 0xCU);
+    reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check(f, c) == FrameCheck::kMalformedContent);
+    f = good;  // more zones than a frame carries
+    set_signal(f, safety_layout::kZoneCount, 17U);
+    reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check(f, c) == FrameCheck::kMalformedContent);
+    f = good;  // an intrusion bit at the zone count (zones 0..10 exist)
+    set_signal(f, safety_layout::kZoneIntrusion, 0x0801U);
+    reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check(f, c) == FrameCheck::kMalformedContent);
+    f = good;  // an unseen bit above the zone count
+    set_signal(f, safety_layout::kZoneUnseen, 0x8000U);
+    reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check(f, c) == FrameCheck::kMalformedContent);
+    CHECK(decode_safety_frame(f, c).error() == ErrorCode::kMalformedInput);
+
+    SafetyFrameContent untouched;
+    untouched.counter = 99U;
+    CHECK(check_safety_frame(f, c, untouched) == FrameCheck::kMalformedContent);
+    CHECK(untouched.counter == 99U);  // a rejected frame writes nothing
+}
+
+TEST_CASE("safety frame: the encoder refuses a counter above 14, more than 16 zones and zone bits beyond the count") {
+    CHECK(encode_safety_frame(sample_message(), 15U, channel()).error() == ErrorCode::kInvalidArgument);
+    SafetyMessage m = sample_message();
+    m.zone_count = 17U;
+    CHECK(encode_safety_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = sample_message();
+    m.zone_intrusion = 0x0800U;  // zone 11 with 11 zones (0..10)
+    CHECK(encode_safety_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = sample_message();
+    m.zone_unseen = 0x1000U;
+    CHECK(encode_safety_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    SafetyChannelConfig bad = channel();
+    bad.safety_can_id = 0x7FFU;
+    CHECK(encode_safety_frame(sample_message(), 0U, bad).error() == ErrorCode::kInvalidArgument);
+}
+
+TEST_CASE("safety frame: a channel config needs 11-bit IDs, three distinct CAN IDs and distinguishable data IDs") {
+    CHECK(check_channel_config(SafetyChannelConfig{}).ok());
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        CHECK(check_channel_config(channel(mode)).ok());  // the defaults work in every mode
+    }
+    SafetyChannelConfig c;
+    c.safety_can_id = 0x7FFU;  // its copy would need ID 0x800
+    CHECK(check_channel_config(c).error() == ErrorCode::kInvalidArgument);
+    c = SafetyChannelConfig{};
+    c.diagnostics_can_id = 0x800U;
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = SafetyChannelConfig{};
+    c.diagnostics_can_id = c.safety_can_id + 1U;
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = SafetyChannelConfig{};
+    c.diagnostics_can_id = c.safety_can_id;
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = SafetyChannelConfig{};
+    c.safety_data_id = 0x0000U;
+    c.diagnostics_data_id = 0x1D01U;  // same CRC for all data in BOTH mode (bytes 01 1D)
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = channel(E2eP01DataIdMode::kNibble);
+    c.safety_data_id = 0x1C51U;  // 13 bits
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = channel(E2eP01DataIdMode::kLow);
+    c.diagnostics_data_id = 0x0D51U;  // same low byte as the safety data ID
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = SafetyChannelConfig{};
+    c.data_id_mode = static_cast<E2eP01DataIdMode>(7);
+    CHECK_FALSE(check_channel_config(c).ok());
+    SafetyFrameContent out;
+    const CanFrame f{0x101U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    CHECK(test::violates_contract([&] { (void)check_safety_frame(f, c, out); }));
+}
+
+TEST_CASE("safety frame: the diagnostics frame round-trips every prior CRC page and carries its own data ID") {
+    const std::uint32_t prior_crc = 0xDEADBEEFU;
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        for (std::uint8_t page = 0U; page < 4U; ++page) {
+            DiagnosticsMessage m;
+            m.cycle_time = diagnostics_time_saturating(33350U);
+            m.max_cycle_time = kDiagnosticsTimeSaturated;
+            m.active_faults = static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) | fault_bit(FaultCode::kCanSendFailed));
+            m.prior_crc_page = page;
+            m.prior_crc_part = prior_crc_part(prior_crc, page);
+            const CanFrame f = encode_diagnostics_frame(m, page, channel(mode)).value();
+            CHECK(f.id == kDefaultDiagnosticsCanId);
+            CHECK(get_signal(f, diagnostics_layout::kPriorCrcPage) == page);
+            CHECK(f.data[7] == ((prior_crc >> (8U * page)) & 0xFFU));
+            const DiagnosticsFrameContent c = decode_diagnostics_frame(f, channel(mode)).value();
+            CHECK(c.message == m);
+            CHECK(c.counter == page);
+            // A diagnostics frame never passes as a safety frame, even on the safety CAN ID.
+            CanFrame moved = f;
+            moved.id = kDefaultSafetyCanId;
+            CHECK(check(moved, channel(mode)) != FrameCheck::kOk);
+        }
+    }
+    const CanFrame f = encode_diagnostics_frame(DiagnosticsMessage{}, 0U, channel()).value();
+    CHECK(get_signal(f, diagnostics_layout::kCycleTime) == 0U);
+    CanFrame g = f;
+    g.data[3] = 0x80U;  // fault bit 15 has no code
+    reprotect(g, kDefaultDiagnosticsDataId, E2eP01DataIdMode::kBoth);
+    DiagnosticsFrameContent out;
+    CHECK(check_diagnostics_frame(g, channel(), out) == FrameCheck::kMalformedContent);
+    g = f;
+    g.data[6] = static_cast<std::uint8_t>(g.data[6] ^ 0x01U);
+    CHECK(check_diagnostics_frame(g, channel(), out) == FrameCheck::kWrongCrc);
+    CHECK(decode_diagnostics_frame(g, channel()).error() == ErrorCode::kCrcMismatch);
+}
+
+TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and saturating at 2047") {
+    CHECK(diagnostics_time_saturating(0U) == 0U);
+    CHECK(diagnostics_time_saturating(1U) == 1U);
+    CHECK(diagnostics_time_saturating(100U) == 1U);
+    CHECK(diagnostics_time_saturating(101U) == 2U);
+    CHECK(diagnostics_time_saturating(204700U) == 2047U);
+    CHECK(diagnostics_time_saturating(204701U) == 2047U);
+    CHECK(diagnostics_time_saturating(UINT64_MAX) == 2047U);
+    DiagnosticsMessage m;
+    m.cycle_time = 2048U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = DiagnosticsMessage{};
+    m.prior_crc_page = 4U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = DiagnosticsMessage{};
+    m.active_faults = 0x0400U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    CHECK(encode_diagnostics_frame(DiagnosticsMessage{}, 15U, channel()).error() == ErrorCode::kInvalidArgument);
+    CHECK(prior_crc_part(0x11223344U, 0U) == 0x44U);
+    CHECK(prior_crc_part(0x11223344U, 3U) == 0x11U);
+    CHECK(test::violates_contract([] { (void)prior_crc_part(0U, 4U); }));
+}
+
+TEST_CASE("safety frame: fault codes are bits 0..9 and every check has a name and an error code") {
+    CHECK(fault_bit(FaultCode::kSensorFrameStale) == 0x0001U);
+    CHECK(fault_bit(FaultCode::kCanSendFailed) == 0x0200U);
+    CHECK((fault_bit(FaultCode::kCanSendFailed) & kAssignedFaultBits) != 0U);
+    CHECK(std::string(to_string(FrameCheck::kWrongCrc)) == "wrong CRC");
+    CHECK(std::string(to_string(static_cast<FrameCheck>(200))) == "unknown frame check");
+    CHECK(to_error_code(FrameCheck::kOk) == ErrorCode::kOk);
+    CHECK(to_error_code(FrameCheck::kWrongDataIdNibble) == ErrorCode::kCrcMismatch);
+    CHECK(to_error_code(FrameCheck::kCounterOutOfRange) == ErrorCode::kMalformedInput);
+    CHECK(to_error_code(FrameCheck::kWrongCanId) == ErrorCode::kMalformedInput);
+    const SafetyMessage defaults;
+    CHECK(defaults.protective_stop);  // a default message is the safe state
+}
