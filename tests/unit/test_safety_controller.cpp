@@ -1,0 +1,239 @@
+// Requirements: the cycle executive on the simulated workcell: intrusion
+// gives a stop in the same cycle, a quiet or stale sensor gives a fault, a
+// corrupted prior is caught while running, unseen space is not clear, and a
+// cycle allocates no memory.
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "cellguard/accessibility.hpp"
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/sim/workcell.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+class TestClock final : public MonotonicClock {
+public:
+    std::uint64_t now_us() noexcept override { return t += 1U; }  // 1 us per reading
+    std::uint64_t t = 1000000U;
+};
+
+class RecordingOutput final : public CycleOutput {
+public:
+    bool publish(const CycleReport& r) noexcept override {
+        last_stop = r.safety.stop_requested;
+        ++published;
+        return !fail;
+    }
+    bool fail = false;
+    bool last_stop = true;
+    int published = 0;
+};
+
+// The paper's cell, its background prior (probabilistic method), and two zones
+// on the free floor in front of the first background box.
+struct Workcell {
+    GridGeometry g = paper_grid_geometry();
+    std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
+    std::vector<std::int16_t> frame_lo, bg_lo, prior;
+    std::vector<std::uint8_t> frame_ob, bg_ob;
+    std::vector<std::uint32_t> mask;
+    EvidenceGrid frame_grid;
+    CompiledZones zones;
+    SensorModelTable model;
+
+    Workcell()
+        : frame_lo(g.voxel_count()), bg_lo(g.voxel_count()), prior(g.voxel_count()), frame_ob(g.voxel_count()),
+          bg_ob(g.voxel_count()), mask(g.voxel_count()) {
+        frame_grid = EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
+        EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
+        bg.clear();
+        const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
+        for (int i = 0; i < 8; ++i) {
+            frame_grid.clear();
+            REQUIRE(fuse_frame(frame_grid, {empty.readings.data(), empty.readings.size()}, model).ok());
+            REQUIRE(accumulate_background(bg, frame_grid).ok());
+        }
+        AccessibilityParams params;
+        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
+        std::vector<std::uint32_t> words(size.words);
+        std::vector<std::uint8_t> bytes(size.bytes);
+        REQUIRE(compute_accessibility_prior(bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+                                            {prior.data(), prior.size()}, {})
+                    .ok());
+        ZoneConfig protective;  // on the floor in front of box B, x in [0.0, 0.4], y in [0.2, 0.6]
+        protective.box_min = Eigen::Vector3d(0.0, 0.2, 0.0);
+        protective.box_max = Eigen::Vector3d(0.4, 0.6, 1.2);
+        protective.max_unseen_voxels = 20U;
+        ZoneConfig warning;
+        warning.kind = ZoneKind::kWarning;
+        warning.box_min = Eigen::Vector3d(-0.8, 0.45, 0.0);
+        warning.box_max = Eigen::Vector3d(0.8, 0.75, 1.2);
+        warning.max_unseen_voxels = 40U;
+        const ZoneConfig zs[] = {protective, warning};
+        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+    }
+
+    ControllerConfig config() const {
+        ControllerConfig c;
+        c.sensor_count = sensors.size();
+        c.logic.restart_delay_us = 0U;
+        c.logic.fault_recovery_cycles = 2U;
+        c.cycle_budget_us = 1000000000U;  // timing is not under test here
+        return c;
+    }
+};
+
+struct Frame {
+    sim::SimulatedFrame sim;
+    std::vector<SensorInput> inputs;
+    Frame(const Workcell& w, const sim::Scene& scene, std::uint64_t now) : sim(sim::render_frame(w.sensors, scene)) {
+        for (const SensorReading& r : sim.readings) {
+            SensorInput in;
+            in.reading = r;
+            in.captured_us = now;
+            in.present = true;
+            inputs.push_back(in);
+        }
+    }
+    Span<const SensorInput> span() const { return {inputs.data(), inputs.size()}; }
+};
+
+sim::Scene with_person(double x, double y) {
+    sim::Scene s = sim::reference_scene();
+    s.boxes.push_back(sim::Box{{x, y, 0.85}, {0.3, 0.3, 1.7}, 0.0, false});
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("controller: the empty cell is clear and the stop is released") {
+    Workcell w;
+    TestClock clock;
+    RecordingOutput out;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    INFO("protective: fg " << r.zones.zones[0].foreground << " unseen " << r.zones.zones[0].unseen);
+    INFO("warning: fg " << r.zones.zones[1].foreground << " unseen " << r.zones.zones[1].unseen);
+    CHECK(r.zones.zones[0].state == ZoneState::kClear);
+    CHECK(r.zones.zones[1].state == ZoneState::kClear);
+    CHECK(r.detected_faults == 0U);
+    CHECK_FALSE(r.safety.stop_requested);
+    CHECK(out.published == 1);
+}
+
+TEST_CASE("controller: a person entering the protective zone gives a stop request in the same cycle") {
+    Workcell w;
+    TestClock clock;
+    RecordingOutput out;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    CHECK_FALSE(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
+    const CycleReport& r = c.run_cycle(Frame(w, with_person(0.2, 0.4), clock.t).span(), false);
+    CHECK(r.zones.zones[0].state == ZoneState::kIntruded);
+    CHECK(r.zones.zones[0].foreground > 10U);
+    CHECK(r.safety.stop_requested);
+    CHECK(out.last_stop);  // what was published in that cycle
+}
+
+TEST_CASE("controller: a person in the warning zone only gives a warning, not a stop") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const CycleReport& r = c.run_cycle(Frame(w, with_person(-0.6, 0.6), clock.t).span(), false);
+    CHECK(r.zones.zones[1].state == ZoneState::kIntruded);
+    CHECK(r.zones.zones[0].state == ZoneState::kClear);
+    CHECK(r.safety.warning);
+    CHECK_FALSE(r.safety.stop_requested);
+}
+
+TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives a fault and the stop") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    Frame quiet(w, sim::reference_scene(), clock.t);
+    quiet.inputs[2].present = false;
+    CycleReport r = c.run_cycle(quiet.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+    CHECK(r.safety.stop_requested);
+    Frame stale(w, sim::reference_scene(), clock.t);
+    stale.inputs[1].captured_us = clock.t - 300000U;  // older than the 200 ms limit
+    r = c.run_cycle(stale.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) != 0U);
+    CHECK(r.safety.stop_requested);
+    Frame fresh_but_short(w, sim::reference_scene(), clock.t);
+    fresh_but_short.inputs.pop_back();  // one sensor fewer than configured
+    r = c.run_cycle(fresh_but_short.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+    // Recovery: fault-free cycles clear the latch, then the interlock releases.
+    CHECK(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);  // 1 clean cycle
+    CHECK_FALSE(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
+}
+
+TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
+    w.prior[12345] ^= 0x0100;  // a bit flips in RAM
+    const std::size_t pass = (w.prior.size() * 2U + 4095U) / 4096U;
+    std::size_t cycles = 0U;
+    while (!c.run_cycle(f.span(), false).safety.stop_requested) {
+        ++cycles;
+        REQUIRE(cycles <= 2U * pass);
+    }
+    CHECK(cycles <= 2U * pass);
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
+    w.prior[12345] ^= 0x0100;  // even repaired, the fault stays latched
+    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+}
+
+TEST_CASE("controller: a prior of the wrong size is refused for good") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size() - 1U}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
+}
+
+TEST_CASE("controller: a failed output is a CAN fault in the next cycle") {
+    Workcell w;
+    TestClock clock;
+    RecordingOutput out;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    out.fail = true;
+    (void)c.run_cycle(f.span(), false);
+    out.fail = false;
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kCanError)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
+TEST_CASE("controller: a cycle over its budget is a fault in the next cycle") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig cfg = w.config();
+    cfg.cycle_budget_us = 3U;  // the test clock advances 1 us per reading: every cycle overruns
+    SafetyController c(cfg, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    (void)c.run_cycle(f.span(), false);
+    CHECK((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kCycleOverrun)) != 0U);
+    CHECK(c.monitor().overruns() >= 1U);
+}
+
+TEST_CASE("controller: a whole cycle allocates no memory") {
+    Workcell w;
+    TestClock clock;
+    RecordingOutput out;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    const Frame f(w, with_person(0.2, 0.4), clock.t);
+    const test::AllocationScope scope;
+    (void)c.run_cycle(f.span(), false);
+    CHECK(scope.allocations() == 0U);
+}
