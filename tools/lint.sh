@@ -15,7 +15,11 @@ cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portabili
   "${sources[@]}"
 
 echo "== clang-tidy $(clang-tidy --version | head -n 2 | tail -n 1)"
-clang-tidy -p "$build" --quiet "${sources[@]}" 2>&1 | grep -v -E '^[0-9]+ warnings? generated|^Suppressed|^Use -header-filter' || true
-# clang-tidy exits non-zero on findings (WarningsAsErrors); rerun for the status.
-clang-tidy -p "$build" --quiet "${sources[@]}" >/dev/null 2>&1
+# One clang-tidy per file, as many at once as there are cores; any finding fails.
+log=$(mktemp)
+status=0
+printf '%s\n' "${sources[@]}" | xargs -P "$(nproc)" -n 1 sh -c 'out=$(clang-tidy -p "$0" --quiet "$1" 2>&1) || { printf "%s\n" "$out"; echo "clang-tidy: findings in $1"; exit 1; }' "$build" >"$log" 2>&1 || status=1
+grep -v -E '^[0-9]+ warnings? generated|^Suppressed|^Use -header-filter' "$log" || true
+rm -f "$log"
+[ "$status" -eq 0 ] || { echo "lint: clang-tidy findings (see above)"; exit 1; }
 echo "lint: no findings"

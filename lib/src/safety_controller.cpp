@@ -8,8 +8,8 @@ namespace {
 
 Span<const std::uint8_t> bytes_of(Span<const std::int16_t> values) noexcept {
     // Reading an object's bytes through unsigned char is always allowed.
-    return Span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
-                                    values.size() * sizeof(std::int16_t));
+    return {reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
+            values.size() * sizeof(std::int16_t)};
 }
 
 }  // namespace

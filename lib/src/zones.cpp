@@ -51,7 +51,7 @@ bool polygon_simple_winding(const ZoneConfig& z) noexcept {
 }
 
 ZoneError validate(const GridGeometry& grid, const ZoneConfig& z, std::size_t index) noexcept {
-    const Eigen::Vector3d lo = grid.origin();
+    const Eigen::Vector3d& lo = grid.origin();
     const Eigen::Vector3d hi = grid.max_corner();
     if (z.min_foreground_voxels == 0U) {
         return ZoneError{ErrorCode::kInvalidArgument, index, "min_foreground_voxels must be at least 1"};

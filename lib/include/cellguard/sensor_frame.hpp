@@ -23,7 +23,7 @@ namespace cellguard {
 /// Most sensors fused in one frame.
 constexpr std::size_t kMaxSensors = 8U;
 /// Most readings (points or pixels) of one sensor in one frame (a 640 x 480 image).
-constexpr std::size_t kMaxReadingsPerSensor = 640U * 480U;
+constexpr std::size_t kMaxReadingsPerSensor = std::size_t{640U} * std::size_t{480U};
 /// Largest accepted maximum range of a sensor, metres.
 constexpr float kMaxSensorRange = 100.0F;
 
