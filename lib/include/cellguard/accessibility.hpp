@@ -98,7 +98,7 @@
 namespace cellguard {
 
 /// Largest radius r, in voxels, that the analysis accepts.
-constexpr std::int32_t kMaxAccessibilityAnalysisRadius = 8;
+constexpr std::int32_t kMaxAccessibilityAnalysisRadius = kMaxAccessibilityRadius;
 /// Fixed-point scale of the probabilistic method's costs: units per nat.
 constexpr std::uint32_t kAccessibilityCostUnitsPerNat = 1U << 14U;
 /// Cost (units) at which G_AR saturates: 2^21 - 1, just under 128 nats.

@@ -36,6 +36,9 @@ constexpr std::uint8_t kPaperOpenFaces = static_cast<std::uint8_t>(
 /// Mask of all six face bits; other bits are invalid.
 constexpr std::uint8_t kAllFaces = 0x3FU;
 
+/// Largest radius r, in voxels, that the analysis accepts and a prior image may record.
+constexpr std::int32_t kMaxAccessibilityRadius = 8;
+
 /// Parameters of the accessibility analysis; defaults are the paper's.
 struct AccessibilityParams {
     PriorMethod method = PriorMethod::kProbabilistic;  ///< which method computes the prior

@@ -83,8 +83,6 @@ constexpr std::uint16_t kPriorImageFormatVersion = 1U;
 constexpr std::size_t kPriorImageHeaderSize = prior_image_layout::kPayload;
 /// Bytes per payload value.
 constexpr std::size_t kPriorImageBytesPerVoxel = 2U;
-/// Largest accepted accessibility radius r, voxels.
-constexpr std::int32_t kMaxAccessibilityRadius = kMaxDimension;
 
 /// Size in bytes of the image of a grid of @p voxels voxels: header plus two
 /// bytes per voxel. Saturates at SIZE_MAX instead of wrapping.
