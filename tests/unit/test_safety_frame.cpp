@@ -286,18 +286,28 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
     m.prior_crc_page = 4U;
     CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
     m = DiagnosticsMessage{};
-    m.active_faults = 0x0400U;
+    m.active_faults = 0x8000U;  // bit 15 has no code
     CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m.active_faults = kAssignedFaultBits;  // every assigned bit at once is valid
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).ok());
     CHECK(encode_diagnostics_frame(DiagnosticsMessage{}, 15U, channel()).error() == ErrorCode::kInvalidArgument);
     CHECK(prior_crc_part(0x11223344U, 0U) == 0x44U);
     CHECK(prior_crc_part(0x11223344U, 3U) == 0x11U);
     CHECK(test::violates_contract([] { (void)prior_crc_part(0U, 4U); }));
 }
 
-TEST_CASE("safety frame: fault codes are bits 0..9 and every check has a name and an error code") {
-    CHECK(fault_bit(FaultCode::kSensorFrameStale) == 0x0001U);
-    CHECK(fault_bit(FaultCode::kCanSendFailed) == 0x0200U);
+TEST_CASE("safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        CHECK(fault_bit(static_cast<FaultCode>(f)) == fault_bit(static_cast<Fault>(f)));
+    }
+    CHECK(fault_bit(FaultCode::kSensorStale) == 0x0001U);
+    CHECK(fault_bit(FaultCode::kZoneEvaluation) == 0x0100U);
+    CHECK(fault_bit(FaultCode::kCanTxBufferFull) == 0x0200U);
+    CHECK(fault_bit(FaultCode::kCanSendFailed) == 0x4000U);
+    CHECK(kSafetyLogicFaultBits == kAllFaults);
+    CHECK(kCanDetailFaultBits == 0x7E00U);
     CHECK((fault_bit(FaultCode::kCanSendFailed) & kAssignedFaultBits) != 0U);
+    CHECK((0x8000U & kAssignedFaultBits) == 0U);
     CHECK(std::string(to_string(FrameCheck::kWrongCrc)) == "wrong CRC");
     CHECK(std::string(to_string(static_cast<FrameCheck>(200))) == "unknown frame check");
     CHECK(to_error_code(FrameCheck::kOk) == ErrorCode::kOk);

@@ -165,3 +165,16 @@ TEST_CASE("socketcan: a closed socket refuses to send and receive, and the refus
     CHECK_FALSE(moved.is_open());
     CHECK(std::string(to_string(static_cast<SocketCanError>(250))) == "unknown SocketCAN error");
 }
+
+TEST_CASE("socketcan: every fault the port raises is an ActiveFaults CAN detail bit (9..14), never a safety logic bit") {
+    CanFaultMonitor m;
+    m.on_send(SocketCanError::kTxBufferFull);
+    m.on_send(SocketCanError::kNetworkDown);
+    m.on_send(SocketCanError::kSendFailed);
+    m.on_error_frame(classify_error_frame(error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL | CAN_ERR_ACK,
+                                                      CAN_ERR_CRTL_TX_PASSIVE)));
+    CHECK(m.active_faults() == kCanDetailFaultBits);
+    CHECK((m.active_faults() & kSafetyLogicFaultBits) == 0U);
+    CHECK(bit(FaultCode::kCanTxBufferFull) == 0x0200U);
+    CHECK(bit(FaultCode::kCanSendFailed) == 0x4000U);
+}

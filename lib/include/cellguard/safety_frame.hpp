@@ -26,6 +26,7 @@
 #include "cellguard/can_frame.hpp"
 #include "cellguard/e2e_crc.hpp"
 #include "cellguard/result.hpp"
+#include "cellguard/safety_logic.hpp"
 
 namespace cellguard {
 
@@ -69,7 +70,7 @@ inline constexpr SignalLayout kCrc{"E2E_Crc", 0U, 8U, ByteOrder::kIntel, 1U, "",
 inline constexpr SignalLayout kCounter{"E2E_Counter", 8U, 4U, ByteOrder::kIntel, 1U, "", 14U, Multiplex::kNone, 0U};
 /// Data ID bits 8..11 in kNibble mode, else 0.
 inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U, Multiplex::kNone, 0U};
-/// Active fault codes, bit n = FaultCode n (see kAssignedFaultBits).
+/// Active fault codes, bit n = FaultCode n: 0..8 safety logic Faults, 9..14 CAN details (kAssignedFaultBits).
 inline constexpr SignalLayout kActiveFaults{"ActiveFaults", 16U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
 /// Duration of the last cycle, 100 us units, rounded up, saturating at 2047.
 inline constexpr SignalLayout kCycleTime{"CycleTime", 32U, 11U, ByteOrder::kIntel, 100U, "us", 2047U, Multiplex::kNone, 0U};
@@ -94,26 +95,54 @@ static_assert(~layout_used_bits(kSignals) == 0U, "the diagnostics frame has no r
 }  // namespace diagnostics_layout
 
 /// Fault codes of the diagnostics frame's ActiveFaults bitmask: bit n is code n.
+/// Codes 0..8 are the safety logic's Fault bits (safety_logic.hpp) unchanged;
+/// codes 9..14 detail the CAN port's faults (all of which the safety logic
+/// sees as Fault::kCanError); bit 15 is unassigned and zero on the wire.
 enum class FaultCode : std::uint8_t {
-    kSensorFrameStale = 0,       ///< a sensor frame is missing or older than its bound
-    kPriorMismatch = 1,          ///< the prior image's CRC or geometry does not match
-    kCycleOverrun = 2,           ///< a cycle took longer than its budget
-    kInternalCheck = 3,          ///< an internal consistency check failed
-    kCanTxBufferFull = 4,        ///< CAN send queue full (ENOBUFS / EAGAIN) after the bounded retries
-    kCanNetworkDown = 5,         ///< CAN interface down (ENETDOWN and similar)
-    kCanBusOff = 6,              ///< CAN controller is bus-off
-    kCanErrorPassive = 7,        ///< CAN controller is error-passive
-    kCanControllerProblem = 8,   ///< CAN controller overflow, TX timeout or missing acknowledgement
-    kCanSendFailed = 9,          ///< any other CAN send error
+    kSensorStale = 0,            ///< Fault::kSensorStale: a sensor frame older than its age limit
+    kSensorMissing = 1,          ///< Fault::kSensorMissing: a configured sensor delivered no frame
+    kFrameInconsistent = 2,      ///< Fault::kFrameInconsistent: a frame failed its checks
+    kPriorCheckFailed = 3,       ///< Fault::kPriorCheckFailed: the prior's CRC or geometry check failed
+    kCycleOverrun = 4,           ///< Fault::kCycleOverrun: a cycle exceeded its time budget
+    kCanError = 5,               ///< Fault::kCanError: the CAN output failed (details in bits 9..14)
+    kInternalCheck = 6,          ///< Fault::kInternalCheck: an internal consistency check failed
+    kClockFault = 7,             ///< Fault::kClockFault: the monotonic clock did not advance
+    kZoneEvaluation = 8,         ///< Fault::kZoneEvaluation: zone evaluation could not run
+    kCanTxBufferFull = 9,        ///< CAN send queue full (ENOBUFS / EAGAIN) after the bounded retries
+    kCanNetworkDown = 10,        ///< CAN interface down (ENETDOWN and similar)
+    kCanBusOff = 11,             ///< CAN controller is bus-off
+    kCanErrorPassive = 12,       ///< CAN controller is error-passive
+    kCanControllerProblem = 13,  ///< CAN controller overflow, TX timeout or missing acknowledgement
+    kCanSendFailed = 14,         ///< any other CAN send error
 };
+static_assert(static_cast<unsigned>(FaultCode::kSensorStale) == static_cast<unsigned>(Fault::kSensorStale) &&
+                  static_cast<unsigned>(FaultCode::kSensorMissing) == static_cast<unsigned>(Fault::kSensorMissing) &&
+                  static_cast<unsigned>(FaultCode::kFrameInconsistent) ==
+                      static_cast<unsigned>(Fault::kFrameInconsistent) &&
+                  static_cast<unsigned>(FaultCode::kPriorCheckFailed) ==
+                      static_cast<unsigned>(Fault::kPriorCheckFailed) &&
+                  static_cast<unsigned>(FaultCode::kCycleOverrun) == static_cast<unsigned>(Fault::kCycleOverrun) &&
+                  static_cast<unsigned>(FaultCode::kCanError) == static_cast<unsigned>(Fault::kCanError) &&
+                  static_cast<unsigned>(FaultCode::kInternalCheck) == static_cast<unsigned>(Fault::kInternalCheck) &&
+                  static_cast<unsigned>(FaultCode::kClockFault) == static_cast<unsigned>(Fault::kClockFault) &&
+                  static_cast<unsigned>(FaultCode::kZoneEvaluation) == static_cast<unsigned>(Fault::kZoneEvaluation),
+              "ActiveFaults bits 0..8 are the safety logic's Fault bits unchanged");
+static_assert(kFaultCount == 9U, "a new safety logic Fault needs a FaultCode before the CAN details");
 /// The bit of @p code in ActiveFaults.
 [[nodiscard]] constexpr std::uint16_t fault_bit(FaultCode code) noexcept {
     return static_cast<std::uint16_t>(1U << static_cast<unsigned>(code));
 }
+/// ActiveFaults bits that are safety logic Fault bits (0..8).
+constexpr std::uint16_t kSafetyLogicFaultBits = static_cast<std::uint16_t>(kAllFaults);
+/// ActiveFaults bits that detail CAN port faults (9..14).
+constexpr std::uint16_t kCanDetailFaultBits = 0x7E00U;
 /// Bits with an assigned FaultCode; the others are zero on the wire.
-constexpr std::uint16_t kAssignedFaultBits = 0x03FFU;
+constexpr std::uint16_t kAssignedFaultBits = 0x7FFFU;
 static_assert(kAssignedFaultBits == 2U * fault_bit(FaultCode::kCanSendFailed) - 1U,
               "kAssignedFaultBits covers exactly the codes up to the last one");
+static_assert((kSafetyLogicFaultBits | kCanDetailFaultBits) == kAssignedFaultBits &&
+                  (kSafetyLogicFaultBits & kCanDetailFaultBits) == 0U,
+              "safety logic bits and CAN detail bits partition the assigned bits");
 
 /// Content of the safety frame. Defaults are the safe state: stop requested.
 struct SafetyMessage {

@@ -26,6 +26,12 @@ constexpr std::uint16_t kSendFaults =
     set_bits(set_bits(fault_bit(FaultCode::kCanTxBufferFull), fault_bit(FaultCode::kCanNetworkDown)),
              set_bits(fault_bit(FaultCode::kCanSendFailed), fault_bit(FaultCode::kCanControllerProblem)));
 
+// Every fault this port raises is a CAN detail bit (ActiveFaults 9..14), never
+// one of the safety logic's Fault bits 0..8 (the logic sees them as kCanError).
+constexpr std::uint16_t kPortFaults =
+    set_bits(set_bits(kSendFaults, fault_bit(FaultCode::kCanBusOff)), fault_bit(FaultCode::kCanErrorPassive));
+static_assert(kPortFaults == kCanDetailFaultBits, "the port raises exactly the CAN detail fault bits");
+
 // Controller status bits of an error frame's data[1], as unsigned masks.
 constexpr unsigned kCtrlPassive =
     static_cast<unsigned>(CAN_ERR_CRTL_RX_PASSIVE) | static_cast<unsigned>(CAN_ERR_CRTL_TX_PASSIVE);
