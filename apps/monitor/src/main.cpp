@@ -1,0 +1,535 @@
+// cellguard-monitor: the protective-zone monitor on Linux. Runs the cycle
+// executive on the (simulated) workcell and sends the CAN safety output on a
+// SocketCAN interface or into a candump log.
+#include <sched.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "cellguard/accessibility.hpp"
+#include "cellguard/linux/candump_log.hpp"
+#include "cellguard/linux/monotonic_clock.hpp"
+#include "cellguard/linux/prior_files.hpp"
+#include "cellguard/linux/socketcan.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety_output.hpp"
+#include "cellguard/sim/workcell.hpp"
+
+using namespace cellguard;
+using namespace cellguard::monitor;
+
+namespace {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+const char* kUsage =
+    "usage: cellguard-monitor [--demo | --config FILE] [options]\n"
+    "\n"
+    "Protective-zone monitor: fuses the workcell's depth sensors every cycle,\n"
+    "evaluates the protective and warning zones, and sends the CAN safety\n"
+    "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
+    "interface or into a candump-format log. The sensor input is the workcell\n"
+    "simulator (a scripted person walking through the cell).\n"
+    "\n"
+    "  --demo              the built-in paper cell (the default with no arguments)\n"
+    "  --config FILE       load the configuration from a TOML file\n"
+    "                      (example: apps/monitor/config/paper-cell.toml)\n"
+    "  --cycles N          run N cycles (default: the config's demo.cycles, 60)\n"
+    "  --log FILE          candump log path (default: the config's can.log_file)\n"
+    "  --can-interface IF  send on SocketCAN interface IF instead of the log\n"
+    "  --paced             one cycle per period on the real clock (default: as fast as possible)\n"
+    "  --realtime          SCHED_FIFO, mlockall and CPU affinity where permitted\n"
+    "  --quiet             no per-cycle status lines\n"
+    "  --help              this text\n"
+    "\n"
+    "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
+    "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration.\n";
+
+struct Options {
+    bool demo = false;
+    std::string config_path;
+    int cycles = -1;
+    std::string log_file;
+    std::string can_interface;
+    bool paced = false;
+    bool realtime = false;
+    bool quiet = false;
+};
+
+[[noreturn]] void usage_error(const std::string& message) {
+    std::fprintf(stderr, "cellguard-monitor: %s\nTry 'cellguard-monitor --help'.\n", message.c_str());
+    std::exit(2);
+}
+
+Options parse_args(int argc, char** argv) {
+    Options o;
+    if (argc <= 1) {
+        o.demo = true;
+        return o;
+    }
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](const char* name) -> std::string {
+            if (i + 1 >= argc) {
+                usage_error(std::string(name) + " needs a value");
+            }
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (a == "--demo") {
+            o.demo = true;
+        } else if (a == "--config") {
+            o.config_path = value("--config");
+        } else if (a == "--cycles") {
+            const std::string v = value("--cycles");
+            char* end = nullptr;
+            errno = 0;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (errno != 0 || end == v.c_str() || *end != '\0' || n < 1 || n > 1000000) {
+                usage_error("--cycles expects an integer 1..1000000, got '" + v + "'");
+            }
+            o.cycles = static_cast<int>(n);
+        } else if (a == "--log") {
+            o.log_file = value("--log");
+        } else if (a == "--can-interface") {
+            o.can_interface = value("--can-interface");
+        } else if (a == "--paced") {
+            o.paced = true;
+        } else if (a == "--realtime") {
+            o.realtime = true;
+        } else if (a == "--quiet") {
+            o.quiet = true;
+        } else {
+            usage_error("unknown argument '" + a + "'");
+        }
+    }
+    if (o.demo && !o.config_path.empty()) {
+        usage_error("--demo and --config exclude each other");
+    }
+    if (!o.demo && o.config_path.empty()) {
+        o.demo = true;  // options only: the built-in demo configuration
+    }
+    if (!o.log_file.empty() && !o.can_interface.empty()) {
+        usage_error("--log and --can-interface exclude each other");
+    }
+    return o;
+}
+
+/// Real-time set-up: each step reports what it did or why it could not.
+void enter_realtime() {
+    sched_param sp{};
+    sp.sched_priority = 50;
+    if (sched_setscheduler(0, SCHED_FIFO, &sp) == 0) {
+        std::printf("realtime: SCHED_FIFO priority 50\n");
+    } else {
+        std::printf("realtime: SCHED_FIFO not permitted (%s); running with the normal scheduler "
+                    "(needs CAP_SYS_NICE or an rtprio limit)\n",
+                    std::strerror(errno));
+    }
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+        std::printf("realtime: memory locked (mlockall)\n");
+    } else {
+        std::printf("realtime: mlockall not permitted (%s); pages may be swapped (needs CAP_IPC_LOCK or a memlock limit)\n",
+                    std::strerror(errno));
+    }
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof(set), &set) == 0) {
+        int last = -1;
+        for (int c = 0; c < CPU_SETSIZE; ++c) {
+            if (CPU_ISSET(c, &set)) {
+                last = c;
+            }
+        }
+        cpu_set_t one;
+        CPU_ZERO(&one);
+        CPU_SET(last, &one);
+        if (last >= 0 && sched_setaffinity(0, sizeof(one), &one) == 0) {
+            std::printf("realtime: pinned to CPU %d\n", last);
+        } else {
+            std::printf("realtime: CPU affinity not set (%s)\n", std::strerror(errno));
+        }
+    }
+}
+
+/// Simulated time for the unpaced demo: advances one period per cycle and,
+/// within a cycle, with the real clock (so cycle times are real); never goes back.
+class CycleClock final : public MonotonicClock {
+public:
+    explicit CycleClock(bool paced) : paced_(paced) {}
+    /// Starts the next cycle at simulated time @p sim_us (ignored when paced).
+    void start_cycle(std::uint64_t sim_us) {
+        base_real_ = real_.now_us();
+        base_sim_ = paced_ ? base_real_ : std::max(sim_us, last_ + 1U);
+    }
+    std::uint64_t now_us() noexcept override {
+        std::uint64_t v = paced_ ? real_.now_us() : base_sim_ + (real_.now_us() - base_real_);
+        if (v <= last_) {
+            v = last_ + 1U;
+        }
+        last_ = v;
+        return v;
+    }
+    std::uint64_t base() const { return base_sim_; }
+
+private:
+    bool paced_;
+    linux_port::LinuxMonotonicClock real_;
+    std::uint64_t base_real_ = 0U;
+    std::uint64_t base_sim_ = 0U;
+    std::uint64_t last_ = 0U;
+};
+
+class SocketCanSender final : public CanSender {
+public:
+    explicit SocketCanSender(linux_port::SocketCan& can) : can_(&can) {}
+    bool send(const CanFrame& frame) noexcept override { return can_->send(frame).ok(); }
+
+private:
+    linux_port::SocketCan* can_;
+};
+
+std::string fault_names(std::uint32_t mask) {
+    if (mask == 0U) {
+        return "-";
+    }
+    std::string s;
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        if ((mask & fault_bit(static_cast<Fault>(f))) != 0U) {
+            s += (s.empty() ? "" : ",");
+            s += to_string(static_cast<Fault>(f));
+        }
+    }
+    return s;
+}
+
+sim::SensorSpec to_spec(const SensorSettings& s, std::string& error) {
+    sim::SensorSpec spec;
+    spec.name = s.name;
+    spec.position = s.position;
+    spec.width = s.width;
+    spec.height = s.height;
+    spec.hfov_deg = s.hfov_deg;
+    spec.vfov_deg = s.vfov_deg;
+    spec.max_range = static_cast<float>(s.max_range);
+    if (s.has_target) {
+        spec.target = s.target;
+        if (std::abs((s.target - s.position).normalized().z()) > 0.999) {
+            error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
+                    "': looking straight up or down needs `rotation` (the simulator derives the roll from the vertical)";
+        }
+    } else {
+        const Eigen::Matrix3d r = s.rotation.toRotationMatrix();
+        spec.target = s.position + r.col(2);
+        if (!spec.pose().linear().isApprox(r, 1e-6)) {
+            error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
+                    "': the simulator supports only rotations without roll (x axis horizontal)";
+        }
+    }
+    return spec;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Options opt = parse_args(argc, argv);
+    MonitorConfig cfg;
+    if (opt.demo) {
+        cfg = demo_config();
+    } else {
+        const ConfigLoad load = load_monitor_config(opt.config_path);
+        if (!load.ok) {
+            std::fprintf(stderr, "cellguard-monitor: configuration error: %s\n", load.error.c_str());
+            return 2;
+        }
+        cfg = load.config;
+    }
+    if (opt.cycles > 0) {
+        cfg.demo_cycles = opt.cycles;
+    }
+    if (!opt.log_file.empty()) {
+        cfg.can.log_file = opt.log_file;
+        cfg.can.interface_name.clear();
+    }
+    if (!opt.can_interface.empty()) {
+        cfg.can.interface_name = opt.can_interface;
+    }
+
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
+    if (opt.realtime) {
+        enter_realtime();
+    }
+
+    // Grid, sensors, zones.
+    const GridGeometry g =
+        GridGeometry::make(cfg.grid.origin, cfg.grid.voxel_size, GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]})
+            .value();
+    std::vector<sim::SensorSpec> specs;
+    for (const SensorSettings& s : cfg.sensors) {
+        std::string error;
+        specs.push_back(to_spec(s, error));
+        if (!error.empty()) {
+            std::fprintf(stderr, "cellguard-monitor: configuration error: %s\n", error.c_str());
+            return 2;
+        }
+    }
+    std::vector<ZoneConfig> zone_configs;
+    for (const ZoneSettings& z : cfg.zones) {
+        zone_configs.push_back(z.zone);
+    }
+    std::vector<std::uint32_t> zone_mask(g.voxel_count());
+    ZoneError zone_error;
+    const Result<CompiledZones> compiled = CompiledZones::compile(
+        g, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()}, &zone_error);
+    if (!compiled.ok()) {
+        const ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
+        std::fprintf(stderr, "cellguard-monitor: configuration error: line %d: zone '%s': %s (%s)\n", z.line,
+                     z.name.c_str(), zone_error.reason, to_string(compiled.error()));
+        return 2;
+    }
+    const CompiledZones zones = compiled.value();
+
+    // CAN output.
+    CycleClock clock(opt.paced);
+    linux_port::CandumpLogWriter log_writer;
+    linux_port::SocketCan socket_can;
+    SocketCanSender socket_sender(socket_can);
+    CanSender* sender = nullptr;
+    if (!cfg.can.interface_name.empty()) {
+        const linux_port::SocketCanStatus st = socket_can.open(cfg.can.interface_name.c_str());
+        if (!st.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: CAN interface '%s': %s (%s)\n", cfg.can.interface_name.c_str(),
+                         linux_port::to_string(st.error), std::strerror(st.sys_errno));
+            return 1;
+        }
+        sender = &socket_sender;
+        std::printf("CAN: SocketCAN interface %s\n", cfg.can.interface_name.c_str());
+    } else {
+        const IoStatus st = log_writer.open(cfg.can.log_file.c_str(), cfg.can.log_interface_name.c_str(), clock);
+        if (!st.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: CAN log: %s\n", st.message());
+            return 1;
+        }
+        sender = &log_writer;
+        std::printf("CAN: candump log %s (interface name %s)\n", cfg.can.log_file.c_str(),
+                    cfg.can.log_interface_name.c_str());
+    }
+
+    // Evidence grids, sensor model, background and prior.
+    SensorModelTable model;
+    std::vector<std::int16_t> frame_lo(g.voxel_count()), prior(g.voxel_count());
+    std::vector<std::uint8_t> frame_ob(g.voxel_count());
+    EvidenceGrid frame_grid =
+        EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
+    if (cfg.prior.source == PriorSource::kFile) {
+        std::vector<std::uint8_t> bytes;
+        PriorImageView view;
+        const IoStatus st = read_prior_image_file(cfg.prior.file.c_str(), g, bytes, view);
+        if (!st.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: prior: %s\n", st.message());
+            return 1;
+        }
+        if (!view.copy_to({prior.data(), prior.size()}).ok()) {
+            std::fprintf(stderr, "cellguard-monitor: prior: %s does not fit the grid\n", cfg.prior.file.c_str());
+            return 1;
+        }
+        std::printf("prior: %s\n", cfg.prior.file.c_str());
+    } else {
+        std::vector<std::int16_t> bg_lo(g.voxel_count());
+        std::vector<std::uint8_t> bg_ob(g.voxel_count());
+        EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
+        bg.clear();
+        const sim::SimulatedFrame empty = sim::render_frame(specs, sim::reference_scene());
+        for (int i = 0; i < cfg.prior.background_frames; ++i) {
+            frame_grid.clear();
+            if (!fuse_frame(frame_grid, {empty.readings.data(), empty.readings.size()}, model).ok() ||
+                !accumulate_background(bg, frame_grid).ok()) {
+                std::fprintf(stderr, "cellguard-monitor: background: fusing the empty frames failed\n");
+                return 1;
+            }
+        }
+        AccessibilityParams params;
+        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
+        std::vector<std::uint32_t> words(size.words);
+        std::vector<std::uint8_t> bytes(size.bytes);
+        const Status st = compute_accessibility_prior(
+            bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+            {prior.data(), prior.size()}, {});
+        if (!st.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: prior: computing the accessibility prior failed: %s\n",
+                         to_string(st.error()));
+            return 1;
+        }
+        std::printf("prior: probabilistic accessibility prior from %d simulated empty frames\n",
+                    cfg.prior.background_frames);
+    }
+
+    // Ray tables of the static sensors.
+    const sim::SimulatedFrame layout = sim::render_frame(specs, sim::reference_scene());
+    std::vector<std::vector<RayStep>> steps(specs.size());
+    std::vector<std::vector<std::uint32_t>> begins(specs.size());
+    std::vector<std::vector<float>> enters(specs.size()), norms(specs.size());
+    std::vector<RayTable> tables(specs.size());
+    std::size_t total_steps = 0U;
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        const Result<std::size_t> n = count_ray_steps(g, layout.readings[s]);
+        if (!n.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: sensor '%s': %s\n", specs[s].name.c_str(), to_string(n.error()));
+            return 1;
+        }
+        const std::size_t px = static_cast<std::size_t>(specs[s].width) * static_cast<std::size_t>(specs[s].height);
+        steps[s].resize(n.value());
+        begins[s].resize(px + 1U);
+        enters[s].resize(px);
+        norms[s].resize(px);
+        const Result<RayTable> t = RayTable::build(
+            g, layout.readings[s],
+            RayTableStorage{{steps[s].data(), steps[s].size()}, {begins[s].data(), begins[s].size()},
+                            {enters[s].data(), enters[s].size()}, {norms[s].data(), norms[s].size()}});
+        if (!t.ok()) {
+            std::fprintf(stderr, "cellguard-monitor: sensor '%s': ray table: %s\n", specs[s].name.c_str(),
+                         to_string(t.error()));
+            return 1;
+        }
+        tables[s] = t.value();
+        total_steps += n.value();
+    }
+    std::printf("ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
+                static_cast<double>(total_steps * sizeof(RayStep)) / 1e6);
+
+    ControllerConfig cc;
+    cc.sensor_count = specs.size();
+    cc.logic.restart_delay_us = cfg.restart_delay_us;
+    cc.logic.reset_required = cfg.reset_required;
+    cc.logic.fault_recovery_cycles = cfg.fault_recovery_cycles;
+    cc.zones.foreground_threshold = cfg.foreground_threshold;
+    cc.zones.accessible_min_prior = cfg.accessible_min_prior;
+    cc.max_frame_age_us = cfg.max_frame_age_us;
+    cc.cycle_budget_us = cfg.budget_us;
+
+    // The controller computes the prior CRC at construction; the output needs
+    // it, so the output is bound after the controller through a forwarder.
+    class Forward final : public CycleOutput {
+    public:
+        bool publish(const CycleReport& r) noexcept override { return target != nullptr && target->publish(r); }
+        CanSafetyOutput* target = nullptr;
+    } forward;
+    SafetyController controller(cc, frame_grid, {prior.data(), prior.size()}, zones, model, clock, &forward);
+    SafetyOutputConfig oc;
+    oc.channel = cfg.can.channel;
+    oc.zone_count = static_cast<std::uint8_t>(zones.size());
+    oc.prior_crc = controller.prior_crc();
+    CanSafetyOutput output(oc, *sender);
+    if (!output.status().ok()) {
+        std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(output.status().error()));
+        return 2;
+    }
+    forward.target = &output;
+    std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", controller.prior_crc(), zones.size(),
+                static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles, opt.paced ? ", paced" : "");
+
+    // The cycles.
+    int cycles_run = 0, stop_cycles = 0, warning_cycles = 0, first_stop_after_release = -1, send_failures = 0;
+    bool released = false;
+    std::uint32_t faults_seen = 0U;
+    std::uint64_t max_cycle_us = 0U;
+    timespec next{};
+    clock_gettime(CLOCK_MONOTONIC, &next);
+    const std::uint64_t sim_start_us = 1000000U;
+    for (int k = 0; k < cfg.demo_cycles && g_stop_signal == 0; ++k) {
+        if (opt.paced) {
+            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+            next.tv_nsec += static_cast<long>((cfg.period_us % 1000000U) * 1000U);
+            next.tv_sec += static_cast<time_t>(cfg.period_us / 1000000U) + next.tv_nsec / 1000000000L;
+            next.tv_nsec %= 1000000000L;
+        }
+        const PersonPosition person = demo_person(k);
+        sim::Scene scene = sim::reference_scene();
+        scene.boxes.push_back(person_box(person));
+        const sim::SimulatedFrame frame = sim::render_frame(specs, scene);
+        clock.start_cycle(sim_start_us + static_cast<std::uint64_t>(k) * cfg.period_us);
+        std::vector<SensorInput> inputs(specs.size());
+        for (std::size_t s = 0U; s < specs.size(); ++s) {
+            inputs[s].reading = frame.readings[s];
+            inputs[s].captured_us = clock.base();
+            inputs[s].present = true;
+            inputs[s].table = &tables[s];
+        }
+        if (socket_can.is_open()) {
+            CanFrame rx{};
+            int drained = 0;
+            while (socket_can.receive(rx) != linux_port::SocketCan::ReceiveOutcome::kNothing && ++drained < 64) {
+            }
+            output.set_can_detail_faults(socket_can.active_faults());
+        }
+        const std::size_t sent_before = log_writer.lines();
+        const CycleReport& r = controller.run_cycle({inputs.data(), inputs.size()}, false);
+        const std::uint64_t cycle_us = controller.monitor().last().total_us;
+        max_cycle_us = std::max(max_cycle_us, cycle_us);
+        ++cycles_run;
+        faults_seen |= r.safety.latched_faults;
+        if (!socket_can.is_open() && log_writer.lines() - sent_before != 3U) {
+            ++send_failures;
+        }
+        if (r.safety.stop_requested) {
+            ++stop_cycles;
+            if (released && first_stop_after_release < 0) {
+                first_stop_after_release = k;
+            }
+        } else {
+            released = true;
+        }
+        if (r.safety.warning) {
+            ++warning_cycles;
+        }
+        if (!opt.quiet) {
+            std::string zs;
+            for (std::size_t z = 0U; z < zones.size(); ++z) {
+                zs += " " + cfg.zones[z].name + ":" + to_string(r.zones.zones[z].state);
+            }
+            std::printf("t=%7.3fs cycle %3d person (%5.2f,%5.2f) %-17s|%s | %-4s %-4s | faults %s | cycle %.2f ms\n",
+                        static_cast<double>(clock.base() - sim_start_us) / 1e6, k, person.x, person.y, demo_phase(k),
+                        zs.c_str(), r.safety.stop_requested ? "STOP" : "run", r.safety.warning ? "WARN" : "-",
+                        fault_names(r.safety.latched_faults).c_str(), static_cast<double>(cycle_us) / 1000.0);
+            std::fflush(stdout);
+        }
+    }
+    const bool log_ok = socket_can.is_open() || log_writer.close();
+
+    std::printf("\nsummary: %d cycles%s, stop requested in %d, warning in %d", cycles_run,
+                g_stop_signal != 0 ? " (stopped by signal)" : "", stop_cycles, warning_cycles);
+    if (first_stop_after_release >= 0) {
+        std::printf(", first stop after release in cycle %d", first_stop_after_release);
+    }
+    std::printf("\nsummary: faults latched during the run: %s; longest cycle %.2f ms (budget %.1f ms), overruns %llu\n",
+                fault_names(faults_seen).c_str(), static_cast<double>(max_cycle_us) / 1000.0,
+                static_cast<double>(cfg.budget_us) / 1000.0,
+                static_cast<unsigned long long>(controller.monitor().overruns()));
+    if (socket_can.is_open()) {
+        std::printf("summary: CAN frames sent on %s\n", cfg.can.interface_name.c_str());
+    } else {
+        std::printf("summary: %zu CAN frames written to %s%s\n", log_writer.lines(), cfg.can.log_file.c_str(),
+                    log_ok ? "" : " (WRITE ERROR)");
+    }
+    if (!log_ok || send_failures != 0) {
+        std::fprintf(stderr, "cellguard-monitor: writing the CAN log failed\n");
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,180 @@
+// Requirements: the monitor's TOML configuration: the example file and the built-in demo load, every kind of bad key or value is refused with a message naming the key and its line.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/scenario.hpp"
+
+using namespace cellguard;
+using namespace cellguard::monitor;
+
+namespace {
+
+/// The demo text with the first occurrence of @p from replaced by @p to (which must exist).
+std::string edited(const std::string& from, const std::string& to) {
+    std::string text = demo_config_text();
+    const std::size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+    return text;
+}
+
+/// Line (1-based) of the first occurrence of @p needle in @p text.
+int line_of(const std::string& text, const std::string& needle) {
+    const std::size_t at = text.find(needle);
+    REQUIRE(at != std::string::npos);
+    int line = 1;
+    for (std::size_t i = 0U; i < at; ++i) line += text[i] == '\n' ? 1 : 0;
+    return line;
+}
+
+/// Loads @p text and checks that it fails with a message holding "cell.toml:<line>:" and @p key.
+void check_refused(const std::string& text, int line, const std::string& key) {
+    const ConfigLoad l = parse_monitor_config(text, "cell.toml");
+    CAPTURE(l.error);
+    CHECK_FALSE(l.ok);
+    CHECK(l.error.find("cell.toml:" + std::to_string(line) + ":") == 0U);
+    CHECK(l.error.find(key) != std::string::npos);
+}
+
+}  // namespace
+
+TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo load with the paper's cell") {
+    const ConfigLoad file = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml");
+    REQUIRE_MESSAGE(file.ok, file.error);
+    const MonitorConfig& c = file.config;
+    CHECK(c.grid.dims[0] == 34);
+    CHECK(c.grid.dims[2] == 30);
+    CHECK(c.grid.voxel_size == doctest::Approx(0.05));
+    REQUIRE(c.sensors.size() == 4U);
+    CHECK(c.sensors[2].name == "stereo-a");
+    CHECK(c.sensors[2].width == 320);
+    CHECK(c.sensors[0].has_target);
+    REQUIRE(c.zones.size() == 2U);
+    CHECK(c.zones[0].zone.kind == ZoneKind::kProtective);
+    CHECK(c.zones[1].zone.kind == ZoneKind::kWarning);
+    CHECK(c.zones[1].zone.shape == ZoneShape::kPrism);
+    CHECK(c.zones[1].zone.polygon_size == 4U);
+    CHECK(c.zones[0].zone.max_unseen_voxels == 20U);
+    CHECK(c.prior.source == PriorSource::kSimulatedBackground);
+    CHECK(c.can.channel.safety_can_id == 0x101U);
+    CHECK(c.can.channel.data_id_mode == E2eP01DataIdMode::kBoth);
+    CHECK(c.can.log_file == "monitor-demo.log");
+    CHECK(c.period_us == 100000U);
+    CHECK(c.restart_delay_us == 500000U);
+    CHECK(c.demo_cycles == 60);
+    const MonitorConfig demo = demo_config();
+    CHECK(demo.sensors.size() == 4U);
+    CHECK(demo.zones[0].zone.box_max.x() == doctest::Approx(0.4));
+}
+
+TEST_CASE("monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's directory") {
+    std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+    text = edited("source = \"simulated-background\"", "source = \"file\"\nfile = \"cell.cgprior\"");
+    const ConfigLoad l = parse_monitor_config(text, "cell.toml", "/etc/cellguard");
+    REQUIRE_MESSAGE(l.ok, l.error);
+    CHECK(l.config.prior.source == PriorSource::kFile);
+    CHECK(l.config.prior.file == "/etc/cellguard/cell.cgprior");
+    const std::string rot = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+    const ConfigLoad r = parse_monitor_config(rot, "cell.toml");
+    REQUIRE_MESSAGE(r.ok, r.error);
+    CHECK_FALSE(r.config.sensors[0].has_target);
+}
+
+TEST_CASE("monitor config: a TOML syntax error names the line") {
+    const std::string text = edited("voxel_size = 0.05", "voxel_size = = 0.05");
+    const ConfigLoad l = parse_monitor_config(text, "cell.toml");
+    CHECK_FALSE(l.ok);
+    CHECK(l.error.find("cell.toml:" + std::to_string(line_of(text, "voxel_size = =")) + ":") == 0U);
+    CHECK(l.error.find("TOML syntax") != std::string::npos);
+}
+
+TEST_CASE("monitor config: a value of the wrong type or out of range names the key and its line") {
+    std::string t = edited("voxel_size = 0.05", "voxel_size = \"fine\"");
+    check_refused(t, line_of(t, "voxel_size"), "grid.voxel_size: expected a number");
+    t = edited("voxel_size = 0.05", "voxel_size = -0.05");
+    check_refused(t, line_of(t, "voxel_size"), "grid.voxel_size: must be greater than 0");
+    t = edited("dims = [34, 30, 30]", "dims = [34, 0, 30]");
+    check_refused(t, line_of(t, "dims"), "grid.dims");
+    t = edited("dims = [34, 30, 30]", "dims = [34, 30]");
+    check_refused(t, line_of(t, "dims"), "grid.dims: expected an array of 3 integers");
+    t = edited("resolution = [320, 240]", "resolution = [320.5, 240]");
+    check_refused(t, line_of(t, "resolution = [320.5"), "sensors[2].resolution");
+    t = edited("fov = [60.0, 45.0]", "fov = [190.0, 45.0]");
+    check_refused(t, line_of(t, "fov = [190"), "sensors[2].fov");
+    t = edited("max_range = 10.0", "max_range = 0");
+    check_refused(t, line_of(t, "max_range = 0"), "sensors[0].max_range");
+    t = edited("kind = \"warning\"", "kind = \"caution\"");
+    check_refused(t, line_of(t, "caution"), "zones[1].kind: expected \"protective\" or \"warning\", got \"caution\"");
+    t = edited("shape = \"box\"\nmin", "shape = \"sphere\"\nmin");
+    check_refused(t, line_of(t, "sphere"), "zones[0].shape");
+    t = edited("max = [0.4, 0.6, 1.2]", "max = [0.4, 0.1, 1.2]");
+    check_refused(t, line_of(t, "max = [0.4, 0.1"), "zones[0].max: every coordinate must be greater than in min");
+    t = edited("polygon = [[-0.8, 0.45], [0.8, 0.45], [0.8, 0.75], [-0.8, 0.75]]", "polygon = [[-0.8, 0.45], [0.8, 0.45]]");
+    check_refused(t, line_of(t, "polygon = [[-0.8"), "zones[1].polygon");
+    t = edited("max_unseen_voxels = 20", "max_unseen_voxels = -1");
+    check_refused(t, line_of(t, "max_unseen_voxels = -1"), "zones[0].max_unseen_voxels: expected an integer in 0..");
+    t = edited("data_id_mode = \"both\"", "data_id_mode = \"all\"");
+    check_refused(t, line_of(t, "data_id_mode"), "can.data_id_mode");
+    t = edited("safety_id = 0x101", "safety_id = 0x900");
+    check_refused(t, line_of(t, "safety_id"), "can.safety_id: expected an integer in 0..2046");
+    t = edited("period_ms = 100", "period_ms = 0");
+    check_refused(t, line_of(t, "period_ms"), "cycle.period_ms");
+    t = edited("budget_ms = 100", "budget_ms = 200");
+    check_refused(t, line_of(t, "budget_ms"), "cycle.budget_ms: expected more than 0 and at most period_ms");
+    t = edited("reset_required = false", "reset_required = \"no\"");
+    check_refused(t, line_of(t, "reset_required"), "restart_interlock.reset_required: expected true or false");
+    t = edited("source = \"simulated-background\"", "source = \"guess\"");
+    check_refused(t, line_of(t, "guess"), "prior.source");
+}
+
+TEST_CASE("monitor config: an unknown key, a missing key or a missing table names it and the line of its table") {
+    std::string t = edited("voxel_size = 0.05", "voxel_sise = 0.05");
+    check_refused(t, line_of(t, "voxel_sise"), "grid.voxel_sise: unknown key");
+    t = edited("[demo]", "[dmeo]");
+    check_refused(t, line_of(t, "[dmeo]"), "dmeo: unknown key");
+    t = edited("name = \"stereo-b\"\n", "");
+    check_refused(t, line_of(t, "[[sensors]]\nposition = [-1.9, 1.9"), "sensors[3].name: missing key");
+    t = edited("z_max = 1.2\n", "");
+    check_refused(t, line_of(t, "[[zones]]\nname = \"warning\""), "zones[1].z_max: missing key");
+    t = edited("[cycle]\nperiod_ms = 100", "[cycle]\nperiod = 100");
+    check_refused(t, line_of(t, "period = 100"), "cycle.period: unknown key");
+    t = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "resolution = [176, 144]");
+    check_refused(t, line_of(t, "[[sensors]]"), "sensors[0].target: give exactly one of target and rotation");
+}
+
+TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame carries 16") {
+    std::string text = demo_config_text();
+    const std::string zone = "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n";
+    std::string extra;
+    for (int i = 0; i < 15; ++i) extra += zone;
+    const std::size_t at = text.find("[thresholds]");
+    std::string sixteen = text;
+    sixteen.insert(at, extra.substr(0U, extra.size() - zone.size()) + "\n");
+    CHECK(parse_monitor_config(sixteen, "cell.toml").ok);  // 2 + 14 = 16 zones
+    text.insert(at, extra + "\n");                          // 2 + 15 = 17 zones
+    const ConfigLoad l = parse_monitor_config(text, "cell.toml");
+    CHECK_FALSE(l.ok);
+    CHECK(l.error.find("zones: at most 16 zones") != std::string::npos);
+}
+
+TEST_CASE("monitor config: a missing file is a clear error") {
+    const ConfigLoad l = load_monitor_config("/nonexistent/cell.toml");
+    CHECK_FALSE(l.ok);
+    CHECK(l.error == "/nonexistent/cell.toml: cannot open the configuration file");
+}
+
+TEST_CASE("monitor scenario: the scripted person enters the protective zone in one step, never before") {
+    const MonitorConfig c = demo_config();
+    const ZoneConfig& protective = c.zones[0].zone;
+    int entry = -1;
+    for (int k = 0; k < 60 && entry < 0; ++k) {
+        if (person_overlaps(protective, demo_person(k))) entry = k;
+    }
+    CHECK(entry == 15);
+    CHECK_FALSE(person_overlaps(c.zones[1].zone, demo_person(0)));  // starts outside the warning zone too
+    CHECK(person_overlaps(c.zones[1].zone, demo_person(14)));
+    CHECK(demo_person(100).x == doctest::Approx(-1.4));  // stays outside after the path
+    CHECK(std::string(demo_phase(15)) == "protective zone");
+}

@@ -1,0 +1,150 @@
+// Requirements: the CAN safety output: each cycle's safety frame, inverted copy and diagnostics frame decode, the PLC receiver accepts a run of cycles across the counter wrap, the stop bit follows the report, fault bits and CRC pages are carried, too many zones are refused, a failing send is reported.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "cellguard/plc_receiver.hpp"
+#include "cellguard/safety_output.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+/// Records every frame; fails the send with index fail_at (counting from 0), if set.
+class RecordingSender final : public CanSender {
+public:
+    bool send(const CanFrame& frame) noexcept override {
+        const bool ok = static_cast<int>(frames.size()) != fail_at;
+        frames.push_back(frame);
+        return ok;
+    }
+    std::vector<CanFrame> frames;
+    int fail_at = -1;
+};
+
+SafetyOutputConfig output_config(std::uint8_t zones = 2U) {
+    SafetyOutputConfig c;
+    c.zone_count = zones;
+    c.prior_crc = 0xCAFEF00DU;
+    return c;
+}
+
+CycleReport report_with(bool stop, std::uint32_t intruded, std::uint32_t latched) {
+    CycleReport r;
+    r.safety.stop_requested = stop;
+    r.safety.warning = (intruded & 2U) != 0U;
+    r.safety.intruded_mask = intruded;
+    r.safety.latched_faults = latched;
+    r.timing.total_us = 1234U;
+    r.worst.total_us = 4567U;
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("safety output: one cycle sends the safety frame, its inverted copy and the diagnostics frame, in that order") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    REQUIRE(out.status().ok());
+    REQUIRE(out.publish(report_with(true, 1U, 0U)));
+    REQUIRE(sender.frames.size() == 3U);
+    const SafetyFrameContent s = decode_safety_frame(sender.frames[0], SafetyChannelConfig{}).value();
+    CHECK(s.counter == 0U);
+    CHECK(s.message.protective_stop);
+    CHECK(s.message.zone_intrusion == 1U);
+    CHECK(s.message.zone_count == 2U);
+    CHECK_FALSE(s.message.fault);
+    CHECK(sender.frames[1].id == kDefaultSafetyCanId + 1U);
+    for (std::size_t k = 0U; k < 8U; ++k) {
+        CHECK(sender.frames[1].data[k] == static_cast<std::uint8_t>(~sender.frames[0].data[k]));
+    }
+    const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
+    CHECK(d.counter == 0U);
+    CHECK(d.message.cycle_time == 13U);      // 1234 us, rounded up to 100 us units
+    CHECK(d.message.max_cycle_time == 46U);
+    CHECK(d.message.prior_crc_page == 0U);
+    CHECK(d.message.prior_crc_part == 0x0DU);
+}
+
+TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the report") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    PlcReceiverConfig rc;
+    rc.expected_zone_count = 2U;
+    PlcReceiver plc(rc);
+    std::uint64_t now = 1000000U;
+    std::uint32_t prior_crc = 0U;
+    for (int cycle = 0; cycle < 40; ++cycle) {  // 40 cycles: the counters wrap twice
+        const bool stop = (cycle / 7) % 2 == 1;
+        const std::size_t first = sender.frames.size();
+        REQUIRE(out.publish(report_with(stop, stop ? 1U : 0U, 0U)));
+        REQUIRE(sender.frames.size() == first + 3U);
+        now += 20000U;
+        (void)plc.on_frame(sender.frames[first], now);
+        const ReceiverStatus st = plc.on_frame(sender.frames[first + 1U], now + 500U);
+        (void)plc.on_frame(sender.frames[first + 2U], now + 600U);  // other ID: ignored by the receiver
+        const SafetyFrameContent s = decode_safety_frame(sender.frames[first], SafetyChannelConfig{}).value();
+        CHECK(s.counter == cycle % 15);
+        CHECK(s.message.protective_stop == stop);
+        const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[first + 2U], SafetyChannelConfig{}).value();
+        CHECK(d.counter == cycle % 15);
+        CHECK(d.message.prior_crc_page == cycle % 4);
+        prior_crc |= static_cast<std::uint32_t>(d.message.prior_crc_part) << (8U * d.message.prior_crc_page);
+        if (cycle >= 3) {  // after the reference pair and two recovery pairs
+            CHECK(st.communication_valid);
+            CHECK(st.fault == ReceiverFault::kNone);
+            CHECK(st.stop_requested == stop);
+        }
+    }
+    CHECK(prior_crc == 0xCAFEF00DU);  // the four pages give the whole CRC
+    CHECK(plc.poll(now + 1000U).fault_events == 0U);  // no fault detected in the whole run
+}
+
+TEST_CASE("safety output: latched faults go to ActiveFaults bits 0..8 and the CAN details to bits 9..14") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    out.set_can_detail_faults(static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) | 0x8001U));
+    REQUIRE(out.publish(report_with(true, 0U, fault_bit(Fault::kSensorStale) | fault_bit(Fault::kCanError))));
+    const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
+    CHECK(d.message.active_faults == (fault_bit(FaultCode::kSensorStale) | fault_bit(FaultCode::kCanError) |
+                                      fault_bit(FaultCode::kCanBusOff)));
+    const SafetyFrameContent s = decode_safety_frame(sender.frames[0], SafetyChannelConfig{}).value();
+    CHECK(s.message.fault);
+    CHECK(s.message.protective_stop);
+}
+
+TEST_CASE("safety output: zone bits above the zone count are not sent") {
+    const SafetyMessage m = safety_message(report_with(false, 0xFFFFFFFFU, 0U).safety, 3U);
+    CHECK(m.zone_intrusion == 0x7U);
+    CHECK(m.zone_count == 3U);
+    CHECK(safety_message(report_with(false, 0xFFFFFFFFU, 0U).safety, 16U).zone_intrusion == 0xFFFFU);
+}
+
+TEST_CASE("safety output: more than 16 zones or a bad channel config is refused and every publish fails") {
+    RecordingSender sender;
+    CHECK(check_safety_output_config(output_config(16U)).ok());
+    CanSafetyOutput too_many(output_config(17U), sender);
+    CHECK(too_many.status().error() == ErrorCode::kCapacityExceeded);
+    CHECK_FALSE(too_many.publish(report_with(false, 0U, 0U)));
+    CHECK(sender.frames.empty());
+    SafetyOutputConfig bad = output_config();
+    bad.channel.diagnostics_can_id = bad.channel.safety_can_id + 1U;  // collides with the inverted copy
+    CanSafetyOutput clash(bad, sender);
+    CHECK(clash.status().error() == ErrorCode::kInvalidArgument);
+    CHECK_FALSE(clash.publish(report_with(false, 0U, 0U)));
+    CHECK(sender.frames.empty());
+}
+
+TEST_CASE("safety output: a failing send makes publish return false and the counters still advance") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    sender.fail_at = 1;  // the inverted copy of the first cycle
+    CHECK_FALSE(out.publish(report_with(false, 0U, 0U)));
+    CHECK(sender.frames.size() == 2U);  // stopped after the failed send
+    CHECK(out.encoder().safety_counter() == 1U);
+    CHECK(out.publish(report_with(false, 0U, 0U)));
+    CHECK(decode_safety_frame(sender.frames[2], SafetyChannelConfig{}).value().counter == 1U);
+    sender.fail_at = 7;  // the diagnostics frame of the third cycle
+    CHECK_FALSE(out.publish(report_with(false, 0U, 0U)));
+}
