@@ -1,9 +1,19 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian 12 machine lacks to build and test cellguard.
 # Needs root (or sudo). Safe to run again.
+# --cross also installs the cross toolchains and emulators of tools/cross.sh:
+# aarch64 g++ with qemu-user, arm-none-eabi gcc with newlib's libstdc++ and
+# qemu-system-arm (about 1 GB; not part of the default install).
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3)
+for arg in "$@"; do
+  case "$arg" in
+    --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
+                    libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm) ;;
+    *) echo "usage: $0 [--cross]" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

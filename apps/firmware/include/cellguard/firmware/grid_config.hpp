@@ -1,0 +1,15 @@
+/// @file grid_config.hpp
+/// The grid the firmware is compiled for: the paper's 34 x 30 x 30 voxels
+/// at 5 cm (paper_grid_geometry, grid.hpp). The generated prior header
+/// checks its dimensions against these macros at compile time.
+#ifndef CELLGUARD_FIRMWARE_GRID_CONFIG_HPP
+#define CELLGUARD_FIRMWARE_GRID_CONFIG_HPP
+
+/// Voxels along x.
+#define CELLGUARD_GRID_NX 34
+/// Voxels along y.
+#define CELLGUARD_GRID_NY 30
+/// Voxels along z.
+#define CELLGUARD_GRID_NZ 30
+
+#endif  // CELLGUARD_FIRMWARE_GRID_CONFIG_HPP

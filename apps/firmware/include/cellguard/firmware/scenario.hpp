@@ -1,0 +1,68 @@
+/// @file scenario.hpp
+/// The firmware's canned run, the same code on every target: the prior
+/// (generated/firmware_prior.hpp, a const array: flash on the MCU) is
+/// checked and bound, two zones are compiled, and the SafetyController
+/// runs a fixed script of cycles on canned depth frames
+/// (generated/canned_frames.hpp, rendered on the host by
+/// cellguard-firmware-gen). Every cycle's results are folded into a CRC-32
+/// digest, so that the x86-64, aarch64 and Cortex-M7 builds can be
+/// compared bit for bit.
+///
+/// What the digest covers, per cycle in order: the cycle number; the fused
+/// frame grid (every log-odds value and observed flag); the fusion counts;
+/// each zone's state and foreground and unseen counts; the detected faults;
+/// the safety outputs; every CAN frame sent (ID, DLC, data). Timing is
+/// measured, not computed, so it is left out: the report's timing fields
+/// and, in the diagnostics frame, the E2E CRC byte and the CycleTime and
+/// MaxCycleTime bits (32..53) are not digested.
+#ifndef CELLGUARD_FIRMWARE_SCENARIO_HPP
+#define CELLGUARD_FIRMWARE_SCENARIO_HPP
+
+#include <cstdint>
+
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety_output.hpp"
+
+namespace cellguard::firmware {
+
+/// Where the run's text lines go (semihosting on the board, stdout on a host).
+class TextSink {
+public:
+    /// Writes @p text (NUL-terminated, no newline added).
+    virtual void write(const char* text) noexcept = 0;
+
+protected:
+    TextSink() = default;
+    ~TextSink() = default;
+    TextSink(const TextSink&) = default;
+    TextSink& operator=(const TextSink&) = default;
+    TextSink(TextSink&&) = default;
+    TextSink& operator=(TextSink&&) = default;
+};
+
+/// Outcome of run_scenario.
+struct ScenarioSummary {
+    bool setup_ok = false;        ///< prior, zones and CAN output were accepted
+    std::uint32_t cycles = 0U;    ///< cycles run
+    std::uint32_t digest = 0U;    ///< CRC-32 over every cycle's digested content
+    std::uint32_t prior_crc = 0U; ///< SafetyController::prior_crc
+};
+
+/// Number of cycles in the script.
+constexpr std::uint32_t kScenarioCycles = 8U;
+
+/// Runs the script: prints one line per cycle ("cycle N ...") and a last
+/// line "digest 0x%08x" to @p text, sends every cycle's CAN frames through
+/// @p can. Uses static storage for the grid and the zone mask (not
+/// re-entrant). @p clock only times the cycles; results do not depend on it
+/// as long as a cycle stays within its (generous, 10 s) budget.
+[[nodiscard]] ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept;
+
+/// Writes @p value as "0x" and eight lowercase hex digits plus a NUL into @p out.
+void format_hex32(std::uint32_t value, char (&out)[11]) noexcept;
+/// Writes @p value in decimal plus a NUL into @p out.
+void format_decimal(std::uint64_t value, char (&out)[21]) noexcept;
+
+}  // namespace cellguard::firmware
+
+#endif  // CELLGUARD_FIRMWARE_SCENARIO_HPP

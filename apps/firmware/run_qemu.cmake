@@ -1,0 +1,20 @@
+# Runs the firmware on qemu-system-arm -M mps2-an500 with semihosting (60 s
+# timeout) and checks that it exits with 0 and prints "digest EXPECTED".
+# Run as: cmake -DQEMU=... -DELF=... -DEXPECTED=0x... [-DLOG=file] -P run_qemu.cmake
+execute_process(COMMAND ${QEMU} -M mps2-an500 -nographic -monitor none -serial null
+                        -semihosting-config enable=on,target=native -kernel ${ELF}
+                TIMEOUT 60 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+# QEMU writes the semihosting console to stderr, its own messages too.
+set(out "${out}${err}")
+if(LOG)
+  file(WRITE ${LOG} "${out}")
+endif()
+message("${out}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the firmware failed under qemu-system-arm (exit ${rc})")
+endif()
+string(REGEX MATCH "digest 0x[0-9a-f]+" line "${out}")
+if(NOT line STREQUAL "digest ${EXPECTED}")
+  message(FATAL_ERROR "firmware printed '${line}', expected 'digest ${EXPECTED}'")
+endif()
+message(STATUS "firmware digest ${EXPECTED} as expected")

@@ -1,0 +1,73 @@
+// The Cortex-M7 image for qemu-system-arm -M mps2-an500: the canned run
+// (scenario.hpp) with the SysTick clock and the semihosting CAN backend.
+#include <cstdint>
+
+#include "cellguard/baremetal/semihosting.hpp"
+#include "cellguard/baremetal/semihosting_can.hpp"
+#include "cellguard/baremetal/systick_clock.hpp"
+#include "cellguard/crc32.hpp"
+#include "cellguard/firmware/scenario.hpp"
+
+extern "C" {
+extern std::uint32_t __stack_bottom;  // NOLINT(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,cppcoreguidelines-avoid-non-const-global-variables): defined by the linker script
+}
+
+namespace {
+
+constexpr std::uint32_t kStackPaint = 0x5AFE57ACU;
+
+/// Fills the unused stack below @p in_use (an address in the current frame) with kStackPaint.
+void paint_stack(const volatile std::uint32_t* in_use) noexcept {
+    // cppcheck-suppress comparePointers ; the stack region from the linker script
+    for (volatile std::uint32_t* p = &__stack_bottom; p + 64 < in_use; ++p) {  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+        *p = kStackPaint;
+    }
+}
+
+/// Bytes of stack below @p in_use that were written since paint_stack.
+std::uint32_t stack_used_below(const volatile std::uint32_t* in_use) noexcept {
+    const volatile std::uint32_t* p = &__stack_bottom;
+    // cppcheck-suppress comparePointers ; the stack region from the linker script
+    while (p < in_use && *p == kStackPaint) {
+        ++p;  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    }
+    return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(in_use) -  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): address difference
+                                      reinterpret_cast<std::uintptr_t>(p));       // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): address difference
+}
+
+/// The MPS2 FPGA images run the processor at 25 MHz.
+constexpr std::uint32_t kCpuHz = 25000000U;
+
+class SemihostingText final : public cellguard::firmware::TextSink {
+public:
+    void write(const char* text) noexcept override { cellguard::baremetal::semihosting_write(text); }
+};
+
+}  // namespace
+
+extern "C" int cellguard_firmware_main() noexcept {
+    volatile std::uint32_t frame_marker = 0U;  // this frame's address: the stack in use so far
+    paint_stack(&frame_marker);
+    SemihostingText text;
+    text.write("cellguard firmware: mps2-an500 Cortex-M7, canned run\n");
+    if (!cellguard::crc32_table_self_test()) {
+        text.write("error: CRC-32 table in flash is corrupt\n");
+        return 1;
+    }
+    cellguard::baremetal::SysTickClock clock(kCpuHz);
+    clock.start();
+    cellguard::baremetal::SemihostingCanSender can;
+    const std::uint64_t start = clock.now_us();
+    const cellguard::firmware::ScenarioSummary s = cellguard::firmware::run_scenario(clock, can, text);
+    const std::uint64_t elapsed = clock.now_us() - start;
+    char us[21];
+    cellguard::firmware::format_decimal(elapsed, us);
+    text.write("run time (SysTick, us): ");
+    text.write(us);
+    char stack[21];
+    cellguard::firmware::format_decimal(stack_used_below(&frame_marker), stack);
+    text.write("\nstack used below main's frame (bytes): ");
+    text.write(stack);
+    text.write("\n");
+    return s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles ? 0 : 1;
+}

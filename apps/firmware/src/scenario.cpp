@@ -1,0 +1,306 @@
+// The firmware's canned run (scenario.hpp): the same source on the MCU and the hosts.
+#include "cellguard/firmware/scenario.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+#include "canned_frames.hpp"
+#include "cellguard/crc32.hpp"
+#include "cellguard/evidence_grid.hpp"
+#include "cellguard/firmware/grid_config.hpp"
+#include "cellguard/prior_image.hpp"
+#include "cellguard/zones.hpp"
+#include "firmware_prior.hpp"
+#include "prior_values.hpp"
+
+namespace cellguard::firmware {
+namespace {
+
+namespace canned = cellguard_firmware::canned;
+namespace prior = cellguard_firmware::prior;
+
+using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
+
+// The frame grid and the zone membership mask: static storage (.bss).
+GridStorage g_grid;                              // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the frame grid's storage, in .bss by design
+std::uint32_t g_zone_mask[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
+
+static_assert(prior::kVoxelCount == GridStorage::kVoxels, "the prior was generated for another grid");
+static_assert(sizeof(prior::kValues) / sizeof(prior::kValues[0]) == GridStorage::kVoxels,
+              "the prior values were generated for another grid");
+
+/// One cycle of the script.
+struct Step {
+    std::uint8_t scene;           // index into canned::kDepth
+    std::uint8_t missing_sensors; // bit s: sensor s delivers no frame this cycle
+    bool reset;                   // level of the reset input
+};
+// Empty cell, a person in the warning zone, a person in the protective zone,
+// empty again, a sensor missing, then recovery.
+constexpr Step kScript[kScenarioCycles] = {{0U, 0U, false}, {1U, 0U, false}, {2U, 0U, false}, {0U, 0U, false},
+                                           {0U, 0x4U, false}, {0U, 0U, false}, {0U, 0U, false}, {0U, 0U, false}};
+
+/// Feeds values, little-endian, to the cycle's and the whole run's CRC.
+class Digest {
+public:
+    void bytes(Span<const std::uint8_t> b) noexcept {
+        cycle_.update(b);
+        total_.update(b);
+    }
+    void u8(std::uint8_t v) noexcept { bytes(Span<const std::uint8_t>(&v, 1U)); }
+    void u32(std::uint32_t v) noexcept {
+        const std::uint8_t b[4] = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8U),
+                                   static_cast<std::uint8_t>(v >> 16U), static_cast<std::uint8_t>(v >> 24U)};
+        bytes(Span<const std::uint8_t>(b, 4U));
+    }
+    void u64(std::uint64_t v) noexcept {
+        u32(static_cast<std::uint32_t>(v));
+        u32(static_cast<std::uint32_t>(v >> 32U));
+    }
+    void start_cycle() noexcept { cycle_.reset(); }
+    [[nodiscard]] std::uint32_t cycle() const noexcept { return cycle_.value(); }
+    [[nodiscard]] std::uint32_t total() const noexcept { return total_.value(); }
+
+private:
+    Crc32 cycle_;
+    Crc32 total_;
+};
+
+/// Digests every frame (diagnostics timing masked) and forwards it.
+class DigestingSender final : public CanSender {
+public:
+    DigestingSender(CanSender& inner, std::uint32_t diagnostics_id, Digest& digest) noexcept
+        : inner_(&inner), diagnostics_id_(diagnostics_id), digest_(&digest) {}
+    bool send(const CanFrame& frame) noexcept override {
+        CanFrame m = frame;
+        if (m.id == diagnostics_id_) {
+            m.data[0] = 0U;                                   // E2E CRC (covers the timing)
+            m.data[4] = 0U;                                   // CycleTime bits 32..39
+            m.data[5] = 0U;                                   // CycleTime 40..42, MaxCycleTime 43..47
+            m.data[6] = static_cast<std::uint8_t>(m.data[6] & 0xC0U);  // MaxCycleTime 48..53; keep the CRC page
+        }
+        digest_->u32(m.id);
+        digest_->u8(m.dlc);
+        digest_->bytes(Span<const std::uint8_t>(m.data, sizeof(m.data)));
+        ++frames_;
+        return inner_->send(frame);
+    }
+    [[nodiscard]] std::uint32_t frames() const noexcept { return frames_; }
+
+private:
+    CanSender* inner_;
+    std::uint32_t diagnostics_id_;
+    Digest* digest_;
+    std::uint32_t frames_ = 0U;
+};
+
+/// A text line built in place.
+class Line {
+public:
+    Line& text(const char* s) noexcept {
+        while (*s != '\0' && n_ + 1U < sizeof(buf_)) {
+            buf_[n_++] = *s++;
+        }
+        buf_[n_] = '\0';
+        return *this;
+    }
+    Line& hex(std::uint32_t v) noexcept {
+        char b[11];
+        format_hex32(v, b);
+        return text(b);
+    }
+    Line& dec(std::uint64_t v) noexcept {
+        char b[21];
+        format_decimal(v, b);
+        return text(b);
+    }
+    [[nodiscard]] const char* c_str() const noexcept { return buf_; }
+
+private:
+    char buf_[200] = {};
+    std::size_t n_ = 0U;
+};
+
+void digest_grid(const EvidenceGrid& grid, Digest& d) noexcept {
+    std::uint8_t chunk[256];
+    std::size_t used = 0U;
+    for (const std::int16_t v : grid.log_odds()) {
+        const auto bits = static_cast<std::uint16_t>(v);
+        chunk[used++] = static_cast<std::uint8_t>(bits);
+        chunk[used++] = static_cast<std::uint8_t>(bits >> 8U);
+        if (used == sizeof(chunk)) {
+            d.bytes(Span<const std::uint8_t>(chunk, used));
+            used = 0U;
+        }
+    }
+    d.bytes(Span<const std::uint8_t>(chunk, used));
+    d.bytes(Span<const std::uint8_t>(grid.observed().data(), grid.observed().size()));
+}
+
+void digest_report(const CycleReport& r, Digest& d) noexcept {
+    d.u64(r.cycle);
+    d.u32(r.fusion.rays_fused);
+    d.u32(r.fusion.readings_in_grid);
+    d.u32(r.fusion.skipped());
+    d.u64(r.fusion.voxel_updates);
+    d.u32(static_cast<std::uint32_t>(r.zones.count));
+    for (std::size_t z = 0U; z < r.zones.count; ++z) {
+        d.u8(static_cast<std::uint8_t>(r.zones.zones[z].state));
+        d.u32(r.zones.zones[z].foreground);
+        d.u32(r.zones.zones[z].unseen);
+    }
+    d.u32(r.detected_faults);
+    d.u8(r.safety.stop_requested ? 1U : 0U);
+    d.u8(r.safety.warning ? 1U : 0U);
+    d.u8(r.safety.interlock_holding ? 1U : 0U);
+    d.u32(r.safety.latched_faults);
+    d.u32(r.safety.intruded_mask);
+    d.u32(r.safety.unseen_mask);
+    d.u32(r.safety.fault_zone_mask);
+}
+
+SensorReading canned_reading(std::size_t sensor, std::size_t scene) noexcept {
+    const canned::CannedSensor& s = canned::kSensors[sensor];
+    SensorReading r;
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    for (int row = 0; row < 3; ++row) {
+        for (int col = 0; col < 4; ++col) {
+            m(row, col) = s.pose[static_cast<std::size_t>(row * 4 + col)];
+        }
+    }
+    r.pose.matrix() = m;
+    r.kind = SensorDataKind::kDepthImage;
+    r.depth = Span<const float>(canned::kDepth[scene][sensor],
+                                static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height));
+    r.intrinsics = PinholeIntrinsics{s.fx, s.fy, s.cx, s.cy, s.width, s.height};
+    r.max_range = s.max_range;
+    return r;
+}
+
+}  // namespace
+
+void format_hex32(std::uint32_t value, char (&out)[11]) noexcept {
+    constexpr char kDigits[] = "0123456789abcdef";
+    out[0] = '0';
+    out[1] = 'x';
+    for (std::size_t i = 0U; i < 8U; ++i) {
+        out[2U + i] = kDigits[(value >> (28U - 4U * i)) & 0xFU];
+    }
+    out[10] = '\0';
+}
+
+void format_decimal(std::uint64_t value, char (&out)[21]) noexcept {
+    char rev[20];
+    std::size_t n = 0U;
+    do {
+        rev[n++] = static_cast<char>('0' + static_cast<int>(value % 10U));
+        value /= 10U;
+    } while (value != 0U && n < sizeof(rev));
+    for (std::size_t i = 0U; i < n; ++i) {
+        out[i] = rev[n - 1U - i];
+    }
+    out[n] = '\0';
+}
+
+ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
+    ScenarioSummary summary;
+    const GridGeometry geometry = paper_grid_geometry();
+
+    // The prior: the image's CRCs and geometry, then the int16 copy in flash against the image.
+    const Result<PriorImageView> view =
+        load_prior_image(Span<const std::uint8_t>(prior::kImage, sizeof(prior::kImage)), geometry);
+    if (!view.ok()) {
+        text.write("error: the prior image in flash fails its checks\n");
+        return summary;
+    }
+    for (std::size_t i = 0U; i < GridStorage::kVoxels; ++i) {
+        if (view.value()[i] != prior::kValues[i]) {
+            text.write("error: the prior values in flash differ from the prior image\n");
+            return summary;
+        }
+    }
+
+    const Result<EvidenceGrid> grid =
+        EvidenceGrid::make(geometry, Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
+                           Span<std::uint8_t>(g_grid.observed, GridStorage::kVoxels));
+    ZoneConfig protective;  // on the floor in front of a background box
+    protective.box_min = Eigen::Vector3d(0.0, 0.2, 0.0);
+    protective.box_max = Eigen::Vector3d(0.4, 0.6, 1.2);
+    protective.max_unseen_voxels = 20U;
+    ZoneConfig warning;
+    warning.kind = ZoneKind::kWarning;
+    warning.box_min = Eigen::Vector3d(-0.8, 0.45, 0.0);
+    warning.box_max = Eigen::Vector3d(0.8, 0.75, 1.2);
+    warning.max_unseen_voxels = 40U;
+    const ZoneConfig zone_configs[] = {protective, warning};
+    const Result<CompiledZones> zones =
+        CompiledZones::compile(geometry, Span<const ZoneConfig>(zone_configs, 2U),
+                               Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels), nullptr);
+    if (!grid.ok() || !zones.ok()) {
+        text.write("error: grid or zones refused\n");
+        return summary;
+    }
+
+    Digest digest;
+    SafetyOutputConfig output_config;
+    output_config.zone_count = 2U;
+    output_config.prior_crc = prior::kPayloadCrc;
+    DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
+    CanSafetyOutput output(output_config, sender);
+
+    ControllerConfig config;
+    config.sensor_count = canned::kSensorCount;
+    config.logic.restart_delay_us = 0U;       // the interlock is not under test here
+    config.logic.fault_recovery_cycles = 2U;
+    config.cycle_budget_us = 10000000U;       // generous: timing must not change the digest
+    const SensorModelTable model;
+    EvidenceGrid frame_grid = grid.value();  // a view of g_grid
+    SafetyController controller(config, frame_grid,
+                                Span<const std::int16_t>(prior::kValues, GridStorage::kVoxels), zones.value(),
+                                model, clock, &output);
+    summary.prior_crc = controller.prior_crc();
+    if (!output.status().ok() || controller.prior_crc() != prior::kPayloadCrc) {
+        text.write("error: CAN output refused or prior CRC differs from the image's payload CRC\n");
+        return summary;
+    }
+    summary.setup_ok = true;
+
+    for (std::uint32_t c = 0U; c < kScenarioCycles; ++c) {
+        const Step& step = kScript[c];
+        digest.start_cycle();
+        SensorInput inputs[canned::kSensorCount];
+        const std::uint64_t now = clock.now_us();
+        for (std::size_t s = 0U; s < canned::kSensorCount; ++s) {
+            inputs[s].reading = canned_reading(s, step.scene);
+            inputs[s].captured_us = now;
+            inputs[s].present = ((step.missing_sensors >> s) & 1U) == 0U;
+        }
+        const CycleReport& r =
+            controller.run_cycle(Span<const SensorInput>(inputs, canned::kSensorCount), step.reset);
+        digest_grid(frame_grid, digest);
+        digest_report(r, digest);
+        Line line;
+        line.text("cycle ").dec(r.cycle).text(" scene ").text(canned::kSceneNames[step.scene]);
+        line.text(" zones ");
+        for (std::size_t z = 0U; z < r.zones.count; ++z) {
+            line.text(z == 0U ? "" : "/").text(to_string(r.zones.zones[z].state));
+            line.text("(fg ").dec(r.zones.zones[z].foreground).text(" unseen ").dec(r.zones.zones[z].unseen).text(")");
+        }
+        line.text(" stop ").dec(r.safety.stop_requested ? 1U : 0U);
+        line.text(" warning ").dec(r.safety.warning ? 1U : 0U);
+        line.text(" faults ").hex(r.safety.latched_faults);
+        line.text(" crc ").hex(digest.cycle()).text("\n");
+        text.write(line.c_str());
+        ++summary.cycles;
+    }
+    summary.digest = digest.total();
+    Line last;
+    last.text("frames ").dec(sender.frames()).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    text.write(last.c_str());
+    Line result;
+    result.text("digest ").hex(summary.digest).text("\n");
+    text.write(result.c_str());
+    return summary;
+}
+
+}  // namespace cellguard::firmware

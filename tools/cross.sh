@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Cross-compilation CI steps (toolchains/*.cmake):
+#  1. x86-64 (the industrial PC): builds cellguard-firmware-digest, runs it;
+#  2. aarch64 (the SoC): builds everything but the benchmarks, runs the whole ctest suite under
+#     qemu-aarch64 (CMAKE_CROSSCOMPILING_EMULATOR), includes the digest run;
+#  3. Cortex-M7: builds the firmware (the build itself fails on heap or
+#     exception runtime in the image, or a prior outside flash), runs it on
+#     qemu-system-arm -M mps2-an500 with a timeout (its ctest), copies the size report to
+#     certification/size-report.md;
+#  4. compares the three digests with apps/firmware/expected_digest.txt.
+# Needs: tools/install-deps.sh --cross.
+# Usage: tools/cross.sh [--no-aarch64-ctest]
+#   --no-aarch64-ctest: build for aarch64 and run only the firmware digest
+#                       under qemu-user, not the unit tests (saves ~5 min).
+# Environment: CELLGUARD_JOBS (default 2), CELLGUARD_CROSS_CTEST_ARGS (extra
+# ctest arguments for aarch64, e.g. "-E controller"), CELLGUARD_CROSS_BUILD_DIR
+# (where build-x86, build-aarch64, build-m7 go; default: the repository).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+jobs=${CELLGUARD_JOBS:-2}
+bdir=${CELLGUARD_CROSS_BUILD_DIR:-$root}
+run_ctest=1
+for arg in "$@"; do
+  case "$arg" in
+    --no-aarch64-ctest) run_ctest=0 ;;
+    *) echo "usage: $0 [--no-aarch64-ctest]" >&2; exit 2 ;;
+  esac
+done
+for tool in aarch64-linux-gnu-g++ qemu-aarch64 arm-none-eabi-g++ qemu-system-arm; do
+  command -v "$tool" >/dev/null || { echo "cross: $tool missing: run tools/install-deps.sh --cross" >&2; exit 1; }
+done
+expected=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_digest.txt")
+t0=$(date +%s)
+stamp() { echo "cross: [$(( $(date +%s) - t0 )) s] $*"; }
+digest_of() { sed -n 's/^digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }
+
+configure() {  # <dir> <toolchain> [cmake arguments]
+  mkdir -p "$1"
+  cmake -S "$root" -B "$1" -G Ninja --toolchain "$root/toolchains/$2.cmake" "${@:3}" >"$1/cross-configure.log" 2>&1 ||
+    { cat "$1/cross-configure.log"; exit 1; }
+}
+
+stamp "x86-64: building cellguard-firmware-digest"
+mkdir -p "$bdir"
+configure "$bdir/build-x86" x86_64-linux
+cmake --build "$bdir/build-x86" -j "$jobs" --target cellguard-firmware-digest >/dev/null
+"$bdir/build-x86/apps/firmware/cellguard-firmware-digest" >"$bdir/build-x86/firmware-digest.log"
+d_x86=$(digest_of "$bdir/build-x86/firmware-digest.log")
+
+stamp "aarch64: building"
+# No benchmarks: under qemu-user they would time the emulator, not the SoC.
+configure "$bdir/build-aarch64" aarch64-linux -DCELLGUARD_BUILD_BENCH=OFF
+cmake --build "$bdir/build-aarch64" -j "$jobs" >/dev/null
+if [ "$run_ctest" -eq 1 ]; then
+  stamp "aarch64: ctest under qemu-aarch64"
+  c0=$(date +%s)
+  # shellcheck disable=SC2086
+  (cd "$bdir/build-aarch64" && ctest -j "$jobs" --output-on-failure ${CELLGUARD_CROSS_CTEST_ARGS:-})
+  stamp "aarch64: ctest took $(( $(date +%s) - c0 )) s"
+fi
+qemu-aarch64 -L /usr/aarch64-linux-gnu "$bdir/build-aarch64/apps/firmware/cellguard-firmware-digest" \
+  >"$bdir/build-aarch64/firmware-digest.log"
+d_a64=$(digest_of "$bdir/build-aarch64/firmware-digest.log")
+
+stamp "cortex-m7: building the firmware (ELF checks and size report run as part of the build)"
+configure "$bdir/build-m7" cortex-m7
+cmake --build "$bdir/build-m7" -j "$jobs" >/dev/null
+cp "$bdir/build-m7/size-report.md" "$root/certification/size-report.md"
+stamp "cortex-m7: ELF checks, then the firmware on qemu-system-arm -M mps2-an500 (timeout 60 s)"
+ctest --test-dir "$bdir/build-m7/apps/firmware" --output-on-failure >"$bdir/build-m7/ctest.log" 2>&1 ||
+  { cat "$bdir/build-m7/ctest.log"; echo "cross: firmware checks or run failed" >&2; exit 1; }
+d_m7=$(digest_of "$bdir/build-m7/firmware-qemu.log")
+
+echo "cross: digests  expected $expected  x86-64 ${d_x86:-none}  aarch64 ${d_a64:-none}  cortex-m7 ${d_m7:-none}"
+grep -v '^can ' "$bdir/build-m7/firmware-qemu.log"
+stamp "done"
+if [ "$d_x86" != "$expected" ] || [ "$d_a64" != "$expected" ] || [ "$d_m7" != "$expected" ]; then
+  echo "cross: DIGESTS DIFFER" >&2
+  exit 1
+fi
+echo "cross: all three digests are bit-identical"
