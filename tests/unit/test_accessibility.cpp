@@ -296,6 +296,7 @@ Background random_background(std::mt19937& rng, int max_dim) {
 
 // ------------------------------------------------------------------ known answers
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: the hollow interior of a closed box is inaccessible, both methods") {
     Background bg(14, 14, 10);
     for (int y = 0; y < 14; ++y)
@@ -342,6 +343,7 @@ TEST_CASE("accessibility: the hollow interior of a closed box is inaccessible, b
     CHECK(p.p_acc[bg.index(7, 1, 0)] < 1.1e-3F);
 }
 
+// verifies: SR-PRIOR-004
 TEST_CASE("accessibility: behind walls at the saturation bound the prior is kLogOddsMin, not the sentinel") {
     Background bg(12, 12, 12);
     for (int z = 3; z <= 8; ++z)
@@ -357,6 +359,7 @@ TEST_CASE("accessibility: behind walls at the saturation bound the prior is kLog
     CHECK(p.prior[bg.index(1, 1, 1)] == 0);
 }
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: a slot narrower than the object seals the space behind it, a wider one does not") {
     for (const int half : {1, 2}) {  // slot 3 x 3 (sealed for r = 2) and 5 x 5 (open)
         Background bg(14, 11, 11);
@@ -381,6 +384,7 @@ TEST_CASE("accessibility: a slot narrower than the object seals the space behind
     }
 }
 
+// verifies: SR-PRIOR-001, SR-PRIOR-002
 TEST_CASE("accessibility: the 2-D example in the spirit of Fig. 2 (r = 1) gives the expected accessible set") {
     // '#' occupied, '.' free. A hollow box with a one-voxel gap (narrower
     // than the object), a ring with a one-voxel hole, and a U-shaped notch.
@@ -442,6 +446,7 @@ TEST_CASE("accessibility: the 2-D example in the spirit of Fig. 2 (r = 1) gives 
     CHECK(inaccessible_free == 19);
 }
 
+// verifies: SR-PRIOR-004
 TEST_CASE("accessibility: the baselines use E, and 1 - P(occ) with unobserved voxels at 0.5") {
     Background bg(3, 1, 1);
     bg.set(0, 0, 0, kFree);
@@ -468,6 +473,7 @@ TEST_CASE("accessibility: the baselines use E, and 1 - P(occ) with unobserved vo
     CHECK(q.prior[2] == kLogOddsMin);  // tiny but not zero
 }
 
+// verifies: SR-PRIOR-004
 TEST_CASE("accessibility: the log-odds of P(acc) / 2 keep the sentinel for exactly zero only") {
     CHECK(fore_log_odds_from_accessibility(0.0) == kNeverForeground);
     CHECK(fore_log_odds_from_accessibility(std::nan("")) == kNeverForeground);
@@ -479,6 +485,7 @@ TEST_CASE("accessibility: the log-odds of P(acc) / 2 keep the sentinel for exact
 
 // ------------------------------------------------------------------ face rules
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: a closed face is not a source, an open face is") {
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
         Background bg(9, 9, 9);
@@ -500,6 +507,7 @@ TEST_CASE("accessibility: a closed face is not a source, an open face is") {
     }
 }
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: beyond a closed face is occupied, beyond an open face is free") {
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
         // Free grid, only x = 0 open, r = 2: the ball cannot reach the corner
@@ -524,6 +532,7 @@ TEST_CASE("accessibility: beyond a closed face is occupied, beyond an open face 
     }
 }
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: an empty voxel on an open face, r away from closed faces, is always accessible") {
     std::mt19937 rng(21U);
     int checked = 0;
@@ -563,6 +572,7 @@ TEST_CASE("accessibility: an empty voxel on an open face, r away from closed fac
 
 // ------------------------------------------------------------------ references
 
+// verifies: SR-PRIOR-001
 TEST_CASE("accessibility: the thresholded method equals a brute-force erosion, flood fill and dilation") {
     std::mt19937 rng(1U);
     int accessible = 0;
@@ -587,6 +597,7 @@ TEST_CASE("accessibility: the thresholded method equals a brute-force erosion, f
     CHECK(inaccessible > 1000);
 }
 
+// verifies: SR-PRIOR-002
 TEST_CASE("accessibility: the probabilistic method agrees with a double-precision Dijkstra within the stated bound") {
     std::mt19937 rng(5U);
     int graded = 0;  // voxels with 0 < G_AR < 100 nats
@@ -620,6 +631,7 @@ TEST_CASE("accessibility: the probabilistic method agrees with a double-precisio
     CHECK(graded > 1000);
 }
 
+// verifies: SR-PRIOR-001, SR-PRIOR-002
 TEST_CASE("accessibility: the largest radius (8 voxels) agrees with both references") {
     std::mt19937 rng(13U);
     for (int trial = 0; trial < 6; ++trial) {
@@ -647,6 +659,7 @@ TEST_CASE("accessibility: the largest radius (8 voxels) agrees with both referen
     }
 }
 
+// verifies: SR-PRIOR-003
 TEST_CASE("accessibility: more occupied evidence never raises P(acc)") {
     std::mt19937 rng(9U);
     for (int trial = 0; trial < 120; ++trial) {
@@ -676,6 +689,7 @@ TEST_CASE("accessibility: more occupied evidence never raises P(acc)") {
 
 // ------------------------------------------------------------------ errors and storage
 
+// verifies: SR-PRIOR-005
 TEST_CASE("accessibility: bad parameters are refused with kInvalidArgument and nothing is written") {
     Background bg(4, 4, 4);
     const AccessibilityParams good{};
@@ -711,6 +725,7 @@ TEST_CASE("accessibility: bad parameters are refused with kInvalidArgument and n
               .error() == ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-PRIOR-005
 TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall; larger ones are fine") {
     Background bg(5, 4, 3);
     const std::size_t n = bg.lo.size();
@@ -752,6 +767,7 @@ TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall; la
           0U);
 }
 
+// verifies: SR-GEN-002
 TEST_CASE("accessibility: computing a prior allocates nothing") {
     Background bg(10, 9, 8, kFree);
     bg.set(5, 5, 5, kOcc);

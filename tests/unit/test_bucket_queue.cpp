@@ -33,6 +33,7 @@ struct QueueStorage {
 
 }  // namespace
 
+// verifies: SR-PRIOR-002
 TEST_CASE("bucket queue: link storage smaller than the items plus the list heads is refused") {
     std::vector<std::uint32_t> keys(10U);
     std::vector<std::uint32_t> links(MonotoneBucketQueue::link_count(10U));
@@ -50,6 +51,7 @@ TEST_CASE("bucket queue: link storage smaller than the items plus the list heads
               .ok());
 }
 
+// verifies: SR-PRIOR-002
 TEST_CASE("bucket queue: items come out in key order, across fine and coarse buckets") {
     const std::vector<std::uint32_t> keys = {5U, 0U, 2047U, 2048U, 4095U, 1U << 20U, MonotoneBucketQueue::kKeyLimit - 1U,
                                              3U, 5U, 2048U + 7U};
@@ -72,6 +74,7 @@ TEST_CASE("bucket queue: items come out in key order, across fine and coarse buc
     CHECK(popped == sorted);
 }
 
+// verifies: SR-PRIOR-002
 TEST_CASE("bucket queue: a decreased key is popped at its new key, also from a coarse bucket") {
     QueueStorage s(3U);
     MonotoneBucketQueue q = s.make();
@@ -90,6 +93,7 @@ TEST_CASE("bucket queue: a decreased key is popped at its new key, also from a c
     CHECK(q.empty());
 }
 
+// verifies: SR-PRIOR-002
 TEST_CASE("bucket queue: random Dijkstra-like use agrees with an ordered set") {
     std::mt19937 rng(7U);
     for (int trial = 0; trial < 20; ++trial) {
@@ -136,6 +140,7 @@ TEST_CASE("bucket queue: random Dijkstra-like use agrees with an ordered set") {
     }
 }
 
+// verifies: SR-PRIOR-002, SR-GEN-003
 TEST_CASE("bucket queue: popping an empty queue violates a contract") {
     QueueStorage s(2U);
     MonotoneBucketQueue q = s.make();

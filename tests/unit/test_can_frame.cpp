@@ -26,6 +26,7 @@ constexpr SignalLayout kRawMaxTooWide[] = {SignalLayout{"a", 0U, 4U, ByteOrder::
 
 }  // namespace
 
+// verifies: SR-CAN-002
 TEST_CASE("can frame: layout checks accept multiplexed signals sharing bits and reject overlaps and overflows") {
     static_assert(layout_is_consistent(kGood), "multiplexed signals of different pages may share bits");
     static_assert(!layout_is_consistent(kOverlap), "bit 7 used twice");
@@ -36,6 +37,7 @@ TEST_CASE("can frame: layout checks accept multiplexed signals sharing bits and 
     CHECK(signal_mask(make("x", 12U, 4U)) == 0xF000U);
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("can frame: an Intel signal's start bit is its least significant bit, byte 0 first") {
     CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
     set_signal(f, make("word", 24U, 16U), 0xBEEFU);
@@ -53,12 +55,14 @@ TEST_CASE("can frame: an Intel signal's start bit is its least significant bit, 
     CHECK(frame_bits(f) == 0x003F'F8BE'EF04'A000ULL);
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("can frame: writing a signal leaves every other bit as it was") {
     CanFrame f{0x100U, 8U, {0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU}};
     set_signal(f, make("mid", 20U, 9U), 0U);
     CHECK(frame_bits(f) == ~(std::uint64_t{0x1FF} << 20U));
 }
 
+// verifies: SR-CAN-002, SR-GEN-003
 TEST_CASE("can frame: a value wider than its signal, or a Motorola signal, is a contract violation") {
     CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
     CHECK(test::violates_contract([&] { set_signal(f, make("n", 8U, 4U), 16U); }));

@@ -29,6 +29,7 @@ std::string line_of(std::uint64_t t, const char* iface, const CanFrame& f) {
 
 }  // namespace
 
+// verifies: SR-CAN-012
 TEST_CASE("candump log: a frame is written as candump -L writes it") {
     const CanFrame f{0x101U, 8U, {0x00U, 0x11U, 0x22U, 0x33U, 0x44U, 0x55U, 0x66U, 0x77U}};
     CHECK(line_of(1700000000123456U, "vcan0", f) == "(1700000000.123456) vcan0 101#0011223344556677");
@@ -38,6 +39,7 @@ TEST_CASE("candump log: a frame is written as candump -L writes it") {
     CHECK(line_of(1000000U, "vcan0", empty) == "(1.000000) vcan0 7FF#");
 }
 
+// verifies: SR-CAN-012
 TEST_CASE("candump log: frames that candump -L cannot show as standard frames, and bad names, are refused") {
     char buf[kCandumpLineCapacity];
     CHECK(format_candump_line(buf, sizeof(buf), 0U, "vcan0", CanFrame{0x800U, 8U, {}}) == 0U);
@@ -48,6 +50,7 @@ TEST_CASE("candump log: frames that candump -L cannot show as standard frames, a
     CHECK(format_candump_line(buf, 10U, 0U, "vcan0", CanFrame{0x100U, 8U, {}}) == 0U);  // does not fit
 }
 
+// verifies: SR-CAN-012
 TEST_CASE("candump log: a written line parses back to the same frame, time and interface") {
     const CanFrame f{0x103U, 8U, {1U, 2U, 3U, 4U, 5U, 6U, 7U, 0xFEU}};
     const std::string line = line_of(42000017U, "vcan0", f) + "\n";
@@ -63,6 +66,7 @@ TEST_CASE("candump log: a written line parses back to the same frame, time and i
     CHECK(r.frame.dlc == 0U);
 }
 
+// verifies: SR-CAN-012
 TEST_CASE("candump log: malformed lines are refused with a message, never read past the end") {
     const char* bad[] = {"",
                          "1.000000) vcan0 101#00",
@@ -89,6 +93,7 @@ TEST_CASE("candump log: malformed lines are refused with a message, never read p
     CHECK_FALSE(parse_candump_line(nullptr, r).ok());
 }
 
+// verifies: SR-CAN-012
 TEST_CASE("candump log: the writer is a CanSender that appends one timestamped line per frame") {
     const std::string path = (std::filesystem::temp_directory_path() / "cellguard-candump-test.log").string();
     StepClock clock;
@@ -115,6 +120,7 @@ TEST_CASE("candump log: the writer is a CanSender that appends one timestamped l
     CHECK(std::string(s.message()).find("/nonexistent-dir/x.log") == 0U);
 }
 
+// verifies: SR-SYS-003
 TEST_CASE("monotonic clock: CLOCK_MONOTONIC in microseconds never goes backwards") {
     LinuxMonotonicClock clock;
     const std::uint64_t a = clock.now_us();

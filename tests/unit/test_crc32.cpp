@@ -31,11 +31,13 @@ constexpr std::uint8_t kCheck[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
 static_assert(crc32(Span<const std::uint8_t>(kCheck)) == 0xCBF43926U, "check value at compile time");
 }  // namespace
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: the check value of \"123456789\" is 0xCBF43926") {
     CHECK(crc32(bytes_of("123456789")) == 0xCBF43926U);
     CHECK(kCrc32Check == 0xCBF43926U);
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: known vectors and the empty message") {
     CHECK(crc32(Span<const std::uint8_t>()) == 0x00000000U);
     CHECK(crc32(bytes_of("a")) == 0xE8B7BE43U);
@@ -44,6 +46,7 @@ TEST_CASE("crc32: known vectors and the empty message") {
     CHECK(crc32(Span<const std::uint8_t>(zeros)) == 0x190A55ADU);
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: the polynomial is 0x04C11DB7, reflected as 0xEDB88320") {
     std::uint32_t reflected = 0U;
     for (int i = 0; i < 32; ++i) {
@@ -56,6 +59,7 @@ TEST_CASE("crc32: the polynomial is 0x04C11DB7, reflected as 0xEDB88320") {
     CHECK(kCrc32Table.entries[128] == kCrc32ReflectedPolynomial);
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: the table-driven CRC equals the bitwise definition on random messages") {
     std::mt19937 rng(7U);
     for (std::size_t len : {1U, 2U, 3U, 7U, 64U, 255U, 1000U}) {
@@ -66,6 +70,7 @@ TEST_CASE("crc32: the table-driven CRC equals the bitwise definition on random m
     }
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: updating over slices gives the CRC of the whole message, for every split") {
     std::vector<std::uint8_t> data(97);
     for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 31U + 5U);
@@ -90,6 +95,7 @@ TEST_CASE("crc32: updating over slices gives the CRC of the whole message, for e
     CHECK(c.value() == kCrc32Check);
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: a single flipped bit anywhere changes the CRC") {
     std::vector<std::uint8_t> data(40, 0x5AU);
     const std::uint32_t ref = crc32(Span<const std::uint8_t>(data.data(), data.size()));
@@ -100,6 +106,7 @@ TEST_CASE("crc32: a single flipped bit anywhere changes the CRC") {
     }
 }
 
+// verifies: SR-PRIOR-013
 TEST_CASE("crc32: the start-up self-test passes on the table in flash and fails on a corrupted copy") {
     CHECK(crc32_table_self_test());
     Crc32Table copy = kCrc32Table;

@@ -9,6 +9,7 @@
 
 using namespace cellguard;
 
+// verifies: SR-CTRL-006
 TEST_CASE("cycle: stage durations add up and the worst case is kept") {
     CycleMonitor m(5000U);
     m.begin(100U);
@@ -31,6 +32,7 @@ TEST_CASE("cycle: stage durations add up and the worst case is kept") {
     CHECK(m.cycles() == 2U);
 }
 
+// verifies: SR-CTRL-005
 TEST_CASE("cycle: a cycle over its budget is reported as an overrun") {
     CycleMonitor m(5000U);
     m.begin(0U);
@@ -40,6 +42,7 @@ TEST_CASE("cycle: a cycle over its budget is reported as an overrun") {
     CHECK(m.overruns() == 1U);
 }
 
+// verifies: SR-CTRL-005
 TEST_CASE("cycle: a clock that runs backwards within a cycle counts as an overrun") {
     CycleMonitor m(5000U);
     m.begin(1000U);
@@ -47,12 +50,14 @@ TEST_CASE("cycle: a clock that runs backwards within a cycle counts as an overru
     CHECK(m.end(1200U));
 }
 
+// verifies: SR-CTRL-005, SR-GEN-003
 TEST_CASE("cycle: stages out of order are a contract violation") {
     CycleMonitor m(5000U);
     m.begin(0U);
     CHECK(test::violates_contract([&] { m.end_stage(CycleStage::kLogic, 10U); }));
 }
 
+// verifies: SR-CTRL-006
 TEST_CASE("cycle: the work bound follows from sensors, grid and zones") {
     const GridGeometry g = paper_grid_geometry();
     std::vector<std::uint32_t> mask(g.voxel_count());

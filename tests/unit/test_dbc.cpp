@@ -139,6 +139,7 @@ void check_against_table(const DbcMessage& msg, const SignalLayout (&table)[N], 
 
 }  // namespace
 
+// verifies: SR-CAN-002
 TEST_CASE("dbc: the file parses, every SG_ line included, and holds the three frames on the default CAN IDs") {
     const Dbc& dbc = the_dbc();
     REQUIRE(dbc.messages.size() == 3U);
@@ -157,16 +158,19 @@ TEST_CASE("dbc: the file parses, every SG_ line included, and holds the three fr
     CHECK(find_message(kDefaultDiagnosticsCanId)->name == "CellguardDiagnostics");
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("dbc: the safety frame's signals match the layout table in start bit, length, byte order and factor") {
     REQUIRE(find_message(kDefaultSafetyCanId) != nullptr);
     check_against_table(*find_message(kDefaultSafetyCanId), safety_layout::kSignals, false);
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("dbc: the inverted copy has the safety frame's signals at the same bits") {
     REQUIRE(find_message(kDefaultSafetyCanId + 1U) != nullptr);
     check_against_table(*find_message(kDefaultSafetyCanId + 1U), safety_layout::kSignals, true);
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("dbc: the diagnostics frame's signals, multiplexing included, match the layout table") {
     REQUIRE(find_message(kDefaultDiagnosticsCanId) != nullptr);
     check_against_table(*find_message(kDefaultDiagnosticsCanId), diagnostics_layout::kSignals, false);

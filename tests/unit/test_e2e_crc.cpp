@@ -54,6 +54,7 @@ constexpr E2eP01DataIdMode kAllModes[] = {E2eP01DataIdMode::kBoth, E2eP01DataIdM
 
 }  // namespace
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: CRC-8 SAE J1850 gives the check values of the AUTOSAR CRC specification") {
     CHECK(crc_of({0x00, 0x00, 0x00, 0x00}) == 0x59);
     CHECK(crc_of({0xF2, 0x01, 0x83}) == 0x37);
@@ -65,6 +66,7 @@ TEST_CASE("e2e crc: CRC-8 SAE J1850 gives the check values of the AUTOSAR CRC sp
     CHECK(crc_of({'1', '2', '3', '4', '5', '6', '7', '8', '9'}) == 0x4B);  // the catalogue's "check"
 }
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: a CRC computed in pieces, each call continuing the previous one, equals the one-shot CRC") {
     const std::vector<std::uint8_t> v{0x33, 0x22, 0x55, 0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xFF};
     for (std::size_t split = 0U; split <= v.size(); ++split) {
@@ -78,6 +80,7 @@ TEST_CASE("e2e crc: a CRC computed in pieces, each call continuing the previous 
     CHECK(crc8_sae_j1850(Span<const std::uint8_t>()) == 0x00U);
 }
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: Profile 1 CRCs match an independent implementation's vectors in all four data ID modes") {
     // Data ID 0x123, 8 bytes, CRC in byte 0, counter in byte 1's low nibble,
     // NIBBLE mode's explicit nibble in byte 1's high nibble.
@@ -95,6 +98,7 @@ TEST_CASE("e2e crc: Profile 1 CRCs match an independent implementation's vectors
     CHECK(e2e_p01_crc(view(d), 0U, 0x123U, E2eP01DataIdMode::kNibble, 1U) == 0x77);
 }
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: the Profile 1 CRC equals the profile's chain of Crc_CalculateCRC8 calls, the CRC byte skipped") {
     std::uint32_t state = 12345U;
     std::vector<std::uint8_t> d(8U);
@@ -116,6 +120,7 @@ TEST_CASE("e2e crc: the Profile 1 CRC equals the profile's chain of Crc_Calculat
     }
 }
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: the counter runs 0 to 14 and wraps 14 -> 0; the delta counts forward modulo 15") {
     CHECK(e2e_p01_next_counter(0U) == 1U);
     CHECK(e2e_p01_next_counter(13U) == 14U);
@@ -130,6 +135,7 @@ TEST_CASE("e2e crc: the counter runs 0 to 14 and wraps 14 -> 0; the delta counts
     }
 }
 
+// verifies: SR-CAN-001
 TEST_CASE("e2e crc: NIBBLE mode takes 12-bit data IDs only; other modes any 16-bit ID; unknown modes none") {
     CHECK(e2e_p01_data_id_valid(0x0FFFU, E2eP01DataIdMode::kNibble));
     CHECK_FALSE(e2e_p01_data_id_valid(0x1000U, E2eP01DataIdMode::kNibble));
@@ -140,6 +146,7 @@ TEST_CASE("e2e crc: NIBBLE mode takes 12-bit data IDs only; other modes any 16-b
     CHECK(e2e_p01_data_id_nibble(0x0ABCU) == 0x0AU);
 }
 
+// verifies: SR-CAN-004, SR-CAN-010
 TEST_CASE("e2e crc: data IDs are distinguishable exactly when no data can pass a check with the other ID") {
     // BOTH: IDs whose byte streams (low, high) differ by a multiple of the polynomial 0x11D
     // collide for all data: 0x1D01 is sent as 01 1D.
@@ -164,6 +171,7 @@ TEST_CASE("e2e crc: data IDs are distinguishable exactly when no data can pass a
     CHECK_FALSE(e2e_p01_data_ids_distinguishable(0x0C51U, 0x0C51U, E2eP01DataIdMode::kNibble));
 }
 
+// verifies: SR-CAN-001, SR-GEN-003
 TEST_CASE("e2e crc: a CRC byte outside the data is a contract violation") {
     const std::vector<std::uint8_t> d(8U, 0U);
     CHECK(test::violates_contract([&] { (void)e2e_p01_crc(view(d), 8U, 1U, E2eP01DataIdMode::kBoth, 0U); }));

@@ -11,6 +11,7 @@ GridGeometry small_geometry() {
 }
 }  // namespace
 
+// verifies: SR-GRID-003
 TEST_CASE("evidence grid: storage smaller than the grid is refused") {
     std::int16_t lo[23];
     std::uint8_t ob[24];
@@ -20,6 +21,7 @@ TEST_CASE("evidence grid: storage smaller than the grid is refused") {
           ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-GRID-003
 TEST_CASE("evidence grid: a cleared grid is unknown and unobserved everywhere") {
     static StaticEvidenceGridStorage<4, 3, 2> storage;
     for (auto& v : storage.log_odds) v = 123;
@@ -30,6 +32,7 @@ TEST_CASE("evidence grid: a cleared grid is unknown and unobserved everywhere") 
     for (const auto v : g.log_odds()) CHECK(v == 0);
 }
 
+// verifies: SR-GRID-003
 TEST_CASE("evidence grid: background accumulation adds observed voxels only, with clamping") {
     static StaticEvidenceGridStorage<4, 3, 2> bg_s;
     static StaticEvidenceGridStorage<4, 3, 2> fr_s;
@@ -54,6 +57,7 @@ TEST_CASE("evidence grid: background accumulation adds observed voxels only, wit
     CHECK(accumulate_background(bg, fr, BackgroundClamp{10, -10}).error() == ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-GRID-003
 TEST_CASE("evidence grid: accumulating grids of different geometry is refused") {
     static StaticEvidenceGridStorage<4, 3, 2> a_s;
     static StaticEvidenceGridStorage<4, 3, 2> b_s;

@@ -44,6 +44,7 @@ SensorReading looking_along_x(Span<const Eigen::Vector3f> points) {
 
 }  // namespace
 
+// verifies: SR-FUSE-001
 TEST_CASE("fusion: a ray clears the voxels before the reading, marks the reading's voxel and stops there") {
     SmallGrid s;
     const SensorModelTable model;
@@ -64,6 +65,7 @@ TEST_CASE("fusion: a ray clears the voxels before the reading, marks the reading
     CHECK(s.grid.observed_count() == 11U);
 }
 
+// verifies: SR-FUSE-002
 TEST_CASE("fusion: the evidence of every ray adds (independent opinion pool)") {
     SmallGrid s;
     const SensorModelTable model;
@@ -74,6 +76,7 @@ TEST_CASE("fusion: the evidence of every ray adds (independent opinion pool)") {
     CHECK(s.at(3, 1, 1) == 3 * model.constant_free_evidence());
 }
 
+// verifies: SR-FUSE-002
 TEST_CASE("fusion: evidence saturates instead of wrapping when very many rays cross a voxel") {
     SmallGrid s;
     const SensorModelTable model;
@@ -84,6 +87,7 @@ TEST_CASE("fusion: evidence saturates instead of wrapping when very many rays cr
     CHECK(s.at(10, 1, 1) == kLogOddsMax);
 }
 
+// verifies: SR-FUSE-003
 TEST_CASE("fusion: NaN, infinite, zero, behind-the-sensor and out-of-range readings are skipped and counted") {
     SmallGrid s;
     const SensorModelTable model;
@@ -107,6 +111,7 @@ TEST_CASE("fusion: NaN, infinite, zero, behind-the-sensor and out-of-range readi
     CHECK(s.grid.observed_count() == 0U);
 }
 
+// verifies: SR-FUSE-003
 TEST_CASE("fusion: a depth image's invalid pixels are skipped and counted by kind") {
     SmallGrid s;
     const SensorModelTable model;
@@ -125,6 +130,7 @@ TEST_CASE("fusion: a depth image's invalid pixels are skipped and counted by kin
     CHECK(st.skipped_behind == 1U);
 }
 
+// verifies: SR-FUSE-001
 TEST_CASE("fusion: a depth pixel is fused along its own ray through the pinhole") {
     SmallGrid s;
     const SensorModelTable model;
@@ -140,6 +146,7 @@ TEST_CASE("fusion: a depth pixel is fused along its own ray through the pinhole"
     CHECK(s.at(4, 3, 1) == model.reading_evidence());
 }
 
+// verifies: SR-FUSE-004
 TEST_CASE("fusion: an invalid sensor description is refused and the grid stays untouched") {
     SmallGrid s;
     const SensorModelTable model;
@@ -171,6 +178,7 @@ TEST_CASE("fusion: an invalid sensor description is refused and the grid stays u
     CHECK(s.grid.observed_count() == 0U);
 }
 
+// verifies: SR-GEN-002
 TEST_CASE("fusion: fusing the simulated four-sensor frame allocates no memory") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = paper_grid_geometry();
@@ -193,6 +201,7 @@ TEST_CASE("fusion: fusing the simulated four-sensor frame allocates no memory") 
     CHECK(grid.observed_count() < g.voxel_count());
 }
 
+// verifies: SR-FUSE-001, SR-TRAV-002
 TEST_CASE("fusion: the exact traversal and the paper's Bresenham option both fuse the simulated frame") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = paper_grid_geometry();

@@ -8,6 +8,7 @@
 
 using namespace cellguard;
 
+// verifies: SR-GRID-001
 TEST_CASE("grid: the paper's grid has 34 x 30 x 30 voxels of 5 cm") {
     const GridGeometry g = paper_grid_geometry();
     CHECK(g.voxel_count() == 30600U);
@@ -16,6 +17,7 @@ TEST_CASE("grid: the paper's grid has 34 x 30 x 30 voxels of 5 cm") {
     CHECK(whole_cell_grid_geometry().voxel_count() == 256U * 256U * 128U);
 }
 
+// verifies: SR-GRID-001
 TEST_CASE("grid: linear index and coordinate are inverse, x fastest") {
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 1.0, GridDims{5, 4, 3}).value();
     CHECK(g.index_of(VoxelCoord{1, 0, 0}) == 1U);
@@ -27,6 +29,7 @@ TEST_CASE("grid: linear index and coordinate are inverse, x fastest") {
     CHECK(test::violates_contract([&] { (void)g.coord_of(g.voxel_count()); }));
 }
 
+// verifies: SR-GRID-001
 TEST_CASE("grid: world to voxel uses half-open cells and rejects points outside") {
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-1.0, -1.0, 0.0), 0.5, GridDims{4, 4, 2}).value();
     CHECK(g.world_to_voxel(Eigen::Vector3d(-1.0, -1.0, 0.0)).value() == VoxelCoord{0, 0, 0});
@@ -42,6 +45,7 @@ TEST_CASE("grid: world to voxel uses half-open cells and rejects points outside"
     CHECK(c.z() == doctest::Approx(0.75));
 }
 
+// verifies: SR-GRID-001
 TEST_CASE("grid: invalid geometries are rejected with a clear error") {
     const Eigen::Vector3d o = Eigen::Vector3d::Zero();
     CHECK(GridGeometry::make(o, 0.0, GridDims{1, 1, 1}).error() == ErrorCode::kInvalidArgument);

@@ -8,6 +8,7 @@
 
 using namespace cellguard;
 
+// verifies: SR-IO-003
 TEST_CASE("io status: a default status is success with an empty message") {
     const IoStatus st;
     CHECK(st.ok());
@@ -18,6 +19,7 @@ TEST_CASE("io status: a default status is success with an empty message") {
     CHECK(st.prefixed("file").ok());
 }
 
+// verifies: SR-IO-003
 TEST_CASE("io status: a failure carries its code and formatted message, and a prefix goes in front") {
     const IoStatus st = IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %d: %s", 7, "bad");
     CHECK_FALSE(st.ok());
@@ -29,6 +31,7 @@ TEST_CASE("io status: a failure carries its code and formatted message, and a pr
     CHECK(std::string(p.message()) == "/tmp/a.pcd: pcd: line 7: bad");
 }
 
+// verifies: SR-IO-003
 TEST_CASE("io status: a message longer than the buffer is cut, not overrun") {
     const std::string long_text(1000, 'x');
     const IoStatus st = IoStatus::failure(ErrorCode::kInvalidArgument, "%s", long_text.c_str());

@@ -9,12 +9,14 @@
 
 using namespace cellguard;
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: probability 0.5 is zero and the scale is 256 units per nat") {
     CHECK(log_odds_from_probability(0.5) == 0);
     CHECK(log_odds_from_probability(1.0 / (1.0 + std::exp(-1.0))) == 256);
     CHECK(log_odds_from_probability(1.0 / (1.0 + std::exp(1.0))) == -256);
 }
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: a round trip stays within the stated bound over the range the method uses") {
     double worst = 0.0;
     for (int i = 0; i <= 200000; ++i) {
@@ -28,6 +30,7 @@ TEST_CASE("log-odds: a round trip stays within the stated bound over the range t
     CHECK(kProbabilityRoundTripBound < 0.001);
 }
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: probability 0 and NaN give the never-foreground sentinel, 1 gives the maximum") {
     CHECK(log_odds_from_probability(0.0) == kNeverForeground);
     CHECK(log_odds_from_probability(-0.5) == kNeverForeground);
@@ -37,6 +40,7 @@ TEST_CASE("log-odds: probability 0 and NaN give the never-foreground sentinel, 1
     CHECK(log_odds_from_probability(1e-300) == kLogOddsMin);  // tiny but not zero: finite, clamped
 }
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: addition saturates at both ends instead of wrapping") {
     CHECK(add_saturating(30000, 30000) == kLogOddsMax);
     CHECK(add_saturating(-30000, -30000) == kLogOddsMin);
@@ -46,6 +50,7 @@ TEST_CASE("log-odds: addition saturates at both ends instead of wrapping") {
     CHECK(add_finite_saturating(kLogOddsMin, kLogOddsMin) == kLogOddsMin);  // never reaches the sentinel
 }
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: no addition lifts the never-foreground sentinel") {
     for (std::int32_t v = -32768; v <= 32767; v += 7) {
         const auto b = static_cast<std::int16_t>(v);
@@ -55,6 +60,7 @@ TEST_CASE("log-odds: no addition lifts the never-foreground sentinel") {
     CHECK(add_saturating(kNeverForeground, kLogOddsMax) == kNeverForeground);
 }
 
+// verifies: SR-GRID-002
 TEST_CASE("log-odds: a threshold in log-odds agrees with thresholding the probability") {
     for (const double t : {0.1, 0.5, 0.51, 0.73, 0.9}) {
         const std::int16_t th = threshold_log_odds(t);

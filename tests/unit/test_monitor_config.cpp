@@ -40,6 +40,7 @@ void check_refused(const std::string& text, int line, const std::string& key) {
 
 }  // namespace
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo load with the paper's cell") {
     const ConfigLoad file = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml");
     REQUIRE_MESSAGE(file.ok, file.error);
@@ -69,6 +70,7 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
     CHECK(demo.zones[0].zone.box_max.x() == doctest::Approx(0.4));
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's directory") {
     std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
     text = edited("source = \"simulated-background\"", "source = \"file\"\nfile = \"cell.cgprior\"");
@@ -82,6 +84,7 @@ TEST_CASE("monitor config: a sensor may give a rotation instead of a target, a p
     CHECK_FALSE(r.config.sensors[0].has_target);
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: a TOML syntax error names the line") {
     const std::string text = edited("voxel_size = 0.05", "voxel_size = = 0.05");
     const ConfigLoad l = parse_monitor_config(text, "cell.toml");
@@ -90,6 +93,7 @@ TEST_CASE("monitor config: a TOML syntax error names the line") {
     CHECK(l.error.find("TOML syntax") != std::string::npos);
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: a value of the wrong type or out of range names the key and its line") {
     std::string t = edited("voxel_size = 0.05", "voxel_size = \"fine\"");
     check_refused(t, line_of(t, "voxel_size"), "grid.voxel_size: expected a number");
@@ -129,6 +133,7 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "guess"), "prior.source");
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: an unknown key, a missing key or a missing table names it and the line of its table") {
     std::string t = edited("voxel_size = 0.05", "voxel_sise = 0.05");
     check_refused(t, line_of(t, "voxel_sise"), "grid.voxel_sise: unknown key");
@@ -144,6 +149,7 @@ TEST_CASE("monitor config: an unknown key, a missing key or a missing table name
     check_refused(t, line_of(t, "[[sensors]]"), "sensors[0].target: give exactly one of target and rotation");
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame carries 16") {
     std::string text = demo_config_text();
     const std::string zone = "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n";
@@ -159,12 +165,14 @@ TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame
     CHECK(l.error.find("zones: at most 16 zones") != std::string::npos);
 }
 
+// verifies: SR-CFG-001
 TEST_CASE("monitor config: a missing file is a clear error") {
     const ConfigLoad l = load_monitor_config("/nonexistent/cell.toml");
     CHECK_FALSE(l.ok);
     CHECK(l.error == "/nonexistent/cell.toml: cannot open the configuration file");
 }
 
+// verifies: SR-SYS-001
 TEST_CASE("monitor scenario: the scripted person enters the protective zone in one step, never before") {
     const MonitorConfig c = demo_config();
     const ZoneConfig& protective = c.zones[0].zone;

@@ -34,6 +34,7 @@ bool in_region(const PaddedRegion& r, int x, int y, int z) {
 
 }  // namespace
 
+// verifies: SR-PRIOR-001
 TEST_CASE("morphology: a cross pass is min or max over the voxel and its six neighbours, on the region only") {
     std::mt19937 rng(3U);
     // Rows shorter than a block, a multiple of the uint32 block, and longer
@@ -84,6 +85,7 @@ TEST_CASE("morphology: a cross pass is min or max over the voxel and its six nei
     }
 }
 
+// verifies: SR-PRIOR-001
 TEST_CASE("morphology: r cross passes give the minimum over the L1 ball of radius r") {
     std::mt19937 rng(11U);
     const PaddedRegion r = region_of(GridDims{14, 13, 12}, VoxelCoord{1, 1, 1}, GridDims{12, 11, 10});
@@ -123,6 +125,7 @@ TEST_CASE("morphology: r cross passes give the minimum over the L1 ball of radiu
     }
 }
 
+// verifies: SR-PRIOR-001, SR-GEN-003
 TEST_CASE("morphology: a region without a surrounding layer, small storage or overlapping arrays violate contracts") {
     std::vector<std::uint8_t> a(5U * 5U * 5U);
     std::vector<std::uint8_t> b(5U * 5U * 5U);

@@ -91,6 +91,7 @@ bool contains(const IoStatus& st, const char* text) {
 
 }  // namespace
 
+// verifies: SR-IO-001
 TEST_CASE("npy: the header is byte for byte the one numpy.save writes") {
     // Taken from numpy 1.24 (np.save of np.zeros(shape, dtype)): 128 bytes,
     // the dict, spare spaces and padding, then '\n'.
@@ -126,6 +127,7 @@ TEST_CASE("npy: the header is byte for byte the one numpy.save writes") {
           ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: a written file is the header followed by the little-endian data in C order") {
     TempDir dir;
     std::int16_t data[24];
@@ -145,6 +147,7 @@ TEST_CASE("npy: a written file is the header followed by the little-endian data 
     }
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: int16, float32 and uint8 arrays round-trip through files unchanged") {
     TempDir dir;
     const GridDims dims{5, 4, 3};
@@ -183,6 +186,7 @@ TEST_CASE("npy: int16, float32 and uint8 arrays round-trip through files unchang
     CHECK(std::memcmp(f32, f32_mem, sizeof f32) == 0);
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: writing refuses a data length that does not match the dimensions") {
     TempDir dir;
     std::int16_t data[10] = {};
@@ -195,6 +199,7 @@ TEST_CASE("npy: writing refuses a data length that does not match the dimensions
     CHECK(contains(st, "/nonexistent-dir/x.npy"));
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: a grid exports as three files whose a[z, y, x] is voxel (x, y, z), and reads back") {
     TempDir dir;
     const GridGeometry geometry = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{4, 3, 2}).value();
@@ -250,6 +255,7 @@ TEST_CASE("npy: a grid exports as three files whose a[z, y, x] is voxel (x, y, z
     CHECK(contains(m, "(2, 4, 3)"));
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: a background grid with a bad value is refused and left cleared") {
     TempDir dir;
     const GridDims dims{4, 3, 2};
@@ -291,6 +297,7 @@ TEST_CASE("npy: a background grid with a bad value is refused and left cleared")
     CHECK(grid.observed_count() == 0U);
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: a well-formed header in another spelling is read; version 2.0 too") {
     CHECK(decode_i16(make_npy(kGoodDict, 48)).ok());
     CHECK(decode_i16(make_npy("{\"shape\": (2,3,4,), \"descr\": \"<i2\", \"fortran_order\": False}", 48)).ok());
@@ -309,6 +316,7 @@ TEST_CASE("npy: a well-formed header in another spelling is read; version 2.0 to
     CHECK(h.data_offset == 128U);
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: each malformed file is refused with its own error") {
     struct Case {
         const char* what;
@@ -379,6 +387,7 @@ TEST_CASE("npy: each malformed file is refused with its own error") {
     }
 }
 
+// verifies: SR-IO-001
 TEST_CASE("npy: a file is refused when it reaches a reader through a path, with the path in the message") {
     TempDir dir;
     const std::string path = dir.file("bad.npy");

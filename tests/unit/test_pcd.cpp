@@ -104,6 +104,7 @@ const std::string kXyzHeader =
 
 }  // namespace
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: the three real Kinect frames read as 640 x 480 organised clouds with NaN for invalid pixels") {
     std::vector<PcdPoint> points(kFramePoints);
     std::vector<PcdPoint> all(kFramePoints);
@@ -155,6 +156,7 @@ TEST_CASE("pcd: the three real Kinect frames read as 640 x 480 organised clouds 
     }
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: a real frame written as ascii, binary and binary_compressed reads back to the same points") {
     TempDir dir;
     std::vector<PcdPoint> all(kFramePoints);
@@ -193,6 +195,7 @@ TEST_CASE("pcd: a real frame written as ascii, binary and binary_compressed read
     }
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: ascii fields of every type and count are checked and x, y, z are taken from their places") {
     const std::string file =
         "VERSION 0.7\nFIELDS a x rgb y z n\nSIZE 1 4 4 8 2 4\nTYPE I F U F I F\nCOUNT 1 1 1 1 1 3\n"
@@ -219,6 +222,7 @@ TEST_CASE("pcd: ascii fields of every type and count are checked and x, y, z are
     CHECK(points[1].z == 32767.0F);
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: binary records with padding fields, doubles and integers decode; zero padding after them is allowed") {
     std::string file =
         "VERSION 0.7\nFIELDS _ x y z rgb\nSIZE 1 8 2 4 4\nTYPE U F U I F\nCOUNT 3 1 1 1 1\n"
@@ -254,6 +258,7 @@ TEST_CASE("pcd: binary records with padding fields, doubles and integers decode;
     CHECK(contains(st, "not all zero"));
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: binary_compressed data is decompressed and read as one array per field") {
     // x = 1 for all 4 points (literal + back-reference), y = 2 (short references), z = 10..13 (literal).
     std::string soa;
@@ -286,6 +291,7 @@ TEST_CASE("pcd: binary_compressed data is decompressed and read as one array per
     }
 }
 
+// verifies: SR-IO-002
 TEST_CASE("lzf: overlapping back-references repeat bytes; every out-of-bounds reference or run is refused") {
     std::uint8_t out[16] = {};
     const std::string run = lzf_literal("a") + lzf_backref(9, 1);
@@ -330,6 +336,7 @@ TEST_CASE("lzf: overlapping back-references repeat bytes; every out-of-bounds re
     }
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: old headers are read: 0.6 without WIDTH and HEIGHT, 0.5 with COLUMNS") {
     PcdCloudInfo info;
     std::vector<PcdPoint> points;
@@ -351,6 +358,7 @@ TEST_CASE("pcd: old headers are read: 0.6 without WIDTH and HEIGHT, 0.5 with COL
     CHECK(points[0].z == 1.0F);
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: each malformed header is refused with a message naming the line") {
     struct Case {
         const char* what;
@@ -440,6 +448,7 @@ TEST_CASE("pcd: each malformed header is refused with a message naming the line"
     }
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: data that does not match its header is refused") {
     struct Case {
         const char* what;
@@ -523,6 +532,7 @@ TEST_CASE("pcd: data that does not match its header is refused") {
     CHECK(info.finite_points == 2U);
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: a buffer too small for the points is refused, and the counts are still reported") {
     const std::string file = kXyzHeader + "DATA ascii\n1 2 3\nnan 5 6\n";
     PcdPoint one[1];
@@ -541,6 +551,7 @@ TEST_CASE("pcd: a buffer too small for the points is refused, and the counts are
     CHECK(info.written == 1U);
 }
 
+// verifies: SR-IO-002
 TEST_CASE("pcd: files that cannot be read or written are reported with their path") {
     TempDir dir;
     PcdPoint points[2] = {{1.0F, 2.0F, 3.0F}, {4.0F, 5.0F, 6.0F}};

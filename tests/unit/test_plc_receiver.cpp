@@ -75,6 +75,7 @@ void check_safe_state(const ReceiverStatus& s, ReceiverFault reason) {
 
 }  // namespace
 
+// verifies: SR-CAN-007, SR-CAN-009
 TEST_CASE("plc receiver: it starts in the safe state and needs a reference pair plus the recovery pairs") {
     Link link;
     check_safe_state(link.receiver.poll(link.now), ReceiverFault::kNoFrameYet);
@@ -88,6 +89,7 @@ TEST_CASE("plc receiver: it starts in the safe state and needs a reference pair 
     CHECK(s.fault_events == 0U);
 }
 
+// verifies: SR-CAN-007, SR-CAN-009
 TEST_CASE("plc receiver: on the good path it follows the frame's stop request and stays valid across the 14 -> 0 wrap") {
     Link link;
     CHECK(link.bring_up() == 3);
@@ -105,6 +107,7 @@ TEST_CASE("plc receiver: on the good path it follows the frame's stop request an
     CHECK(link.receiver.poll(link.now + kPeriodUs).fault_events == 0U);
 }
 
+// verifies: SR-CAN-007
 TEST_CASE("plc receiver: a bad CRC gives the safe state with reason wrong CRC") {
     Link link;
     (void)link.bring_up();
@@ -117,6 +120,7 @@ TEST_CASE("plc receiver: a bad CRC gives the safe state with reason wrong CRC") 
     check_safe_state(link.deliver(inverted_copy(f), link.now + kGapUs), ReceiverFault::kUnexpectedInvertedCopy);
 }
 
+// verifies: SR-CAN-007
 TEST_CASE("plc receiver: a frame with another data ID is rejected (implicit ID: CRC; NIBBLE: the explicit nibble)") {
     Link link;
     (void)link.bring_up();
@@ -135,6 +139,7 @@ TEST_CASE("plc receiver: a frame with another data ID is rejected (implicit ID: 
     check_safe_state(nibble.deliver(g, nibble.now + kPeriodUs), ReceiverFault::kWrongDataIdNibble);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: a repeated counter gives the safe state") {
     Link link;
     (void)link.bring_up();
@@ -145,6 +150,7 @@ TEST_CASE("plc receiver: a repeated counter gives the safe state") {
     check_safe_state(link.deliver(inverted_copy(f), link.now + kGapUs), ReceiverFault::kRepeatedCounter);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: skipped counters within the bound are accepted, beyond it give the safe state") {
     PlcReceiverConfig c = receiver_config();
     c.max_delta_counter = 3U;
@@ -164,6 +170,7 @@ TEST_CASE("plc receiver: skipped counters within the bound are accepted, beyond 
     check_safe_state(strict.send_pair(), ReceiverFault::kCounterJump);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: a missing inverted copy is seen at the next frame or when the SRVT runs out") {
     Link link;
     (void)link.bring_up();
@@ -177,6 +184,7 @@ TEST_CASE("plc receiver: a missing inverted copy is seen at the next frame or wh
     check_safe_state(timed.receiver.poll(timed.now + timed.config.srvt_us + 1U), ReceiverFault::kInvertedCopyMissing);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: an inverted copy that is not the exact inverse gives the safe state") {
     for (unsigned bit = 0U; bit < 64U; ++bit) {
         Link link;
@@ -203,6 +211,7 @@ TEST_CASE("plc receiver: an inverted copy that is not the exact inverse gives th
     check_safe_state(short_copy.deliver(truncated, short_copy.now + kGapUs), ReceiverFault::kInvertedCopyMismatch);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: an inverted copy after the SRVT gives the safe state, one at the SRVT does not") {
     Link link;
     (void)link.bring_up();
@@ -214,6 +223,7 @@ TEST_CASE("plc receiver: an inverted copy after the SRVT gives the safe state, o
     check_safe_state(link.deliver(inverted_copy(f), link.now + link.config.srvt_us + 1U), ReceiverFault::kInvertedCopyLate);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: a late frame and silence both expire the SCT") {
     Link late;
     (void)late.bring_up();
@@ -237,6 +247,7 @@ TEST_CASE("plc receiver: a late frame and silence both expire the SCT") {
     check_safe_state(slow.deliver(inverted_copy(g), slow.now + 1000U), ReceiverFault::kSctExpired);
 }
 
+// verifies: SR-CAN-008
 TEST_CASE("plc receiver: a copy with no frame waiting, or time going backwards, gives the safe state") {
     Link link;
     (void)link.bring_up();
@@ -251,6 +262,7 @@ TEST_CASE("plc receiver: a copy with no frame waiting, or time going backwards, 
     check_safe_state(clock2.deliver(clock2.next_frame(), clock2.now - 1U), ReceiverFault::kTimeWentBackwards);
 }
 
+// verifies: SR-CAN-007
 TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a different zone count give the safe state") {
     Link len;
     (void)len.bring_up();
@@ -280,6 +292,7 @@ TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a diffe
     check_safe_state(zones.deliver(zones.next_frame(five), zones.now + kPeriodUs), ReceiverFault::kZoneCountMismatch);
 }
 
+// verifies: SR-CAN-009
 TEST_CASE("plc receiver: after a fault it recovers after a reference pair and N good pairs in a row, a fault restarting the count") {
     PlcReceiverConfig c = receiver_config();
     c.recovery_good_pairs = 3U;
@@ -305,6 +318,7 @@ TEST_CASE("plc receiver: after a fault it recovers after a reference pair and N 
     CHECK(s.fault_events == 2U);
 }
 
+// verifies: SR-CAN-009
 TEST_CASE("plc receiver: frames on other CAN IDs are ignored, diagnostics included") {
     Link link;
     (void)link.bring_up();
@@ -317,6 +331,7 @@ TEST_CASE("plc receiver: frames on other CAN IDs are ignored, diagnostics includ
     check_safe_state(link.deliver(other, link.now + link.config.sct_us + 1U), ReceiverFault::kSctExpired);
 }
 
+// verifies: SR-CAN-010, SR-GEN-003
 TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot build a receiver") {
     CHECK(PlcReceiver::check_config(receiver_config()).ok());
     PlcReceiverConfig c = receiver_config();
@@ -342,6 +357,7 @@ TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot b
     CHECK(test::violates_contract([&] { const PlcReceiver r(c); (void)r; }));
 }
 
+// verifies: SR-CAN-007
 TEST_CASE("plc receiver: the safe-state message stops, warns, faults and marks every configured zone") {
     const SafetyMessage m = safe_state_message(16U);
     CHECK(m.protective_stop);

@@ -84,6 +84,7 @@ Encoded encoded_example() {
 
 }  // namespace
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: an image written to a file reads back byte for byte and loads") {
     const Encoded e = encoded_example();
     const std::string path = temp_path("roundtrip.cgpi");
@@ -105,6 +106,7 @@ TEST_CASE("prior files: an image written to a file reads back byte for byte and 
     std::remove(path.c_str());
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: a corrupted or foreign file is refused with the loader's reason in the message") {
     Encoded e = encoded_example();
     const std::string path = temp_path("corrupt.cgpi");
@@ -135,6 +137,7 @@ TEST_CASE("prior files: a corrupted or foreign file is refused with the loader's
     std::remove(path.c_str());
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: a missing file, a directory and an oversized file are refused before loading") {
     std::vector<std::uint8_t> bytes;
     PriorImageView view;
@@ -163,6 +166,7 @@ TEST_CASE("prior files: a missing file, a directory and an oversized file are re
     std::remove(path.c_str());
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: writing refuses an empty view and reports an unwritable path") {
     CHECK(write_prior_image_file(temp_path("x").c_str(), PriorImageView{}).error() == ErrorCode::kInvalidArgument);
     const Encoded e = encoded_example();
@@ -176,6 +180,7 @@ TEST_CASE("prior files: writing refuses an empty view and reports an unwritable 
     CHECK(bytes.empty());
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: the committed generated example is what the generator writes for its inputs") {
     const Encoded e = encoded_example();
     PriorSourceOptions options;
@@ -189,6 +194,7 @@ TEST_CASE("prior files: the committed generated example is what the generator wr
     CHECK(read_text(example_path()) == text);
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: the compiled generated array equals the writer's image and passes the loader") {
     namespace ex = cellguard_test::prior_example;
     const Encoded e = encoded_example();
@@ -213,6 +219,7 @@ TEST_CASE("prior files: the compiled generated array equals the writer's image a
     CHECK(ex::kTbBits == e.view.header().t_b_bits);
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: generated source names its namespace, optional config header and grid checks") {
     const Encoded e = encoded_example();
     PriorSourceOptions options;
@@ -231,6 +238,7 @@ TEST_CASE("prior files: generated source names its namespace, optional config he
     std::remove(path.c_str());
 }
 
+// verifies: SR-PRIOR-014
 TEST_CASE("prior files: generated source refuses a bad namespace, a bad include name and an empty view") {
     const Encoded e = encoded_example();
     std::string text = "untouched";

@@ -93,6 +93,7 @@ constexpr std::uint8_t kGolden[] = {
 
 }  // namespace
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: the size is an 88-byte header plus two bytes per voxel, saturating") {
     CHECK(kPriorImageHeaderSize == 88U);
     CHECK(prior_image_size(0) == 88U);
@@ -104,6 +105,7 @@ TEST_CASE("prior image: the size is an 88-byte header plus two bytes per voxel, 
     CHECK(prior_image_size((kMax - 88U) / 2U + 1U) == kMax);
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: the writer's bytes equal an independently made golden image") {
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d(0.5, -1.25, 2.0), 0.125, GridDims{2, 1, 1}).value();
     AccessibilityParams p;
@@ -124,6 +126,7 @@ TEST_CASE("prior image: the writer's bytes equal an independently made golden im
     CHECK(v.value().header().header_crc == 0xf40fa59dU);
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: header fields sit at their documented offsets, little-endian") {
     const GridGeometry g = small_geometry();
     AccessibilityParams p;
@@ -174,6 +177,7 @@ TEST_CASE("prior image: header fields sit at their documented offsets, little-en
     CHECK(img[88 + 47] == 0x80);
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: a written image loads back with the same values, geometry and parameters") {
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic,
                                 PriorMethod::kThresholdedBaseline, PriorMethod::kProbabilisticBaseline}) {
@@ -211,6 +215,7 @@ TEST_CASE("prior image: a written image loads back with the same values, geometr
     }
 }
 
+// verifies: SR-PRIOR-010, SR-GEN-002
 TEST_CASE("prior image: loading and writing allocate nothing") {
     const std::vector<std::int16_t> prior = sample_prior(24);
     std::vector<std::uint8_t> img(prior_image_size(24));
@@ -224,6 +229,7 @@ TEST_CASE("prior image: loading and writing allocate nothing") {
     CHECK(v.ok());
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: the header can be read without a grid to compare with") {
     const std::vector<std::uint8_t> img = small_image();
     const Result<PriorImageHeader> h = read_prior_image_header(span_of(img));
@@ -243,6 +249,7 @@ TEST_CASE("prior image: the header can be read without a grid to compare with") 
     CHECK(why == PriorImageError::kHeaderCrcMismatch);
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: the writer refuses bad input with a clear error and writes nothing") {
     const GridGeometry g = small_geometry();
     std::vector<std::int16_t> prior = sample_prior(24);
@@ -283,6 +290,7 @@ TEST_CASE("prior image: the writer refuses bad input with a clear error and writ
     CHECK(out[136] == 0xAB);  // bytes past the image are left alone
 }
 
+// verifies: SR-PRIOR-010
 TEST_CASE("prior image: parameter ranges are t_B, t_E in [0, 1], r in [0, 4096], faces within the six") {
     AccessibilityParams p;
     CHECK(prior_params_in_range(p));
@@ -308,6 +316,7 @@ TEST_CASE("prior image: parameter ranges are t_B, t_E in [0, 1], r in [0, 4096],
     CHECK_FALSE(is_known_prior_method(5));
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: input shorter than the header is refused as too short") {
     const std::vector<std::uint8_t> img = small_image();
     for (const std::size_t n : {0U, 1U, 3U, 4U, 7U, 8U, 50U, 87U}) {
@@ -317,6 +326,7 @@ TEST_CASE("prior image loader: input shorter than the header is refused as too s
     CHECK(load_prior_image(Span<const std::uint8_t>(), small_geometry()).error() == ErrorCode::kTruncatedInput);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a wrong magic is refused as bad magic") {
     for (std::size_t i = 0; i < 4; ++i) {
         std::vector<std::uint8_t> img = small_image();
@@ -327,6 +337,7 @@ TEST_CASE("prior image loader: a wrong magic is refused as bad magic") {
     CHECK(why_refused(four) == PriorImageError::kBadMagic);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: another format version is refused as unsupported") {
     for (const std::uint16_t version : {0, 2, 0x0100, 0xFFFF}) {
         std::vector<std::uint8_t> img = small_image();
@@ -336,6 +347,7 @@ TEST_CASE("prior image loader: another format version is refused as unsupported"
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a header size other than 88 is refused") {
     for (const std::uint16_t size : {0, 84, 87, 89, 0x5800}) {
         std::vector<std::uint8_t> img = small_image();
@@ -345,6 +357,7 @@ TEST_CASE("prior image loader: a header size other than 88 is refused") {
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a changed header byte is refused as a header CRC mismatch") {
     const std::vector<std::uint8_t> clean = small_image();
     for (std::size_t i = 8; i < kPriorImageHeaderSize; ++i) {
@@ -354,6 +367,7 @@ TEST_CASE("prior image loader: a changed header byte is refused as a header CRC 
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a reserved field other than zero is refused") {
     std::vector<std::uint8_t> img = small_image();
     put_le(img, layout::kReserved, 0x0100, 2);
@@ -361,6 +375,7 @@ TEST_CASE("prior image loader: a reserved field other than zero is refused") {
     CHECK(why_refused(img) == PriorImageError::kReservedNotZero);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: other grid dimensions are refused as a dims mismatch") {
     const std::vector<std::uint8_t> img = small_image();
     const Eigen::Vector3d o(-0.1, 0.25, 0.0);
@@ -376,6 +391,7 @@ TEST_CASE("prior image loader: other grid dimensions are refused as a dims misma
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: another voxel size is refused as a voxel size mismatch, bit for bit") {
     const std::vector<std::uint8_t> img = small_image();
     const Eigen::Vector3d o(-0.1, 0.25, 0.0);
@@ -386,6 +402,7 @@ TEST_CASE("prior image loader: another voxel size is refused as a voxel size mis
           PriorImageError::kVoxelSizeMismatch);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: another origin is refused as an origin mismatch, on every axis, bit for bit") {
     const std::vector<std::uint8_t> img = small_image();
     for (int axis = 0; axis < 3; ++axis) {
@@ -400,6 +417,7 @@ TEST_CASE("prior image loader: another origin is refused as an origin mismatch, 
           PriorImageError::kOriginMismatch);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: an unknown method is refused") {
     for (const std::uint8_t m : {0, 5, 0x81, 0xFF}) {
         std::vector<std::uint8_t> img = small_image();
@@ -409,6 +427,7 @@ TEST_CASE("prior image loader: an unknown method is refused") {
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a parameter out of range is refused, each of t_B, t_E, r and open faces") {
     struct Case {
         std::size_t offset;
@@ -435,6 +454,7 @@ TEST_CASE("prior image loader: a parameter out of range is refused, each of t_B,
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a payload length that does not fit the grid is refused") {
     for (const std::uint32_t len : {0U, 46U, 47U, 49U, 50U, 0xFFFFFFFFU}) {
         std::vector<std::uint8_t> img = small_image();
@@ -444,6 +464,7 @@ TEST_CASE("prior image loader: a payload length that does not fit the grid is re
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: input that ends inside the payload is refused as truncated") {
     const std::vector<std::uint8_t> img = small_image();
     for (std::size_t n = kPriorImageHeaderSize; n < img.size(); ++n) {
@@ -452,6 +473,7 @@ TEST_CASE("prior image loader: input that ends inside the payload is refused as 
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: bytes after the payload are refused as trailing bytes") {
     for (const std::size_t extra : {1U, 2U, 100U}) {
         std::vector<std::uint8_t> img = small_image();
@@ -460,6 +482,7 @@ TEST_CASE("prior image loader: bytes after the payload are refused as trailing b
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a changed payload byte is refused as a payload CRC mismatch") {
     const std::vector<std::uint8_t> clean = small_image();
     for (std::size_t i = kPriorImageHeaderSize; i < clean.size(); ++i) {
@@ -473,6 +496,7 @@ TEST_CASE("prior image loader: a changed payload byte is refused as a payload CR
     CHECK(why_refused(img) == PriorImageError::kPayloadCrcMismatch);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: a positive prior value (P(fore) > 0.5) is refused even with good CRCs") {
     for (const std::int16_t v : {std::int16_t{1}, kLogOddsMax}) {
         std::vector<std::uint8_t> img = small_image();
@@ -482,11 +506,13 @@ TEST_CASE("prior image loader: a positive prior value (P(fore) > 0.5) is refused
     }
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: an empty expected geometry is refused before the input is read") {
     const std::vector<std::uint8_t> img = small_image();
     CHECK(why_refused(img, GridGeometry{}) == PriorImageError::kNoExpectedGeometry);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: every refusal has its own reason, text and a fitting ErrorCode") {
     std::set<std::string> texts;
     for (int i = 0; i <= 17; ++i) {
@@ -508,6 +534,7 @@ TEST_CASE("prior image loader: every refusal has its own reason, text and a fitt
     CHECK(std::string(to_string(static_cast<PriorImageError>(200))) == "unknown prior image error");
 }
 
+// verifies: SR-PRIOR-011, SR-GEN-003
 TEST_CASE("prior image view: an empty view holds nothing and checked access outside it is a contract violation") {
     const PriorImageView empty;
     CHECK(empty.empty());
@@ -521,6 +548,7 @@ TEST_CASE("prior image view: an empty view holds nothing and checked access outs
     CHECK(v.copy_to(Span<std::int16_t>(small)).error() == ErrorCode::kStorageTooSmall);
 }
 
+// verifies: SR-PRIOR-011
 TEST_CASE("prior image loader: an image inside a larger buffer is read only within its span") {
     std::vector<std::uint8_t> buffer = small_image();
     const std::size_t n = buffer.size();

@@ -45,6 +45,7 @@ std::vector<PriorIntegrityStatus> run_pass(PriorIntegrityMonitor& m) {
 
 }  // namespace
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: steps per pass is ceil(image size / slice)") {
     CHECK(prior_integrity_steps_per_pass(208, 1) == 208U);
     CHECK(prior_integrity_steps_per_pass(208, 7) == 30U);
@@ -72,6 +73,7 @@ TEST_CASE("prior integrity: steps per pass is ceil(image size / slice)") {
     }
 }
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: every step covers exactly min(slice, bytes left) bytes and a pass covers the image once") {
     const std::vector<std::uint8_t> img = image();
     for (const std::size_t slice : {1U, 5U, 64U, 85U, 208U, 500U}) {
@@ -94,6 +96,7 @@ TEST_CASE("prior integrity: every step covers exactly min(slice, bytes left) byt
     }
 }
 
+// verifies: SR-PRIOR-012, SR-GEN-002
 TEST_CASE("prior integrity: an intact image stays ok pass after pass, without allocating") {
     const std::vector<std::uint8_t> img = image();
     PriorIntegrityMonitor m = PriorIntegrityMonitor::make(view_of(img), 16).value();
@@ -106,6 +109,7 @@ TEST_CASE("prior integrity: an intact image stays ok pass after pass, without al
     CHECK(m.passes_completed() == 1000U / 13U);
 }
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: a bit flip anywhere in the header or payload is detected at the end of the pass") {
     const std::vector<std::uint8_t> clean = image();
     const std::size_t last = clean.size() - 1U;
@@ -126,6 +130,7 @@ TEST_CASE("prior integrity: a bit flip anywhere in the header or payload is dete
     }
 }
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: a flip behind the current position is detected by the end of the next pass") {
     const std::vector<std::uint8_t> clean = image();
     std::vector<std::uint8_t> img = clean;
@@ -142,6 +147,7 @@ TEST_CASE("prior integrity: a flip behind the current position is detected by th
     CHECK(15U + steps <= 2U * m.steps_per_pass());
 }
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: a mismatch is latched until a new monitor is made") {
     const std::vector<std::uint8_t> clean = image();
     std::vector<std::uint8_t> img = clean;
@@ -161,6 +167,7 @@ TEST_CASE("prior integrity: a mismatch is latched until a new monitor is made") 
     CHECK(s.back() == PriorIntegrityStatus::kOk);
 }
 
+// verifies: SR-PRIOR-012
 TEST_CASE("prior integrity: a monitor needs a loaded image and a slice of at least one byte") {
     const std::vector<std::uint8_t> img = image();
     CHECK(PriorIntegrityMonitor::make(view_of(img), 0).error() == ErrorCode::kInvalidArgument);

@@ -48,6 +48,7 @@ struct OwnedGrid {
 
 }  // namespace
 
+// verifies: SR-FUSE-006
 TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion on the simulated workcell") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     // The paper's grid lowered by half a voxel: the simulated floor (exactly z = 0) would
@@ -81,6 +82,7 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
     CHECK(sign_differ <= g.voxel_count() / 200U);
 }
 
+// verifies: SR-GEN-002
 TEST_CASE("ray table: a frame through the table allocates no memory") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = paper_grid_geometry();
@@ -94,6 +96,7 @@ TEST_CASE("ray table: a frame through the table allocates no memory") {
     CHECK(s.value().rays_fused > 0U);
 }
 
+// verifies: SR-FUSE-006
 TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are refused") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = paper_grid_geometry();
@@ -117,6 +120,7 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     CHECK(count_ray_steps(g, points).error() == ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-FUSE-006, SR-FUSE-003
 TEST_CASE("ray table: invalid depth values are skipped and counted like on-the-fly fusion") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = paper_grid_geometry();

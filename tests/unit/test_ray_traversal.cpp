@@ -426,6 +426,7 @@ void report(const char* name, const CompareStats& st) {
 
 }  // namespace
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: exact traversal equals a brute-force reference on 24000 random segments (voxel 0.1 m)") {
     const GridGeometry g = grid_a();
     SegmentMaker maker(g, 20240611U);
@@ -442,6 +443,7 @@ TEST_CASE("traversal: exact traversal equals a brute-force reference on 24000 ra
     CHECK(st.tolerated_segments * 60 < st.segments);  // 1.3% with this seed
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: exact traversal equals a brute-force reference on 6000 random segments (exact lattice)") {
     const GridGeometry g = grid_b();
     SegmentMaker maker(g, 7U);
@@ -468,6 +470,7 @@ TEST_CASE("traversal: exact traversal equals a brute-force reference on 6000 ran
     CHECK(st.tolerated_segments * 500 < st.segments);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: the reference comparison detects a wrong traversal") {
     // Guards the reference itself: doctored visit sequences must be rejected.
     const GridGeometry g = grid_a();
@@ -498,6 +501,7 @@ TEST_CASE("traversal: the reference comparison detects a wrong traversal") {
     CHECK(failures(shifted) > 0);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a segment along an axis visits every voxel it touches, with exact distances") {
     const GridGeometry g = GridGeometry::make(V3(-1.0, -1.0, 0.0), 0.25, GridDims{8, 4, 4}).value();
     const V3 a = g.voxel_center(VoxelCoord{0, 2, 3});
@@ -512,6 +516,7 @@ TEST_CASE("traversal: a segment along an axis visits every voxel it touches, wit
     }
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a segment lying in a face plane visits only the voxels above the face") {
     const GridGeometry g = GridGeometry::make(V3(0.0, 0.0, 0.0), 0.5, GridDims{4, 4, 4}).value();
     // y = 1.0 is the face between rows 1 and 2.
@@ -528,6 +533,7 @@ TEST_CASE("traversal: a segment lying in a face plane visits only the voxels abo
     CHECK_FALSE(clip_segment_to_grid(g, V3(0.1, 2.0, 0.3), V3(1.9, 2.0, 0.3)).hits);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a segment through lattice corners steps diagonally and skips voxels it only touches") {
     const GridGeometry g = GridGeometry::make(V3(0.0, 0.0, 0.0), 0.5, GridDims{4, 4, 4}).value();
     const std::vector<TraversedVoxel> t = collect(Rasterization::kExact, g, V3(0.25, 0.25, 0.25), V3(1.25, 1.25, 1.25));
@@ -541,6 +547,7 @@ TEST_CASE("traversal: a segment through lattice corners steps diagonally and ski
     CHECK(e[1].coord == VoxelCoord{1, 1, 0});
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: an end exactly on a face belongs to the voxel above it") {
     const GridGeometry g = GridGeometry::make(V3(0.0, 0.0, 0.0), 0.5, GridDims{4, 4, 4}).value();
     // Moving up onto the face x = 1.0: the voxel above is the last, with zero length.
@@ -560,6 +567,7 @@ TEST_CASE("traversal: an end exactly on a face belongs to the voxel above it") {
     CHECK(t[0].t_exit == 0.0);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a segment from outside is clipped at the grid box and one ending outside stops there") {
     const GridGeometry g = GridGeometry::make(V3(0.0, 0.0, 0.0), 1.0, GridDims{4, 4, 4}).value();
     const V3 a(-2.0, 0.5, 0.5);
@@ -586,6 +594,7 @@ TEST_CASE("traversal: a segment from outside is clipped at the grid box and one 
     CHECK(tc.t_exit == doctest::Approx(1.0));
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a segment entering or leaving the grid exactly through a voxel edge skips the voxel it touches") {
     // Both segments cross the box exactly on a voxel edge, where rounding the entry or exit
     // point puts it on the wrong side of the edge; the set-up corrects that with exact fractions.
@@ -602,6 +611,7 @@ TEST_CASE("traversal: a segment entering or leaving the grid exactly through a v
     CHECK(t.back().t_exit > t.back().t_enter);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: non-finite, far-away and missing segments visit nothing") {
     const GridGeometry g = grid_a();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -622,6 +632,7 @@ TEST_CASE("traversal: non-finite, far-away and missing segments visit nothing") 
     CHECK(collect(Rasterization::kExact, GridGeometry{}, V3(0.0, 0.0, 0.0), V3(1.0, 1.0, 1.0)).empty());
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: wild finite input never leaves the grid nor exceeds the bound") {
     // Coordinates of random sign and magnitude from 1e-300 to 1e300, some near the grid.
     const GridGeometry g = grid_a();
@@ -660,6 +671,7 @@ TEST_CASE("traversal: wild finite input never leaves the grid nor exceeds the bo
     CHECK(nonempty > 1000);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: a zero-length segment visits the voxel holding it") {
     const GridGeometry g = grid_a();
     const V3 p = g.voxel_center(VoxelCoord{4, 1, 5});
@@ -673,6 +685,7 @@ TEST_CASE("traversal: a zero-length segment visits the voxel holding it") {
     }
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("traversal: the largest grids are walked within the nx + ny + nz - 2 bound") {
     const GridGeometry g = GridGeometry::make(V3(-20.48, -20.48, 0.0), 0.01, GridDims{4096, 4096, 8}).value();
     const V3 a(-20.475, -20.475, 0.005);
@@ -696,6 +709,7 @@ TEST_CASE("traversal: the largest grids are walked within the nx + ny + nz - 2 b
     CHECK(count_traversed_voxels(Rasterization::kBresenham3d, g, a, b) == 4096U);
 }
 
+// verifies: SR-TRAV-001, SR-TRAV-002
 TEST_CASE("traversal: dispatch runs the chosen method and rejects an unknown one") {
     const GridGeometry g = grid_a();
     const V3 a = g.voxel_center(VoxelCoord{0, 0, 0});
@@ -743,6 +757,7 @@ std::vector<VoxelCoord> plain_bresenham(const GridGeometry& g, const V3& a, cons
 
 }  // namespace
 
+// verifies: SR-TRAV-002
 TEST_CASE("traversal: Bresenham equals the plain integer line on 24000 random segments, clipped to the grid") {
     const GridGeometry g = grid_a();
     SegmentMaker maker(g, 99U);
@@ -805,6 +820,7 @@ TEST_CASE("traversal: Bresenham equals the plain integer line on 24000 random se
     CHECK(inside_segments > 3000);
 }
 
+// verifies: SR-TRAV-002
 TEST_CASE("traversal: Bresenham misses voxels the exact traversal passes through (why it is only an option)") {
     const GridGeometry g = grid_a();
     // A diagonal in the xy-plane, from the centre of (0,0,2) to the centre of (6,3,2).

@@ -110,6 +110,7 @@ sim::Scene with_person(double x, double y) {
 
 }  // namespace
 
+// verifies: SR-CTRL-001, SR-LOGIC-001, SR-LOGIC-004
 TEST_CASE("controller: the empty cell is clear and the stop is released") {
     Workcell w;
     TestClock clock;
@@ -126,6 +127,7 @@ TEST_CASE("controller: the empty cell is clear and the stop is released") {
     CHECK(out.published == 1);
 }
 
+// verifies: SR-CTRL-001, SR-LOGIC-002
 TEST_CASE("controller: a person entering the protective zone gives a stop request in the same cycle") {
     Workcell w;
     TestClock clock;
@@ -139,6 +141,7 @@ TEST_CASE("controller: a person entering the protective zone gives a stop reques
     CHECK(out.last_stop);  // what was published in that cycle
 }
 
+// verifies: SR-CTRL-001, SR-LOGIC-003
 TEST_CASE("controller: a person in the warning zone only gives a warning, not a stop") {
     Workcell w;
     TestClock clock;
@@ -150,6 +153,7 @@ TEST_CASE("controller: a person in the warning zone only gives a warning, not a 
     CHECK_FALSE(r.safety.stop_requested);
 }
 
+// verifies: SR-CTRL-002, SR-LOGIC-002, SR-LOGIC-005
 TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives a fault and the stop") {
     Workcell w;
     TestClock clock;
@@ -173,6 +177,7 @@ TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives 
     CHECK_FALSE(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
 }
 
+// verifies: SR-CTRL-003, SR-PRIOR-012, SR-LOGIC-006
 TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
     Workcell w;
     TestClock clock;
@@ -192,6 +197,7 @@ TEST_CASE("controller: a corrupted prior is caught while running within one chec
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 }
 
+// verifies: SR-CTRL-003, SR-LOGIC-006
 TEST_CASE("controller: a prior of the wrong size is refused for good") {
     Workcell w;
     TestClock clock;
@@ -201,6 +207,7 @@ TEST_CASE("controller: a prior of the wrong size is refused for good") {
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
 }
 
+// verifies: SR-CTRL-004
 TEST_CASE("controller: a failed output is a CAN fault in the next cycle") {
     Workcell w;
     TestClock clock;
@@ -215,6 +222,7 @@ TEST_CASE("controller: a failed output is a CAN fault in the next cycle") {
     CHECK(r.safety.stop_requested);
 }
 
+// verifies: SR-CTRL-005
 TEST_CASE("controller: a cycle over its budget is a fault in the next cycle") {
     Workcell w;
     TestClock clock;
@@ -227,6 +235,7 @@ TEST_CASE("controller: a cycle over its budget is a fault in the next cycle") {
     CHECK(c.monitor().overruns() >= 1U);
 }
 
+// verifies: SR-GEN-002
 TEST_CASE("controller: a whole cycle allocates no memory") {
     Workcell w;
     TestClock clock;

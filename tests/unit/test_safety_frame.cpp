@@ -44,6 +44,7 @@ FrameCheck check(const CanFrame& f, const SafetyChannelConfig& c) {
 
 }  // namespace
 
+// verifies: SR-CAN-002
 TEST_CASE("safety frame: the encoder puts every field at the bit the layout table names") {
     const CanFrame f = encode_safety_frame(sample_message(), 9U, channel()).value();
     CHECK(f.id == 0x101U);
@@ -61,6 +62,7 @@ TEST_CASE("safety frame: the encoder puts every field at the bit the layout tabl
     CHECK(n.data[1] == 0xC9);  // data ID 0x0C51: nibble 0xC in bits 12..15
 }
 
+// verifies: SR-CAN-001, SR-CAN-002
 TEST_CASE("safety frame: every counter and every data ID mode decodes back to what was encoded") {
     for (const E2eP01DataIdMode mode : kAllModes) {
         for (std::uint8_t counter = 0U; counter <= kE2eP01CounterMax; ++counter) {
@@ -79,6 +81,7 @@ TEST_CASE("safety frame: every counter and every data ID mode decodes back to wh
     CHECK(decode_safety_frame(encode_safety_frame(all, 0U, channel()).value(), channel()).value().message == all);
 }
 
+// verifies: SR-CAN-003
 TEST_CASE("safety frame: the inverted copy is on the next CAN ID with every data bit inverted") {
     const CanFrame f = encode_safety_frame(sample_message(), 3U, channel()).value();
     const CanFrame inv = inverted_copy(f);
@@ -92,6 +95,7 @@ TEST_CASE("safety frame: the inverted copy is on the next CAN ID with every data
     CHECK(inverted_copy(inv).data[5] == f.data[5]);
 }
 
+// verifies: SR-CAN-003
 TEST_CASE("safety frame: with the default data IDs, inverted data never passes the check on the frame's own ID") {
     for (const E2eP01DataIdMode mode : kAllModes) {
         for (std::uint8_t counter = 0U; counter <= kE2eP01CounterMax; ++counter) {
@@ -102,6 +106,7 @@ TEST_CASE("safety frame: with the default data IDs, inverted data never passes t
     }
 }
 
+// verifies: SR-CAN-004
 TEST_CASE("safety frame: every single flipped bit is caught by the CRC") {
     for (const E2eP01DataIdMode mode : kAllModes) {
         const CanFrame good = encode_safety_frame(sample_message(), 6U, channel(mode)).value();
@@ -118,6 +123,7 @@ TEST_CASE("safety frame: every single flipped bit is caught by the CRC") {
     }
 }
 
+// verifies: SR-CAN-004
 TEST_CASE("safety frame: a frame protected with another data ID is rejected") {
     SafetyChannelConfig other = channel();
     other.safety_data_id = 0x0C52U;
@@ -134,6 +140,7 @@ TEST_CASE("safety frame: a frame protected with another data ID is rejected") {
           FrameCheck::kWrongCrc);
 }
 
+// verifies: SR-CAN-004
 TEST_CASE("safety frame: the decoder checks the CAN ID, the length, the counter range and every content field") {
     const SafetyChannelConfig c = channel();
     const CanFrame good = encode_safety_frame(sample_message(), 2U, c).value();
@@ -184,6 +191,7 @@ TEST_CASE("safety frame: the decoder checks the CAN ID, the length, the counter 
     CHECK(untouched.counter == 99U);  // a rejected frame writes nothing
 }
 
+// verifies: SR-CAN-002
 TEST_CASE("safety frame: the encoder refuses a counter above 14, more than 16 zones and zone bits beyond the count") {
     CHECK(encode_safety_frame(sample_message(), 15U, channel()).error() == ErrorCode::kInvalidArgument);
     SafetyMessage m = sample_message();
@@ -200,6 +208,7 @@ TEST_CASE("safety frame: the encoder refuses a counter above 14, more than 16 zo
     CHECK(encode_safety_frame(sample_message(), 0U, bad).error() == ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-CAN-010
 TEST_CASE("safety frame: a channel config needs 11-bit IDs, three distinct CAN IDs and distinguishable data IDs") {
     CHECK(check_channel_config(SafetyChannelConfig{}).ok());
     for (const E2eP01DataIdMode mode : kAllModes) {
@@ -235,6 +244,7 @@ TEST_CASE("safety frame: a channel config needs 11-bit IDs, three distinct CAN I
     CHECK(test::violates_contract([&] { (void)check_safety_frame(f, c, out); }));
 }
 
+// verifies: SR-CAN-005
 TEST_CASE("safety frame: the diagnostics frame round-trips every prior CRC page and carries its own data ID") {
     const std::uint32_t prior_crc = 0xDEADBEEFU;
     for (const E2eP01DataIdMode mode : kAllModes) {
@@ -271,6 +281,7 @@ TEST_CASE("safety frame: the diagnostics frame round-trips every prior CRC page 
     CHECK(decode_diagnostics_frame(g, channel()).error() == ErrorCode::kCrcMismatch);
 }
 
+// verifies: SR-CAN-005
 TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and saturating at 2047") {
     CHECK(diagnostics_time_saturating(0U) == 0U);
     CHECK(diagnostics_time_saturating(1U) == 1U);
@@ -296,6 +307,7 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
     CHECK(test::violates_contract([] { (void)prior_crc_part(0U, 4U); }));
 }
 
+// verifies: SR-CAN-005
 TEST_CASE("safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
     for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
         CHECK(fault_bit(static_cast<FaultCode>(f)) == fault_bit(static_cast<Fault>(f)));

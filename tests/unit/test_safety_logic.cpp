@@ -56,6 +56,7 @@ SafetyLogicConfig config(std::uint64_t delay_us, bool reset) {
 }
 }  // namespace
 
+// verifies: SR-LOGIC-001
 TEST_CASE("safety logic: the stop is requested at start-up until the restart interlock releases it") {
     Cell c;
     SafetyLogic logic(config(50000U, false), c.zones);
@@ -65,6 +66,7 @@ TEST_CASE("safety logic: the stop is requested at start-up until the restart int
     CHECK_FALSE(c.step(logic).stop_requested);                          // 50 ms
 }
 
+// verifies: SR-LOGIC-002
 TEST_CASE("safety logic: an intrusion of a protective zone requests a stop in the same cycle") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
@@ -77,6 +79,7 @@ TEST_CASE("safety logic: an intrusion of a protective zone requests a stop in th
     CHECK(c.step(logic).stop_requested);
 }
 
+// verifies: SR-LOGIC-003
 TEST_CASE("safety logic: a warning zone raises a warning but no stop") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
@@ -89,6 +92,7 @@ TEST_CASE("safety logic: a warning zone raises a warning but no stop") {
     CHECK_FALSE(c.step(logic).warning);  // no interlock on warnings
 }
 
+// verifies: SR-LOGIC-004
 TEST_CASE("safety logic: the restart interlock keeps the stop for its full time, restarting on any interruption") {
     Cell c;
     SafetyLogic logic(config(100000U, false), c.zones);  // 100 ms
@@ -107,6 +111,7 @@ TEST_CASE("safety logic: the restart interlock keeps the stop for its full time,
     CHECK(cycles == 10);  // the full 100 ms again, counted from the interruption's end
 }
 
+// verifies: SR-LOGIC-004
 TEST_CASE("safety logic: with reset required, only a rising edge after the delay releases the stop") {
     Cell c;
     SafetyLogic logic(config(20000U, true), c.zones);
@@ -117,6 +122,7 @@ TEST_CASE("safety logic: with reset required, only a rising edge after the delay
     CHECK_FALSE(c.step(logic, 0U, true).stop_requested);  // rising edge after the delay
 }
 
+// verifies: SR-LOGIC-005
 TEST_CASE("safety logic: a recoverable fault latches the safe state and clears after fault-free cycles") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
@@ -133,6 +139,7 @@ TEST_CASE("safety logic: a recoverable fault latches the safe state and clears a
     CHECK_FALSE(o.stop_requested);
 }
 
+// verifies: SR-LOGIC-005
 TEST_CASE("safety logic: a fault detected again restarts its recovery count") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
@@ -145,6 +152,7 @@ TEST_CASE("safety logic: a fault detected again restarts its recovery count") {
     CHECK_FALSE(c.step(logic).stop_requested);
 }
 
+// verifies: SR-LOGIC-006
 TEST_CASE("safety logic: non-recoverable faults stay latched") {
     for (const Fault f : {Fault::kPriorCheckFailed, Fault::kInternalCheck}) {
         Cell c;
@@ -158,6 +166,7 @@ TEST_CASE("safety logic: non-recoverable faults stay latched") {
     }
 }
 
+// verifies: SR-LOGIC-007
 TEST_CASE("safety logic: a clock that does not advance latches a clock fault") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
@@ -167,6 +176,7 @@ TEST_CASE("safety logic: a clock that does not advance latches a clock fault") {
     CHECK((o.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
 }
 
+// verifies: SR-LOGIC-008
 TEST_CASE("safety logic: missing zone results are a fault") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);

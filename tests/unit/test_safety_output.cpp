@@ -43,6 +43,7 @@ CycleReport report_with(bool stop, std::uint32_t intruded, std::uint32_t latched
 
 }  // namespace
 
+// verifies: SR-CAN-006
 TEST_CASE("safety output: one cycle sends the safety frame, its inverted copy and the diagnostics frame, in that order") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
@@ -67,6 +68,7 @@ TEST_CASE("safety output: one cycle sends the safety frame, its inverted copy an
     CHECK(d.message.prior_crc_part == 0x0DU);
 }
 
+// verifies: SR-CAN-006, SR-CAN-009
 TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the report") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
@@ -101,6 +103,7 @@ TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the co
     CHECK(plc.poll(now + 1000U).fault_events == 0U);  // no fault detected in the whole run
 }
 
+// verifies: SR-CAN-005
 TEST_CASE("safety output: latched faults go to ActiveFaults bits 0..8 and the CAN details to bits 9..14") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
@@ -114,6 +117,7 @@ TEST_CASE("safety output: latched faults go to ActiveFaults bits 0..8 and the CA
     CHECK(s.message.protective_stop);
 }
 
+// verifies: SR-CAN-006
 TEST_CASE("safety output: zone bits above the zone count are not sent") {
     const SafetyMessage m = safety_message(report_with(false, 0xFFFFFFFFU, 0U).safety, 3U);
     CHECK(m.zone_intrusion == 0x7U);
@@ -121,6 +125,7 @@ TEST_CASE("safety output: zone bits above the zone count are not sent") {
     CHECK(safety_message(report_with(false, 0xFFFFFFFFU, 0U).safety, 16U).zone_intrusion == 0xFFFFU);
 }
 
+// verifies: SR-CAN-006
 TEST_CASE("safety output: more than 16 zones or a bad channel config is refused and every publish fails") {
     RecordingSender sender;
     CHECK(check_safety_output_config(output_config(16U)).ok());
@@ -136,6 +141,7 @@ TEST_CASE("safety output: more than 16 zones or a bad channel config is refused 
     CHECK(sender.frames.empty());
 }
 
+// verifies: SR-CAN-006
 TEST_CASE("safety output: a failing send makes publish return false and the counters still advance") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);

@@ -8,6 +8,7 @@
 
 using namespace cellguard;
 
+// verifies: SR-FUSE-005
 TEST_CASE("sensor model: the defaults are the paper's trough 0.44 and peak 0.56") {
     const SensorModelTable t;
     CHECK(t.constant_free_evidence() == log_odds_from_probability(0.44));
@@ -17,6 +18,7 @@ TEST_CASE("sensor model: the defaults are the paper's trough 0.44 and peak 0.56"
     CHECK(t.free_evidence(t.ramp_length()) == t.constant_free_evidence());
 }
 
+// verifies: SR-FUSE-005
 TEST_CASE("sensor model: evidence rises monotonically towards 0.5 on the ramp before the reading") {
     const SensorModelTable t;
     std::int16_t previous = 0;  // d = 0: the value right before the reading, at most 0.5
@@ -34,6 +36,7 @@ TEST_CASE("sensor model: evidence rises monotonically towards 0.5 on the ramp be
     CHECK(t.free_evidence(-1.0) == t.free_evidence(0.0));  // clamped, never indexes outside the table
 }
 
+// verifies: SR-FUSE-005
 TEST_CASE("sensor model: a zero ramp gives the constant everywhere before the reading") {
     SensorModelParams p;
     p.ramp_length = 0.0;
@@ -41,6 +44,7 @@ TEST_CASE("sensor model: a zero ramp gives the constant everywhere before the re
     CHECK(t.free_evidence(0.0) == t.constant_free_evidence());
 }
 
+// verifies: SR-FUSE-005
 TEST_CASE("sensor model: parameters outside their range are rejected") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     CHECK(SensorModelTable::make(SensorModelParams{0.5, 0.56, 0.1}).error() == ErrorCode::kInvalidArgument);

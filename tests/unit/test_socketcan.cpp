@@ -28,6 +28,7 @@ constexpr std::uint16_t bit(FaultCode c) { return fault_bit(c); }
 
 }  // namespace
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: a full queue is retried, a down interface and other errors are not") {
     CHECK(classify_send_errno(ENOBUFS) == SendErrnoClass::kRetry);
     CHECK(classify_send_errno(EAGAIN) == SendErrnoClass::kRetry);
@@ -39,6 +40,7 @@ TEST_CASE("socketcan: a full queue is retried, a down interface and other errors
     CHECK(classify_send_errno(0) == SendErrnoClass::kFailed);
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: error frames map to bus-off, error-passive and controller-problem faults") {
     CHECK(classify_error_frame(error_frame(CAN_ERR_BUSOFF)).raised_faults == bit(FaultCode::kCanBusOff));
     CHECK(classify_error_frame(error_frame(CAN_ERR_CRTL, CAN_ERR_CRTL_TX_PASSIVE)).raised_faults ==
@@ -62,6 +64,7 @@ TEST_CASE("socketcan: error frames map to bus-off, error-passive and controller-
     CHECK(classify_error_frame(data).raised_faults == 0U);
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: bus-off clears only after a restart and then an accepted send") {
     CanFaultMonitor m;
     m.on_error_frame(classify_error_frame(error_frame(CAN_ERR_BUSOFF)));
@@ -78,6 +81,7 @@ TEST_CASE("socketcan: bus-off clears only after a restart and then an accepted s
     CHECK(m.active_faults() == bit(FaultCode::kCanBusOff));
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: error-passive clears when the controller is error-active again or restarts") {
     CanFaultMonitor m;
     m.on_error_frame(classify_error_frame(error_frame(CAN_ERR_CRTL, CAN_ERR_CRTL_RX_PASSIVE)));
@@ -90,6 +94,7 @@ TEST_CASE("socketcan: error-passive clears when the controller is error-active a
     CHECK(m.active_faults() == 0U);
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: send faults and controller problems clear with the next accepted send") {
     CanFaultMonitor m;
     m.on_send(SocketCanError::kTxBufferFull);
@@ -104,6 +109,7 @@ TEST_CASE("socketcan: send faults and controller problems clear with the next ac
     CHECK(m.active_faults() == bit(FaultCode::kCanSendFailed));
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: only standard-ID data frames up to 8 bytes pass between kernel and cellguard frames") {
     CanFrame out{};
     can_frame k{};
@@ -137,6 +143,7 @@ TEST_CASE("socketcan: only standard-ID data frames up to 8 bytes pass between ke
     CHECK(to_kernel_frame(CanFrame{0x100U, 9U, {}}, back).error == SocketCanError::kInvalidFrame);
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: opening a missing interface, or with a bad name, is a clear error, not a crash") {
     SocketCan can;
     const SocketCanStatus missing = can.open("cgnosuchcan0");
@@ -153,6 +160,7 @@ TEST_CASE("socketcan: opening a missing interface, or with a bad name, is a clea
     CHECK_FALSE(can.is_open());
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: a closed socket refuses to send and receive, and the refusal is a send fault") {
     SocketCan can;
     const CanFrame f{0x101U, 8U, {}};
@@ -166,6 +174,7 @@ TEST_CASE("socketcan: a closed socket refuses to send and receive, and the refus
     CHECK(std::string(to_string(static_cast<SocketCanError>(250))) == "unknown SocketCAN error");
 }
 
+// verifies: SR-CAN-011
 TEST_CASE("socketcan: every fault the port raises is an ActiveFaults CAN detail bit (9..14), never a safety logic bit") {
     CanFaultMonitor m;
     m.on_send(SocketCanError::kTxBufferFull);

@@ -37,12 +37,14 @@ struct Fixture {
 };
 }  // namespace
 
+// verifies: SR-ZONE-006
 TEST_CASE("zone evaluation: the default thresholds are t_f = 0.73 and P(fore) >= 0.05") {
     const ZoneEvaluationParams p;
     CHECK(p.foreground_threshold == threshold_log_odds(0.73));
     CHECK(p.accessible_min_prior == log_odds_from_probability(0.05));
 }
 
+// verifies: SR-ZONE-005
 TEST_CASE("zone evaluation: an empty, fully observed cell leaves every zone CLEAR") {
     Fixture f;
     const ZoneEvaluation e = f.run();
@@ -52,6 +54,7 @@ TEST_CASE("zone evaluation: an empty, fully observed cell leaves every zone CLEA
     CHECK(e.not_clear_mask == 0U);
 }
 
+// verifies: SR-ZONE-003
 TEST_CASE("zone evaluation: one foreground voxel intrudes every zone that holds it") {
     Fixture f;
     f.lo[f.at(2, 2, 2)] = 400;  // above t_f after adding the prior 0
@@ -62,6 +65,7 @@ TEST_CASE("zone evaluation: one foreground voxel intrudes every zone that holds 
     CHECK(e.intruded_mask == 0b11U);
 }
 
+// verifies: SR-ZONE-003, SR-GRID-002
 TEST_CASE("zone evaluation: the prior removes background: a never-foreground voxel cannot intrude") {
     Fixture f;
     f.lo[f.at(2, 2, 2)] = kLogOddsMax;
@@ -77,6 +81,7 @@ TEST_CASE("zone evaluation: the prior removes background: a never-foreground vox
     CHECK(sub[f.at(3, 3, 3)] == 100);
 }
 
+// verifies: SR-ZONE-004
 TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowance makes it UNSEEN") {
     Fixture f;
     for (int i = 0; i < 3; ++i) f.ob[f.at(i, 0, 0)] = 0U;
@@ -93,6 +98,7 @@ TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowa
     CHECK(e.zones[1].state == ZoneState::kClear);
 }
 
+// verifies: SR-ZONE-005
 TEST_CASE("zone evaluation: INTRUDED outranks UNSEEN") {
     Fixture f;
     for (int i = 0; i < 8; ++i) f.ob[f.at(i % 5, 1, 1)] = 0U;
@@ -100,6 +106,7 @@ TEST_CASE("zone evaluation: INTRUDED outranks UNSEEN") {
     CHECK(f.run().zones[0].state == ZoneState::kIntruded);
 }
 
+// verifies: SR-ZONE-005
 TEST_CASE("zone evaluation: zones of another grid or a short prior are refused") {
     Fixture f;
     ZoneEvaluation e;

@@ -29,6 +29,7 @@ ZoneConfig prism(std::initializer_list<PolygonVertex> pts, double z0, double z1)
 }
 }  // namespace
 
+// verifies: SR-ZONE-001
 TEST_CASE("zones: a box holds exactly the voxels whose centres it contains") {
     std::vector<std::uint32_t> mask(1000);
     const ZoneConfig zs[] = {box(0.0, 0.0, 0.0, 0.3, 0.2, 0.1)};
@@ -41,6 +42,7 @@ TEST_CASE("zones: a box holds exactly the voxels whose centres it contains") {
     CHECK(c.total_memberships() == 6U);
 }
 
+// verifies: SR-ZONE-001
 TEST_CASE("zones: a prism over a convex polygon is compiled in either winding, one bit per zone") {
     std::vector<std::uint32_t> mask(1000);
     const ZoneConfig zs[] = {
@@ -59,6 +61,7 @@ TEST_CASE("zones: a prism over a convex polygon is compiled in either winding, o
     CHECK(mask[top] == 0b100U);
 }
 
+// verifies: SR-ZONE-002
 TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason") {
     std::vector<std::uint32_t> mask(1000);
     const auto rejected = [&](const ZoneConfig& bad, ErrorCode code) {
@@ -88,6 +91,7 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
     CHECK(rejected(zero_threshold, ErrorCode::kInvalidArgument));
 }
 
+// verifies: SR-ZONE-002
 TEST_CASE("zones: more than 32 zones or too little storage is refused") {
     std::vector<std::uint32_t> mask(1000);
     std::vector<ZoneConfig> many(kMaxZones + 1U, box(0, 0, 0, 0.5, 0.5, 0.5));
