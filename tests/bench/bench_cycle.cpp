@@ -1,0 +1,425 @@
+// Cycle benchmark (issue 5, "Timing"): the paper's cell through the same
+// code path as cellguard-monitor (SafetyController::run_cycle with the
+// sensors' precomputed ray tables, the zones, the safety logic and the CAN
+// safety output encoder) on worst-case inputs, for many cycles.
+//
+// Worst case:
+// - the paper's four sensors (204,288 pixels), every pixel a valid reading
+//   at the sensor's maximum range, so every ray crosses the grid as far as
+//   it can (its whole ray table) and no pixel is skipped;
+// - kMaxZones (32) zones, each covering the whole grid (16 protective, 16
+//   warning, boxes and prisms alternating), so every voxel belongs to every
+//   zone: the zone stage visits the most (voxel, zone) pairs there can be;
+// - a prior that makes every voxel foreground (the largest log-odds), so
+//   every one of those pairs is counted (a real prior skips most of them).
+// The CAN output encodes the three frames of each cycle (the safety frame
+// carries the first 16 zones, kMaxZonesInFrame) into memory: no I/O.
+//
+// Printed: median, p99 and max cycle time (and per stage); the work bound
+// of compute_work_bound (cycle.hpp) against the operations each cycle really
+// performed (counted: the exit status is 1 if any cycle exceeded the
+// bound); and the bound turned into time with per-operation costs measured
+// in the same run. A program that prints figures, not a test with a time
+// limit: time never decides the exit status.
+//
+// Usage: bench_cycle [--cycles N] [--no-timing]
+//   --cycles N   measured cycles (default 10000), after 20 warm-up cycles
+//   --no-timing  no warm-up and no timing report (for callgrind:
+//                tools/bench-cycle-callgrind.sh divides the instructions
+//                counted inside run_cycle by N)
+#include <algorithm>
+#include <array>
+#include <bitset>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <time.h>
+
+#include "cellguard/cycle.hpp"
+#include "cellguard/log_odds.hpp"
+#include "cellguard/ray_table.hpp"
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety_output.hpp"
+#include "cellguard/sim/workcell.hpp"
+#include "cellguard/zones.hpp"
+
+using namespace cellguard;
+using SteadyClock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int kWarmupCycles = 20;
+
+/// The controller's clock in this benchmark: this thread's CPU time in
+/// microseconds (monotonic, like the port's clock), so the controller's own
+/// stage timing measures work, not the time the scheduler of a shared
+/// machine gave to other processes. Whole cycles are also timed on the wall clock.
+class ThreadCpuClock final : public MonotonicClock {
+public:
+    std::uint64_t now_us() noexcept override {
+        timespec t{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return static_cast<std::uint64_t>(t.tv_sec) * 1000000U + static_cast<std::uint64_t>(t.tv_nsec) / 1000U;
+    }
+};
+
+/// The 1-minute load average (how busy the shared machine was).
+double load_average() {
+    double l = -1.0;
+    if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf", &l) != 1) {
+            l = -1.0;
+        }
+        std::fclose(f);
+    }
+    return l;
+}
+
+/// A CAN sender that keeps the last frame in memory (no I/O in the benchmark).
+class MemorySender final : public CanSender {
+public:
+    bool send(const CanFrame& frame) noexcept override {
+        last = frame;
+        ++frames;
+        return true;
+    }
+    CanFrame last{};
+    std::uint64_t frames = 0U;
+};
+
+/// The CAN output bound after the controller (it needs the prior's CRC).
+class Forward final : public CycleOutput {
+public:
+    bool publish(const CycleReport& r) noexcept override { return target != nullptr && target->publish(r); }
+    CanSafetyOutput* target = nullptr;
+};
+
+/// One measured cycle.
+struct CycleSample {
+    double total_ms = 0.0;                        ///< around run_cycle, steady clock (wall time)
+    double cpu_ms = 0.0;                          ///< around run_cycle, this thread's CPU time
+    std::array<std::uint64_t, kCycleStages> stage_us{};  ///< the controller's own stage timing
+    std::uint64_t rays = 0U;                      ///< readings handled (fused + skipped)
+    std::uint64_t voxel_steps = 0U;               ///< voxel updates of fusion
+    std::uint64_t zone_visits = 0U;               ///< (voxel, zone) pairs the zone stage counted
+};
+
+double percentile(std::vector<double> v, double p) {
+    std::sort(v.begin(), v.end());
+    const auto i = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size()))) - 1U;
+    return v[std::min(i, v.size() - 1U)];
+}
+
+double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
+
+/// This thread's CPU time, milliseconds (excludes time the scheduler gave
+/// to other processes: the machines are shared).
+double thread_cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
+}
+
+/// 32 zones covering the grid: boxes of the whole grid and prisms over its
+/// footprint (an octagon with vertices on the grid's edges would miss the
+/// corners, so the prisms use the rectangle), half protective, half warning.
+std::vector<ZoneConfig> worst_case_zones(const GridGeometry& g) {
+    const Eigen::Vector3d lo = g.origin();
+    const Eigen::Vector3d hi = g.max_corner();
+    std::vector<ZoneConfig> zones(kMaxZones);
+    for (std::size_t z = 0U; z < kMaxZones; ++z) {
+        ZoneConfig& c = zones[z];
+        c.kind = z < kMaxZones / 2U ? ZoneKind::kProtective : ZoneKind::kWarning;
+        c.min_foreground_voxels = 1U;
+        c.max_unseen_voxels = 0U;
+        if (z % 2U == 0U) {
+            c.shape = ZoneShape::kBox;
+            c.box_min = lo;
+            c.box_max = hi;
+        } else {
+            c.shape = ZoneShape::kPrism;
+            c.polygon[0] = PolygonVertex{lo.x(), lo.y()};
+            c.polygon[1] = PolygonVertex{hi.x(), lo.y()};
+            c.polygon[2] = PolygonVertex{hi.x(), hi.y()};
+            c.polygon[3] = PolygonVertex{lo.x(), hi.y()};
+            c.polygon_size = 4U;
+            c.z_min = lo.z();
+            c.z_max = hi.z();
+        }
+    }
+    return zones;
+}
+
+/// The (voxel, zone) pairs evaluate_zones counted in the cycle just run:
+/// a voxel's zone bits are walked when it is foreground or unseen
+/// (zone_evaluation.cpp). Recounted from the frame grid, outside the timing.
+std::uint64_t count_zone_visits(const EvidenceGrid& frame, const std::vector<std::int16_t>& prior,
+                                const CompiledZones& zones, const ZoneEvaluationParams& params) {
+    std::uint64_t visits = 0U;
+    const Span<const std::uint32_t> mask = zones.membership();
+    for (std::size_t i = 0U; i < frame.voxel_count(); ++i) {
+        const std::int16_t sum = add_saturating(frame.log_odds()[i], prior[i]);
+        const bool fg = sum >= params.foreground_threshold;
+        const bool unseen = frame.observed()[i] == 0U && prior[i] != kNeverForeground &&
+                            prior[i] >= params.accessible_min_prior;
+        if (fg || unseen) {
+            visits += std::bitset<32>(mask[i]).count();
+        }
+    }
+    return visits;
+}
+
+[[noreturn]] void usage(const char* message) {
+    std::fprintf(stderr, "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing]\n", message);
+    std::exit(2);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int cycles = 10000;
+    bool timing = true;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--cycles" && i + 1 < argc) {
+            char* end = nullptr;
+            const long n = std::strtol(argv[++i], &end, 10);
+            if (end == nullptr || *end != '\0' || n < 1 || n > 10000000) {
+                usage("--cycles expects an integer 1..10000000");
+            }
+            cycles = static_cast<int>(n);
+        } else if (a == "--no-timing") {
+            timing = false;
+        } else {
+            usage(("unknown argument '" + a + "'").c_str());
+        }
+    }
+
+    // The paper's grid and sensors (apps/monitor/config/paper-cell.toml).
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, 0.0), 0.05, GridDims{34, 30, 30}).value();
+    const std::vector<sim::SensorSpec> specs = sim::paper_sensors();
+    const std::size_t n_sensors = specs.size();
+
+    // Ray tables, built as cellguard-monitor builds them.
+    std::vector<SensorReading> readings(n_sensors);
+    std::vector<std::vector<float>> depth(n_sensors);
+    std::vector<std::vector<RayStep>> steps(n_sensors);
+    std::vector<std::vector<std::uint32_t>> begins(n_sensors);
+    std::vector<std::vector<float>> enters(n_sensors), norms(n_sensors);
+    std::vector<RayTable> tables(n_sensors);
+    std::uint64_t table_voxel_steps = 0U;  // every pixel's whole ray in the grid
+    for (std::size_t s = 0U; s < n_sensors; ++s) {
+        const std::size_t px = static_cast<std::size_t>(specs[s].width) * static_cast<std::size_t>(specs[s].height);
+        SensorReading& r = readings[s];
+        r.pose = specs[s].pose();
+        r.kind = SensorDataKind::kDepthImage;
+        r.intrinsics = specs[s].intrinsics();
+        r.max_range = specs[s].max_range;
+        depth[s].assign(px, 1.0F);
+        r.depth = Span<const float>(depth[s].data(), px);
+        const std::size_t n = count_ray_steps(g, r).value();
+        steps[s].resize(n);
+        begins[s].resize(px + 1U);
+        enters[s].resize(px);
+        norms[s].resize(px);
+        tables[s] = RayTable::build(g, r,
+                                    RayTableStorage{{steps[s].data(), n}, {begins[s].data(), px + 1U},
+                                                    {enters[s].data(), px}, {norms[s].data(), px}})
+                        .value();
+        table_voxel_steps += n - px;  // minus one end marker per pixel
+        // Every reading at the maximum range: depth along the axis = range / |dir|,
+        // the largest float whose range (as the table computes it) is within max_range.
+        for (std::size_t i = 0U; i < px; ++i) {
+            float d = r.max_range / norms[s][i];
+            while (d * norms[s][i] > r.max_range) {
+                d = std::nextafter(d, 0.0F);
+            }
+            depth[s][i] = d;
+        }
+    }
+
+    // 32 zones covering the grid.
+    const std::vector<ZoneConfig> zone_configs = worst_case_zones(g);
+    std::vector<std::uint32_t> membership(g.voxel_count());
+    ZoneError zone_error;
+    const Result<CompiledZones> compiled =
+        CompiledZones::compile(g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()},
+                               &zone_error);
+    if (!compiled.ok()) {
+        std::fprintf(stderr, "bench_cycle: zone %zu: %s\n", zone_error.zone, zone_error.reason);
+        return 2;
+    }
+    const CompiledZones zones = compiled.value();
+
+    // Grids and the worst-case prior (every voxel foreground).
+    const SensorModelTable model;
+    std::vector<std::int16_t> frame_lo(g.voxel_count());
+    std::vector<std::uint8_t> frame_ob(g.voxel_count());
+    EvidenceGrid frame_grid =
+        EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
+    const std::vector<std::int16_t> prior(g.voxel_count(), kLogOddsMax);
+
+    ControllerConfig cc;
+    cc.sensor_count = n_sensors;
+    cc.cycle_budget_us = 5000U;  // the goal; overruns are counted, never fatal here
+    cc.max_frame_age_us = 1000000U;
+    ThreadCpuClock clock;
+    Forward forward;
+    SafetyController controller(cc, frame_grid, {prior.data(), prior.size()}, zones, model, clock, &forward);
+    MemorySender sender;
+    SafetyOutputConfig oc;
+    oc.zone_count = static_cast<std::uint8_t>(kMaxZonesInFrame);
+    oc.prior_crc = controller.prior_crc();
+    CanSafetyOutput output(oc, sender);
+    if (!output.status().ok()) {
+        std::fprintf(stderr, "bench_cycle: CAN output refused: %s\n", to_string(output.status().error()));
+        return 2;
+    }
+    forward.target = &output;
+
+    const CycleWorkBound bound = compute_work_bound(g, {readings.data(), readings.size()}, zones);
+
+    std::vector<SensorInput> inputs(n_sensors);
+    for (std::size_t s = 0U; s < n_sensors; ++s) {
+        inputs[s].reading = readings[s];
+        inputs[s].present = true;
+        inputs[s].table = &tables[s];
+    }
+
+    std::printf("bench_cycle: the paper's cell, worst-case inputs\n");
+    std::printf("  grid %d x %d x %d = %zu voxels; %zu sensors, %llu pixels, every reading at max range %.1f m\n",
+                g.dims().nx, g.dims().ny, g.dims().nz, g.voxel_count(), n_sensors,
+                static_cast<unsigned long long>(bound.rays), static_cast<double>(readings[0].max_range));
+    std::printf("  %zu zones (kMaxZones), each covering the grid; prior: every voxel foreground (%d)\n", zones.size(),
+                static_cast<int>(kLogOddsMax));
+
+    // Warm-up (not measured), then the measured cycles.
+    const int warmup = timing ? kWarmupCycles : 0;
+    std::vector<CycleSample> samples;
+    samples.reserve(static_cast<std::size_t>(cycles));
+    bool over_bound = false;
+    std::uint64_t faults = 0U;
+    CycleSample worst_ops;
+    for (int k = 0; k < warmup + cycles; ++k) {
+        const std::uint64_t captured = clock.now_us();
+        for (SensorInput& in : inputs) {
+            in.captured_us = captured;
+        }
+        const double c0 = thread_cpu_ms();
+        const auto t0 = SteadyClock::now();
+        const CycleReport& r = controller.run_cycle({inputs.data(), inputs.size()}, false);
+        const auto t1 = SteadyClock::now();
+        const double c1 = thread_cpu_ms();
+        faults |= r.detected_faults;
+        if (k < warmup) {
+            continue;
+        }
+        CycleSample s;
+        s.total_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        s.cpu_ms = c1 - c0;
+        for (std::size_t st = 0U; st < kCycleStages; ++st) {
+            s.stage_us[st] = controller.monitor().last().stage_us[st];
+        }
+        s.rays = static_cast<std::uint64_t>(r.fusion.rays_fused) + r.fusion.skipped();
+        s.voxel_steps = r.fusion.voxel_updates;
+        s.zone_visits = timing || k == 0 ? count_zone_visits(frame_grid, prior, zones, cc.zones) : 0U;
+        over_bound = over_bound || s.rays > bound.rays || s.voxel_steps > bound.voxel_steps ||
+                     s.zone_visits > bound.zone_updates;
+        worst_ops.rays = std::max(worst_ops.rays, s.rays);
+        worst_ops.voxel_steps = std::max(worst_ops.voxel_steps, s.voxel_steps);
+        worst_ops.zone_visits = std::max(worst_ops.zone_visits, s.zone_visits);
+        samples.push_back(s);
+    }
+    const std::uint32_t unexpected = static_cast<std::uint32_t>(faults) & ~fault_bit(Fault::kCycleOverrun);
+
+    std::printf("\nwork per cycle: computed bound (compute_work_bound) vs the most any measured cycle performed\n");
+    std::printf("  %-34s %12s %12s\n", "operation", "bound", "measured");
+    std::printf("  %-34s %12llu %12llu\n", "rays (readings)", static_cast<unsigned long long>(bound.rays),
+                static_cast<unsigned long long>(worst_ops.rays));
+    std::printf("  %-34s %12llu %12llu   (ray tables' exact maximum: %llu)\n", "voxel steps (fusion)",
+                static_cast<unsigned long long>(bound.voxel_steps),
+                static_cast<unsigned long long>(worst_ops.voxel_steps),
+                static_cast<unsigned long long>(table_voxel_steps));
+    std::printf("  %-34s %12llu %12llu   (clear + subtract: by construction)\n", "grid-pass voxels",
+                static_cast<unsigned long long>(bound.grid_voxels),
+                static_cast<unsigned long long>(2U * g.voxel_count()));
+    std::printf("  %-34s %12llu %12llu%s\n", "zone updates ((voxel, zone) pairs)",
+                static_cast<unsigned long long>(bound.zone_updates),
+                static_cast<unsigned long long>(worst_ops.zone_visits), timing ? "" : "   (first cycle only)");
+    std::printf("  measured <= bound in every cycle: %s\n", over_bound ? "NO (bound violated)" : "yes");
+    std::printf("  CAN frames encoded: %llu; faults detected other than overrun: 0x%X\n",
+                static_cast<unsigned long long>(sender.frames), unexpected);
+
+    if (!timing) {
+        std::printf("\n%d cycles run (no timing: count instructions with tools/bench-cycle-callgrind.sh)\n", cycles);
+        return over_bound ? 1 : 0;
+    }
+
+    std::vector<double> wall, cpu, fuse_ms, zone_ms, rest_ms, step_ns, zone_ns;
+    for (const CycleSample& s : samples) {
+        wall.push_back(s.total_ms);
+        cpu.push_back(s.cpu_ms);
+        const auto fuse_us = static_cast<double>(s.stage_us[0]);
+        const auto zones_us = static_cast<double>(s.stage_us[1]);
+        fuse_ms.push_back(fuse_us / 1000.0);
+        zone_ms.push_back(zones_us / 1000.0);
+        rest_ms.push_back(static_cast<double>(s.stage_us[2] + s.stage_us[3]) / 1000.0);
+        // Per-operation costs of this cycle. Fusion's time is charged to its
+        // voxel steps (the per-ray overhead and the grid clear included, so
+        // the cost per step is an overestimate); the zone stage's time to its
+        // grid pass plus its (voxel, zone) visits.
+        step_ns.push_back(fuse_us * 1000.0 / static_cast<double>(std::max<std::uint64_t>(s.voxel_steps, 1U)));
+        zone_ns.push_back(zones_us * 1000.0 /
+                          static_cast<double>(g.voxel_count() + std::max<std::uint64_t>(s.zone_visits, 1U)));
+    }
+    const auto row = [](const char* name, const std::vector<double>& v) {
+        std::printf("  %-34s %7.3f ms %7.3f ms %7.3f ms\n", name, median(v), percentile(v, 0.99),
+                    *std::max_element(v.begin(), v.end()));
+    };
+    const double max_cpu = *std::max_element(cpu.begin(), cpu.end());
+    const double max_wall = *std::max_element(wall.begin(), wall.end());
+    std::printf("\ncycle time over %d cycles (after %d warm-up cycles), one thread; load average %.1f at the end\n",
+                cycles, warmup, load_average());
+    std::printf("  %-34s %10s %10s %10s\n", "", "median", "p99", "max");
+    row("whole cycle, thread CPU time", cpu);
+    row("  fuse (clear + ray tables)", fuse_ms);
+    row("  subtract + zones", zone_ms);
+    row("  logic + CAN output", rest_ms);
+    row("whole cycle, wall clock", wall);
+    std::printf("  cycles over the 5 ms goal: %zu by CPU time, %zu by wall clock (wall time includes preemption\n"
+                "  by other processes on this shared machine); rate at the largest CPU-time cycle: %.0f Hz\n",
+                static_cast<std::size_t>(std::count_if(cpu.begin(), cpu.end(), [](double t) { return t > 5.0; })),
+                static_cast<std::size_t>(std::count_if(wall.begin(), wall.end(), [](double t) { return t > 5.0; })),
+                1000.0 / max_cpu);
+
+    // The bound in time: operations of the bound x per-operation costs
+    // measured above, plus the largest logic + output time seen.
+    const auto bound_ms = [&](double ns_step, double ns_zone, double rest) {
+        return (static_cast<double>(bound.voxel_steps) * ns_step +
+                static_cast<double>(bound.grid_voxels / 2U + bound.zone_updates) * ns_zone) /
+                   1e6 +
+               rest;
+    };
+    const double rest_max = *std::max_element(rest_ms.begin(), rest_ms.end());
+    const double b_med = bound_ms(median(step_ns), median(zone_ns), rest_max);
+    const double b_p99 = bound_ms(percentile(step_ns, 0.99), percentile(zone_ns, 0.99), rest_max);
+    const double tight_ms =
+        (static_cast<double>(table_voxel_steps) * median(step_ns) +
+         static_cast<double>(bound.grid_voxels / 2U + bound.zone_updates) * median(zone_ns)) / 1e6 + rest_max;
+    std::printf("\ncomputed bound in time (the bound's operations x per-operation CPU cost measured in this run):\n");
+    std::printf("  cost per voxel step %.3f ns (median; p99 %.3f); per grid voxel or zone visit %.3f ns (median; p99 %.3f)\n",
+                median(step_ns), percentile(step_ns, 0.99), median(zone_ns), percentile(zone_ns, 0.99));
+    std::printf("  compute_work_bound: %.3f ms at median costs, %.3f ms at p99 costs\n", b_med, b_p99);
+    std::printf("  (with the ray tables' exact step count instead: %.3f ms at median costs)\n", tight_ms);
+    std::printf("  largest measured cycle: %.3f ms CPU time, %.3f ms wall clock\n", max_cpu, max_wall);
+    std::printf("  bound (median costs) above every measured cycle's CPU time: %s (%.2fx the largest); "
+                "above every wall-clock time: %s\n",
+                b_med >= max_cpu ? "yes" : "NO", b_med / max_cpu, b_med >= max_wall ? "yes" : "no");
+    return over_bound ? 1 : 0;
+}
