@@ -1,0 +1,619 @@
+// cellguard-prior: the background of an empty cell -> the accessibility prior
+// as an image file, flash source and .npy files. See prior_tool.hpp.
+#include "cellguard/prior_tool/prior_tool.hpp"
+
+#include <sys/stat.h>
+#include <sys/types.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <new>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+#include "cellguard/accessibility.hpp"
+#include "cellguard/fusion.hpp"
+#include "cellguard/linux/npy.hpp"
+#include "cellguard/linux/pcd.hpp"
+#include "cellguard/log_odds.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/prior_image.hpp"
+
+namespace cellguard::prior_tool {
+
+namespace {
+
+/// "(x, y, z)" of linear index @p i in @p dims.
+std::string voxel_name(std::size_t i, GridDims dims) {
+    const auto nx = static_cast<std::size_t>(dims.nx);
+    const auto ny = static_cast<std::size_t>(dims.ny);
+    return "(x " + std::to_string(i % nx) + ", y " + std::to_string((i / nx) % ny) + ", z " +
+           std::to_string(i / (nx * ny)) + ")";
+}
+
+std::string join_path(const std::string& dir, const char* name) {
+    if (dir.empty() || dir.back() == '/') {
+        return dir + name;
+    }
+    return dir + "/" + name;
+}
+
+/// Reads the .npy preamble and header of @p path (at most the largest header
+/// the reader accepts) and parses it.
+IoStatus read_npy_file_header(const std::string& path, NpyHeader& header) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(), std::strerror(errno));
+    }
+    struct stat st {};
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        std::fclose(f);
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: not a regular file", path.c_str());
+    }
+    std::vector<std::uint8_t> head(kNpyPreambleV2 + kNpyMaxHeaderBytes);
+    const std::size_t n = std::fread(head.data(), 1U, head.size(), f);
+    const bool read_error = std::ferror(f) != 0;
+    std::fclose(f);
+    if (read_error) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read", path.c_str());
+    }
+    return parse_npy_header(head.data(), n, header).prefixed(path.c_str());
+}
+
+std::string shape_text(const NpyHeader& h) {
+    std::string s = "(";
+    for (std::size_t d = 0U; d < h.ndim; ++d) {
+        s += (d == 0U ? "" : ", ") + std::to_string(h.shape[d]);
+    }
+    return s + (h.ndim == 1U ? ",)" : ")");
+}
+
+}  // namespace
+
+const char* method_name(PriorMethod method) noexcept {
+    switch (method) {
+        case PriorMethod::kThresholded:
+            return "thresholded";
+        case PriorMethod::kProbabilistic:
+            return "probabilistic";
+        case PriorMethod::kThresholdedBaseline:
+            return "thresholded-baseline";
+        case PriorMethod::kProbabilisticBaseline:
+            return "probabilistic-baseline";
+    }
+    return "unknown";
+}
+
+bool parse_method(const std::string& text, PriorMethod& method) noexcept {
+    for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic,
+                                PriorMethod::kThresholdedBaseline, PriorMethod::kProbabilisticBaseline}) {
+        if (text == method_name(m)) {
+            method = m;
+            return true;
+        }
+    }
+    return false;
+}
+
+namespace {
+constexpr const char* kFaceNames[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+}  // namespace
+
+bool parse_open_faces(const std::string& text, std::uint8_t& faces) {
+    if (text == "sides") {
+        faces = kPaperOpenFaces;
+        return true;
+    }
+    if (text == "all") {
+        faces = kAllFaces;
+        return true;
+    }
+    if (text == "none") {
+        faces = 0U;
+        return true;
+    }
+    unsigned bits = 0U;
+    std::size_t start = 0U;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        bool known = false;
+        for (unsigned b = 0U; b < 6U; ++b) {
+            if (item == kFaceNames[b]) {
+                if ((bits & (1U << b)) != 0U) {
+                    return false;  // named twice
+                }
+                bits |= 1U << b;
+                known = true;
+            }
+        }
+        if (!known) {
+            return false;
+        }
+        start = comma + 1U;
+    }
+    faces = static_cast<std::uint8_t>(bits);
+    return true;
+}
+
+std::string open_faces_list(std::uint8_t faces) {
+    std::string s;
+    for (unsigned b = 0U; b < 6U; ++b) {
+        if ((static_cast<unsigned>(faces) & (1U << b)) != 0U) {
+            s += (s.empty() ? "" : ",");
+            s += kFaceNames[b];
+        }
+    }
+    return s.empty() ? "none" : s;
+}
+
+IoStatus BackgroundGrid::allocate(const GridGeometry& geometry) {
+    if (geometry.voxel_count() == 0U) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "background: empty grid");
+    }
+    log_odds.assign(geometry.voxel_count(), kLogOddsUnknown);
+    observed.assign(geometry.voxel_count(), 0U);
+    const Result<EvidenceGrid> g =
+        EvidenceGrid::make(geometry, {log_odds.data(), log_odds.size()}, {observed.data(), observed.size()});
+    if (!g.ok()) {
+        return IoStatus::failure(g.error(), "background: %s", to_string(g.error()));
+    }
+    grid = g.value();
+    return IoStatus{};
+}
+
+IoStatus load_background_npy(const std::string& path, const std::string& observed_path,
+                             const NpyPlacement& placement, BackgroundGrid& out, NpyBackgroundInfo& info) {
+    out = BackgroundGrid{};
+    info = NpyBackgroundInfo{};
+    NpyHeader h;
+    IoStatus st = read_npy_file_header(path, h);
+    if (!st.ok()) {
+        return st;
+    }
+    if (h.dtype == NpyDtype::kUInt8) {
+        return IoStatus::failure(ErrorCode::kUnsupportedType,
+                                 "%s: dtype is uint8 ('|u1', observed flags?); a background grid is int16 log-odds "
+                                 "('<i2') or float32 probability ('<f4')",
+                                 path.c_str());
+    }
+    if (h.ndim != 3U) {
+        return IoStatus::failure(ErrorCode::kGeometryMismatch,
+                                 "%s: shape %s has %zu dimensions; a grid has 3, (nz, ny, nx)", path.c_str(),
+                                 shape_text(h).c_str(), h.ndim);
+    }
+    for (std::size_t d = 0U; d < 3U; ++d) {
+        if (h.shape[d] < 1U || h.shape[d] > static_cast<std::uint64_t>(kMaxDimension)) {
+            return IoStatus::failure(ErrorCode::kGeometryMismatch,
+                                     "%s: shape %s: every extent must be 1..%d", path.c_str(), shape_text(h).c_str(),
+                                     kMaxDimension);
+        }
+    }
+    const GridDims dims{static_cast<std::int32_t>(h.shape[2]), static_cast<std::int32_t>(h.shape[1]),
+                        static_cast<std::int32_t>(h.shape[0])};
+    if (placement.check_dims && !(dims == placement.dims)) {
+        return IoStatus::failure(ErrorCode::kGeometryMismatch,
+                                 "%s: shape %s is a %d x %d x %d grid, expected %d x %d x %d (nx x ny x nz)",
+                                 path.c_str(), shape_text(h).c_str(), dims.nx, dims.ny, dims.nz, placement.dims.nx,
+                                 placement.dims.ny, placement.dims.nz);
+    }
+    const Result<GridGeometry> geometry = GridGeometry::make(placement.origin, placement.voxel_size, dims);
+    if (!geometry.ok()) {
+        return IoStatus::failure(geometry.error(), "%s: a %d x %d x %d grid with voxel size %g: %s", path.c_str(),
+                                 dims.nx, dims.ny, dims.nz, placement.voxel_size, to_string(geometry.error()));
+    }
+    BackgroundGrid bg;
+    st = bg.allocate(geometry.value());
+    if (!st.ok()) {
+        return st.prefixed(path.c_str());
+    }
+    const std::size_t n = bg.log_odds.size();
+    if (h.dtype == NpyDtype::kInt16) {
+        st = read_npy_int16(path.c_str(), dims, {bg.log_odds.data(), n});
+        if (!st.ok()) {
+            return st;
+        }
+        for (std::size_t i = 0U; i < n; ++i) {
+            if (bg.log_odds[i] == kNeverForeground) {
+                return IoStatus::failure(ErrorCode::kMalformedInput,
+                                         "%s: voxel %s holds -32768, the prior's \"never foreground\" sentinel; "
+                                         "a background grid never does (is this a prior?)",
+                                         path.c_str(), voxel_name(i, dims).c_str());
+            }
+        }
+    } else {
+        info.float_input = true;
+        std::vector<float> p(n);
+        st = read_npy_float32(path.c_str(), dims, {p.data(), n});
+        if (!st.ok()) {
+            return st;
+        }
+        for (std::size_t i = 0U; i < n; ++i) {
+            const float v = p[i];
+            if (!std::isfinite(v)) {
+                return IoStatus::failure(ErrorCode::kNonFiniteValue, "%s: voxel %s is %s; probabilities must be finite",
+                                         path.c_str(), voxel_name(i, dims).c_str(), std::isnan(v) ? "NaN" : "infinite");
+            }
+            if (v < 0.0F || v > 1.0F) {
+                return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                         "%s: voxel %s is %g, not a probability in [0, 1]", path.c_str(),
+                                         voxel_name(i, dims).c_str(), static_cast<double>(v));
+            }
+            bg.log_odds[i] = v == 0.0F ? kLogOddsMin : log_odds_from_probability(static_cast<double>(v));
+        }
+    }
+    if (!observed_path.empty()) {
+        st = read_npy_uint8(observed_path.c_str(), dims, {bg.observed.data(), n});
+        if (!st.ok()) {
+            return st;
+        }
+        for (std::size_t i = 0U; i < n; ++i) {
+            if (bg.observed[i] > 1U) {
+                return IoStatus::failure(ErrorCode::kMalformedInput, "%s: voxel %s is %u; observed flags are 0 or 1",
+                                         observed_path.c_str(), voxel_name(i, dims).c_str(),
+                                         static_cast<unsigned>(bg.observed[i]));
+            }
+        }
+        info.observed_source = observed_path;
+    } else {
+        for (std::size_t i = 0U; i < n; ++i) {
+            bg.observed[i] = bg.log_odds[i] != kLogOddsUnknown ? 1U : 0U;
+        }
+        info.observed_source = "derived: voxels without evidence (log-odds 0) count as unobserved";
+    }
+    info.observed_voxels = bg.grid.observed_count();
+    out = std::move(bg);
+    return IoStatus{};
+}
+
+SimulatedFrameSource::SimulatedFrameSource(std::size_t frames)
+    : rendered_(sim::render_frame(sim::paper_sensors(), sim::reference_scene())), frames_(frames) {}
+
+IoStatus SimulatedFrameSource::frame(std::size_t k, std::vector<SensorReading>& readings) {
+    if (k >= frames_) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "simulated frame %zu of %zu", k, frames_);
+    }
+    readings = rendered_.readings;
+    return IoStatus{};
+}
+
+PcdFrameSource::PcdFrameSource(std::vector<RecordedSensor> sensors) {
+    for (RecordedSensor& s : sensors) {
+        if (!s.files.empty()) {
+            frames_ = std::max(frames_, s.files.size());
+            sensors_.push_back(std::move(s));
+        }
+    }
+    points_.resize(sensors_.size());
+}
+
+IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readings) {
+    readings.clear();
+    std::vector<PcdPoint> buffer(kMaxReadingsPerSensor);
+    for (std::size_t s = 0U; s < sensors_.size(); ++s) {
+        const RecordedSensor& sensor = sensors_[s];
+        if (k >= sensor.files.size()) {
+            continue;
+        }
+        const std::string& file = sensor.files[k];
+        PcdCloudInfo info;
+        const IoStatus st = read_pcd(file.c_str(), {buffer.data(), buffer.size()}, info);
+        if (!st.ok()) {
+            if (st.error() == ErrorCode::kCapacityExceeded && info.finite_points > kMaxReadingsPerSensor) {
+                return IoStatus::failure(ErrorCode::kCapacityExceeded,
+                                         "%s: %" PRIu64 " points; a sensor delivers at most %zu per frame",
+                                         file.c_str(), info.finite_points, kMaxReadingsPerSensor);
+            }
+            return st;
+        }
+        const PcdViewpoint& v = info.viewpoint;
+        if (v.tx != 0.0 || v.ty != 0.0 || v.tz != 0.0 || v.qw != 1.0 || v.qx != 0.0 || v.qy != 0.0 || v.qz != 0.0) {
+            return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                     "%s: VIEWPOINT is not the identity; the pose of sensor '%s' comes from the "
+                                     "configuration and the points must be in the sensor frame",
+                                     file.c_str(), sensor.name.c_str());
+        }
+        std::vector<Eigen::Vector3f>& pts = points_[s];
+        pts.resize(static_cast<std::size_t>(info.written));
+        for (std::size_t i = 0U; i < pts.size(); ++i) {
+            pts[i] = Eigen::Vector3f(buffer[i].x, buffer[i].y, buffer[i].z);
+        }
+        SensorReading r;
+        r.pose = sensor.pose;
+        r.kind = SensorDataKind::kPointSet;
+        r.points = {pts.data(), pts.size()};
+        r.min_range = 0.0F;
+        r.max_range = sensor.max_range;
+        const Status valid = validate_sensor_reading(r);
+        if (!valid.ok()) {
+            return IoStatus::failure(valid.error(), "%s: sensor '%s': %s", file.c_str(), sensor.name.c_str(),
+                                     to_string(valid.error()));
+        }
+        readings.push_back(r);
+    }
+    return IoStatus{};
+}
+
+IoStatus sensors_from_config(const std::string& config_path, std::vector<RecordedSensor>& sensors,
+                             GridGeometry& grid, int& background_frames) {
+    const monitor::ConfigLoad load = monitor::load_monitor_config(config_path);
+    if (!load.ok) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "%s", load.error.c_str());
+    }
+    const monitor::MonitorConfig& cfg = load.config;
+    const Result<GridGeometry> g = GridGeometry::make(
+        cfg.grid.origin, cfg.grid.voxel_size, GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]});
+    if (!g.ok()) {
+        return IoStatus::failure(g.error(), "%s: [grid]: %s", config_path.c_str(), to_string(g.error()));
+    }
+    grid = g.value();
+    background_frames = cfg.prior.background_frames;
+    sensors.clear();
+    for (const monitor::SensorSettings& s : cfg.sensors) {
+        RecordedSensor r;
+        r.name = s.name;
+        r.max_range = static_cast<float>(s.max_range);
+        if (s.has_target) {
+            const Eigen::Vector3d axis = s.target - s.position;
+            if (axis.norm() <= 0.0 || std::abs(axis.normalized().z()) > 0.999) {
+                return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                         "%s:%d: sensor '%s': a target straight above or below the sensor leaves "
+                                         "its x axis undefined; give `rotation`",
+                                         config_path.c_str(), s.line, s.name.c_str());
+            }
+            sim::SensorSpec spec;
+            spec.position = s.position;
+            spec.target = s.target;
+            r.pose = spec.pose();
+        } else {
+            r.pose = Eigen::Isometry3d::Identity();
+            r.pose.linear() = s.rotation.normalized().toRotationMatrix();
+            r.pose.translation() = s.position;
+        }
+        sensors.push_back(std::move(r));
+    }
+    return IoStatus{};
+}
+
+IoStatus add_frames_dir(const std::string& dir, std::vector<RecordedSensor>& sensors) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: not a readable directory%s%s", dir.c_str(),
+                                 ec ? ": " : "", ec ? ec.message().c_str() : "");
+    }
+    std::size_t added = 0U;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const fs::directory_entry& entry = *it;
+        std::error_code ec2;
+        if (!entry.is_directory(ec2)) {
+            continue;  // loose files (notes, calibration) are not frames
+        }
+        const std::string name = entry.path().filename().string();
+        auto sensor = std::find_if(sensors.begin(), sensors.end(), [&](const RecordedSensor& s) { return s.name == name; });
+        if (sensor == sensors.end()) {
+            std::string known;
+            for (const RecordedSensor& s : sensors) {
+                known += (known.empty() ? "" : ", ") + s.name;
+            }
+            return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                     "%s: folder '%s' names no sensor of the configuration (sensors: %s)",
+                                     dir.c_str(), name.c_str(), known.c_str());
+        }
+        std::vector<std::string> files;
+        for (fs::directory_iterator f(entry.path(), ec2), fend; !ec2 && f != fend; f.increment(ec2)) {
+            std::error_code ec3;
+            if (f->is_regular_file(ec3) && f->path().extension() == ".pcd") {
+                files.push_back(f->path().string());
+            }
+        }
+        if (ec2) {
+            return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot list: %s", entry.path().c_str(),
+                                     ec2.message().c_str());
+        }
+        std::sort(files.begin(), files.end());
+        added += files.size();
+        sensor->files.insert(sensor->files.end(), files.begin(), files.end());
+    }
+    if (ec) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot list: %s", dir.c_str(), ec.message().c_str());
+    }
+    if (added == 0U) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                 "%s: no .pcd files (expected one folder per sensor, named as in the configuration)",
+                                 dir.c_str());
+    }
+    return IoStatus{};
+}
+
+IoStatus accumulate_frames(FrameSource& frames, BackgroundGrid& background, const ProgressFn& progress) {
+    const GridGeometry& g = background.grid.geometry();
+    if (g.voxel_count() == 0U) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "background: no grid");
+    }
+    background.grid.clear();
+    BackgroundGrid frame;
+    IoStatus st = frame.allocate(g);
+    if (!st.ok()) {
+        return st;
+    }
+    const SensorModelTable model;
+    std::vector<SensorReading> readings;
+    const std::size_t total = frames.frame_count();
+    for (std::size_t k = 0U; k < total; ++k) {
+        st = frames.frame(k, readings);
+        if (!st.ok()) {
+            return st;
+        }
+        frame.grid.clear();
+        const Result<FusionStats> fused = fuse_frame(frame.grid, {readings.data(), readings.size()}, model);
+        if (!fused.ok()) {
+            return IoStatus::failure(fused.error(), "frame %zu: fusion refused it: %s", k, to_string(fused.error()));
+        }
+        const Status acc = accumulate_background(background.grid, frame.grid);
+        if (!acc.ok()) {
+            return IoStatus::failure(acc.error(), "frame %zu: accumulating the background: %s", k,
+                                     to_string(acc.error()));
+        }
+        if (progress) {
+            progress(k + 1U, total);
+        }
+    }
+    return IoStatus{};
+}
+
+IoStatus compute_prior(const EvidenceGrid& background, const AccessibilityParams& params, PriorResult& result) {
+    const Status valid = validate_accessibility_params(params);
+    if (!valid.ok()) {
+        return IoStatus::failure(valid.error(), "analysis: parameters out of range: %s", to_string(valid.error()));
+    }
+    const std::size_t n = background.voxel_count();
+    const AccessibilityScratchSize size = accessibility_scratch_size(background.geometry().dims(), params);
+    std::vector<std::uint32_t> words(size.words);
+    std::vector<std::uint8_t> bytes(size.bytes);
+    result.prior.assign(n, 0);
+    result.p_acc.assign(n, 0.0F);
+    const auto start = std::chrono::steady_clock::now();
+    const Status st = compute_accessibility_prior(
+        background, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+        {result.prior.data(), n}, {result.p_acc.data(), n});
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!st.ok()) {
+        return IoStatus::failure(st.error(), "analysis: compute_accessibility_prior failed: %s", to_string(st.error()));
+    }
+    result.p_fore.resize(n);
+    for (std::size_t i = 0U; i < n; ++i) {
+        result.p_fore[i] = result.p_acc[i] * 0.5F;  // exact: halving a float only lowers its exponent (or is 0)
+    }
+    return IoStatus{};
+}
+
+namespace {
+
+IoStatus read_text_file(const std::string& path, std::string& text) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open for reading back: %s", path.c_str(),
+                                 std::strerror(errno));
+    }
+    text.clear();
+    char buf[65536];
+    std::size_t n = 0U;
+    while ((n = std::fread(buf, 1U, sizeof(buf), f)) > 0U) {
+        text.append(buf, n);
+    }
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read back", path.c_str());
+    }
+    return IoStatus{};
+}
+
+IoStatus verify_npy(const std::string& path, GridDims dims, const std::vector<float>& expected) {
+    std::vector<float> back(expected.size());
+    const IoStatus st = read_npy_float32(path.c_str(), dims, {back.data(), back.size()});
+    if (!st.ok()) {
+        return st;
+    }
+    if (std::memcmp(back.data(), expected.data(), expected.size() * sizeof(float)) != 0) {
+        return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from what was written", path.c_str());
+    }
+    return IoStatus{};
+}
+
+}  // namespace
+
+IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometry, const AccessibilityParams& params,
+                             const PriorResult& result, const PriorSourceOptions& source_options,
+                             WrittenOutputs& written) {
+    written = WrittenOutputs{};
+    {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec || !std::filesystem::is_directory(dir, ec)) {
+            return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create the output directory%s%s",
+                                     dir.c_str(), ec ? ": " : " (a file of that name exists)",
+                                     ec ? ec.message().c_str() : "");
+        }
+    }
+    written.image_path = join_path(dir, kPriorImageName);
+    written.source_path = join_path(dir, kPriorSourceName);
+    written.p_acc_path = join_path(dir, kPAccName);
+    written.p_fore_path = join_path(dir, kPForeName);
+
+    // The image: encoded, checked by the loader, written atomically.
+    std::vector<std::uint8_t> image;
+    IoStatus st = encode_prior_image(geometry, params, {result.prior.data(), result.prior.size()}, image);
+    if (!st.ok()) {
+        return st;
+    }
+    const Result<PriorImageView> view = load_prior_image({image.data(), image.size()}, geometry);
+    if (!view.ok()) {
+        return IoStatus::failure(view.error(), "the encoded image fails its own check: %s", to_string(view.error()));
+    }
+    st = write_prior_image_file(written.image_path.c_str(), view.value());
+    if (!st.ok()) {
+        return st;
+    }
+    st = write_prior_source_file(written.source_path.c_str(), view.value(), source_options);
+    if (!st.ok()) {
+        return st;
+    }
+    const GridDims dims = geometry.dims();
+    st = write_npy_float32(written.p_acc_path.c_str(), {result.p_acc.data(), result.p_acc.size()}, dims);
+    if (!st.ok()) {
+        return st;
+    }
+    st = write_npy_float32(written.p_fore_path.c_str(), {result.p_fore.data(), result.p_fore.size()}, dims);
+    if (!st.ok()) {
+        return st;
+    }
+
+    // Verification: everything read back from disk.
+    std::vector<std::uint8_t> bytes;
+    PriorImageView back;
+    PriorImageError reason = PriorImageError::kNone;
+    st = read_prior_image_file(written.image_path.c_str(), geometry, bytes, back, &reason);
+    if (!st.ok()) {
+        return st.prefixed(written.image_path.c_str());
+    }
+    if (bytes != image) {
+        return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the encoded image",
+                                 written.image_path.c_str());
+    }
+    written.image_bytes = bytes.size();
+    written.header = back.header();
+    std::string expected_text;
+    std::string text;
+    st = prior_source_text(back, source_options, expected_text);
+    if (!st.ok()) {
+        return st;
+    }
+    st = read_text_file(written.source_path, text);
+    if (!st.ok()) {
+        return st;
+    }
+    if (text != expected_text) {
+        return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the generated source",
+                                 written.source_path.c_str());
+    }
+    st = verify_npy(written.p_acc_path, dims, result.p_acc);
+    if (!st.ok()) {
+        return st;
+    }
+    return verify_npy(written.p_fore_path, dims, result.p_fore);
+}
+
+}  // namespace cellguard::prior_tool
