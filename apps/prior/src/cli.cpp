@@ -163,8 +163,19 @@ struct Options {
     bool help = false;
 };
 
-/// Parses @p args into @p o; false with @p f set on a bad command line.
-bool parse_args(const std::vector<std::string>& args, Options& o, Failure& f) {
+/// Parses @p raw into @p o; false with @p f set on a bad command line.
+/// "--name=value" is read as "--name" "value".
+bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
+    std::vector<std::string> args;
+    for (const std::string& a : raw) {
+        const std::size_t eq = a.find('=');
+        if (a.rfind("--", 0) == 0 && eq != std::string::npos) {
+            args.push_back(a.substr(0U, eq));
+            args.push_back(a.substr(eq + 1U));
+        } else {
+            args.push_back(a);
+        }
+    }
     auto fail = [&](const std::string& m) {
         f.status = kExitInputError;
         f.message = m;
@@ -447,6 +458,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
 
     // The background.
+    const auto t_start = std::chrono::steady_clock::now();
     BackgroundGrid background;
     std::string background_text;
     bool progress_on = o.progress == ProgressMode::kOn;
@@ -566,7 +578,14 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     source_options.name_space = o.name_space.c_str();
     source_options.config_header = o.config_header.empty() ? nullptr : o.config_header.c_str();
     WrittenOutputs written;
-    const IoStatus st = write_prior_outputs(o.out_dir, grid, o.params, result, source_options, written);
+    const auto t_analysed = std::chrono::steady_clock::now();
+    IoStatus st;
+    {
+        Progress progress(err, progress_on);
+        st = write_prior_outputs(o.out_dir, grid, o.params, result, source_options, written,
+                                 [&](std::size_t done, std::size_t total) { progress.bar("writing, verifying", done, total); });
+    }
+    const auto t_written = std::chrono::steady_clock::now();
     if (!st.ok()) {
         return error(kExitOutputError, st.message());
     }
@@ -579,6 +598,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         << h.format_version << ", " << h.nx << " x " << h.ny << " x " << h.nz << " voxels of " << h.voxel_size()
         << " m from (" << h.origin().x() << ", " << h.origin().y() << ", " << h.origin().z() << "), " << crc
         << "; flash source and .npy files read back equal\n";
+    char times[160];
+    std::snprintf(times, sizeof(times), "time: background and set-up %.2f s, analysis %.1f ms, outputs written and verified %.2f s",
+                  std::chrono::duration<double>(t_analysed - t_start).count() - result.seconds, result.seconds * 1e3,
+                  std::chrono::duration<double>(t_written - t_analysed).count());
+    out << kToolName << ": " << times << "\n";
     out << std::flush;
     return kExitOk;
 }

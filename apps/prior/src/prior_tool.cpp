@@ -537,8 +537,15 @@ IoStatus verify_npy(const std::string& path, GridDims dims, const std::vector<fl
 
 IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometry, const AccessibilityParams& params,
                              const PriorResult& result, const PriorSourceOptions& source_options,
-                             WrittenOutputs& written) {
+                             WrittenOutputs& written, const ProgressFn& progress) {
     written = WrittenOutputs{};
+    constexpr std::size_t kSteps = 8U;  // four files written, four read back
+    std::size_t steps = 0U;
+    const auto step = [&] {
+        if (progress) {
+            progress(++steps, kSteps);
+        }
+    };
     {
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
@@ -567,19 +574,23 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
     if (!st.ok()) {
         return st;
     }
+    step();
     st = write_prior_source_file(written.source_path.c_str(), view.value(), source_options);
     if (!st.ok()) {
         return st;
     }
+    step();
     const GridDims dims = geometry.dims();
     st = write_npy_float32(written.p_acc_path.c_str(), {result.p_acc.data(), result.p_acc.size()}, dims);
     if (!st.ok()) {
         return st;
     }
+    step();
     st = write_npy_float32(written.p_fore_path.c_str(), {result.p_fore.data(), result.p_fore.size()}, dims);
     if (!st.ok()) {
         return st;
     }
+    step();
 
     // Verification: everything read back from disk.
     std::vector<std::uint8_t> bytes;
@@ -587,12 +598,13 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
     PriorImageError reason = PriorImageError::kNone;
     st = read_prior_image_file(written.image_path.c_str(), geometry, bytes, back, &reason);
     if (!st.ok()) {
-        return st.prefixed(written.image_path.c_str());
+        return st;  // names the file
     }
     if (bytes != image) {
         return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the encoded image",
                                  written.image_path.c_str());
     }
+    step();
     written.image_bytes = bytes.size();
     written.header = back.header();
     std::string expected_text;
@@ -609,11 +621,17 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
         return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the generated source",
                                  written.source_path.c_str());
     }
+    step();
     st = verify_npy(written.p_acc_path, dims, result.p_acc);
     if (!st.ok()) {
         return st;
     }
-    return verify_npy(written.p_fore_path, dims, result.p_fore);
+    step();
+    st = verify_npy(written.p_fore_path, dims, result.p_fore);
+    if (st.ok()) {
+        step();
+    }
+    return st;
 }
 
 }  // namespace cellguard::prior_tool

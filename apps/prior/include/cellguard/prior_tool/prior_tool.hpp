@@ -240,11 +240,12 @@ struct WrittenOutputs {
 /// read_prior_image_file against @p geometry and compared byte for byte
 /// with the encoded image, the source file compared with prior_source_text
 /// of the re-read image, the .npy files re-read and compared bit for bit.
+/// @p progress, when set, is called after each of the eight steps.
 /// Errors: kInvalidArgument (a write failed, with the OS message),
 /// kCrcMismatch (a file read back differs), the loader's errors.
 IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometry, const AccessibilityParams& params,
                              const PriorResult& result, const PriorSourceOptions& source_options,
-                             WrittenOutputs& written);
+                             WrittenOutputs& written, const ProgressFn& progress = {});
 
 }  // namespace cellguard::prior_tool
 
