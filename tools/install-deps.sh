@@ -4,6 +4,8 @@
 # --cross also installs the cross toolchains and emulators of tools/cross.sh:
 # aarch64 g++ with qemu-user, arm-none-eabi gcc with newlib's libstdc++ and
 # qemu-system-arm (about 1 GB; not part of the default install).
+# --vcan also installs what tools/vcan-integration.sh needs: qemu-system-x86,
+# Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3)
@@ -11,7 +13,8 @@ for arg in "$@"; do
   case "$arg" in
     --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
                     libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm) ;;
-    *) echo "usage: $0 [--cross]" >&2; exit 2 ;;
+    --vcan) pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static can-utils cpio iproute2) ;;
+    *) echo "usage: $0 [--cross] [--vcan]" >&2; exit 2 ;;
   esac
 done
 missing=()

@@ -1,0 +1,169 @@
+#!/bin/sh
+# The vcan integration test proper: cellguard-monitor sends its safety output
+# on a real kernel CAN interface, candump -L records it, cellguard-vcan-check
+# checks the recording with the PLC-side receiver. Runs as the VM's /init
+# payload (busybox ash) or directly on a host that has vcan (any POSIX sh);
+# tools/vcan-integration.sh starts it either way.
+#
+# usage: vcan-test.sh BIN_DIR CONFIG WORK_DIR [IFACE]
+#   BIN_DIR  holds cellguard-monitor, cellguard-vcan-check and candump
+#   CONFIG   the monitor configuration (tests/integration/vcan/vcan-cell.toml)
+#   WORK_DIR logs and outputs go here
+#   IFACE    an existing CAN interface that is up (default vcan0); this test
+#            takes it down and up again
+# Needs CAP_NET_ADMIN (ip link set). The last line of output is
+#   CELLGUARD-VCAN-RESULT: PASS   or   CELLGUARD-VCAN-RESULT: FAIL
+# and the exit status is 0 exactly for PASS.
+#
+# Two runs, both paced (one cycle per period on the real clock):
+# 1. normal: NORMAL_CYCLES cycles undisturbed; every frame recorded and valid,
+#    the stop in the entry cycle (cellguard-vcan-check normal).
+# 2. fault: after the monitor has reported cycle DOWN_AT the interface is
+#    set down, after cycle UP_AT up again; the fault path and the recovery
+#    (cellguard-vcan-check fault). DOWN_AT is after the person has left both
+#    zones and the stop was released, so the stop comes from the fault alone;
+#    FAULT_CYCLES leaves time for fault_recovery_cycles (10) and the restart
+#    delay after UP_AT.
+set -u
+bin=$1
+cfg=$2
+work=$3
+ifc=${4:-vcan0}
+NORMAL_CYCLES=${NORMAL_CYCLES:-20}
+FAULT_CYCLES=${FAULT_CYCLES:-60}
+DOWN_AT=${DOWN_AT:-36}
+UP_AT=${UP_AT:-41}
+
+failures=0
+say() { echo "vcan-test: $*"; }
+fail() { say "FAIL: $*"; failures=$((failures + 1)); }
+uptime_s() { cut -d' ' -f1 /proc/uptime; }
+finish() {
+    if [ "$failures" -eq 0 ]; then
+        say "all checks passed ($(uptime_s) s since boot)"
+        echo "CELLGUARD-VCAN-RESULT: PASS"
+        exit 0
+    fi
+    say "$failures check(s) failed"
+    echo "CELLGUARD-VCAN-RESULT: FAIL"
+    exit 1
+}
+show() {  # show FILE: its last lines, indented, for a failure report
+    [ -f "$1" ] && tail -n "${2:-15}" "$1" | sed 's/^/    | /'
+}
+
+mkdir -p "$work" || { fail "cannot create $work"; finish; }
+for p in cellguard-monitor cellguard-vcan-check candump; do
+    [ -x "$bin/$p" ] || fail "$bin/$p missing"
+done
+[ -f "$cfg" ] || fail "configuration $cfg missing"
+ip link show "$ifc" > /dev/null 2>&1 || fail "no interface $ifc"
+[ "$failures" -eq 0 ] || finish
+
+# Starts candump -L on the interface into $1 (extra options after it) and
+# returns once its socket is bound: /proc/net/can/rcvlist_all then lists a
+# receiver on the interface (or after 2 s where the kernel has no such file).
+start_candump() {
+    out=$1
+    shift
+    "$bin/candump" -L "$@" "$ifc" > "$out" 2> "$out.err" &
+    candump_pid=$!
+    i=0
+    while [ $i -lt 100 ]; do
+        if [ -r /proc/net/can/rcvlist_all ]; then
+            awk -v i="$ifc" '$1 == i { found = 1 } END { exit !found }' /proc/net/can/rcvlist_all && return 0
+        elif [ $i -ge 40 ]; then
+            return 0
+        fi
+        kill -0 "$candump_pid" 2> /dev/null || { fail "candump exited at start"; show "$out.err"; return 1; }
+        sleep 0.05
+        i=$((i + 1))
+    done
+    fail "candump did not bind to $ifc within 5 s"
+    return 1
+}
+
+# Waits (at most $2 s) until the monitor's stdout $1 shows the status line of
+# cycle $3. Polls every 0.1 s: under TCG every grep is a costly fork and exec
+# that slows the monitor's cycles (every 20 ms doubled them).
+wait_for_cycle() {
+    i=0
+    while [ $i -lt $(($2 * 10)) ]; do
+        grep -q "cycle *$3 person" "$1" && return 0
+        kill -0 "$monitor_pid" 2> /dev/null || return 1
+        sleep 0.1
+        i=$((i + 1))
+    done
+    return 1
+}
+
+# Waits up to $2 s for process $1 to exit, then interrupts it.
+wait_or_interrupt() {
+    i=0
+    while kill -0 "$1" 2> /dev/null && [ $i -lt $(($2 * 20)) ]; do
+        sleep 0.05
+        i=$((i + 1))
+    done
+    kill -INT "$1" 2> /dev/null
+    wait "$1" 2> /dev/null
+}
+
+say "kernel $(uname -r), interface $ifc, $(uptime_s) s since boot"
+
+# --- 1. normal run --------------------------------------------------------
+say "normal run: $NORMAL_CYCLES cycles, paced"
+start_candump "$work/normal.log" -n $((3 * NORMAL_CYCLES)) || finish
+t0=$(uptime_s)
+"$bin/cellguard-monitor" --config "$cfg" --can-interface "$ifc" --cycles "$NORMAL_CYCLES" --paced \
+    > "$work/normal.out" 2>&1
+rc=$?
+say "normal run: monitor exited $rc after $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s"
+[ $rc -eq 0 ] || { fail "monitor exit status $rc"; show "$work/normal.out"; }
+grep '^summary:' "$work/normal.out" | sed 's/^/    /'
+# candump -n exits by itself after the expected frame count.
+wait_or_interrupt "$candump_pid" 5
+if "$bin/cellguard-vcan-check" normal "$cfg" "$work/normal.log" "$NORMAL_CYCLES" > "$work/normal.check" 2>&1; then
+    say "PASS normal: $(tail -n 1 "$work/normal.check")"
+else
+    fail "normal run check"
+    sed 's/^/    /' "$work/normal.check"
+fi
+
+# --- 2. fault run: interface down and up again mid-run ---------------------
+say "fault run: $FAULT_CYCLES cycles, paced; $ifc down after cycle $DOWN_AT, up after cycle $UP_AT"
+# -D: candump keeps running while the interface is down.
+start_candump "$work/fault.log" -D || finish
+"$bin/cellguard-monitor" --config "$cfg" --can-interface "$ifc" --cycles "$FAULT_CYCLES" --paced \
+    > "$work/fault.out" 2> "$work/fault.err" &
+monitor_pid=$!
+if wait_for_cycle "$work/fault.out" 120 "$DOWN_AT"; then
+    ip link set "$ifc" down || fail "ip link set $ifc down"
+    say "fault run: $ifc down after cycle $DOWN_AT"
+else
+    fail "the monitor did not reach cycle $DOWN_AT"
+fi
+if wait_for_cycle "$work/fault.out" 60 "$UP_AT"; then
+    ip link set "$ifc" up || fail "ip link set $ifc up"
+    say "fault run: $ifc up after cycle $UP_AT"
+else
+    fail "the monitor did not reach cycle $UP_AT"
+    ip link set "$ifc" up
+fi
+wait "$monitor_pid"
+rc=$?
+[ $rc -eq 0 ] || { fail "monitor exit status $rc in the fault run"; show "$work/fault.err"; }
+grep '^summary:' "$work/fault.out" | sed 's/^/    /'
+# Let candump read what is queued, then stop it (it flushes on SIGINT).
+sleep 0.5
+kill -INT "$candump_pid" 2> /dev/null
+wait "$candump_pid" 2> /dev/null
+if "$bin/cellguard-vcan-check" fault "$cfg" "$work/fault.log" "$work/fault.out" "$FAULT_CYCLES" \
+    > "$work/fault.check" 2>&1; then
+    say "PASS fault: $(tail -n 1 "$work/fault.check")"
+else
+    fail "fault run check"
+    sed 's/^/    /' "$work/fault.check"
+    say "monitor status lines around the outage:"
+    grep "cycle *[0-9]* person" "$work/fault.out" | sed -n "$((DOWN_AT - 1)),\$p" | cut -c1-150 | sed 's/^/    | /'
+fi
+finish
