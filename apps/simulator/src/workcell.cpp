@@ -35,7 +35,75 @@ double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::V
     }
     return t0;
 }
+
+// intersect_box with the inverse rotation given as a matrix (the product
+// AngleAxis * vector computes through the same matrix).
+double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, const Eigen::Vector3d& origin,
+                              const Eigen::Vector3d& dir) {
+    const Eigen::Vector3d o = inv_yaw * (origin - b.center);
+    const Eigen::Vector3d d = inv_yaw * dir;
+    const Eigen::Vector3d half = 0.5 * b.size;
+    double t0 = 0.0;
+    double t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        if (std::fabs(d[a]) < 1e-15) {
+            if (o[a] < -half[a] || o[a] > half[a]) {
+                return std::numeric_limits<double>::infinity();
+            }
+            continue;
+        }
+        double ta = (-half[a] - o[a]) / d[a];
+        double tb = (half[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::fmax(t0, ta);
+        t1 = std::fmin(t1, tb);
+        if (t0 > t1) {
+            return std::numeric_limits<double>::infinity();
+        }
+    }
+    return t0;
+}
 }  // namespace
+
+PreparedScene::PreparedScene(const Scene& scene) : scene_(scene) {
+    for (const Box& b : scene_.boxes) {
+        inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+    }
+}
+
+RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
+    RayHit hit;
+    hit.distance = std::numeric_limits<double>::infinity();
+    if (scene_.floor && dir.z() < 0.0) {
+        hit.distance = -origin.z() / dir.z();
+    }
+    for (std::size_t i = 0; i < scene_.boxes.size(); ++i) {
+        const double t = intersect_box_prepared(scene_.boxes[i], inverse_rotation_[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = static_cast<int>(i);
+        }
+    }
+    return hit;
+}
+
+void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vector<float>& depth) {
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    depth.assign(static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height), 0.0F);
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u) {
+            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+            const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
+            const double t = scene.cast(pose.translation(), dir).distance;
+            const double z = t / ray_cam.norm();
+            if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
+                depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u)] =
+                    static_cast<float>(z);
+            }
+        }
+    }
+}
 
 Eigen::Isometry3d SensorSpec::pose() const {
     const Eigen::Vector3d forward = (target - position).normalized();
@@ -88,6 +156,29 @@ double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::
         best = std::fmin(best, intersect_box(b, origin, dir));
     }
     return best;
+}
+
+RayHit cast_ray_hit(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    RayHit hit;
+    hit.distance = std::numeric_limits<double>::infinity();
+    if (scene.floor && dir.z() < 0.0) {
+        hit.distance = -origin.z() / dir.z();
+    }
+    for (std::size_t i = 0; i < scene.boxes.size(); ++i) {
+        const double t = intersect_box(scene.boxes[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = static_cast<int>(i);
+        }
+    }
+    return hit;
+}
+
+bool box_contains(const Box& box, const Eigen::Vector3d& p) {
+    const Eigen::AngleAxisd inv_yaw(-box.yaw, Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d local = inv_yaw * (p - box.center);
+    const Eigen::Vector3d half = 0.5 * box.size;
+    return std::fabs(local.x()) <= half.x() && std::fabs(local.y()) <= half.y() && std::fabs(local.z()) <= half.z();
 }
 
 void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth) {

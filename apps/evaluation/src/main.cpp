@@ -1,0 +1,421 @@
+// cellguard-eval: the paper's experiments (sections IV-V) on the simulated
+// workcell. Four methods (thresholded, probabilistic and their baselines
+// without accessibility analysis) on the scenes "large" and "small", with
+// the paper's parameters; writes precision-recall CSVs, a markdown table,
+// precision-recall plots (gnuplot, when installed) and voxel renders like
+// the paper's Figs. 4-7. Optionally the same on a 256 x 256 x 128 cell, with
+// its fusion, prior and subtraction times.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+#include "cellguard/log_odds.hpp"
+#include "cellguard/sim/experiment.hpp"
+#include "png.hpp"
+#include "render.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+#ifndef CELLGUARD_EVAL_SCENES_DIR
+#define CELLGUARD_EVAL_SCENES_DIR "scenes"
+#endif
+
+struct Options {
+    std::string scenes_dir = CELLGUARD_EVAL_SCENES_DIR;
+    std::string out_dir = "eval-results";
+    int background_frames = 100;
+    int foreground_frames = 5;
+    int scale_background_frames = 10;
+    bool ideal = false;
+    bool exact = false;
+    bool plots = true;
+    bool paper_scenes = true;
+    bool scale = false;
+};
+
+void usage() {
+    std::puts(
+        "usage: cellguard-eval [options]\n"
+        "  Runs the paper's experiments on the simulated workcell and writes, into the output folder:\n"
+        "  pr-<scene>.csv (precision and recall over a sweep of t_f, four methods), results.md (a table per\n"
+        "  scene: best F1, precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
+        "  pr-<scene>.png (gnuplot, when installed) and render-<scene>-<method>.png (foreground red over the\n"
+        "  background grey at t_f = 0.73, from the viewpoint of the sensor stereo-a).\n"
+        "  --scenes DIR               scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)\n"
+        "  --out DIR                  output folder, created if missing (default eval-results)\n"
+        "  --background-frames N      empty frames summed into G_B (default 100)\n"
+        "  --foreground-frames N      frames with the foreground, scores summed (default 5)\n"
+        "  --ideal                    ideal sensors instead of the scenes' noise models\n"
+        "  --exact                    rasterise rays with the exact traversal (default: the paper's 3D Bresenham)\n"
+        "  --no-plots                 do not call gnuplot\n"
+        "  --scale                    also run the large scene on a 256 x 256 x 128 grid over the whole cell and\n"
+        "                             print fusion, prior and subtraction times (scale.md)\n"
+        "  --scale-only               only that\n"
+        "  --scale-background-frames N  G_B frames of the scale run (default 10)");
+}
+
+bool parse_int(const char* s, int lo, int hi, int& out) {
+    char* end = nullptr;
+    const long v = std::strtol(s, &end, 10);
+    if (end == s || *end != '\0' || v < lo || v > hi) {
+        return false;
+    }
+    out = static_cast<int>(v);
+    return true;
+}
+
+std::string fmt(double v, int digits = 3) {
+    if (v < 0.0) {
+        return "n/a";
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+bool write_text(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    return static_cast<bool>(f);
+}
+
+bool have_gnuplot() { return std::system("command -v gnuplot > /dev/null 2>&1") == 0; }
+
+std::string csv_of(const sim::SceneResult& r) {
+    std::ostringstream s;
+    s << "method,t_f,tp,fp,fn,precision,recall,f1\n";
+    for (const sim::MethodResult& m : r.methods) {
+        for (const sim::PrPoint& p : m.curve) {
+            char line[256];
+            std::snprintf(line, sizeof line, "%s,%.3f,%llu,%llu,%llu,%.6f,%.6f,%.6f\n", sim::method_name(m.method), p.t_f,
+                          static_cast<unsigned long long>(p.tp), static_cast<unsigned long long>(p.fp),
+                          static_cast<unsigned long long>(p.fn), p.precision, p.recall, p.f1);
+            s << line;
+        }
+    }
+    return s.str();
+}
+
+std::string table_of(const sim::SceneResult& r) {
+    std::ostringstream s;
+    s << "| method | best F1 (at t_f) | precision at recall 0.9 | recall at precision 0.9 | max recall | prior time (ms) |\n"
+      << "|---|---|---|---|---|---|\n";
+    for (const sim::MethodResult& m : r.methods) {
+        const sim::PrSummary& q = m.summary;
+        s << "| " << sim::method_name(m.method) << " | " << fmt(q.best_f1) << " (" << fmt(q.best_f1_t_f, 2) << ") | "
+          << fmt(q.precision_at_recall_90) << " | " << fmt(q.recall_at_precision_90) << " | " << fmt(q.max_recall)
+          << " | " << fmt(m.prior_ms, 1) << " |\n";
+    }
+    return s.str();
+}
+
+void write_plot(const Options& o, const std::string& scene, const std::string& title) {
+    const std::string gp = o.out_dir + "/pr-" + scene + ".gp";
+    std::ostringstream s;
+    s << "# gnuplot script written by cellguard-eval: precision-recall curves of pr-" << scene << ".csv\n"
+      << "set terminal pngcairo size 720,540 font 'sans,11'\n"
+      << "set output '" << o.out_dir << "/pr-" << scene << ".png'\n"
+      << "set datafile separator ','\n"
+      << "set title '" << title << "'\n"
+      << "set xlabel 'recall'\nset ylabel 'precision'\n"
+      << "set xrange [0:1]\nset yrange [0:1.02]\nset grid\nset key bottom left\n"
+      << "f(m) = '" << o.out_dir << "/pr-" << scene << ".csv'\n";
+    const char* names[4] = {"thresholded", "probabilistic", "thresholded-baseline", "probabilistic-baseline"};
+    const char* styles[4] = {"lw 2 pt 7 ps 0.5 lc rgb '#1f77b4'", "lw 2 pt 5 ps 0.5 lc rgb '#d62728'",
+                             "lw 1.5 dt 2 pt 6 ps 0.5 lc rgb '#1f77b4'", "lw 1.5 dt 2 pt 4 ps 0.5 lc rgb '#d62728'"};
+    s << "plot ";
+    for (int i = 0; i < 4; ++i) {
+        s << (i > 0 ? ", \\\n     " : "") << "f(0) skip 1 using (stringcolumn(1) eq '" << names[i]
+          << "' ? $7 : 1/0):(stringcolumn(1) eq '" << names[i] << "' ? $6 : 1/0) with linespoints " << styles[i]
+          << " title '" << names[i] << "'";
+    }
+    s << "\n";
+    write_text(gp, s.str());
+    const std::string cmd = "gnuplot '" + gp + "'";
+    if (std::system(cmd.c_str()) != 0) {
+        std::fprintf(stderr, "cellguard-eval: gnuplot failed on %s\n", gp.c_str());
+    }
+}
+
+std::vector<eval::VoxelClass> classes_for(const sim::SceneResult& r, const std::vector<std::int16_t>* subtracted,
+                                          const sim::GroundTruth* truth, double t_f) {
+    const GridGeometry& g = r.background_grid.grid.geometry();
+    const std::int16_t fg = threshold_log_odds(t_f);
+    std::vector<eval::VoxelClass> c(g.voxel_count(), eval::VoxelClass::kEmpty);
+    const Span<std::int16_t> bg = r.background_grid.grid.log_odds();
+    const Span<std::uint8_t> seen = r.background_grid.grid.observed();
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const bool is_fg = subtracted != nullptr ? (*subtracted)[i] != kNeverForeground && (*subtracted)[i] >= fg
+                                                 : truth->label[i] == sim::Truth::kForeground;
+        if (is_fg) {
+            c[i] = eval::VoxelClass::kForeground;
+        } else if (seen[i] != 0U && bg[i] > 0) {
+            c[i] = g.coord_of(i).z == 0 ? eval::VoxelClass::kFloor : eval::VoxelClass::kBackground;
+        }
+    }
+    return c;
+}
+
+void write_renders(const Options& o, const sim::SceneResult& r, const sim::SensorSpec& camera) {
+    const GridGeometry& g = r.background_grid.grid.geometry();
+    for (const sim::MethodResult& m : r.methods) {
+        const std::string path = o.out_dir + "/render-" + r.name + "-" + sim::method_name(m.method) + ".png";
+        if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 480, 360))) {
+            std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
+        }
+    }
+    const std::string path = o.out_dir + "/render-" + r.name + "-truth.png";
+    if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 480, 360))) {
+        std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
+    }
+}
+
+/// Foreground voxels of the last frame inside background boxes at t_f, and in the whole grid.
+struct EmptyCheck {
+    std::size_t inside = 0U;
+    std::size_t anywhere = 0U;
+};
+
+EmptyCheck empty_check(const sim::SceneResult& r, const sim::MethodResult& m, double t_f) {
+    const std::vector<std::uint8_t> interior =
+        sim::background_interior_mask(r.background_grid.grid.geometry(), r.background);
+    const std::int16_t fg = threshold_log_odds(t_f);
+    EmptyCheck c;
+    for (std::size_t i = 0; i < interior.size(); ++i) {
+        const bool is_fg = m.last_subtracted[i] != kNeverForeground && m.last_subtracted[i] >= fg;
+        c.anywhere += is_fg ? 1U : 0U;
+        c.inside += is_fg && interior[i] != 0U ? 1U : 0U;
+    }
+    return c;
+}
+
+bool run(const Options& o, const std::string& scene_name, const sim::ExperimentConfig& cfg, sim::SceneFile& file,
+         sim::SceneResult& result, const EvidenceGrid* background = nullptr) {
+    const std::string path = o.scenes_dir + "/" + scene_name + ".toml";
+    const sim::SceneLoad load = sim::load_scene_file(path);
+    if (!load.ok) {
+        std::fprintf(stderr, "cellguard-eval: %s\n", load.error.c_str());
+        return false;
+    }
+    file = load.scene;
+    std::printf("scene %s: %s\n", file.name.c_str(), file.description.c_str());
+    std::fflush(stdout);
+    std::string error;
+    if (!sim::run_scene(file, cfg, result, error, background)) {
+        std::fprintf(stderr, "cellguard-eval: scene %s: %s\n", scene_name.c_str(), error.c_str());
+        return false;
+    }
+    std::printf("  truth: %zu foreground, %zu not foreground, %zu unknown voxels (last frame)\n",
+                result.last_truth.foreground, result.last_truth.not_foreground, result.last_truth.unknown);
+    std::printf("  per frame: simulation %.1f ms, fusion %.1f ms; subtraction %.3f ms; ground truth %.0f ms\n",
+                result.render_ms_per_frame, result.fuse_ms_per_frame, result.subtract_ms_per_frame, result.truth_ms);
+    for (const sim::MethodResult& m : result.methods) {
+        std::printf("  %-24s prior %8.1f ms  best F1 %.3f (t_f %.2f)  P@R0.9 %s  R@P0.9 %s  max recall %.3f\n",
+                    sim::method_name(m.method), m.prior_ms, m.summary.best_f1, m.summary.best_f1_t_f,
+                    fmt(m.summary.precision_at_recall_90).c_str(), fmt(m.summary.recall_at_precision_90).c_str(),
+                    m.summary.max_recall);
+    }
+    std::fflush(stdout);
+    return true;
+}
+
+int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostringstream& md) {
+    sim::ExperimentConfig cfg = base;
+    // The whole 4 m x 4 m x 2 m cell at 1/64 m (1.5625 cm): r = 10 cm is 6.4 voxels, taken as 6.
+    cfg.geometry = GridGeometry::make(Eigen::Vector3d(-2.0, -2.0, 0.0), 4.0 / 256.0, GridDims{256, 256, 128}).value();
+    cfg.params.radius_voxels = 6;
+    cfg.background_frames = o.scale_background_frames;
+    cfg.foreground_frames = 2;
+    sim::SceneFile file;
+    sim::SceneResult result(cfg.geometry);
+    std::printf("scale run: 256 x 256 x 128 voxels of 1.5625 cm over the whole cell, r = 6 voxels, %d background frames\n",
+                cfg.background_frames);
+    if (!run(o, "large", cfg, file, result)) {
+        return 1;
+    }
+    md << "## Scale: the large scene on a 256 x 256 x 128 grid\n\n"
+       << "The whole 4 m x 4 m x 2 m cell at 1.5625 cm (8,388,608 voxels, 274 times the paper's grid), r = 6 voxels "
+          "(9.4 cm), "
+       << cfg.background_frames << " background frames, " << cfg.foreground_frames
+       << " foreground frames; one core of the build machine.\n\n"
+       << "| step | time (ms) |\n|---|---|\n"
+       << "| simulation of one frame (4 sensors, ray casting and noise) | " << fmt(result.render_ms_per_frame, 1) << " |\n"
+       << "| fusion of one frame (204,288 rays) | " << fmt(result.fuse_ms_per_frame, 1) << " |\n";
+    for (const sim::MethodResult& m : result.methods) {
+        md << "| prior, " << sim::method_name(m.method) << " | " << fmt(m.prior_ms, 1) << " |\n";
+    }
+    md << "| subtraction of one frame (one method) | " << fmt(result.subtract_ms_per_frame, 2) << " |\n\n"
+       << table_of(result) << "\n";
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const char* a = argv[i];
+        const bool has_value = i + 1 < argc;
+        if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
+            usage();
+            return 0;
+        } else if (std::strcmp(a, "--scenes") == 0 && has_value) {
+            o.scenes_dir = argv[++i];
+        } else if (std::strcmp(a, "--out") == 0 && has_value) {
+            o.out_dir = argv[++i];
+        } else if (std::strcmp(a, "--background-frames") == 0 && has_value) {
+            if (!parse_int(argv[++i], 1, 100000, o.background_frames)) {
+                std::fprintf(stderr, "cellguard-eval: --background-frames needs 1..100000\n");
+                return 2;
+            }
+        } else if (std::strcmp(a, "--foreground-frames") == 0 && has_value) {
+            if (!parse_int(argv[++i], 1, 10000, o.foreground_frames)) {
+                std::fprintf(stderr, "cellguard-eval: --foreground-frames needs 1..10000\n");
+                return 2;
+            }
+        } else if (std::strcmp(a, "--scale-background-frames") == 0 && has_value) {
+            if (!parse_int(argv[++i], 1, 10000, o.scale_background_frames)) {
+                std::fprintf(stderr, "cellguard-eval: --scale-background-frames needs 1..10000\n");
+                return 2;
+            }
+        } else if (std::strcmp(a, "--ideal") == 0) {
+            o.ideal = true;
+        } else if (std::strcmp(a, "--exact") == 0) {
+            o.exact = true;
+        } else if (std::strcmp(a, "--no-plots") == 0) {
+            o.plots = false;
+        } else if (std::strcmp(a, "--scale") == 0) {
+            o.scale = true;
+        } else if (std::strcmp(a, "--scale-only") == 0) {
+            o.scale = true;
+            o.paper_scenes = false;
+        } else {
+            std::fprintf(stderr, "cellguard-eval: unknown argument '%s' (try --help)\n", a);
+            return 2;
+        }
+    }
+    ::mkdir(o.out_dir.c_str(), 0777);
+    struct stat st {};
+    if (::stat(o.out_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
+        std::fprintf(stderr, "cellguard-eval: cannot create the output folder %s\n", o.out_dir.c_str());
+        return 1;
+    }
+
+    sim::ExperimentConfig cfg;
+    cfg.background_frames = o.background_frames;
+    cfg.foreground_frames = o.foreground_frames;
+    cfg.ideal_sensors = o.ideal;
+    cfg.rasterization = o.exact ? Rasterization::kExact : Rasterization::kBresenham3d;
+
+    std::ostringstream md;
+    md << "# cellguard-eval results\n\n"
+       << "Written by `cellguard-eval` (apps/evaluation). Grid: the paper's 34 x 30 x 30 voxels of 5 cm; r = 10 cm "
+          "(2 voxels), t_B = "
+       << cfg.params.t_b << ", t_E = " << cfg.params.t_e << ", sensor profile " << cfg.sensor_model.p_origin << " / "
+       << cfg.sensor_model.p_reading << "; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
+       << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham") << "; one G_B (background.toml) from "
+       << cfg.background_frames << " empty frames; scores summed over " << cfg.foreground_frames
+       << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "
+          "recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 likewise.\n\n";
+
+    const bool plots = o.plots && have_gnuplot();
+    if (o.plots && !plots) {
+        std::printf("gnuplot not found: precision-recall plots skipped (CSV and tables are written)\n");
+    }
+    int status = 0;
+    sim::OwnedGrid background(cfg.geometry);
+    if (o.paper_scenes) {
+        // One G_B for every scene, from the background file they all include.
+        const sim::SceneLoad bg_file = sim::load_scene_file(o.scenes_dir + "/background.toml");
+        if (!bg_file.ok) {
+            std::fprintf(stderr, "cellguard-eval: %s\n", bg_file.error.c_str());
+            return 1;
+        }
+        double fuse_ms = 0.0;
+        double render_ms = 0.0;
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!sim::build_background(bg_file.scene, cfg, background.grid, &fuse_ms, &render_ms)) {
+            std::fprintf(stderr, "cellguard-eval: building G_B failed\n");
+            return 1;
+        }
+        const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("G_B: %d frames in %.1f s (simulation %.1f ms/frame, fusion %.1f ms/frame), %zu of %zu voxels observed\n",
+                    cfg.background_frames, total_s, render_ms / cfg.background_frames, fuse_ms / cfg.background_frames,
+                    background.grid.observed_count(), background.grid.voxel_count());
+        md << "G_B: " << cfg.background_frames << " frames; " << background.grid.observed_count() << " of "
+           << background.grid.voxel_count() << " voxels observed.\n\n";
+    }
+    if (o.paper_scenes) {
+        const char* scenes[] = {"large", "small", "person"};
+        const char* titles[] = {"Precision-recall, large object (one more box)",
+                                "Precision-recall, small object (a 2x4 on a box)",
+                                "Precision-recall, a walking person (not in the paper)"};
+        for (int s = 0; s < 3; ++s) {
+            sim::SceneFile file;
+            sim::SceneResult result(cfg.geometry);
+            if (!run(o, scenes[s], cfg, file, result, &background.grid)) {
+                return 1;
+            }
+            write_text(o.out_dir + "/pr-" + result.name + ".csv", csv_of(result));
+            md << "## Scene \"" << result.name << "\": " << file.description << "\n\n"
+               << "Ground truth (last frame): " << result.last_truth.foreground << " foreground, "
+               << result.last_truth.not_foreground << " not foreground, " << result.last_truth.unknown
+               << " unknown (not scored) voxels.\n\n"
+               << table_of(result) << "\n";
+            if (plots) {
+                write_plot(o, result.name, titles[s]);
+            }
+            if (s < 2) {
+                write_renders(o, result, file.sensors.size() > 2 ? file.sensors[2] : file.sensors.front());
+            }
+            if (s == 0) {
+                md << "Timing (paper grid, one core): simulation " << fmt(result.render_ms_per_frame, 1)
+                   << " ms/frame, fusion " << fmt(result.fuse_ms_per_frame, 1) << " ms/frame, subtraction "
+                   << fmt(result.subtract_ms_per_frame, 3) << " ms/frame, priors: ";
+                for (const sim::MethodResult& m : result.methods) {
+                    md << sim::method_name(m.method) << " " << fmt(m.prior_ms, 1) << " ms; ";
+                }
+                md << "ground truth " << fmt(result.truth_ms, 0) << " ms.\n\n";
+            }
+        }
+        // The empty scene: after subtraction nothing inside a background box may be foreground.
+        sim::SceneFile file;
+        sim::SceneResult result(cfg.geometry);
+        if (!run(o, "empty", cfg, file, result, &background.grid)) {
+            return 1;
+        }
+        md << "## Scene \"empty\": the background alone\n\n"
+           << "Foreground voxels of the last frame after subtraction, inside background boxes (voxels wholly inside) "
+              "and anywhere, at t_f = 0.001 and at the figures' t_f = 0.73.\n\n"
+           << "| method | inside, t_f 0.001 | anywhere, t_f 0.001 | inside, t_f 0.73 | anywhere, t_f 0.73 |\n"
+           << "|---|---|---|---|---|\n";
+        for (const sim::MethodResult& m : result.methods) {
+            const EmptyCheck lo = empty_check(result, m, 0.001);
+            const EmptyCheck hi = empty_check(result, m, 0.73);
+            md << "| " << sim::method_name(m.method) << " | " << lo.inside << " | " << lo.anywhere << " | " << hi.inside
+               << " | " << hi.anywhere << " |\n";
+            std::printf("  empty %-24s foreground inside boxes %zu (t_f 0.001) %zu (t_f 0.73), anywhere %zu / %zu\n",
+                        sim::method_name(m.method), lo.inside, hi.inside, lo.anywhere, hi.anywhere);
+        }
+        md << "\n";
+    }
+    if (o.scale) {
+        std::ostringstream scale_md;
+        status = run_scale(o, cfg, scale_md);
+        write_text(o.out_dir + "/scale.md", scale_md.str());
+    }
+    if (o.paper_scenes) {
+        write_text(o.out_dir + "/results.md", md.str());
+        std::printf("wrote %s/results.md, pr-*.csv%s, render-*.png\n", o.out_dir.c_str(), plots ? ", pr-*.png" : "");
+    }
+    return status;
+}
