@@ -192,7 +192,34 @@ void load_grid(const Loader& L, const toml::table& root, MonitorConfig& c) {
     }
 }
 
-void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c) {
+/// `pcd_files`: one or more paths of readable files (relative: to @p base_dir).
+std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, const std::string& p,
+                                        const std::string& base_dir) {
+    const toml::node& n = *t.get("pcd_files");
+    const toml::array* a = n.as_array();
+    if (a == nullptr || a->empty()) {
+        L.fail(n.source(), p + ".pcd_files", "expected an array of one or more PCD file paths");
+    }
+    std::vector<std::string> files;
+    for (std::size_t k = 0U; k < a->size(); ++k) {
+        const toml::node& e = *a->get(k);
+        const std::string key = p + ".pcd_files[" + std::to_string(k) + "]";
+        if (!e.is_string() || e.as_string()->get().empty()) {
+            L.fail(e.source(), key, "expected a non-empty path string");
+        }
+        std::string path = e.as_string()->get();
+        if (path[0] != '/') {
+            path = base_dir + "/" + path;
+        }
+        if (!std::ifstream(path, std::ios::binary)) {
+            L.fail(e.source(), key, "cannot open '" + path + "'");
+        }
+        files.push_back(path);
+    }
+    return files;
+}
+
+void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
     const toml::node* n = root.get("sensors");
     if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty()) {
         L.fail(n != nullptr ? n->source() : root.source(), "sensors", "expected one or more [[sensors]] tables");
@@ -204,7 +231,7 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c) {
     for (std::size_t i = 0U; i < arr.size(); ++i) {
         const toml::table& t = *arr.get(i)->as_table();
         const std::string p = "sensors[" + std::to_string(i) + "]";
-        L.check_keys(t, p, {"name", "position", "target", "rotation", "resolution", "fov", "max_range"});
+        L.check_keys(t, p, {"name", "position", "target", "rotation", "resolution", "fov", "max_range", "pcd_files"});
         SensorSettings s;
         s.line = static_cast<int>(t.source().begin.line);
         s.name = L.string(t, p, "name");
@@ -252,6 +279,9 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c) {
         if (!(s.max_range > 0.0 && s.max_range <= static_cast<double>(kMaxSensorRange))) {
             L.fail(t.get("max_range")->source(), p + ".max_range",
                    "expected metres in (0, " + std::to_string(kMaxSensorRange) + "]");
+        }
+        if (t.contains("pcd_files")) {
+            s.pcd_files = load_pcd_files(L, t, p, base_dir);
         }
         c.sensors.push_back(s);
     }
@@ -438,7 +468,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         L.check_keys(root, "", {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo"});
         MonitorConfig c;
         load_grid(L, root, c);
-        load_sensors(L, root, c);
+        load_sensors(L, root, c, base_dir);
         load_zones(L, root, c);
         load_rest(L, root, c, base_dir);
         out.config = c;

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@
 #include "cellguard/linux/prior_files.hpp"
 #include "cellguard/linux/socketcan.hpp"
 #include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/pcd_input.hpp"
+#include "cellguard/monitor/picture.hpp"
 #include "cellguard/monitor/scenario.hpp"
 #include "cellguard/safety_controller.hpp"
 #include "cellguard/safety_output.hpp"
@@ -42,7 +45,8 @@ const char* kUsage =
     "evaluates the protective and warning zones, and sends the CAN safety\n"
     "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
     "interface or into a candump-format log. The sensor input is the workcell\n"
-    "simulator (a scripted person walking through the cell).\n"
+    "simulator (a scripted person walking through the cell), or for sensors\n"
+    "with `pcd_files` in the configuration, recorded PCD frames, each checked.\n"
     "\n"
     "  --demo              the built-in paper cell (the default with no arguments)\n"
     "  --config FILE       load the configuration from a TOML file\n"
@@ -53,6 +57,9 @@ const char* kUsage =
     "  --paced             one cycle per period on the real clock (default: as fast as possible)\n"
     "  --realtime          SCHED_FIFO, mlockall and CPU affinity where permitted\n"
     "  --quiet             no per-cycle status lines\n"
+    "  --picture FILE      write a PNG of the grid, the background and the zones\n"
+    "                      (top view and one sensor's view) and exit\n"
+    "  --picture-sensor S  the sensor of that view, by name or number from 1 (default 1)\n"
     "  --help              this text\n"
     "\n"
     "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
@@ -67,6 +74,8 @@ struct Options {
     bool paced = false;
     bool realtime = false;
     bool quiet = false;
+    std::string picture;
+    std::string picture_sensor;
 };
 
 [[noreturn]] void usage_error(const std::string& message) {
@@ -114,6 +123,10 @@ Options parse_args(int argc, char** argv) {
             o.realtime = true;
         } else if (a == "--quiet") {
             o.quiet = true;
+        } else if (a == "--picture") {
+            o.picture = value("--picture");
+        } else if (a == "--picture-sensor") {
+            o.picture_sensor = value("--picture-sensor");
         } else {
             usage_error("unknown argument '" + a + "'");
         }
@@ -311,7 +324,9 @@ int main(int argc, char** argv) {
     linux_port::SocketCan socket_can;
     SocketCanSender socket_sender(socket_can);
     CanSender* sender = nullptr;
-    if (!cfg.can.interface_name.empty()) {
+    if (!opt.picture.empty()) {
+        // The picture needs no CAN output.
+    } else if (!cfg.can.interface_name.empty()) {
         const linux_port::SocketCanStatus st = socket_can.open(cfg.can.interface_name.c_str());
         if (!st.ok()) {
             std::fprintf(stderr, "cellguard-monitor: CAN interface '%s': %s (%s)\n", cfg.can.interface_name.c_str(),
@@ -380,6 +395,19 @@ int main(int argc, char** argv) {
                     cfg.prior.background_frames);
     }
 
+    if (!opt.picture.empty()) {
+        std::string error;
+        const std::string title =
+            "cellguard zones: " + (opt.demo ? std::string("built-in demo (paper-cell.toml)") : opt.config_path);
+        if (!write_config_picture(opt.picture, title, cfg, g, zones, specs, {prior.data(), prior.size()},
+                                  opt.picture_sensor, error)) {
+            std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str());
+            return 1;
+        }
+        std::printf("picture: %s\n", opt.picture.c_str());
+        return 0;
+    }
+
     // Ray tables of the static sensors.
     const sim::SimulatedFrame layout = sim::render_frame(specs, sim::reference_scene());
     std::vector<std::vector<RayStep>> steps(specs.size());
@@ -388,6 +416,9 @@ int main(int argc, char** argv) {
     std::vector<RayTable> tables(specs.size());
     std::size_t total_steps = 0U;
     for (std::size_t s = 0U; s < specs.size(); ++s) {
+        if (!cfg.sensors[s].pcd_files.empty()) {
+            continue;  // recorded point clouds: fused without a table
+        }
         const Result<std::size_t> n = count_ray_steps(g, layout.readings[s]);
         if (!n.ok()) {
             std::fprintf(stderr, "cellguard-monitor: sensor '%s': %s\n", specs[s].name.c_str(), to_string(n.error()));
@@ -444,6 +475,17 @@ int main(int argc, char** argv) {
     std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", controller.prior_crc(), zones.size(),
                 static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles, opt.paced ? ", paced" : "");
 
+    // Recorded frames (PCD files) for the sensors that have them.
+    std::vector<std::unique_ptr<PcdFrameSource>> recorded(specs.size());
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        if (!cfg.sensors[s].pcd_files.empty()) {
+            recorded[s] = std::make_unique<PcdFrameSource>(specs[s].name, cfg.sensors[s].pcd_files, specs[s].pose(),
+                                                           specs[s].width, specs[s].height, specs[s].max_range);
+            std::printf("input: sensor '%s' from %zu recorded PCD frames\n", specs[s].name.c_str(),
+                        cfg.sensors[s].pcd_files.size());
+        }
+    }
+
     // The cycles.
     int cycles_run = 0, stop_cycles = 0, warning_cycles = 0, first_stop_after_release = -1, send_failures = 0;
     bool released = false;
@@ -470,6 +512,14 @@ int main(int argc, char** argv) {
             inputs[s].captured_us = clock.base();
             inputs[s].present = true;
             inputs[s].table = &tables[s];
+            if (recorded[s]) {
+                inputs[s].table = nullptr;
+                const PcdFrameCheck c = recorded[s]->load(static_cast<std::uint64_t>(k), inputs[s].reading);
+                if (!c.ok && !opt.quiet) {
+                    std::printf("input: cycle %d sensor '%s': frame %s refused: %s\n", k, specs[s].name.c_str(),
+                                c.file.c_str(), c.reason.c_str());
+                }
+            }
         }
         if (socket_can.is_open()) {
             CanFrame rx{};
@@ -521,6 +571,13 @@ int main(int argc, char** argv) {
                 fault_names(faults_seen).c_str(), static_cast<double>(max_cycle_us) / 1000.0,
                 static_cast<double>(cfg.budget_us) / 1000.0,
                 static_cast<unsigned long long>(controller.monitor().overruns()));
+    for (const std::unique_ptr<PcdFrameSource>& r : recorded) {
+        if (r) {
+            std::printf("summary: sensor '%s': %llu recorded frames used, %llu refused (frame inconsistent)\n",
+                        r->name().c_str(), static_cast<unsigned long long>(r->used()),
+                        static_cast<unsigned long long>(r->refused()));
+        }
+    }
     if (socket_can.is_open()) {
         std::printf("summary: CAN frames sent on %s\n", cfg.can.interface_name.c_str());
     } else {

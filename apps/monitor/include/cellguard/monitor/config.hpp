@@ -39,6 +39,9 @@ struct SensorSettings {
     double hfov_deg = 0.0;                                 ///< horizontal field of view
     double vfov_deg = 0.0;                                 ///< vertical field of view
     double max_range = 10.0;                               ///< metres
+    /// Recorded frames (PCD files, relative paths resolved against the config
+    /// file's directory), one per cycle in order, cycled; empty: the simulator.
+    std::vector<std::string> pcd_files;
     int line = 0;                                          ///< line of its table in the file
 };
 

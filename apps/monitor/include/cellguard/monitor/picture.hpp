@@ -1,0 +1,100 @@
+/// @file picture.hpp
+/// A picture of the configuration for the integrator to check before a robot
+/// moves: the grid, the background (the prior's voxels that an object cannot
+/// reach) and the zones, seen from above and from one sensor.
+///
+/// - Top view (x right, y up): the grid's footprint; per voxel column the
+///   highest background voxel in grey (darker = higher); every zone's voxel
+///   footprint tinted by kind (protective red, warning yellow) with its
+///   border and its number; light lines every 0.5 m.
+/// - Sensor view: the chosen sensor's image, ray cast through the grid: the
+///   first background voxel along the ray in grey (darker = farther), the
+///   zone voxels in front of it tinted (a thicker zone looks more opaque),
+///   free grid space white, space outside the grid dark; the grid's edges
+///   and the zones' edges drawn over it.
+/// - A legend with every zone's number, name, kind, shape, extent and voxels.
+/// Text uses a 5 x 7 bitmap font.
+#ifndef CELLGUARD_MONITOR_PICTURE_HPP
+#define CELLGUARD_MONITOR_PICTURE_HPP
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cellguard/grid.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/png.hpp"
+#include "cellguard/sim/workcell.hpp"
+#include "cellguard/sensor_frame.hpp"
+#include "cellguard/span.hpp"
+#include "cellguard/zones.hpp"
+
+namespace cellguard::monitor {
+
+/// One sensor as the picture needs it.
+struct PictureSensor {
+    std::string name;                                          ///< label
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();    ///< sensor -> cell (x right, y down, z forward)
+    PinholeIntrinsics intrinsics{};                            ///< its image
+    double max_range = 10.0;                                   ///< metres
+};
+
+/// What to draw.
+struct PictureInput {
+    std::string title;                      ///< first line (e.g. the config file)
+    GridGeometry grid{};                    ///< the grid
+    const CompiledZones* zones = nullptr;   ///< compiled for @ref grid (required)
+    std::vector<std::string> zone_names;    ///< one per zone
+    Span<const std::int16_t> prior{};       ///< one value per voxel
+    std::int16_t accessible_min_prior = -754;  ///< below this (or the sentinel) a voxel is background
+    std::vector<PictureSensor> sensors;     ///< every sensor
+    std::size_t view_sensor = 0U;           ///< index of the sensor whose view is drawn
+};
+
+/// Where the top view landed in the picture (for tests and tools).
+struct PictureLayout {
+    int top_x = 0;      ///< pixel column of the top view's left edge (grid x minimum)
+    int top_y = 0;      ///< pixel row of the top view's top edge (grid y maximum)
+    int voxel_px = 0;   ///< pixels per voxel edge in the top view
+    int view_x = 0;     ///< pixel column of the sensor view's left edge
+    int view_y = 0;     ///< pixel row of the sensor view's top edge
+    int view_w = 0;     ///< sensor view width, pixels
+    int view_h = 0;     ///< sensor view height, pixels
+    double view_scale = 1.0;  ///< picture pixels per sensor pixel
+};
+
+/// Colours of the picture (RGB).
+struct PictureColour {
+    std::uint8_t r;  ///< red
+    std::uint8_t g;  ///< green
+    std::uint8_t b;  ///< blue
+};
+/// Protective zones.
+constexpr PictureColour kProtectiveColour{220, 30, 30};
+/// Warning zones.
+constexpr PictureColour kWarningColour{245, 190, 0};
+
+/// The top-view pixel (column, row) of the centre of voxel column (@p ix, @p iy).
+void top_view_pixel(const PictureLayout& layout, const GridGeometry& grid, int ix, int iy, int& px, int& py);
+
+/// Renders the picture; @p layout (optional) receives where things are.
+RgbImage render_config_picture(const PictureInput& input, PictureLayout* layout = nullptr);
+
+/// Draws @p text with its top-left corner at (@p x, @p y), each font pixel
+/// @p scale x @p scale picture pixels; returns the x after the last character.
+int draw_text(RgbImage& image, int x, int y, const std::string& text, PictureColour colour, int scale);
+
+/// The monitor's --picture: draws the configuration @p cfg (its grid compiled
+/// into @p grid and @p zones, the sensors @p specs, the @p prior in use) as
+/// seen by the sensor named or numbered (from 1) @p view_sensor (empty: the
+/// first) and writes it as a PNG to @p path. False with @p error set when the
+/// sensor is unknown or the file cannot be written.
+bool write_config_picture(const std::string& path, const std::string& title, const MonitorConfig& cfg,
+                          const GridGeometry& grid, const CompiledZones& zones,
+                          const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
+                          const std::string& view_sensor, std::string& error);
+
+}  // namespace cellguard::monitor
+
+#endif  // CELLGUARD_MONITOR_PICTURE_HPP
