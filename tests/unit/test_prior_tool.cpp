@@ -490,7 +490,16 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
     bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
-    CHECK(bad.err.find("vp.pcd: VIEWPOINT is not the identity") != std::string::npos);
+    CHECK(bad.err.find("vp.pcd: VIEWPOINT is neither the identity nor the configured pose of sensor 'lidar-a'") !=
+          std::string::npos);
+    // The sensor's own pose as VIEWPOINT is accepted.
+    const Eigen::Isometry3d pose = sensors[0].pose();
+    const Eigen::Quaterniond q(pose.linear());
+    vp = PcdViewpoint{pose.translation().x(), pose.translation().y(), pose.translation().z(), q.w(), q.x(), q.y(), q.z()};
+    REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
+    const Run good = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "vp"});
+    INFO(good.err);
+    CHECK(good.status == kExitOk);
     bad = run_tool({"--frame", "lidar-z=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("no sensor 'lidar-z'") != std::string::npos);

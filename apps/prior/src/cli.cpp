@@ -1,7 +1,6 @@
 // cellguard-prior's command line: options, progress bar, report. See prior_tool.hpp.
 #include <sys/stat.h>
 
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -12,7 +11,6 @@
 #include <filesystem>
 #include <mutex>
 #include <new>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -59,7 +57,9 @@ constexpr const char* kUsage =
     "\n"
     "GRID:\n"
     "  --config FILE           a monitor configuration (apps/monitor/config/*.toml):\n"
-    "                          [grid], the sensors' poses, [prior] background_frames\n"
+    "                          [grid] and, for --frames, the sensors' names and poses;\n"
+    "                          --simulated takes [grid] and [prior] background_frames\n"
+    "                          (its sensors stay the simulated paper cell's)\n"
     "  --origin X,Y,Z          grid minimum corner, metres   (default: --config's, or\n"
     "  --voxel-size S          voxel edge, metres             the paper grid: 34 x 30 x 30\n"
     "  --dims NX,NY,NZ         voxels per axis                of 0.05 m from (-0.85,-0.75,0))\n"

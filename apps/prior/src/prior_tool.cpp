@@ -6,20 +6,13 @@
 #include <sys/types.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <mutex>
-#include <new>
-#include <sstream>
-#include <thread>
 #include <utility>
 
 #include "cellguard/accessibility.hpp"
@@ -51,7 +44,7 @@ std::string join_path(const std::string& dir, const char* name) {
 
 /// Reads the .npy preamble and header of @p path (at most the largest header
 /// the reader accepts) and parses it.
-IoStatus read_npy_file_header(const std::string& path, NpyHeader& header) {
+IoStatus read_npy_file_header(const std::string& path, NpyHeader& header, std::uint64_t& file_size) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (f == nullptr) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(), std::strerror(errno));
@@ -61,6 +54,7 @@ IoStatus read_npy_file_header(const std::string& path, NpyHeader& header) {
         std::fclose(f);
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: not a regular file", path.c_str());
     }
+    file_size = static_cast<std::uint64_t>(st.st_size);
     std::vector<std::uint8_t> head(kNpyPreambleV2 + kNpyMaxHeaderBytes);
     const std::size_t n = std::fread(head.data(), 1U, head.size(), f);
     const bool read_error = std::ferror(f) != 0;
@@ -69,6 +63,23 @@ IoStatus read_npy_file_header(const std::string& path, NpyHeader& header) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read", path.c_str());
     }
     return parse_npy_header(head.data(), n, header).prefixed(path.c_str());
+}
+
+/// The monitor's rule for recorded frames (apps/monitor pcd_input.hpp): a
+/// VIEWPOINT is either the identity (not recorded) or the sensor's configured
+/// pose within 1 cm and 1 degree. Points are in the sensor frame either way.
+bool viewpoint_accepted(const PcdViewpoint& v, const Eigen::Isometry3d& pose) {
+    constexpr double kTiny = 1e-9;
+    if (std::abs(v.tx) <= kTiny && std::abs(v.ty) <= kTiny && std::abs(v.tz) <= kTiny && std::abs(v.qw - 1.0) <= kTiny &&
+        std::abs(v.qx) <= kTiny && std::abs(v.qy) <= kTiny && std::abs(v.qz) <= kTiny) {
+        return true;
+    }
+    const Eigen::Quaterniond q(v.qw, v.qx, v.qy, v.qz);
+    const Eigen::Quaterniond p(pose.linear());
+    const double distance = (Eigen::Vector3d(v.tx, v.ty, v.tz) - pose.translation()).norm();
+    const double angle = q.normalized().angularDistance(p.normalized());
+    constexpr double kPi = 3.14159265358979323846;
+    return distance <= 0.01 && angle <= kPi / 180.0;
 }
 
 std::string shape_text(const NpyHeader& h) {
@@ -178,7 +189,8 @@ IoStatus load_background_npy(const std::string& path, const std::string& observe
     out = BackgroundGrid{};
     info = NpyBackgroundInfo{};
     NpyHeader h;
-    IoStatus st = read_npy_file_header(path, h);
+    std::uint64_t file_size = 0U;
+    IoStatus st = read_npy_file_header(path, h, file_size);
     if (!st.ok()) {
         return st;
     }
@@ -212,6 +224,10 @@ IoStatus load_background_npy(const std::string& path, const std::string& observe
     if (!geometry.ok()) {
         return IoStatus::failure(geometry.error(), "%s: a %d x %d x %d grid with voxel size %g: %s", path.c_str(),
                                  dims.nx, dims.ny, dims.nz, placement.voxel_size, to_string(geometry.error()));
+    }
+    st = check_npy_layout(h, h.dtype, dims, file_size);  // the file's size, before allocating for it
+    if (!st.ok()) {
+        return st.prefixed(path.c_str());
     }
     BackgroundGrid bg;
     st = bg.allocate(geometry.value());
@@ -317,11 +333,10 @@ IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readin
             }
             return st;
         }
-        const PcdViewpoint& v = info.viewpoint;
-        if (v.tx != 0.0 || v.ty != 0.0 || v.tz != 0.0 || v.qw != 1.0 || v.qx != 0.0 || v.qy != 0.0 || v.qz != 0.0) {
+        if (!viewpoint_accepted(info.viewpoint, sensor.pose)) {
             return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                     "%s: VIEWPOINT is not the identity; the pose of sensor '%s' comes from the "
-                                     "configuration and the points must be in the sensor frame",
+                                     "%s: VIEWPOINT is neither the identity nor the configured pose of sensor '%s' "
+                                     "(within 1 cm and 1 degree): recorded by another sensor?",
                                      file.c_str(), sensor.name.c_str());
         }
         std::vector<Eigen::Vector3f>& pts = points_[s];

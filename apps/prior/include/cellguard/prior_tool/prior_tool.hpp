@@ -174,8 +174,10 @@ struct RecordedSensor {
 };
 
 /// Recorded .pcd frames: frame k holds the k-th file of every sensor that
-/// has one. A file whose VIEWPOINT is not the identity is refused (the pose
-/// comes from the configuration; a second pose would be ambiguous).
+/// has one. The pose comes from the configuration; as in the monitor
+/// (apps/monitor pcd_input.hpp), a file's VIEWPOINT must be the identity
+/// (not recorded) or that pose within 1 cm and 1 degree, else the file is
+/// refused (recorded by another sensor). Non-finite points are skipped.
 class PcdFrameSource final : public FrameSource {
 public:
     /// Frames of @p sensors (each with at least one file, else it is left out).
