@@ -69,8 +69,16 @@ for a in cc[1:]:
         flags.append(a)
 link = subprocess.check_output(["ninja", "-C", build, "-t", "commands", "cellguard-monitor-check-log"],
                                text=True).strip().splitlines()[-1]
-libs = [a for a in shlex.split(link.replace(": &&", "").replace("&& :", ""))
-        if a.endswith((".a", ".so")) or a.startswith(("-l", "-L", "-Wl,"))]
+# The link command without the compiler, the object file and -o OUTPUT:
+# libraries and link flags (sanitizers, coverage) as CMake gave them.
+libs, skip = [], False
+for a in shlex.split(link.replace(": &&", "").replace("&& :", ""))[1:]:
+    if skip:
+        skip = False
+    elif a == "-o":
+        skip = True
+    elif not a.endswith(".o"):
+        libs.append(a)
 deps = [src] + [os.path.join(build, l) for l in libs if l.endswith(".a")]
 if os.path.exists(out) and all(os.path.getmtime(out) >= os.path.getmtime(d) for d in deps):
     sys.exit(0)
@@ -124,6 +132,7 @@ ln -s busybox "$fs/bin/sh"
 install -m 0755 "$here/init" "$fs/init"
 cp "$work/vcan-cell.toml" "$work/vcan-test.sh" "$fs/cellguard/"
 cp "$work/bin/"* "$fs/cellguard/bin/"
+command -v strip > /dev/null && strip "$fs"/cellguard/bin/* 2> /dev/null || true  # smaller without debug info
 for m in can can-raw can-dev vcan; do          # insmod order: can, can-raw, can-dev, vcan
   f=$(find "/lib/modules/$kver/kernel/net/can" "/lib/modules/$kver/kernel/drivers/net/can" \
         -name "$m.ko*" | head -n 1)

@@ -493,14 +493,17 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     if (released > cleared && cleared >= 0) {
         // Restart interlock: held restart_delay after the fault cleared (the
         // controller's clock is the real one in paced mode; the bus time
-        // differs from it by the cycle's computing time: tolerance half a period).
+        // differs from it by the cycle's computing time, which varies by up
+        // to ~0.1 s under emulation on a loaded machine: tolerance half a
+        // period before, a period after).
         const std::uint64_t tol = cfg.period_us / 2U;
         const std::uint64_t t_clear = p.cycles[static_cast<std::size_t>(cleared)].t_us;
         const std::uint64_t t_rel = p.cycles[static_cast<std::size_t>(released)].t_us;
         const std::uint64_t t_prev = p.cycles[static_cast<std::size_t>(released - 1)].t_us;
         held_ms = static_cast<double>(t_rel - t_clear) / 1000.0;
         expect(t_rel - t_clear + tol >= cfg.restart_delay_us, "stop held at least the restart delay");
-        expect(t_prev - t_clear < cfg.restart_delay_us + tol, "stop released in the first cycle after the delay");
+        expect(t_prev - t_clear < cfg.restart_delay_us + cfg.period_us,
+               "stop released in the first cycle after the delay");
     }
     const CycleFrames& last = p.cycles.back();
     expect(last.after_copy.communication_valid && !last.after_copy.stop_requested && !last.message.fault,
