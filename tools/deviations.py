@@ -24,11 +24,23 @@ Usage: tools/deviations.py [--out FILE]
 import argparse
 import os
 import re
+import subprocess
 import sys
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 SCOPE = ["lib", "port"]
 EXTS = (".cpp", ".hpp", ".h", ".cc", ".c")
+
+
+def tracked_files():
+    """Paths (relative, '/') that git tracks, or None outside a git work tree.
+    Evidence is built from committed files only, so a colleague's untracked
+    work in progress does not change it."""
+    try:
+        out = subprocess.run(["git", "-C", ROOT, "ls-files", "-z"], capture_output=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return {p for p in out.decode("utf-8", "replace").split("\0") if p}
 
 NOLINT = re.compile(r"//\s*(NOLINTNEXTLINE|NOLINTBEGIN|NOLINTEND|NOLINT)\b(\(([^)]*)\))?(.*)$")
 CPPCHECK = re.compile(r"//\s*cppcheck-suppress(?:-file|-begin|-end|-macro)?\s+(\S+?)\s*(?:;\s*(.*))?$")
@@ -59,6 +71,7 @@ def md(s):
 
 def scan():
     entries, errors = [], []
+    tracked = tracked_files()
     for top in SCOPE:
         for dirpath, dirnames, filenames in os.walk(os.path.join(ROOT, top)):
             dirnames.sort()
@@ -66,6 +79,8 @@ def scan():
                 if not fn.endswith(EXTS):
                     continue
                 path = os.path.join(dirpath, fn)
+                if tracked is not None and rel(path) not in tracked:
+                    continue
                 with open(path, encoding="utf-8", errors="replace") as f:
                     lines = f.read().splitlines()
                 for i, line in enumerate(lines):

@@ -40,6 +40,17 @@ CMAKE_TAG = re.compile(r"^\s*#\s*verifies:\s*(.*)$")
 SKIP_DIRS = {".git", "node_modules"}
 
 
+def tracked_files():
+    """Paths (relative, '/') that git tracks, or None outside a git work tree.
+    Evidence is built from committed files only, so a colleague's untracked
+    work in progress does not change it."""
+    try:
+        out = subprocess.run(["git", "-C", ROOT, "ls-files", "-z"], capture_output=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return {p for p in out.decode("utf-8", "replace").split("\0") if p}
+
+
 def rel(path):
     return os.path.relpath(path, ROOT).replace(os.sep, "/")
 
@@ -94,14 +105,16 @@ def tag_above(lines, i, comment_prefix, tag_re):
 
 
 def walk(pattern_ok):
+    tracked = tracked_files()
     for dirpath, dirnames, filenames in os.walk(ROOT):
         top = rel(dirpath).split("/")[0]
         dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not (dirpath == ROOT and d.startswith("build")))
         if top.startswith("build") or top in ("out",):
             continue
         for fn in sorted(filenames):
-            if pattern_ok(dirpath, fn):
-                yield os.path.join(dirpath, fn)
+            path = os.path.join(dirpath, fn)
+            if pattern_ok(dirpath, fn) and (tracked is None or rel(path) in tracked):
+                yield path
 
 
 def find_tests():
