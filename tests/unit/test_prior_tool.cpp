@@ -490,7 +490,7 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
     bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
-    CHECK(bad.err.find("vp.pcd: VIEWPOINT is neither the identity nor the configured pose of sensor 'lidar-a'") !=
+    CHECK(bad.err.find("vp.pcd: VIEWPOINT (1.000, 0.000, 0.000) is not the pose of sensor 'lidar-a'") !=
           std::string::npos);
     // The sensor's own pose as VIEWPOINT is accepted.
     const Eigen::Isometry3d pose = sensors[0].pose();
@@ -500,9 +500,67 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     const Run good = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "vp"});
     INFO(good.err);
     CHECK(good.status == kExitOk);
+    // More points than the sensor's image has pixels: not a frame of this sensor.
+    std::vector<PcdPoint> many(176U * 144U + 1U, PcdPoint{0.0F, 0.0F, 1.0F});
+    REQUIRE(write_pcd((dir / "many.pcd").c_str(), {many.data(), many.size()}, static_cast<std::uint32_t>(many.size()), 1U,
+                      PcdViewpoint{}, PcdDataKind::kBinary)
+                .ok());
+    bad = run_tool({"--frame", "lidar-a=" + (dir / "many.pcd"), "--config", config, "--out", dir / "bad"});
+    CHECK(bad.status == kExitInputError);
+    CHECK(bad.err.find("many.pcd: 25345 points, more than sensor 'lidar-a' delivers (176 x 144)") != std::string::npos);
     bad = run_tool({"--frame", "lidar-z=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("no sensor 'lidar-z'") != std::string::npos);
+}
+
+TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files like --frames") {
+    TempDir dir;
+    const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
+    const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+        const PinholeIntrinsics in = sensors[s].intrinsics();
+        std::vector<PcdPoint> pts;
+        for (std::int32_t v = 0; v < in.height; ++v) {
+            for (std::int32_t u = 0; u < in.width; ++u) {
+                const float d = frame.depth[s][static_cast<std::size_t>(v * in.width + u)];
+                if (d > 0.0F) {
+                    pts.push_back(PcdPoint{static_cast<float>((u - in.cx) / in.fx * d),
+                                           static_cast<float>((v - in.cy) / in.fy * d), d});
+                }
+            }
+        }
+        std::filesystem::create_directories(dir / ("frames/" + sensors[s].name));
+        REQUIRE(write_pcd((dir / ("frames/" + sensors[s].name + "/0.pcd")).c_str(), {pts.data(), pts.size()},
+                          static_cast<std::uint32_t>(pts.size()), 1U, PcdViewpoint{}, PcdDataKind::kBinaryCompressed)
+                    .ok());
+    }
+    // paper-cell.toml with pcd_files (relative to the config's folder) in every sensor table.
+    const std::vector<std::uint8_t> toml = read_bytes(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml");
+    std::istringstream in(std::string(toml.begin(), toml.end()));
+    std::string line, text, name;
+    while (std::getline(in, line)) {
+        text += line + "\n";
+        if (line.rfind("name = \"", 0) == 0) {
+            name = line.substr(8, line.find('"', 8) - 8);
+        }
+        if (line.rfind("max_range = ", 0) == 0) {
+            text += "pcd_files = [\"frames/" + name + "/0.pcd\"]\n";
+        }
+    }
+    REQUIRE(write_bytes(dir / "cell.toml", std::vector<std::uint8_t>(text.begin(), text.end())));
+    const Run a = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "a"});
+    INFO(a.err);
+    REQUIRE(a.status == kExitOk);
+    CHECK(a.out.find("recorded frames (1;") != std::string::npos);
+    const Run b = run_tool({"--frames", dir / "frames", "--config", dir / "cell.toml", "--out", dir / "b"});
+    REQUIRE(b.status == kExitOk);
+    CHECK(read_bytes(dir / "a/prior.cgprior") == read_bytes(dir / "b/prior.cgprior"));
+    // The configuration without pcd_files has nothing to replay.
+    const Run none = run_tool({"--config-frames", "--config", std::string(CELLGUARD_SOURCE_DIR) +
+                                                                  "/apps/monitor/config/paper-cell.toml",
+                               "--out", dir / "c"});
+    CHECK(none.status == kExitInputError);
+    CHECK(none.err.find("have no pcd_files") != std::string::npos);
 }
 
 TEST_CASE("prior tool: parse_open_faces and method names round trip") {

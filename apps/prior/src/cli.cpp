@@ -54,6 +54,8 @@ constexpr const char* kUsage =
     "                          one folder per sensor of --config, points in the sensor\n"
     "                          frame; frame k is the k-th file (by name) of each sensor\n"
     "  --frame SENSOR=FILE     one more recorded .pcd of SENSOR (repeatable)\n"
+    "  --config-frames         the `pcd_files` of --config's sensors as recorded frames\n"
+    "                          (as the monitor replays them; combines with --frames)\n"
     "\n"
     "GRID:\n"
     "  --config FILE           a monitor configuration (apps/monitor/config/*.toml):\n"
@@ -147,6 +149,7 @@ struct Options {
     std::string observed;
     std::string frames_dir;
     std::vector<std::pair<std::string, std::string>> frame_files;
+    bool config_frames = false;
     std::string config;
     bool has_origin = false;
     Eigen::Vector3d origin = Eigen::Vector3d::Zero();
@@ -183,7 +186,7 @@ bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
     };
     auto set_input = [&](InputKind kind, const char* name) {
         if (o.input_given && o.input != kind) {
-            return fail(std::string(name) + " excludes the other input (--simulated, --background-npy, --frames/--frame)");
+            return fail(std::string(name) + " excludes the other input (--simulated, --background-npy, --frames/--frame/--config-frames)");
         }
         o.input_given = true;
         o.input = kind;
@@ -221,6 +224,9 @@ bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
                 return fail("--frame expects SENSOR=FILE.pcd, got '" + v + "'");
             }
             o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
+        } else if (a == "--config-frames") {
+            if (!set_input(InputKind::kFrames, "--config-frames")) return false;
+            o.config_frames = true;
         } else if (a == "--config") {
             if (!value("--config")) return false;
             o.config = v;
@@ -309,7 +315,7 @@ bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
         return fail("--observed goes with --background-npy");
     }
     if (o.input == InputKind::kFrames && o.config.empty()) {
-        return fail("--frames/--frame need --config FILE (the sensors' names and poses)");
+        return fail("--frames/--frame/--config-frames need --config FILE (the sensors' names and poses)");
     }
     if (o.background_frames > 0 && o.input != InputKind::kSimulated) {
         return fail("--background-frames goes with --simulated");
@@ -437,7 +443,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     std::vector<RecordedSensor> sensors;
     int config_frames = 8;
     if (!o.config.empty()) {
-        const IoStatus st = sensors_from_config(o.config, sensors, grid, config_frames);
+        const IoStatus st = sensors_from_config(o.config, o.config_frames, sensors, grid, config_frames);
         if (!st.ok()) {
             return error(kExitInputError, std::string("configuration: ") + st.message());
         }
@@ -527,6 +533,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
                 counts += (counts.empty() ? "" : ", ") + s.name + " " + std::to_string(s.files.size());
             }
             PcdFrameSource source(sensors);
+            if (source.frame_count() == 0U) {
+                return error(kExitInputError, "no recorded frames: " + o.config + "'s sensors have no pcd_files");
+            }
             st = accumulate_frames(source, background, report);
             background_text = "recorded frames (" + std::to_string(source.frame_count()) + "; files per sensor: " +
                               counts + ")";

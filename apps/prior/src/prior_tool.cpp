@@ -65,23 +65,6 @@ IoStatus read_npy_file_header(const std::string& path, NpyHeader& header, std::u
     return parse_npy_header(head.data(), n, header).prefixed(path.c_str());
 }
 
-/// The monitor's rule for recorded frames (apps/monitor pcd_input.hpp): a
-/// VIEWPOINT is either the identity (not recorded) or the sensor's configured
-/// pose within 1 cm and 1 degree. Points are in the sensor frame either way.
-bool viewpoint_accepted(const PcdViewpoint& v, const Eigen::Isometry3d& pose) {
-    constexpr double kTiny = 1e-9;
-    if (std::abs(v.tx) <= kTiny && std::abs(v.ty) <= kTiny && std::abs(v.tz) <= kTiny && std::abs(v.qw - 1.0) <= kTiny &&
-        std::abs(v.qx) <= kTiny && std::abs(v.qy) <= kTiny && std::abs(v.qz) <= kTiny) {
-        return true;
-    }
-    const Eigen::Quaterniond q(v.qw, v.qx, v.qy, v.qz);
-    const Eigen::Quaterniond p(pose.linear());
-    const double distance = (Eigen::Vector3d(v.tx, v.ty, v.tz) - pose.translation()).norm();
-    const double angle = q.normalized().angularDistance(p.normalized());
-    constexpr double kPi = 3.14159265358979323846;
-    return distance <= 0.01 && angle <= kPi / 180.0;
-}
-
 std::string shape_text(const NpyHeader& h) {
     std::string s = "(";
     for (std::size_t d = 0U; d < h.ndim; ++d) {
@@ -304,64 +287,37 @@ IoStatus SimulatedFrameSource::frame(std::size_t k, std::vector<SensorReading>& 
     return IoStatus{};
 }
 
-PcdFrameSource::PcdFrameSource(std::vector<RecordedSensor> sensors) {
-    for (RecordedSensor& s : sensors) {
+PcdFrameSource::PcdFrameSource(const std::vector<RecordedSensor>& sensors) {
+    for (const RecordedSensor& s : sensors) {
         if (!s.files.empty()) {
             frames_ = std::max(frames_, s.files.size());
-            sensors_.push_back(std::move(s));
+            file_counts_.push_back(s.files.size());
+            sources_.emplace_back(s.name, s.files, s.pose, s.width, s.height, s.max_range);
         }
     }
-    points_.resize(sensors_.size());
 }
 
 IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readings) {
     readings.clear();
-    std::vector<PcdPoint> buffer(kMaxReadingsPerSensor);
-    for (std::size_t s = 0U; s < sensors_.size(); ++s) {
-        const RecordedSensor& sensor = sensors_[s];
-        if (k >= sensor.files.size()) {
+    for (std::size_t s = 0U; s < sources_.size(); ++s) {
+        if (k >= file_counts_[s]) {
             continue;
         }
-        const std::string& file = sensor.files[k];
-        PcdCloudInfo info;
-        const IoStatus st = read_pcd(file.c_str(), {buffer.data(), buffer.size()}, info);
-        if (!st.ok()) {
-            if (st.error() == ErrorCode::kCapacityExceeded && info.finite_points > kMaxReadingsPerSensor) {
-                return IoStatus::failure(ErrorCode::kCapacityExceeded,
-                                         "%s: %" PRIu64 " points; a sensor delivers at most %zu per frame",
-                                         file.c_str(), info.finite_points, kMaxReadingsPerSensor);
-            }
-            return st;
-        }
-        if (!viewpoint_accepted(info.viewpoint, sensor.pose)) {
-            return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                     "%s: VIEWPOINT is neither the identity nor the configured pose of sensor '%s' "
-                                     "(within 1 cm and 1 degree): recorded by another sensor?",
-                                     file.c_str(), sensor.name.c_str());
-        }
-        std::vector<Eigen::Vector3f>& pts = points_[s];
-        pts.resize(static_cast<std::size_t>(info.written));
-        for (std::size_t i = 0U; i < pts.size(); ++i) {
-            pts[i] = Eigen::Vector3f(buffer[i].x, buffer[i].y, buffer[i].z);
-        }
         SensorReading r;
-        r.pose = sensor.pose;
-        r.kind = SensorDataKind::kPointSet;
-        r.points = {pts.data(), pts.size()};
-        r.min_range = 0.0F;
-        r.max_range = sensor.max_range;
-        const Status valid = validate_sensor_reading(r);
-        if (!valid.ok()) {
-            return IoStatus::failure(valid.error(), "%s: sensor '%s': %s", file.c_str(), sensor.name.c_str(),
-                                     to_string(valid.error()));
+        const monitor::PcdFrameCheck c = sources_[s].load(k, r);
+        if (!c.ok) {
+            // read_pcd's messages start with the path already.
+            const bool named = c.reason.rfind(c.file, 0) == 0;
+            return IoStatus::failure(ErrorCode::kMalformedInput, "%s%s%s (sensor '%s')", named ? "" : c.file.c_str(),
+                                     named ? "" : ": ", c.reason.c_str(), sources_[s].name().c_str());
         }
         readings.push_back(r);
     }
     return IoStatus{};
 }
 
-IoStatus sensors_from_config(const std::string& config_path, std::vector<RecordedSensor>& sensors,
-                             GridGeometry& grid, int& background_frames) {
+IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files,
+                             std::vector<RecordedSensor>& sensors, GridGeometry& grid, int& background_frames) {
     const monitor::ConfigLoad load = monitor::load_monitor_config(config_path);
     if (!load.ok) {
         return IoStatus::failure(ErrorCode::kMalformedInput, "%s", load.error.c_str());
@@ -379,6 +335,11 @@ IoStatus sensors_from_config(const std::string& config_path, std::vector<Recorde
         RecordedSensor r;
         r.name = s.name;
         r.max_range = static_cast<float>(s.max_range);
+        r.width = s.width;
+        r.height = s.height;
+        if (with_pcd_files) {
+            r.files = s.pcd_files;
+        }
         if (s.has_target) {
             const Eigen::Vector3d axis = s.target - s.position;
             if (axis.norm() <= 0.0 || std::abs(axis.normalized().z()) > 0.999) {

@@ -37,6 +37,7 @@
 #include "cellguard/grid.hpp"
 #include "cellguard/linux/io_status.hpp"
 #include "cellguard/linux/prior_files.hpp"
+#include "cellguard/monitor/pcd_input.hpp"
 #include "cellguard/sensor_frame.hpp"
 #include "cellguard/sensor_model.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -164,40 +165,45 @@ private:
     std::size_t frames_;
 };
 
-/// One recording sensor: its pose in the cell and its recorded .pcd files
-/// (points in the sensor frame: x right, y down, z along the optical axis).
+/// One recording sensor: its pose in the cell, its image size and its
+/// recorded .pcd files (points in the sensor frame: x right, y down, z along
+/// the optical axis).
 struct RecordedSensor {
     std::string name;                                          ///< as in the configuration
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();    ///< sensor -> cell
+    int width = 0;                                             ///< image columns (capacity: width x height points)
+    int height = 0;                                            ///< image rows
     float max_range = 10.0F;                                   ///< readings beyond are not fused
     std::vector<std::string> files;                            ///< its frames, in order
 };
 
 /// Recorded .pcd frames: frame k holds the k-th file of every sensor that
-/// has one. The pose comes from the configuration; as in the monitor
-/// (apps/monitor pcd_input.hpp), a file's VIEWPOINT must be the identity
-/// (not recorded) or that pose within 1 cm and 1 degree, else the file is
-/// refused (recorded by another sensor). Non-finite points are skipped.
+/// has one. Each file is read and checked by the monitor's reader
+/// (apps/monitor pcd_input.hpp: decodes, at most width x height points, an
+/// organised cloud of the sensor's resolution, a VIEWPOINT without
+/// translation or equal to the configured pose); a file that fails is an
+/// error naming it, never a frame left out silently.
 class PcdFrameSource final : public FrameSource {
 public:
     /// Frames of @p sensors (each with at least one file, else it is left out).
-    explicit PcdFrameSource(std::vector<RecordedSensor> sensors);
+    explicit PcdFrameSource(const std::vector<RecordedSensor>& sensors);
     [[nodiscard]] std::size_t frame_count() const override { return frames_; }
     IoStatus frame(std::size_t k, std::vector<SensorReading>& readings) override;
 
 private:
-    std::vector<RecordedSensor> sensors_;
-    std::vector<std::vector<Eigen::Vector3f>> points_;
+    std::vector<monitor::PcdFrameSource> sources_;
+    std::vector<std::size_t> file_counts_;
     std::size_t frames_ = 0U;
 };
 
 /// The sensors of a monitor configuration file (apps/monitor/config/*.toml)
 /// with their poses (`target`: the simulator's convention, x horizontal;
-/// `rotation`: as given), no files yet, and its grid. Errors: the loader's
-/// message (file, line, key), or a `target` straight above or below the
-/// sensor (no horizontal axis; give `rotation`).
-IoStatus sensors_from_config(const std::string& config_path, std::vector<RecordedSensor>& sensors,
-                             GridGeometry& grid, int& background_frames);
+/// `rotation`: as given) and, when @p with_pcd_files, their `pcd_files` as
+/// recorded frames; also its grid and [prior] background_frames. Errors: the
+/// loader's message (file, line, key), or a `target` straight above or below
+/// the sensor (no horizontal axis; give `rotation`).
+IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files,
+                             std::vector<RecordedSensor>& sensors, GridGeometry& grid, int& background_frames);
 
 /// Adds the recordings in @p dir: one subfolder per sensor, named as in the
 /// configuration, holding that sensor's .pcd files (taken in name order).
