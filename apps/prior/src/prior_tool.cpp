@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -18,7 +17,6 @@
 #include "cellguard/accessibility.hpp"
 #include "cellguard/fusion.hpp"
 #include "cellguard/linux/npy.hpp"
-#include "cellguard/linux/pcd.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/prior_image.hpp"
