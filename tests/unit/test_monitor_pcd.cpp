@@ -140,6 +140,13 @@ TEST_CASE("pcd input: the fuzz corpus's PCD files and a real Kinect frame") {
         PcdFrameSource src = source_for({ascii});
         CHECK_FALSE(src.load(0U, r).ok);
     }
+    {
+        // More points than the sensor's image holds (its capacity in the work bound).
+        PcdFrameSource src("small", {kFixtures + "recorded-ascii.pcd"}, Eigen::Isometry3d::Identity(), 10, 10, 10.0F);
+        const PcdFrameCheck c = src.load(0U, r);
+        CHECK_FALSE(c.ok);
+        CHECK(c.reason.find("192 points, more than sensor 'small' delivers (10 x 10)") != std::string::npos);
+    }
     // The real Kinect frame: 640 x 480, binary_compressed, many NaN pixels.
     std::ifstream probe(kKinect, std::ios::binary);
     if (!probe) {

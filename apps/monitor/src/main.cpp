@@ -443,6 +443,11 @@ int main(int argc, char** argv) {
     }
     std::printf("ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
                 static_cast<double>(total_steps * sizeof(RayStep)) / 1e6);
+    // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
+    const CycleWorkBound work = compute_work_bound(g, {layout.readings.data(), layout.readings.size()}, zones);
+    std::printf("work bound per cycle: %llu rays, %llu voxel steps, %llu grid-pass voxels, %llu zone updates\n",
+                static_cast<unsigned long long>(work.rays), static_cast<unsigned long long>(work.voxel_steps),
+                static_cast<unsigned long long>(work.grid_voxels), static_cast<unsigned long long>(work.zone_updates));
 
     ControllerConfig cc;
     cc.sensor_count = specs.size();

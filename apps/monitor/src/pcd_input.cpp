@@ -1,6 +1,7 @@
 // Recorded PCD frames as sensor input, each frame checked (pcd_input.hpp).
 #include "cellguard/monitor/pcd_input.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -55,14 +56,20 @@ PcdFrameCheck PcdFrameSource::load(std::uint64_t cycle, SensorReading& reading) 
         return c;
     }
     c.file = files_[static_cast<std::size_t>(cycle % files_.size())];
+    const std::size_t capacity = std::min(
+        static_cast<std::size_t>(width_ > 0 ? width_ : 0) * static_cast<std::size_t>(height_ > 0 ? height_ : 0),
+        buffer_.size());
     PcdCloudInfo info;
-    const IoStatus st = read_pcd(c.file.c_str(), {buffer_.data(), buffer_.size()}, info);
+    const IoStatus st = read_pcd(c.file.c_str(), {buffer_.data(), capacity}, info);
     c.nonfinite = info.nonfinite_points;
-    if (!st.ok()) {
+    if (!st.ok() && info.points > capacity) {
+        c.reason = std::to_string(info.points) + " points, more than sensor '" + name_ + "' delivers (" +
+                   std::to_string(width_) + " x " + std::to_string(height_) + ")";
+    } else if (!st.ok()) {
         c.reason = st.message();
-    } else if (info.points > kMaxReadingsPerSensor) {
-        c.reason = std::to_string(info.points) + " points, more than a sensor's " +
-                   std::to_string(kMaxReadingsPerSensor);
+    } else if (info.points > capacity) {
+        c.reason = std::to_string(info.points) + " points, more than sensor '" + name_ + "' delivers (" +
+                   std::to_string(width_) + " x " + std::to_string(height_) + ")";
     } else if (info.height > 1U && (info.width != static_cast<std::uint32_t>(width_) ||
                                     info.height != static_cast<std::uint32_t>(height_))) {
         c.reason = "organised cloud of " + std::to_string(info.width) + " x " + std::to_string(info.height) +

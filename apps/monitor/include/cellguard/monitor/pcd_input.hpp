@@ -11,7 +11,8 @@
 /// (validate_sensor_reading) refuses it and latches kFrameInconsistent, as
 /// for any other inconsistent frame. Checks, in order:
 /// - the file reads and decodes (header, data, sizes: pcd.hpp's checks);
-/// - at most kMaxReadingsPerSensor points, finite or not;
+/// - at most the sensor's configured width x height points, finite or not
+///   (its capacity: compute_work_bound counts that many rays for it);
 /// - an organised cloud (HEIGHT > 1) has the sensor's configured resolution;
 /// - VIEWPOINT either has a zero translation (not recorded in cell
 ///   coordinates: the identity, or a capture driver's own convention such as
