@@ -4,13 +4,15 @@
 # as building the ray tables is not counted), divided by the cycles run.
 # Instruction counts do not drift with machine load (shared/BENCHMARKING.md).
 #
-# Usage: tools/bench-cycle-callgrind.sh [build-dir] [cycles]
-#   build-dir: default build (must hold tests/bench/bench_cycle, RelWithDebInfo)
+# Usage: tools/bench-cycle-callgrind.sh [build-dir] [cycles] [bench options...]
+#   build-dir: default build (must hold tests/bench_cycle, RelWithDebInfo)
 #   cycles:    default 20
+#   bench options: passed on, e.g. --readings grid-exit
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 cycles=${2:-20}
+shift $(( $# < 2 ? $# : 2 ))
 bench="$build/tests/bench_cycle"
 [ -x "$bench" ] || bench=$(find "$build" -name bench_cycle -type f -perm -u+x | head -n 1)
 if [ -z "$bench" ] || [ ! -x "$bench" ]; then
@@ -22,7 +24,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 valgrind --tool=callgrind --callgrind-out-file="$out/callgrind.out" \
     --collect-atstart=no --toggle-collect='cellguard::SafetyController::run_cycle*' \
-    "$bench" --cycles "$cycles" --no-timing >"$out/bench.txt" 2>"$out/valgrind.txt" || {
+    "$bench" --cycles "$cycles" --no-timing "$@" >"$out/bench.txt" 2>"$out/valgrind.txt" || {
     cat "$out/bench.txt" "$out/valgrind.txt" >&2
     exit 1
 }
