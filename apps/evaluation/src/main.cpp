@@ -49,7 +49,7 @@ void usage() {
         "  pr-<scene>.csv (precision and recall over a sweep of t_f, four methods), results.md (a table per\n"
         "  scene: best F1, precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
         "  pr-<scene>.png (gnuplot, when installed) and render-<scene>-<method>.png (foreground red over the\n"
-        "  background grey at t_f = 0.73, from the viewpoint of the sensor stereo-a).\n"
+        "  background grey at t_f = 0.73, from the position of the sensor stereo-a, zoomed on the boxes).\n"
         "  --scenes DIR               scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)\n"
         "  --out DIR                  output folder, created if missing (default eval-results)\n"
         "  --background-frames N      empty frames summed into G_B (default 100)\n"
@@ -177,16 +177,22 @@ std::vector<eval::VoxelClass> classes_for(const sim::SceneResult& r, const std::
     return c;
 }
 
-void write_renders(const Options& o, const sim::SceneResult& r, const sim::SensorSpec& camera) {
+void write_renders(const Options& o, const sim::SceneResult& r, const sim::SensorSpec& sensor) {
     const GridGeometry& g = r.background_grid.grid.geometry();
+    // From the sensor's position, zoomed on the boxes (the lower part of the
+    // grid) so that single voxels stay visible: 36 x 27 degrees, 640 x 480.
+    sim::SensorSpec camera = sensor;
+    camera.target = Eigen::Vector3d(0.0, 0.0, 0.3);
+    camera.hfov_deg = 36.0;
+    camera.vfov_deg = 27.0;
     for (const sim::MethodResult& m : r.methods) {
         const std::string path = o.out_dir + "/render-" + r.name + "-" + sim::method_name(m.method) + ".png";
-        if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 480, 360))) {
+        if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480))) {
             std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
         }
     }
     const std::string path = o.out_dir + "/render-" + r.name + "-truth.png";
-    if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 480, 360))) {
+    if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 640, 480))) {
         std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
     }
 }
