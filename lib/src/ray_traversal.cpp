@@ -103,7 +103,7 @@ BoxClip clip_to_box(const VoxelSegment& s, const Int3& n) noexcept {
 /// floor(u) for u known to lie in [0, 4096].
 std::int32_t floor_index(double u) noexcept { return static_cast<std::int32_t>(std::floor(u)); }
 
-std::int32_t clamp_index(std::int32_t i, std::int32_t n) noexcept { return std::min(std::max(i, 0), n - 1); }
+std::int32_t clamp_index(std::int32_t i, std::int32_t n) noexcept { return std::min<std::int32_t>(std::max<std::int32_t>(i, 0), n - 1); }
 
 /// Voxel along one axis that holds the segment just after (entering) or just
 /// before (leaving) the point u on the box surface, moving up or down.
