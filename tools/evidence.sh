@@ -19,6 +19,7 @@
 #   CELLGUARD_COV_BUILD    coverage build directory (default build-cov-og; configured if missing)
 #   CELLGUARD_BENCH_BUILD  build directory holding tests/bench_cycle (default build-cert, then build)
 #   CELLGUARD_BENCH_CYCLES cycles measured by bench_cycle (default 300)
+#   CELLGUARD_COV_MODE     og (default: --coverage -Og, build-cov-og) or o0 (CELLGUARD_COVERAGE=ON, build-cov)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -122,7 +123,7 @@ step "tool versions"
     ver "qemu-aarch64 (aarch64 tests)" qemu-aarch64 --version
     pkg doctest-dev "doctest (unit test framework)"
     pkg libeigen3-dev "Eigen (fixed-size linear algebra)"
-    pkg libfuzzer-14-dev "libFuzzer"
+    pkg libclang-rt-14-dev "libFuzzer and sanitizers"
 } >"$out/tools.md"
 
 step "static analysis: clang-tidy checks enabled by .clang-tidy"
@@ -151,13 +152,19 @@ step "coverage of lib/ by the unit tests (gcovr)"
 # run about 40x slower than at -O2 (5.5 CPU minutes here; -Og: see coverage.md),
 # too slow for --check in CI. -Og keeps the line and branch structure that gcov
 # reports close to -O0; NDEBUG is defined as in the shipped RelWithDebInfo build.
+# CELLGUARD_COV_MODE=o0 measures with the project's option instead (build-cov, -O0; slow).
+if [ "${CELLGUARD_COV_MODE:-og}" = o0 ]; then
+    cov_build=${CELLGUARD_COV_BUILD:-build-cov}
+    [ -f "$cov_build/CMakeCache.txt" ] || cmake -S . -B "$cov_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DCELLGUARD_COVERAGE=ON -DCELLGUARD_BUILD_BENCH=OFF >/dev/null
+fi
 if [ ! -f "$cov_build/CMakeCache.txt" ]; then
     cmake -S . -B "$cov_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" \
         -DCMAKE_CXX_FLAGS=--coverage -DCMAKE_C_FLAGS=--coverage -DCMAKE_EXE_LINKER_FLAGS=--coverage \
         -DCELLGUARD_BUILD_BENCH=OFF >/dev/null
 fi
-grep -q -- '--coverage' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
+grep -q -e '--coverage' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
 cmake --build "$cov_build" -j "$jobs" --target cellguard_unit_tests >/dev/null
 find "$cov_build" -name '*.gcda' -delete
 unit=$(find "$cov_build/tests" -maxdepth 1 -name cellguard_unit_tests -type f | head -n 1)
@@ -176,9 +183,12 @@ rm -f "$out/.unit1.log" "$out/.unit2.log"
 # --exclude-unreachable-branches: drops branches gcc attributes to lines without
 # code (closing braces, compiler-generated cleanup); no branch a test could take.
 # No --exclude-throw-branches: lib/ is built with -fno-exceptions, it has no throw branches.
-gcovr_args=(--root . --object-directory "$cov_build" --filter 'lib/' --exclude-unreachable-branches)
-gcovr "${gcovr_args[@]}" --json-summary "$out/coverage-summary.json" --json-summary-pretty >/dev/null
-gcovr "${gcovr_args[@]}" --txt "$out/coverage-files.txt" >/dev/null
+gcovr_args=(--root . --object-directory "$cov_build" --filter 'lib/' --exclude-unreachable-branches
+            --exclude-directories '.*/CMakeFiles/[0-9.]+')  # CMake's compiler-identification objects
+# gcov's warnings about stale objects of removed sources go to a log, shown only on failure.
+gcovr "${gcovr_args[@]}" --json-summary "$out/coverage-summary.json" --json-summary-pretty >/dev/null 2>"$out/.gcovr.log" \
+    || { cat "$out/.gcovr.log" >&2; fail "gcovr"; }
+rm -f "$out/.gcovr.log"
 cov_tmp=$(mktemp)
 python3 - "$out/coverage-summary.json" "$cert/coverage-thresholds.txt" "$cov_tmp" <<'PY' || fail "coverage below the threshold"
 import json, sys
@@ -215,7 +225,7 @@ ok = lines + 1e-9 >= th.get("lines", 100.0) and branches + 1e-9 >= th.get("branc
 sys.exit(0 if ok else 1)
 PY
 replace_section "$out/coverage.md" "coverage" "$cov_tmp" || fail "coverage.md section"
-rm -f "$cov_tmp" "$out/coverage-files.txt"
+rm -f "$cov_tmp"
 [ "$check" -eq 1 ] || rm -f "$out/coverage-summary.json"
 
 if [ "$check" -eq 0 ]; then
@@ -241,10 +251,10 @@ if [ "$check" -eq 0 ]; then
             echo '```'
             echo
             if command -v valgrind >/dev/null && [ -x tools/bench-cycle-callgrind.sh ]; then
-                echo "\`tools/bench-cycle-callgrind.sh $bench_build 5\` (instructions inside SafetyController::run_cycle):"
+                echo "\`tools/bench-cycle-callgrind.sh $bench_build 3\` (instructions inside SafetyController::run_cycle):"
                 echo
                 echo '```'
-                tools/bench-cycle-callgrind.sh "$bench_build" 5 2>&1 || echo "(callgrind run failed with status $?)"
+                tools/bench-cycle-callgrind.sh "$bench_build" 3 2>&1 || echo "(callgrind run failed with status $?)"
                 echo '```'
             else
                 echo "callgrind: not run (valgrind or tools/bench-cycle-callgrind.sh missing)."
