@@ -11,12 +11,14 @@
 #include <vector>
 
 #include "cellguard/crc32.hpp"
+#include "cellguard/host/png.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/monitor/picture.hpp"
-#include "cellguard/monitor/png.hpp"
 
 using namespace cellguard;
 using namespace cellguard::monitor;
+using cellguard::host::adler32;
+using cellguard::host::IndexedImage;
 
 namespace {
 
@@ -25,15 +27,109 @@ std::uint32_t be32(const std::vector<std::uint8_t>& b, std::size_t at) {
            (std::uint32_t{b.at(at + 2U)} << 8U) | std::uint32_t{b.at(at + 3U)};
 }
 
+/// Deflate bits, LSB first (RFC 1951); Huffman codes are read MSB first.
+class BitReader {
+public:
+    BitReader(const std::vector<std::uint8_t>& data, std::size_t from) : data_(data), bit_(from * 8U) {}
+    unsigned bits(int count) {
+        unsigned v = 0U;
+        for (int i = 0; i < count; ++i) {
+            v |= next() << static_cast<unsigned>(i);
+        }
+        return v;
+    }
+    unsigned next() {
+        REQUIRE(bit_ / 8U < data_.size());
+        const unsigned b = (data_[bit_ / 8U] >> (bit_ % 8U)) & 1U;
+        ++bit_;
+        return b;
+    }
+    std::size_t byte_after() const { return (bit_ + 7U) / 8U; }
+    void align() { bit_ = byte_after() * 8U; }
+
+private:
+    const std::vector<std::uint8_t>& data_;
+    std::size_t bit_;
+};
+
+/// One literal/length symbol of the fixed Huffman code.
+unsigned fixed_symbol(BitReader& r) {
+    unsigned code = 0U;
+    for (int i = 0; i < 7; ++i) {
+        code = (code << 1U) | r.next();
+    }
+    if (code <= 23U) {
+        return 256U + code;
+    }
+    code = (code << 1U) | r.next();
+    if (code >= 0x30U && code <= 0xBFU) {
+        return code - 0x30U;
+    }
+    if (code >= 0xC0U && code <= 0xC7U) {
+        return 280U + code - 0xC0U;
+    }
+    code = (code << 1U) | r.next();
+    REQUIRE(code >= 0x190U);
+    return 144U + code - 0x190U;
+}
+
+/// Inflates stored and fixed-Huffman blocks from @p p; @p p ends after the last block.
+std::vector<std::uint8_t> inflate(const std::vector<std::uint8_t>& z, std::size_t& p, int& blocks) {
+    static const unsigned len_base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                                          31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+    static const int len_extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+    std::vector<std::uint8_t> out;
+    BitReader r(z, p);
+    bool final_block = false;
+    while (!final_block) {
+        final_block = r.bits(1) != 0U;
+        const unsigned type = r.bits(2);
+        REQUIRE(type <= 1U);  // stored or fixed Huffman
+        ++blocks;
+        if (type == 0U) {
+            r.align();
+            const unsigned len = r.bits(16);
+            const unsigned nlen = r.bits(16);
+            CHECK((len ^ 0xFFFFU) == nlen);
+            for (unsigned i = 0U; i < len; ++i) {
+                out.push_back(static_cast<std::uint8_t>(r.bits(8)));
+            }
+            continue;
+        }
+        for (unsigned sym = fixed_symbol(r); sym != 256U; sym = fixed_symbol(r)) {
+            if (sym < 256U) {
+                out.push_back(static_cast<std::uint8_t>(sym));
+                continue;
+            }
+            REQUIRE(sym <= 285U);
+            const unsigned length = len_base[sym - 257U] + r.bits(len_extra[sym - 257U]);
+            unsigned dcode = 0U;
+            for (int i = 0; i < 5; ++i) {
+                dcode = (dcode << 1U) | r.next();
+            }
+            REQUIRE(dcode <= 3U);  // the writer only uses distances 1 to 4
+            const std::size_t distance = dcode + 1U;
+            REQUIRE(distance <= out.size());
+            for (unsigned i = 0U; i < length; ++i) {
+                out.push_back(out[out.size() - distance]);
+            }
+        }
+    }
+    p = r.byte_after();
+    return out;
+}
+
 /// A PNG decoded by this test's own reader (only what encode_png writes:
 /// 8-bit RGB, filter 0, stored deflate blocks); every check is a CHECK.
 struct Decoded {
     bool ok = false;
     std::uint32_t width = 0U;
     std::uint32_t height = 0U;
-    std::vector<std::uint8_t> rgb;
+    std::uint8_t colour = 0U;           // IHDR colour type
+    std::vector<std::uint8_t> rgb;      // RGB bytes, or palette indices when indexed
+    std::vector<std::uint8_t> palette;  // PLTE, when present
     int chunks = 0;
-    int stored_blocks = 0;
+    int blocks = 0;
 };
 
 Decoded decode(const std::vector<std::uint8_t>& png) {
@@ -58,11 +154,16 @@ Decoded decode(const std::vector<std::uint8_t>& png) {
             d.width = be32(png, at + 8U);
             d.height = be32(png, at + 12U);
             CHECK(png[at + 16U] == 8U);  // bit depth
-            CHECK(png[at + 17U] == 2U);  // RGB
+            d.colour = png[at + 17U];
+            CHECK((d.colour == 2U || d.colour == 3U));  // RGB or indexed
             CHECK(png[at + 18U] == 0U);
             CHECK(png[at + 19U] == 0U);
             CHECK(png[at + 20U] == 0U);
             ihdr = true;
+        } else if (type == "PLTE") {
+            CHECK(len % 3U == 0U);
+            d.palette.assign(png.begin() + static_cast<std::ptrdiff_t>(at + 8U),
+                             png.begin() + static_cast<std::ptrdiff_t>(at + 8U + len));
         } else if (type == "IDAT") {
             idat.insert(idat.end(), png.begin() + static_cast<std::ptrdiff_t>(at + 8U),
                         png.begin() + static_cast<std::ptrdiff_t>(at + 8U + len));
@@ -80,30 +181,18 @@ Decoded decode(const std::vector<std::uint8_t>& png) {
     CHECK((idat[0] * 256U + idat[1]) % 31U == 0U);
     CHECK((idat[0] & 0x0FU) == 8U);
     std::size_t p = 2U;
-    std::vector<std::uint8_t> raw;
-    bool final_block = false;
-    while (!final_block) {
-        REQUIRE(p + 5U <= idat.size());
-        final_block = (idat[p] & 1U) != 0U;
-        CHECK((idat[p] >> 1U & 3U) == 0U);  // stored
-        const unsigned len = idat[p + 1U] | (unsigned{idat[p + 2U]} << 8U);
-        const unsigned nlen = idat[p + 3U] | (unsigned{idat[p + 4U]} << 8U);
-        CHECK((len ^ 0xFFFFU) == nlen);
-        p += 5U;
-        REQUIRE(p + len <= idat.size());
-        raw.insert(raw.end(), idat.begin() + static_cast<std::ptrdiff_t>(p),
-                   idat.begin() + static_cast<std::ptrdiff_t>(p + len));
-        p += len;
-        ++d.stored_blocks;
-    }
+    const std::vector<std::uint8_t> raw = inflate(idat, p, d.blocks);
     REQUIRE(p + 4U == idat.size());
     CHECK(be32(idat, p) == adler32(raw.data(), raw.size()));
-    const std::size_t row = std::size_t{d.width} * 3U;
+    const std::size_t row = std::size_t{d.width} * (d.colour == 3U ? 1U : 3U);
     REQUIRE(raw.size() == (row + 1U) * d.height);
     for (std::uint32_t y = 0U; y < d.height; ++y) {
-        CHECK(raw[y * (row + 1U)] == 0U);  // filter: none
-        d.rgb.insert(d.rgb.end(), raw.begin() + static_cast<std::ptrdiff_t>(y * (row + 1U) + 1U),
-                     raw.begin() + static_cast<std::ptrdiff_t>((y + 1U) * (row + 1U)));
+        const std::uint8_t filter = raw[y * (row + 1U)];
+        REQUIRE((filter == 0U || filter == 2U));  // None or Up
+        for (std::size_t x = 0U; x < row; ++x) {
+            const std::uint8_t above = y > 0U && filter == 2U ? d.rgb[(y - 1U) * row + x] : std::uint8_t{0U};
+            d.rgb.push_back(static_cast<std::uint8_t>(raw[y * (row + 1U) + 1U + x] + above));
+        }
     }
     d.ok = true;
     return d;
@@ -146,14 +235,16 @@ TEST_CASE("png: a small image encodes to a valid PNG that decodes to the same pi
 }
 
 // verifies: SR-SYS-001
-TEST_CASE("png: an image larger than one stored block spans several blocks, bad sizes are refused") {
+TEST_CASE("png: a large image is compressed and decodes to the same pixels, bad sizes are refused") {
     RgbImage img = RgbImage::filled(300, 200, 0, 0, 0);
     for (std::size_t i = 0U; i < img.rgb.size(); ++i) {
         img.rgb[i] = static_cast<std::uint8_t>(i * 7U);
     }
-    const Decoded d = decode(encode_png(img));
+    const std::vector<std::uint8_t> png = encode_png(img);
+    CHECK(png.size() < img.rgb.size() / 10U);
+    const Decoded d = decode(png);
     REQUIRE(d.ok);
-    CHECK(d.stored_blocks == 3);  // 200 * 901 bytes = 180,200 = 65535 + 65535 + 49130
+    CHECK(d.blocks == 1);
     CHECK(d.rgb == img.rgb);
     RgbImage bad = img;
     bad.rgb.pop_back();
@@ -161,6 +252,34 @@ TEST_CASE("png: an image larger than one stored block spans several blocks, bad 
     CHECK(encode_png(RgbImage{}).empty());
     std::string error;
     CHECK_FALSE(write_png("/nonexistent-dir/x.png", img, error));
+    CHECK(error.find("/nonexistent-dir/x.png") != std::string::npos);
+}
+
+// verifies: SR-SYS-001
+TEST_CASE("png: an indexed image encodes with its palette and decodes to the same indices, bad ones are refused") {
+    IndexedImage img;
+    img.width = 7;
+    img.height = 5;
+    img.palette = {{{0U, 0U, 0U}}, {{200U, 30U, 30U}}, {{128U, 128U, 128U}}};
+    for (int i = 0; i < img.width * img.height; ++i) {
+        img.pixels.push_back(static_cast<std::uint8_t>(i / 4 % 3));
+    }
+    const Decoded d = decode(encode_png(img));
+    REQUIRE(d.ok);
+    CHECK(d.colour == 3U);
+    CHECK(d.width == 7U);
+    CHECK(d.height == 5U);
+    CHECK(d.chunks == 4);
+    CHECK(d.rgb == img.pixels);
+    CHECK(d.palette == std::vector<std::uint8_t>{0U, 0U, 0U, 200U, 30U, 30U, 128U, 128U, 128U});
+    IndexedImage bad = img;
+    bad.pixels[3] = 3U;  // beyond the palette
+    CHECK(encode_png(bad).empty());
+    bad = img;
+    bad.palette.clear();
+    CHECK(encode_png(bad).empty());
+    std::string error;
+    CHECK_FALSE(host::write_png("/nonexistent-dir/x.png", img, error));
     CHECK(error.find("/nonexistent-dir/x.png") != std::string::npos);
 }
 

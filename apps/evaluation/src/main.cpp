@@ -18,7 +18,7 @@
 
 #include "cellguard/log_odds.hpp"
 #include "cellguard/sim/experiment.hpp"
-#include "png.hpp"
+#include "cellguard/host/png.hpp"
 #include "render.hpp"
 
 using namespace cellguard;
@@ -187,12 +187,16 @@ void write_renders(const Options& o, const sim::SceneResult& r, const sim::Senso
     camera.vfov_deg = 27.0;
     for (const sim::MethodResult& m : r.methods) {
         const std::string path = o.out_dir + "/render-" + r.name + "-" + sim::method_name(m.method) + ".png";
-        if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480))) {
+        std::string error;
+        if (!host::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480),
+                             error)) {
             std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
         }
     }
     const std::string path = o.out_dir + "/render-" + r.name + "-truth.png";
-    if (!eval::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 640, 480))) {
+    std::string error;
+    if (!host::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 640, 480),
+                         error)) {
         std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
     }
 }

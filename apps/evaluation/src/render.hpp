@@ -12,9 +12,11 @@
 
 #include "cellguard/grid.hpp"
 #include "cellguard/sim/workcell.hpp"
-#include "png.hpp"
+#include "cellguard/host/png.hpp"
 
 namespace cellguard::eval {
+
+using host::IndexedImage;  ///< the renders are indexed-colour images
 
 /// What a voxel shows as.
 enum class VoxelClass : std::uint8_t {

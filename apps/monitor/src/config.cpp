@@ -14,119 +14,18 @@
 
 #include "cellguard/fusion.hpp"
 #include "cellguard/grid.hpp"
+#include "cellguard/host/toml_loader.hpp"
 
 namespace cellguard::monitor {
 namespace {
 
-/// Thrown inside the loader only: the first error, already formatted.
-struct ConfigError {
-    std::string message;
-};
+/// The loader's error: "file:line:column: key: what".
+using ConfigError = host::TomlError;
 
-class Loader {
+/// The shared checked getters plus the monitor's own (arrays, vectors, positive numbers).
+class Loader : public host::TomlLoader {
 public:
-    explicit Loader(std::string source) : source_(std::move(source)) {}
-
-    [[noreturn]] void fail(const toml::source_region& where, const std::string& key, const std::string& what) const {
-        std::ostringstream m;
-        m << source_ << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << what;
-        throw ConfigError{m.str()};
-    }
-
-    /// Every key of @p t must be one of @p known.
-    void check_keys(const toml::table& t, const std::string& path, std::initializer_list<const char*> known) const {
-        for (const auto& [k, node] : t) {
-            bool found = false;
-            for (const char* name : known) {
-                found = found || k.str() == name;
-            }
-            if (!found) {
-                fail(node.source(), join(path, std::string(k.str())), "unknown key");
-            }
-        }
-    }
-
-    static std::string join(const std::string& path, const std::string& key) {
-        return path.empty() ? key : path + "." + key;
-    }
-
-    const toml::table& table(const toml::table& parent, const std::string& path, const char* key) const {
-        const toml::node* n = parent.get(key);
-        if (n == nullptr) {
-            fail(parent.source(), join(path, key), "missing table");
-        }
-        if (!n->is_table()) {
-            fail(n->source(), join(path, key), "expected a table");
-        }
-        return *n->as_table();
-    }
-
-    const toml::node& require(const toml::table& t, const std::string& path, const char* key) const {
-        const toml::node* n = t.get(key);
-        if (n == nullptr) {
-            fail(t.source(), join(path, key), "missing key");
-        }
-        return *n;
-    }
-
-    double number(const toml::table& t, const std::string& path, const char* key) const {
-        const toml::node& n = require(t, path, key);
-        if (!n.is_number()) {
-            fail(n.source(), join(path, key), "expected a number");
-        }
-        const double v = n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
-        if (!std::isfinite(v)) {
-            fail(n.source(), join(path, key), "expected a finite number");
-        }
-        return v;
-    }
-
-    double number_or(const toml::table& t, const std::string& path, const char* key, double fallback) const {
-        return t.contains(key) ? number(t, path, key) : fallback;
-    }
-
-    std::int64_t integer(const toml::table& t, const std::string& path, const char* key, std::int64_t lo,
-                         std::int64_t hi) const {
-        const toml::node& n = require(t, path, key);
-        if (!n.is_integer()) {
-            fail(n.source(), join(path, key), "expected an integer");
-        }
-        const std::int64_t v = n.as_integer()->get();
-        if (v < lo || v > hi) {
-            fail(n.source(), join(path, key),
-                 "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(v));
-        }
-        return v;
-    }
-
-    std::int64_t integer_or(const toml::table& t, const std::string& path, const char* key, std::int64_t lo,
-                            std::int64_t hi, std::int64_t fallback) const {
-        return t.contains(key) ? integer(t, path, key, lo, hi) : fallback;
-    }
-
-    bool boolean_or(const toml::table& t, const std::string& path, const char* key, bool fallback) const {
-        if (!t.contains(key)) {
-            return fallback;
-        }
-        const toml::node& n = *t.get(key);
-        if (!n.is_boolean()) {
-            fail(n.source(), join(path, key), "expected true or false");
-        }
-        return n.as_boolean()->get();
-    }
-
-    std::string string(const toml::table& t, const std::string& path, const char* key) const {
-        const toml::node& n = require(t, path, key);
-        if (!n.is_string()) {
-            fail(n.source(), join(path, key), "expected a string");
-        }
-        return n.as_string()->get();
-    }
-
-    std::string string_or(const toml::table& t, const std::string& path, const char* key,
-                          const std::string& fallback) const {
-        return t.contains(key) ? string(t, path, key) : fallback;
-    }
+    using TomlLoader::TomlLoader;
 
     /// An array of exactly @p count finite numbers.
     std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
@@ -158,8 +57,6 @@ public:
             fail(t.get(key)->source(), join(path, key), "must be greater than 0");
         }
     }
-
-    std::string source_;
 };
 
 std::uint64_t ms_to_us(double ms) { return static_cast<std::uint64_t>(std::llround(ms * 1000.0)); }
@@ -474,10 +371,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         out.config = c;
         out.ok = true;
     } catch (const toml::parse_error& e) {
-        std::ostringstream m;
-        m << source_name << ':' << e.source().begin.line << ':' << e.source().begin.column
-          << ": TOML syntax: " << e.description();
-        out.error = m.str();
+        out.error = host::toml_syntax_error(source_name, e);
     } catch (const ConfigError& e) {
         out.error = e.message;
     }

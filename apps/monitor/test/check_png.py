@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks a PNG written by cellguard-monitor --picture with Python's own zlib:
 signature, IHDR, every chunk's CRC-32, the zlib stream (decompressed by
-zlib, Adler-32 checked by it), one filter byte 0 per row, and that pixels of
+zlib, Adler-32 checked by it), one filter byte 0 or 2 (Up) per row, and that pixels of
 both zone colours appear (the demo has a protective and a warning zone).
 
 Usage: check_png.py FILE [min-width min-height]"""
@@ -46,8 +46,19 @@ def main():
     row = 3 * w + 1
     if len(raw) != row * h:
         fail(f"{len(raw)} bytes of scanlines, expected {row * h}")
-    if any(raw[y * row] != 0 for y in range(h)):
-        fail("a row with a filter other than 0")
+    if any(raw[y * row] not in (0, 2) for y in range(h)):
+        fail("a row with a filter other than 0 (None) or 2 (Up)")
+    # Undo the Up filter: each byte plus the (unfiltered) byte above.
+    rows = []
+    for y in range(h):
+        line = bytearray(raw[y * row:(y + 1) * row])
+        if line[0] == 2 and rows:
+            above = rows[-1]
+            for x in range(1, row):
+                line[x] = (line[x] + above[x]) & 0xFF
+        line[0] = 0
+        rows.append(line)
+    raw = b"".join(rows)
     red = yellow = 0
     for y in range(h):
         line = raw[y * row + 1:(y + 1) * row]

@@ -9,68 +9,20 @@
 #include <sstream>
 #include <utility>
 
+#include "cellguard/host/toml_loader.hpp"
+
 namespace cellguard::sim {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-/// Thrown inside the loader only: the first error, already formatted.
-struct SceneError {
-    std::string message;
-};
+/// The loader's error: "file:line:column: key: what".
+using SceneError = host::TomlError;
 
-class Loader {
+/// The shared checked getters plus the scene files' own (ranges, arrays, vectors, [[tables]]).
+class Loader : public host::TomlLoader {
 public:
-    explicit Loader(std::string source) : source_(std::move(source)) {}
-
-    [[noreturn]] void fail(const toml::source_region& where, const std::string& key, const std::string& what) const {
-        std::ostringstream m;
-        m << source_ << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << what;
-        throw SceneError{m.str()};
-    }
-
-    void check_keys(const toml::table& t, const std::string& path, std::initializer_list<const char*> known) const {
-        for (const auto& [k, node] : t) {
-            bool found = false;
-            for (const char* name : known) {
-                found = found || k.str() == name;
-            }
-            if (!found) {
-                fail(node.source(), join(path, std::string(k.str())), "unknown key");
-            }
-        }
-    }
-
-    static std::string join(const std::string& path, const std::string& key) {
-        return path.empty() ? key : path + "." + key;
-    }
-
-    const toml::node& require(const toml::table& t, const std::string& path, const char* key) const {
-        const toml::node* n = t.get(key);
-        if (n == nullptr) {
-            fail(t.source(), join(path, key), "missing key");
-        }
-        return *n;
-    }
-
-    double as_number(const toml::node& n, const std::string& key) const {
-        if (!n.is_number()) {
-            fail(n.source(), key, "expected a number");
-        }
-        const double v = n.is_integer() ? static_cast<double>(n.as_integer()->get()) : n.as_floating_point()->get();
-        if (!std::isfinite(v)) {
-            fail(n.source(), key, "expected a finite number");
-        }
-        return v;
-    }
-
-    double number(const toml::table& t, const std::string& path, const char* key) const {
-        return as_number(require(t, path, key), join(path, key));
-    }
-
-    double number_or(const toml::table& t, const std::string& path, const char* key, double fallback) const {
-        return t.contains(key) ? number(t, path, key) : fallback;
-    }
+    using TomlLoader::TomlLoader;
 
     /// A number in [lo, hi] (or the fallback when absent).
     double ranged_or(const toml::table& t, const std::string& path, const char* key, double lo, double hi,
@@ -85,43 +37,6 @@ public:
             fail(t.get(key)->source(), join(path, key), m.str());
         }
         return v;
-    }
-
-    std::int64_t integer(const toml::table& t, const std::string& path, const char* key, std::int64_t lo,
-                         std::int64_t hi) const {
-        const toml::node& n = require(t, path, key);
-        if (!n.is_integer()) {
-            fail(n.source(), join(path, key), "expected an integer");
-        }
-        const std::int64_t v = n.as_integer()->get();
-        if (v < lo || v > hi) {
-            fail(n.source(), join(path, key),
-                 "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(v));
-        }
-        return v;
-    }
-
-    bool boolean_or(const toml::table& t, const std::string& path, const char* key, bool fallback) const {
-        if (!t.contains(key)) {
-            return fallback;
-        }
-        const toml::node& n = *t.get(key);
-        if (!n.is_boolean()) {
-            fail(n.source(), join(path, key), "expected true or false");
-        }
-        return n.as_boolean()->get();
-    }
-
-    std::string string_or(const toml::table& t, const std::string& path, const char* key,
-                          const std::string& fallback) const {
-        if (!t.contains(key)) {
-            return fallback;
-        }
-        const toml::node& n = *t.get(key);
-        if (!n.is_string()) {
-            fail(n.source(), join(path, key), "expected a string");
-        }
-        return n.as_string()->get();
     }
 
     std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
@@ -149,10 +64,6 @@ public:
         return *n->as_array();
     }
 
-    const std::string& source() const { return source_; }
-
-private:
-    std::string source_;
 };
 
 NoiseModel load_noise(const Loader& L, const toml::table& s, const std::string& path, SensorKind kind) {
@@ -367,10 +278,7 @@ SceneLoad parse_scene_depth(const std::string& text, const std::string& source_n
         }
         out.ok = true;
     } catch (const toml::parse_error& e) {
-        std::ostringstream m;
-        m << source_name << ':' << e.source().begin.line << ':' << e.source().begin.column
-          << ": TOML syntax: " << e.description();
-        out.error = m.str();
+        out.error = host::toml_syntax_error(source_name, e);
         out.scene = SceneFile{};
     } catch (const SceneError& e) {
         out.error = e.message;

@@ -23,14 +23,16 @@
 #include <vector>
 
 #include "cellguard/grid.hpp"
+#include "cellguard/host/png.hpp"
 #include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/png.hpp"
 #include "cellguard/sim/workcell.hpp"
 #include "cellguard/sensor_frame.hpp"
 #include "cellguard/span.hpp"
 #include "cellguard/zones.hpp"
 
 namespace cellguard::monitor {
+
+using host::RgbImage;  ///< the picture is an RGB image (written by host::write_png)
 
 /// One sensor as the picture needs it.
 struct PictureSensor {
