@@ -135,7 +135,7 @@ sa_tmp=$(mktemp)
     echo "| group | checks enabled |"
     echo "|---|---|"
     clang-tidy --list-checks lib/src/crc32.cpp -- -std=c++17 -Ilib/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
-        | grep -v '^$' | sed -E 's/^([a-z0-9]+)-.*/\1/' | sort | uniq -c | awk '{printf "| %s | %s |\n", $2, $1}'
+        | grep -v '^$' | sed -E 's/^(clang-analyzer|[a-z0-9]+)-.*/\1/' | sort | uniq -c | awk '{printf "| %s | %s |\n", $2, $1}'
     echo
     echo "CERT checks enabled (all of clang-tidy's cert-* aliases and checks):"
     echo
