@@ -1,9 +1,10 @@
 # Runs cellguard-prior and checks how it ends.
-#   -DTOOL=path  -DARGS=a|b|c (arguments, '|'-separated)  -DSTATUS=n (exact exit status)
+#   -DTOOL=path  -DEMULATOR=a|b (optional)  -DARGS=a|b|c (arguments, '|'-separated)  -DSTATUS=n (exact exit status)
 #   -DOUTPUT=regex (optional, must match stdout)
 #   -DERROR=text (optional, must occur in stderr; a refusal must be exactly one line)
 string(REPLACE "|" ";" args "${ARGS}")
-execute_process(COMMAND ${TOOL} ${args} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(REPLACE "|" ";" emulator "${EMULATOR}")  # -DEMULATOR=a|b (optional): a cross build's emulator command
+execute_process(COMMAND ${emulator} ${TOOL} ${args} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT "${status}" STREQUAL "${STATUS}")
   message(FATAL_ERROR "exit status '${status}', expected ${STATUS}\nstdout:\n${out}\nstderr:\n${err}")
 endif()

@@ -55,6 +55,8 @@ const char* kUsage =
     "  --log FILE          candump log path (default: the config's can.log_file)\n"
     "  --can-interface IF  send on SocketCAN interface IF instead of the log\n"
     "  --paced             one cycle per period on the real clock (default: as fast as possible)\n"
+    "  --budget-ms MS      cycle time budget, overriding the config's cycle.budget_ms (1..60000);\n"
+    "                      for tests on emulators or loaded hosts, where the real budget is not the point\n"
     "  --realtime          SCHED_FIFO, mlockall and CPU affinity where permitted\n"
     "  --quiet             no per-cycle status lines\n"
     "  --picture FILE      write a PNG of the grid, the background and the zones\n"
@@ -72,6 +74,7 @@ struct Options {
     std::string log_file;
     std::string can_interface;
     bool paced = false;
+    long budget_ms = -1;  ///< -1: the config's budget
     bool realtime = false;
     bool quiet = false;
     std::string picture;
@@ -119,6 +122,15 @@ Options parse_args(int argc, char** argv) {
             o.can_interface = value("--can-interface");
         } else if (a == "--paced") {
             o.paced = true;
+        } else if (a == "--budget-ms") {
+            const std::string v = value("--budget-ms");
+            char* end = nullptr;
+            errno = 0;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (errno != 0 || end == v.c_str() || *end != '\0' || n < 1 || n > 60000) {
+                usage_error("--budget-ms expects an integer 1..60000, got '" + v + "'");
+            }
+            o.budget_ms = n;
         } else if (a == "--realtime") {
             o.realtime = true;
         } else if (a == "--quiet") {
@@ -274,6 +286,9 @@ int main(int argc, char** argv) {
     }
     if (opt.cycles > 0) {
         cfg.demo_cycles = opt.cycles;
+    }
+    if (opt.budget_ms > 0) {
+        cfg.budget_us = static_cast<std::uint64_t>(opt.budget_ms) * 1000U;
     }
     if (!opt.log_file.empty()) {
         cfg.can.log_file = opt.log_file;
