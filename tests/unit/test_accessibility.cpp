@@ -726,7 +726,7 @@ TEST_CASE("accessibility: bad parameters are refused with kInvalidArgument and n
 }
 
 // verifies: SR-PRIOR-005
-TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall; larger ones are fine") {
+TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall, larger ones are fine") {
     Background bg(5, 4, 3);
     const std::size_t n = bg.lo.size();
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic,

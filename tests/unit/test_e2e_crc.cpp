@@ -121,7 +121,7 @@ TEST_CASE("e2e crc: the Profile 1 CRC equals the profile's chain of Crc_Calculat
 }
 
 // verifies: SR-CAN-001
-TEST_CASE("e2e crc: the counter runs 0 to 14 and wraps 14 -> 0; the delta counts forward modulo 15") {
+TEST_CASE("e2e crc: the counter runs 0 to 14 and wraps 14 -> 0, the delta counts forward modulo 15") {
     CHECK(e2e_p01_next_counter(0U) == 1U);
     CHECK(e2e_p01_next_counter(13U) == 14U);
     CHECK(e2e_p01_next_counter(14U) == 0U);
@@ -136,7 +136,7 @@ TEST_CASE("e2e crc: the counter runs 0 to 14 and wraps 14 -> 0; the delta counts
 }
 
 // verifies: SR-CAN-001
-TEST_CASE("e2e crc: NIBBLE mode takes 12-bit data IDs only; other modes any 16-bit ID; unknown modes none") {
+TEST_CASE("e2e crc: NIBBLE mode takes 12-bit data IDs only, other modes any 16-bit ID, unknown modes none") {
     CHECK(e2e_p01_data_id_valid(0x0FFFU, E2eP01DataIdMode::kNibble));
     CHECK_FALSE(e2e_p01_data_id_valid(0x1000U, E2eP01DataIdMode::kNibble));
     CHECK(e2e_p01_data_id_valid(0xFFFFU, E2eP01DataIdMode::kBoth));

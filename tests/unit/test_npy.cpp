@@ -298,7 +298,7 @@ TEST_CASE("npy: a background grid with a bad value is refused and left cleared")
 }
 
 // verifies: SR-IO-001
-TEST_CASE("npy: a well-formed header in another spelling is read; version 2.0 too") {
+TEST_CASE("npy: a well-formed header in another spelling is read, version 2.0 too") {
     CHECK(decode_i16(make_npy(kGoodDict, 48)).ok());
     CHECK(decode_i16(make_npy("{\"shape\": (2,3,4,), \"descr\": \"<i2\", \"fortran_order\": False}", 48)).ok());
     CHECK(decode_i16(make_npy(kGoodDict, 48, 2)).ok());

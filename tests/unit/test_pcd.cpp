@@ -223,7 +223,7 @@ TEST_CASE("pcd: ascii fields of every type and count are checked and x, y, z are
 }
 
 // verifies: SR-IO-002
-TEST_CASE("pcd: binary records with padding fields, doubles and integers decode; zero padding after them is allowed") {
+TEST_CASE("pcd: binary records with padding fields, doubles and integers decode, zero padding after them is allowed") {
     std::string file =
         "VERSION 0.7\nFIELDS _ x y z rgb\nSIZE 1 8 2 4 4\nTYPE U F U I F\nCOUNT 3 1 1 1 1\n"
         "WIDTH 1\nHEIGHT 2\nVIEWPOINT 1 2 3 0.5 0.5 0.5 0.5\nPOINTS 2\nDATA binary\n";
@@ -292,7 +292,7 @@ TEST_CASE("pcd: binary_compressed data is decompressed and read as one array per
 }
 
 // verifies: SR-IO-002
-TEST_CASE("lzf: overlapping back-references repeat bytes; every out-of-bounds reference or run is refused") {
+TEST_CASE("lzf: overlapping back-references repeat bytes, every out-of-bounds reference or run is refused") {
     std::uint8_t out[16] = {};
     const std::string run = lzf_literal("a") + lzf_backref(9, 1);
     IoStatus st = lzf_decompress(reinterpret_cast<const std::uint8_t*>(run.data()), run.size(), out, 10);

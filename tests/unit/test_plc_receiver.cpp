@@ -121,7 +121,7 @@ TEST_CASE("plc receiver: a bad CRC gives the safe state with reason wrong CRC") 
 }
 
 // verifies: SR-CAN-007
-TEST_CASE("plc receiver: a frame with another data ID is rejected (implicit ID: CRC; NIBBLE: the explicit nibble)") {
+TEST_CASE("plc receiver: a frame with another data ID is rejected (implicit ID: CRC, NIBBLE: the explicit nibble)") {
     Link link;
     (void)link.bring_up();
     SafetyChannelConfig masquerade = link.config.channel;
