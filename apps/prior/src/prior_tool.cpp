@@ -20,6 +20,7 @@
 #include "cellguard/log_odds.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/prior_image.hpp"
+#include "cellguard/sim/experiment.hpp"
 
 namespace cellguard::prior_tool {
 
@@ -73,19 +74,7 @@ std::string shape_text(const NpyHeader& h) {
 
 }  // namespace
 
-const char* method_name(PriorMethod method) noexcept {
-    switch (method) {
-        case PriorMethod::kThresholded:
-            return "thresholded";
-        case PriorMethod::kProbabilistic:
-            return "probabilistic";
-        case PriorMethod::kThresholdedBaseline:
-            return "thresholded-baseline";
-        case PriorMethod::kProbabilisticBaseline:
-            return "probabilistic-baseline";
-    }
-    return "unknown";
-}
+const char* method_name(PriorMethod method) noexcept { return sim::method_name(method); }
 
 bool parse_method(const std::string& text, PriorMethod& method) noexcept {
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic,

@@ -177,15 +177,7 @@ SimulatedFrame render_noisy_frame(const std::vector<SensorSpec>& sensors, const 
             apply_noise(sensors[i], models[i], f.depth[i], rng);
         }
     }
-    for (std::size_t i = 0; i < sensors.size(); ++i) {
-        SensorReading r;
-        r.pose = sensors[i].pose();
-        r.kind = SensorDataKind::kDepthImage;
-        r.depth = Span<const float>(f.depth[i].data(), f.depth[i].size());
-        r.intrinsics = sensors[i].intrinsics();
-        r.max_range = sensors[i].max_range;
-        f.readings.push_back(r);
-    }
+    add_readings(sensors, f);
     return f;
 }
 

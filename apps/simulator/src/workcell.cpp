@@ -9,35 +9,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double deg2rad(double d) { return d * kPi / 180.0; }
 
-// Slab test of a ray against a box rotated by yaw about its centre.
-double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
-    const Eigen::AngleAxisd inv_yaw(-b.yaw, Eigen::Vector3d::UnitZ());
-    const Eigen::Vector3d o = inv_yaw * (origin - b.center);
-    const Eigen::Vector3d d = inv_yaw * dir;
-    const Eigen::Vector3d half = 0.5 * b.size;
-    double t0 = 0.0;
-    double t1 = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-        if (std::fabs(d[a]) < 1e-15) {
-            if (o[a] < -half[a] || o[a] > half[a]) {
-                return std::numeric_limits<double>::infinity();
-            }
-            continue;
-        }
-        double ta = (-half[a] - o[a]) / d[a];
-        double tb = (half[a] - o[a]) / d[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::fmax(t0, ta);
-        t1 = std::fmin(t1, tb);
-        if (t0 > t1) {
-            return std::numeric_limits<double>::infinity();
-        }
-    }
-    return t0;
-}
-
-// intersect_box with the inverse rotation given as a matrix (the product
-// AngleAxis * vector computes through the same matrix).
+// Slab test of a ray against a box rotated by yaw about its centre, the
+// inverse rotation given as a matrix.
 double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, const Eigen::Vector3d& origin,
                               const Eigen::Vector3d& dir) {
     const Eigen::Vector3d o = inv_yaw * (origin - b.center);
@@ -62,6 +35,13 @@ double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, cons
         }
     }
     return t0;
+}
+
+// intersect_box_prepared with the rotation made here (the product
+// AngleAxis * vector computes through the same matrix).
+double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    return intersect_box_prepared(b, Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(), origin,
+                                  dir);
 }
 }  // namespace
 
@@ -199,21 +179,25 @@ void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<floa
     }
 }
 
+void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame) {
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        SensorReading r;
+        r.pose = sensors[i].pose();
+        r.kind = SensorDataKind::kDepthImage;
+        r.depth = Span<const float>(frame.depth[i].data(), frame.depth[i].size());
+        r.intrinsics = sensors[i].intrinsics();
+        r.max_range = sensors[i].max_range;
+        frame.readings.push_back(r);
+    }
+}
+
 SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene) {
     SimulatedFrame f;
     f.depth.resize(sensors.size());
     for (std::size_t i = 0; i < sensors.size(); ++i) {
         render_depth(sensors[i], scene, f.depth[i]);
     }
-    for (std::size_t i = 0; i < sensors.size(); ++i) {
-        SensorReading r;
-        r.pose = sensors[i].pose();
-        r.kind = SensorDataKind::kDepthImage;
-        r.depth = Span<const float>(f.depth[i].data(), f.depth[i].size());
-        r.intrinsics = sensors[i].intrinsics();
-        r.max_range = sensors[i].max_range;
-        f.readings.push_back(r);
-    }
+    add_readings(sensors, f);
     return f;
 }
 

@@ -104,6 +104,10 @@ struct SimulatedFrame {
     std::vector<SensorReading> readings;    ///< one description per sensor
 };
 
+/// Appends to @p frame one depth-image reading per sensor of @p sensors,
+/// pointing into frame.depth (which must hold one image per sensor).
+void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame);
+
 /// Renders every sensor of @p sensors looking at @p scene.
 SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene);
 
