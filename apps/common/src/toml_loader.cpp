@@ -2,6 +2,7 @@
 #include "cellguard/host/toml_loader.hpp"
 
 #include <cmath>
+#include <fstream>
 #include <sstream>
 #include <utility>
 
@@ -11,6 +12,19 @@ std::string toml_syntax_error(const std::string& source, const toml::parse_error
     std::ostringstream m;
     m << source << ':' << e.source().begin.line << ':' << e.source().begin.column << ": TOML syntax: " << e.description();
     return m.str();
+}
+
+bool read_text_file(const std::string& path, std::string& text, std::string& dir) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return false;
+    }
+    std::ostringstream content;
+    content << in.rdbuf();
+    text = content.str();
+    const std::size_t slash = path.find_last_of('/');
+    dir = slash == std::string::npos ? "." : path.substr(0U, slash);
+    return true;
 }
 
 TomlLoader::TomlLoader(std::string source) : source_(std::move(source)) {}

@@ -379,17 +379,14 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
 }
 
 ConfigLoad load_monitor_config(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    std::string text;
+    std::string dir;
+    if (!host::read_text_file(path, text, dir)) {
         ConfigLoad out;
         out.error = path + ": cannot open the configuration file";
         return out;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::size_t slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : path.substr(0U, slash);
-    return parse_monitor_config(text.str(), path, dir);
+    return parse_monitor_config(text, path, dir);
 }
 
 MonitorConfig demo_config() {

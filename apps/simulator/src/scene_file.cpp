@@ -4,7 +4,6 @@
 #include <toml++/toml.h>
 
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <sstream>
 #include <utility>
@@ -200,17 +199,14 @@ SceneLoad parse_scene_depth(const std::string& text, const std::string& source_n
                             int depth);
 
 SceneLoad load_scene_file_depth(const std::string& path, int depth) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    std::string text;
+    std::string dir;
+    if (!host::read_text_file(path, text, dir)) {
         SceneLoad out;
         out.error = path + ": cannot open the scene file";
         return out;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::size_t slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : path.substr(0U, slash);
-    return parse_scene_depth(text.str(), path, dir, depth);
+    return parse_scene_depth(text, path, dir, depth);
 }
 
 SceneLoad parse_scene_depth(const std::string& text, const std::string& source_name, const std::string& base_dir,

@@ -23,6 +23,10 @@ struct TomlError {
 /// in @p source.
 std::string toml_syntax_error(const std::string& source, const toml::parse_error& e);
 
+/// Reads the file @p path into @p text and sets @p dir to its folder ("."
+/// when @p path has no slash); false when the file cannot be opened.
+bool read_text_file(const std::string& path, std::string& text, std::string& dir);
+
 /// Typed, checked access to the tables of one TOML file; every error throws
 /// a TomlError. Keys are named by their dotted path ("grid.voxel_size").
 class TomlLoader {
