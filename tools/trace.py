@@ -16,8 +16,8 @@ requirements) and certification/requirements-index.md. Output is
 deterministic: sorted, without line numbers or dates.
 
 Exit status: 1 when a requirement has no test, a test names an unknown
-requirement, or a verifies line is malformed; 0 otherwise. Untagged tests
-are listed as a warning (new tests arrive untagged and are tagged later).
+requirement, a test names no requirement, a verifies line is malformed, or
+a doctest name holds ';' (ctest would split it and run nothing); 0 otherwise.
 
 Usage: tools/trace.py [--out-dir DIR] [--ctest BUILD_DIR]
   --out-dir  write the two files there instead of certification/
@@ -249,6 +249,10 @@ def main():
     # CMake lists split on ';': doctest_discover_tests registers a test whose
     # name holds ';' as several ctest entries that each run no test case.
     split = [t for t in tests if t["kind"] == "doctest" and ";" in t["name"]]
+    for t in untagged:
+        errors.append(f"{t['file']}: test '{t['name']}' names no requirement (add a verifies: line above it)")
+    for t in split:
+        errors.append(f"{t['file']}: test '{t['name']}' holds ';': ctest splits it into entries that run nothing")
 
     L = []
     L.append("# Traceability: requirements and tests")
@@ -265,9 +269,9 @@ def main():
     L.append(f"- tests found: {len(tests)} ({sum(1 for t in tests if t['kind'] == 'doctest')} doctest test cases, "
              f"{sum(1 for t in tests if t['kind'] == 'ctest')} CMake add_test)")
     L.append(f"- tests naming requirements: {len(tagged)}")
-    L.append(f"- tests not yet naming a requirement (warning): {len(untagged)}")
+    L.append(f"- tests not yet naming a requirement (error): {len(untagged)}")
     L.append(f"- references to unknown requirements: {len(unknown)}")
-    L.append(f"- test names that ctest splits at ';' (warning, not run by ctest): {len(split)}")
+    L.append(f"- test names that ctest splits at ';' (error, not run by ctest): {len(split)}")
     L.append("")
     L.append("## Requirement -> tests")
     L.append("")

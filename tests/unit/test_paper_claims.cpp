@@ -109,6 +109,7 @@ InteriorCount count_foreground(const std::vector<std::uint8_t>& mask, const sim:
 
 }  // namespace
 
+// verifies: SR-EVAL-002
 TEST_CASE("paper claim 1: on the large object both methods score well and beat their baselines, which keep the "
           "interiors of background boxes below t_f = 0.5") {
     sim::SceneResult r(config().geometry);
@@ -175,6 +176,7 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
                              << count_foreground(deep, pro_base, 0.2).foreground << " (t_f 0.2) foreground");
 }
 
+// verifies: SR-EVAL-002
 TEST_CASE("paper claim 2: on the small object the probabilistic method's precision is far above the thresholded "
           "one's at high recall") {
     sim::SceneResult r(config().geometry);
@@ -205,6 +207,7 @@ TEST_CASE("paper claim 2: on the small object the probabilistic method's precisi
     CHECK(precision_at(pro, 0.7) > precision_at(thr, 0.7));
 }
 
+// verifies: SR-EVAL-002
 TEST_CASE("paper claim 3: with no foreground, no voxel inside a background box is foreground after subtraction") {
     sim::SceneResult r(config().geometry);
     run("empty", r);

@@ -176,6 +176,7 @@ std::vector<std::uint8_t> raw_npy(const std::string& dict, std::size_t data_byte
 
 }  // namespace
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: the simulated cell gives an image the loader accepts, equal to lib's prior of the same background") {
     TempDir dir;
     const Run r = run_tool({"--simulated", "--out", dir / "out"});
@@ -213,6 +214,7 @@ TEST_CASE("prior tool: the simulated cell gives an image the loader accepts, equ
     CHECK(text.find("namespace cellguard_prior {") != std::string::npos);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: the .npy outputs are float32 of shape (nz, ny, nx) with P(fore) = P(acc) / 2") {
     TempDir dir;
     for (const char* method : {"probabilistic", "thresholded"}) {
@@ -259,6 +261,7 @@ TEST_CASE("prior tool: the .npy outputs are float32 of shape (nz, ny, nx) with P
     }
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: a background .npy round trip gives the prior lib computes directly, for all four methods") {
     TempDir dir;
     BackgroundGrid bg;
@@ -300,6 +303,7 @@ TEST_CASE("prior tool: a background .npy round trip gives the prior lib computes
     }
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: without observed flags, voxels with no evidence count as unobserved") {
     TempDir dir;
     BackgroundGrid bg;
@@ -318,6 +322,7 @@ TEST_CASE("prior tool: without observed flags, voxels with no evidence count as 
     CHECK(image_values(dir / "out/prior.cgprior", paper_grid_geometry()) == direct_prior(bg.grid, AccessibilityParams{}));
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and the problem, and write nothing") {
     TempDir dir;
     const GridDims dims = paper_grid_geometry().dims();
@@ -379,6 +384,7 @@ TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and 
     CHECK(good.status == kExitOk);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: bad option values exit 2 with one line naming the option") {
     TempDir dir;
     const std::string out = dir / "out";
@@ -428,6 +434,7 @@ TEST_CASE("prior tool: bad option values exit 2 with one line naming the option"
     CHECK(help.out.find("--background-npy FILE") != std::string::npos);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: an output directory that cannot be created exits 1") {
     TempDir dir;
     REQUIRE(write_bytes(dir / "file", {'x'}));
@@ -436,6 +443,7 @@ TEST_CASE("prior tool: an output directory that cannot be created exits 1") {
     CHECK(r.err.find("cannot create the output directory") != std::string::npos);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config give the simulated cell's prior") {
     // The simulated empty cell as recorded point clouds: each depth image back
     // projected into the sensor frame, one folder per sensor of paper-cell.toml.
@@ -513,6 +521,7 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     CHECK(bad.err.find("no sensor 'lidar-z'") != std::string::npos);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files like --frames") {
     TempDir dir;
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
@@ -563,6 +572,7 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
     CHECK(none.err.find("have no pcd_files") != std::string::npos);
 }
 
+// verifies: SR-PRIOR-015
 TEST_CASE("prior tool: parse_open_faces and method names round trip") {
     std::uint8_t faces = 0;
     CHECK(parse_open_faces("sides", faces));

@@ -61,6 +61,7 @@ ErrorStats depth_error(const WallSetup& w, const sim::NoiseModel& model, std::ui
 
 }  // namespace
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: a prepared scene casts the same distances and renders the same images as the plain one") {
     const sim::Scene scene = sim::reference_scene();
     const sim::PreparedScene prepared(scene);
@@ -80,6 +81,7 @@ TEST_CASE("simulator: a prepared scene casts the same distances and renders the 
     CHECK(sim::cast_ray_hit(scene, origin, Eigen::Vector3d(0.0, 0.0, -1.0)).box == -1);  // the floor
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: noisy frames are deterministic for a seed, and ideal models change nothing") {
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
     const sim::Scene scene = sim::reference_scene();
@@ -103,6 +105,7 @@ TEST_CASE("simulator: noisy frames are deterministic for a seed, and ideal model
     }
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: flash-lidar range noise follows sigma = base + per_m * range") {
     sim::NoiseModel m;
     m.kind = sim::SensorKind::kFlashLidar;
@@ -120,6 +123,7 @@ TEST_CASE("simulator: flash-lidar range noise follows sigma = base + per_m * ran
     }
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: stereo depth noise grows with the square of depth, and pixels go missing at the set rate") {
     sim::NoiseModel m;
     m.kind = sim::SensorKind::kStereo;
@@ -140,6 +144,7 @@ TEST_CASE("simulator: stereo depth noise grows with the square of depth, and pix
     CHECK(b.missing == doctest::Approx(m.stereo.missing_probability).epsilon(0.15));
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: flash-lidar mixed pixels fall between the two surfaces of a depth edge") {
     WallSetup w(3.0);
     w.scene.boxes.push_back(sim::Box{{1.5, 0.0, 1.0}, {0.2, 0.4, 0.4}, 0.0, true});  // a block in front
@@ -163,6 +168,7 @@ TEST_CASE("simulator: flash-lidar mixed pixels fall between the two surfaces of 
     CHECK(between > 20U);
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: scene files give boxes, sensors, noise and people, and name the first error's place") {
     const std::string text = R"(
 name = "t"
@@ -216,6 +222,7 @@ path = [[0.0, 0.0], [1.0, 0.0]]
     CHECK_FALSE(sim::load_scene_file("/nonexistent/scene.toml").ok);
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: the person walks along the path at its speed and stops at its end") {
     sim::PersonSpec p;
     p.height_m = 1.8;
@@ -242,6 +249,7 @@ TEST_CASE("simulator: the person walks along the path at its speed and stops at 
     CHECK(end.y() == doctest::Approx(1.0));
 }
 
+// verifies: SR-EVAL-001
 TEST_CASE("simulator: the ideal ground truth labels the visible surface of a foreground box foreground and its "
           "hidden interior unknown") {
     const GridGeometry g = paper_grid_geometry();
@@ -272,6 +280,7 @@ TEST_CASE("simulator: the ideal ground truth labels the visible surface of a for
     CHECK(inside[g.index_of(g.world_to_voxel(Eigen::Vector3d(0.0, 0.6, 0.3)).value())] == 0U);
 }
 
+// verifies: SR-EVAL-002
 TEST_CASE("simulator: precision-recall sweep counts exactly from the histograms") {
     sim::ScoreHistogram h;
     std::vector<std::int16_t> sub = {1000, -1000, 0, kNeverForeground, 500};
