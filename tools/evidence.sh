@@ -183,8 +183,11 @@ rm -f "$out/.unit1.log" "$out/.unit2.log"
 # --exclude-unreachable-branches: drops branches gcc attributes to lines without
 # code (closing braces, compiler-generated cleanup); no branch a test could take.
 # No --exclude-throw-branches: lib/ is built with -fno-exceptions, it has no throw branches.
+# The coverage build is also the search path: by default gcovr searches the
+# whole --root for .gcda files and merged other coverage builds' data into this one.
 gcovr_args=(--root . --object-directory "$cov_build" --filter 'lib/' --exclude-unreachable-branches
-            --exclude-directories '.*/CMakeFiles/[0-9.]+')  # CMake's compiler-identification objects
+            --exclude-directories '.*/CMakeFiles/[0-9.]+'  # CMake's compiler-identification objects
+            "$cov_build")
 # gcov's warnings about stale objects of removed sources go to a log, shown only on failure.
 gcovr "${gcovr_args[@]}" --json-summary "$out/coverage-summary.json" --json-summary-pretty >/dev/null 2>"$out/.gcovr.log" \
     || { cat "$out/.gcovr.log" >&2; fail "gcovr"; }
