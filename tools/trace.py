@@ -133,6 +133,17 @@ def walk(pattern_ok):
                 yield path
 
 
+def tagged_ids(lines, i, comment, pattern, where, name, errors):
+    """The requirement IDs of the verifies line above lines[i] (None: no such line); malformed IDs go to errors."""
+    tag, _ = tag_above(lines, i, comment, pattern)
+    if tag is None:
+        return None
+    ids, bad = parse_ids(tag)
+    for b in bad:
+        errors.append(f"{where}: test '{name}': malformed requirement ID '{b}'")
+    return [x for x in ids if ID_RE.match(x)]
+
+
 def find_tests():
     tests = []  # dicts: name, file, kind, ids(list) or None
     errors = []
@@ -146,13 +157,7 @@ def find_tests():
             if not m:
                 continue
             name = join_literals("".join(lines[i:i + 4]), m.start(1) - 1)
-            tag, _ = tag_above(lines, i, "//", CPP_TAG)
-            ids = None
-            if tag is not None:
-                ids, bad = parse_ids(tag)
-                for b in bad:
-                    errors.append(f"{rel(path)}: test '{name}': malformed requirement ID '{b}'")
-                ids = [x for x in ids if ID_RE.match(x)]
+            ids = tagged_ids(lines, i, "//", CPP_TAG, rel(path), name, errors)
             tests.append({"name": name, "file": rel(path), "kind": "doctest", "ids": ids})
     cmakes = [p for p in walk(lambda d, f: f == "CMakeLists.txt")]
     for path in cmakes:
@@ -163,13 +168,7 @@ def find_tests():
             if not m:
                 continue
             name = m.group(1)
-            tag, _ = tag_above(lines, i, "#", CMAKE_TAG)
-            ids = None
-            if tag is not None:
-                ids, bad = parse_ids(tag)
-                for b in bad:
-                    errors.append(f"{rel(path)}: test '{name}': malformed requirement ID '{b}'")
-                ids = [x for x in ids if ID_RE.match(x)]
+            ids = tagged_ids(lines, i, "#", CMAKE_TAG, rel(path), name, errors)
             tests.append({"name": name, "file": rel(path), "kind": "ctest", "ids": ids})
     return tests, errors
 

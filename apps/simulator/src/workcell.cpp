@@ -162,21 +162,8 @@ bool box_contains(const Box& box, const Eigen::Vector3d& p) {
 }
 
 void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth) {
-    const PinholeIntrinsics k = sensor.intrinsics();
-    const Eigen::Isometry3d pose = sensor.pose();
-    depth.assign(static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height), 0.0F);
-    for (std::int32_t v = 0; v < k.height; ++v) {
-        for (std::int32_t u = 0; u < k.width; ++u) {
-            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-            const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
-            const double t = cast_ray(scene, pose.translation(), dir);
-            const double z = t / ray_cam.norm();  // depth along the optical axis
-            if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
-                depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u)] =
-                    static_cast<float>(z);
-            }
-        }
-    }
+    // One ray caster: the prepared scene casts exactly the plain scene's distances (tested).
+    render_depth(sensor, PreparedScene(scene), depth);
 }
 
 void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame) {
