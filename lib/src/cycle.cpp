@@ -7,7 +7,9 @@ namespace cellguard {
 CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
                                   const CompiledZones& zones) noexcept {
     CycleWorkBound b;
+    std::uint64_t depth_images = 0U;
     for (const SensorReading& s : sensors) {
+        depth_images += s.kind == SensorDataKind::kDepthImage ? 1U : 0U;
         const std::uint64_t n =
             s.kind == SensorDataKind::kDepthImage
                 ? static_cast<std::uint64_t>(s.intrinsics.width > 0 ? s.intrinsics.width : 0) *
@@ -16,7 +18,7 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
         b.rays += n;
     }
     b.voxel_steps = b.rays * static_cast<std::uint64_t>(max_voxels_per_segment(grid));
-    b.grid_voxels = 2U * static_cast<std::uint64_t>(grid.voxel_count());
+    b.grid_voxels = (2U + 2U * depth_images) * static_cast<std::uint64_t>(grid.voxel_count());
     b.zone_updates = static_cast<std::uint64_t>(zones.total_memberships());
     return b;
 }

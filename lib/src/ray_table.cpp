@@ -1,7 +1,11 @@
 #include "cellguard/ray_table.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#include "cellguard/contract.hpp"
+#include "cellguard/log_odds.hpp"
 
 namespace cellguard {
 
@@ -44,8 +48,7 @@ Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReadin
     const Eigen::Vector3d origin = sensor.pose.translation();
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
         for (std::int32_t u = 0; u < sensor.intrinsics.width; ++u) {
-            // The pixel's voxels plus its end marker.
-            total += 1U + traverse(rasterization, grid, origin, pixel_ray(sensor, u, v).far_point,
+            total += traverse(rasterization, grid, origin, pixel_ray(sensor, u, v).far_point,
                                    [](const TraversedVoxel& /*voxel*/) {});
         }
     }
@@ -61,43 +64,50 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     const std::size_t pixels =
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
     if (storage.pixel_begin.size() < pixels + 1U || storage.pixel_enter.size() < pixels ||
-        storage.pixel_norm.size() < pixels) {
+        storage.pixel_exit.size() < pixels || storage.pixel_norm.size() < pixels ||
+        storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
+    const std::size_t capacity =
+        storage.voxels.size() < storage.t_exit.size() ? storage.voxels.size() : storage.t_exit.size();
     const Eigen::Vector3d origin = sensor.pose.translation();
+    constexpr float kNone = std::numeric_limits<float>::infinity();
     std::size_t n = 0U;
-    bool overflow = false;
     std::size_t pixel = 0U;
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
         for (std::int32_t u = 0; u < sensor.intrinsics.width; ++u, ++pixel) {
             const PixelRay ray = pixel_ray(sensor, u, v);
+            if (n > std::numeric_limits<std::uint32_t>::max()) {
+                return ErrorCode::kCapacityExceeded;
+            }
             storage.pixel_begin[pixel] = static_cast<std::uint32_t>(n);
             storage.pixel_norm[pixel] = static_cast<float>(ray.norm);
-            storage.pixel_enter[pixel] = std::numeric_limits<float>::infinity();
-            bool first = true;
+            storage.pixel_enter[pixel] = kNone;
+            storage.pixel_exit[pixel] = kNone;
+            float last_exit = -kNone;
             (void)traverse(rasterization, grid, origin, ray.far_point, [&](const TraversedVoxel& t) {
-                if (first) {
+                const auto t_exit = static_cast<float>(t.t_exit);
+                // fuse() binary-searches a pixel's exit distances: they must not decrease.
+                CG_ENFORCE(t_exit >= last_exit, "ray traversal exit distances must not decrease");
+                if (last_exit == -kNone) {
                     storage.pixel_enter[pixel] = static_cast<float>(t.t_enter);
-                    first = false;
                 }
-                if (n < storage.steps.size()) {
-                    storage.steps[n] = RayStep{static_cast<std::uint32_t>(t.index), static_cast<float>(t.t_exit)};
+                last_exit = t_exit;
+                if (n < capacity) {
+                    storage.voxels[n] = static_cast<std::uint32_t>(t.index);
+                    storage.t_exit[n] = t_exit;
                 }
                 ++n;
             });
-            if (n < storage.steps.size()) {
-                storage.steps[n] = RayStep{kRayEndMarker, std::numeric_limits<float>::infinity()};
-            }
-            ++n;
-            if (n > std::numeric_limits<std::uint32_t>::max()) {
-                overflow = true;
+            if (last_exit != -kNone) {
+                storage.pixel_exit[pixel] = last_exit;
             }
         }
     }
-    if (overflow) {
+    if (n > std::numeric_limits<std::uint32_t>::max()) {
         return ErrorCode::kCapacityExceeded;
     }
-    if (n > storage.steps.size()) {
+    if (n > capacity) {
         return ErrorCode::kStorageTooSmall;
     }
     storage.pixel_begin[pixels] = static_cast<std::uint32_t>(n);
@@ -111,6 +121,59 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     return table;
 }
 
+namespace {
+
+/// A hint to load @p address into the cache ahead of its use (no effect on
+/// results; compilers without the builtin get nothing).
+inline void prefetch(const void* address) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(address);
+#else
+    (void)address;
+#endif
+}
+
+/// How many pixels ahead fuse() asks for a pixel's last exit distances.
+constexpr std::size_t kPrefetchPixels = 16U;
+
+/// The end of a pixel's constant part: the first of the entries [first, end)
+/// whose exit distance exceeds @p free_until (end if none). The entries'
+/// exit distances do not decrease; the pixel's ray crosses the grid between
+/// @p enter and @p exit (> free_until), with its voxels spread about evenly
+/// along it, so the search starts at the proportional estimate and steps
+/// from there: a few steps in practice, at most end - first.
+std::uint32_t find_free_end(const float* t_exit, std::uint32_t first, std::uint32_t end, float free_until, float enter,
+                            float exit) noexcept {
+    if (free_until < enter) {
+        return first;
+    }
+    const float fraction = (free_until - enter) / (exit - enter);  // in [0, 1): free_until < exit
+    const auto span = static_cast<float>(end - first);
+    std::uint32_t k = first + static_cast<std::uint32_t>(fraction >= 0.0F && fraction < 1.0F ? fraction * span : 0.0F);
+    if (k > end) {
+        k = end;
+    }
+    while (k > first && t_exit[k - 1U] > free_until) {
+        --k;
+    }
+    while (k < end && t_exit[k] <= free_until) {
+        ++k;
+    }
+    return k;
+}
+
+/// @p value plus @p hits times @p constant plus @p correction, summed
+/// exactly in 64 bits (|hits x constant| < 2^47) and saturated once.
+std::int16_t add_frame_sum_saturating(std::int16_t value, std::uint32_t hits, std::int16_t constant,
+                                      std::int32_t correction) noexcept {
+    const std::int64_t sum = static_cast<std::int64_t>(value) +
+                             static_cast<std::int64_t>(hits) * static_cast<std::int64_t>(constant) +
+                             static_cast<std::int64_t>(correction);
+    return static_cast<std::int16_t>(sum < kLogOddsMin ? kLogOddsMin : sum > kLogOddsMax ? kLogOddsMax : sum);
+}
+
+}  // namespace
+
 Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                                    const SensorModelTable& model) const noexcept {
     if (pixels_ == 0U) {
@@ -122,16 +185,46 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     if (depth.size() != pixels_) {
         return ErrorCode::kMalformedInput;
     }
-    std::int16_t* const lo = grid.log_odds().data();
-    std::uint8_t* const obs = grid.observed().data();
-    const RayStep* const steps = storage_.steps.data();
-    const std::uint32_t* const begin = storage_.pixel_begin.data();
-    CG_ENFORCE(step_count_ <= storage_.steps.size(), "ray table storage changed size");
+    const std::size_t voxel_count = geometry_.voxel_count();
+    CG_ENFORCE(step_count_ <= storage_.voxels.size() && step_count_ <= storage_.t_exit.size() &&
+                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
+               "ray table storage changed size");
     const std::int16_t constant = model.constant_free_evidence();
     const std::int16_t peak = model.reading_evidence();
+    // A ramp or peak voxel's correction (evidence minus the constant) lies in
+    // [0, peak - constant]; the corrections of one frame sum exactly in 32
+    // bits when every pixel's could land in one voxel.
+    const auto max_correction = static_cast<std::uint64_t>(static_cast<std::int32_t>(peak) - constant);
+    if (static_cast<std::uint64_t>(pixels_) * max_correction > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
+        return ErrorCode::kInvalidArgument;
+    }
+    std::int16_t* const lo = grid.log_odds().data();
+    std::uint8_t* const obs = grid.observed().data();
+    const std::uint32_t* const voxels = storage_.voxels.data();
+    const float* const t_exit = storage_.t_exit.data();
+    const std::uint32_t* const begin = storage_.pixel_begin.data();
+    std::uint32_t* const hits = storage_.hit_count.data();
+    std::int32_t* const correction = storage_.hit_correction.data();
+    for (std::size_t v = 0U; v < voxel_count; ++v) {
+        hits[v] = 0U;
+        correction[v] = 0;
+    }
     const auto ramp = static_cast<float>(model.ramp_length());
+    // The pending run of constant-evidence voxels: table entries [run_begin, run_end).
+    std::uint32_t run_begin = 0U;
+    std::uint32_t run_end = 0U;
+    const auto count_run = [&]() noexcept {
+        for (std::uint32_t k = run_begin; k < run_end; ++k) {
+            ++hits[voxels[k]];
+        }
+    };
     FusionStats s;
     for (std::size_t i = 0U; i < pixels_; ++i) {
+        // A reading inside the grid reads exit distances near its ray's end:
+        // a cache miss per pixel unless asked for ahead.
+        if (i + kPrefetchPixels < pixels_) {
+            prefetch(t_exit + begin[i + kPrefetchPixels + 1U]);
+        }
         const float d = depth[i];
         if (std::isnan(d)) {
             ++s.skipped_nan;
@@ -155,33 +248,48 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
             continue;
         }
         ++s.rays_fused;
-        const RayStep* step = steps + begin[i];
         if (range < storage_.pixel_enter[i]) {
             continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
         }
-        const RayStep* const first = step;
-        // Every pixel's steps end with a marker whose t_exit is +inf, so the
-        // loops below need no end check: no finite range passes the marker.
-        // The constant part of the profile: voxels left at least one ramp before the reading.
+        const std::uint32_t first = begin[i];
+        const std::uint32_t end = begin[i + 1U];
+        // The constant part of the profile: the voxels left at least one ramp
+        // before the reading, entries [first, free_end).
         const float free_until = range - ramp;
-        for (; step->t_exit <= free_until; ++step) {
-            lo[step->voxel] = add_finite_saturating(lo[step->voxel], constant);
-            obs[step->voxel] = 1U;
+        std::uint32_t free_end = end;
+        if (free_until < storage_.pixel_exit[i]) {
+            free_end = find_free_end(t_exit, first, end, free_until, storage_.pixel_enter[i], storage_.pixel_exit[i]);
         }
-        // The ramp: voxels left before the reading.
-        for (; step->t_exit <= range; ++step) {
-            const std::int16_t e = model.free_evidence(static_cast<double>(range - step->t_exit));
-            lo[step->voxel] = add_finite_saturating(lo[step->voxel], e);
-            obs[step->voxel] = 1U;
+        // The ramp: voxels left before the reading; then the voxel holding
+        // the reading, if it lies inside the grid. Every walked voxel is
+        // counted in the run as if it got the constant, and a ramp or peak
+        // voxel's correction (its evidence minus the constant) is summed
+        // apart: so the runs of successive pixels stay contiguous whenever a
+        // reading lies in its ray's last voxel or beyond.
+        std::uint32_t k = free_end;
+        for (; k < end && t_exit[k] <= range; ++k) {
+            const std::int16_t e = model.free_evidence(static_cast<double>(range - t_exit[k]));
+            correction[voxels[k]] += static_cast<std::int32_t>(e) - constant;
         }
-        // The voxel holding the reading, if the reading lies inside the grid.
-        if (step->voxel != kRayEndMarker) {
-            lo[step->voxel] = add_finite_saturating(lo[step->voxel], peak);
-            obs[step->voxel] = 1U;
-            ++step;
+        if (k < end) {
+            correction[voxels[k]] += static_cast<std::int32_t>(peak) - constant;
+            ++k;
             ++s.readings_in_grid;
         }
-        s.voxel_updates += static_cast<std::uint64_t>(step - first);
+        if (first != run_end) {
+            count_run();
+            run_begin = first;
+        }
+        run_end = k;
+        s.voxel_updates += static_cast<std::uint64_t>(k - first);
+    }
+    count_run();
+    // Each crossed voxel's exact sum, added with one saturation.
+    for (std::size_t v = 0U; v < voxel_count; ++v) {
+        if (hits[v] != 0U) {
+            lo[v] = add_frame_sum_saturating(lo[v], hits[v], constant, correction[v]);
+            obs[v] = 1U;
+        }
     }
     return s;
 }

@@ -25,10 +25,12 @@
 // Usage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit]
 //   --cycles N   measured cycles (default 10000), after 20 warm-up cycles
 //   --readings   max-range (default, the worst case): every reading at
-//                the sensor's maximum range; grid-exit: every reading just
-//                beyond where its ray leaves the grid, so the same voxels are
-//                walked but the last ones take the sensor profile's ramp
-//                (a per-voxel table look-up) instead of the constant part
+//                the sensor's maximum range; grid-exit: every reading 1 mm
+//                before where its ray leaves the grid, so the same voxels are
+//                walked but each ray's end must be searched for (a binary
+//                search of its exit distances), its last voxels take the
+//                sensor profile's ramp (a per-voxel table look-up) and its
+//                last voxel the reading's peak
 //   --no-timing  no warm-up and no timing report (for callgrind:
 //                tools/bench-cycle-callgrind.sh divides the instructions
 //                counted inside run_cycle by N)
@@ -47,6 +49,7 @@
 #include <time.h>
 
 #include "cellguard/cycle.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/safety_controller.hpp"
@@ -222,10 +225,7 @@ int main(int argc, char** argv) {
     // Ray tables, built as cellguard-monitor builds them.
     std::vector<SensorReading> readings(n_sensors);
     std::vector<std::vector<float>> depth(n_sensors);
-    std::vector<std::vector<RayStep>> steps(n_sensors);
-    std::vector<std::vector<std::uint32_t>> begins(n_sensors);
-    std::vector<std::vector<float>> enters(n_sensors), norms(n_sensors);
-    std::vector<RayTable> tables(n_sensors);
+    std::vector<host::OwnedRayTable> tables(n_sensors);
     std::uint64_t table_voxel_steps = 0U;  // every pixel's whole ray in the grid
     for (std::size_t s = 0U; s < n_sensors; ++s) {
         const std::size_t px = static_cast<std::size_t>(specs[s].width) * static_cast<std::size_t>(specs[s].height);
@@ -236,26 +236,23 @@ int main(int argc, char** argv) {
         r.max_range = specs[s].max_range;
         depth[s].assign(px, 1.0F);
         r.depth = Span<const float>(depth[s].data(), px);
-        const std::size_t n = count_ray_steps(g, r).value();
-        steps[s].resize(n);
-        begins[s].resize(px + 1U);
-        enters[s].resize(px);
-        norms[s].resize(px);
-        tables[s] = RayTable::build(g, r,
-                                    RayTableStorage{{steps[s].data(), n}, {begins[s].data(), px + 1U},
-                                                    {enters[s].data(), px}, {norms[s].data(), px}})
-                        .value();
-        table_voxel_steps += n - px;  // minus one end marker per pixel
+        if (!tables[s].build(g, r).ok()) {
+            std::fprintf(stderr, "bench_cycle: ray table of sensor %zu refused\n", s);
+            return 2;
+        }
+        table_voxel_steps += tables[s].table().step_count();
+        const std::vector<std::uint32_t>& begins = tables[s].pixel_begin();
+        const std::vector<float>& norms = tables[s].pixel_norm();
         // Every reading at the maximum range: depth along the axis = range / |dir|,
         // the largest float whose range (as the table computes it) is within max_range.
+        // grid-exit: the reading 1 mm before where the ray leaves the grid.
         for (std::size_t i = 0U; i < px; ++i) {
             float range = r.max_range;
-            const std::uint32_t last = begins[s][i + 1U] - 1U;  // the pixel's end marker
-            if (grid_exit && last > begins[s][i]) {
-                range = std::min(r.max_range, steps[s][last - 1U].t_exit + 0.001F);
+            if (grid_exit && begins[i + 1U] > begins[i]) {
+                range = std::min(r.max_range, tables[s].t_exit()[begins[i + 1U] - 1U] - 0.001F);
             }
-            float d = range / norms[s][i];
-            while (d * norms[s][i] > range) {
+            float d = range / norms[i];
+            while (d * norms[i] > range) {
                 d = std::nextafter(d, 0.0F);
             }
             depth[s][i] = d;
@@ -307,13 +304,13 @@ int main(int argc, char** argv) {
     for (std::size_t s = 0U; s < n_sensors; ++s) {
         inputs[s].reading = readings[s];
         inputs[s].present = true;
-        inputs[s].table = &tables[s];
+        inputs[s].table = &tables[s].table();
     }
 
     std::printf("bench_cycle: the paper's cell, worst-case inputs\n");
     std::printf("  grid %d x %d x %d = %zu voxels; %zu sensors, %llu pixels, every reading %s\n", g.dims().nx,
                 g.dims().ny, g.dims().nz, g.voxel_count(), n_sensors, static_cast<unsigned long long>(bound.rays),
-                grid_exit ? "1 mm beyond where its ray leaves the grid" : "at the sensor's max range (10 m)");
+                grid_exit ? "1 mm before where its ray leaves the grid" : "at the sensor's max range (10 m)");
     std::printf("  %zu zones (kMaxZones), each covering the grid; prior: every voxel foreground (%d)\n", zones.size(),
                 static_cast<int>(kLogOddsMax));
 
@@ -364,9 +361,9 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(bound.voxel_steps),
                 static_cast<unsigned long long>(worst_ops.voxel_steps),
                 static_cast<unsigned long long>(table_voxel_steps));
-    std::printf("  %-34s %12llu %12llu   (clear + subtract: by construction)\n", "grid-pass voxels",
-                static_cast<unsigned long long>(bound.grid_voxels),
-                static_cast<unsigned long long>(2U * g.voxel_count()));
+    std::printf("  %-34s %12llu %12llu   (clear + subtract + each table's hit counts: by construction)\n",
+                "grid-pass voxels", static_cast<unsigned long long>(bound.grid_voxels),
+                static_cast<unsigned long long>((2U + 2U * n_sensors) * g.voxel_count()));
     std::printf("  %-34s %12llu %12llu%s\n", "zone updates ((voxel, zone) pairs)",
                 static_cast<unsigned long long>(bound.zone_updates),
                 static_cast<unsigned long long>(worst_ops.zone_visits), timing ? "" : "   (first cycle only)");
@@ -420,7 +417,7 @@ int main(int argc, char** argv) {
     // measured above, plus the largest logic + output time seen.
     const auto bound_ms = [&](double ns_step, double ns_zone, double rest) {
         return (static_cast<double>(bound.voxel_steps) * ns_step +
-                static_cast<double>(bound.grid_voxels / 2U + bound.zone_updates) * ns_zone) /
+                static_cast<double>(g.voxel_count() + bound.zone_updates) * ns_zone) /
                    1e6 +
                rest;
     };
@@ -429,7 +426,7 @@ int main(int argc, char** argv) {
     const double b_p99 = bound_ms(percentile(step_ns, 0.99), percentile(zone_ns, 0.99), rest_max);
     const double tight_ms =
         (static_cast<double>(table_voxel_steps) * median(step_ns) +
-         static_cast<double>(bound.grid_voxels / 2U + bound.zone_updates) * median(zone_ns)) / 1e6 + rest_max;
+         static_cast<double>(g.voxel_count() + bound.zone_updates) * median(zone_ns)) / 1e6 + rest_max;
     std::printf("\ncomputed bound in time (the bound's operations x per-operation CPU cost measured in this run):\n");
     std::printf("  cost per voxel step %.3f ns (median; p99 %.3f); per grid voxel or zone visit %.3f ns (median; p99 %.3f)\n",
                 median(step_ns), percentile(step_ns, 0.99), median(zone_ns), percentile(zone_ns, 0.99));

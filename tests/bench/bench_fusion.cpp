@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cellguard/fusion.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
 
@@ -63,23 +64,14 @@ GridRun run_cellguard(const GridGeometry& g, const std::vector<SensorReading>& r
 // The same frames through precomputed ray tables (built once, outside the timing).
 GridRun run_ray_tables(const GridGeometry& g, const std::vector<SensorReading>& readings, int frames,
                        std::size_t* table_bytes) {
-    std::vector<std::vector<RayStep>> steps(readings.size());
-    std::vector<std::vector<std::uint32_t>> begin(readings.size());
-    std::vector<std::vector<float>> enter(readings.size()), norm(readings.size());
-    std::vector<RayTable> tables;
+    std::vector<host::OwnedRayTable> tables(readings.size());
     *table_bytes = 0;
     for (std::size_t s = 0; s < readings.size(); ++s) {
-        const std::size_t n = count_ray_steps(g, readings[s]).value();
-        const std::size_t px = readings[s].depth.size();
-        steps[s].resize(n);
-        begin[s].resize(px + 1);
-        enter[s].resize(px);
-        norm[s].resize(px);
-        tables.push_back(RayTable::build(g, readings[s],
-                                         RayTableStorage{{steps[s].data(), n}, {begin[s].data(), px + 1},
-                                                         {enter[s].data(), px}, {norm[s].data(), px}})
-                             .value());
-        *table_bytes += n * sizeof(RayStep) + px * (sizeof(std::uint32_t) + 2 * sizeof(float));
+        if (!tables[s].build(g, readings[s]).ok()) {
+            std::fprintf(stderr, "bench_fusion: ray table of sensor %zu refused\n", s);
+            std::exit(2);
+        }
+        *table_bytes += tables[s].storage_bytes();
     }
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
@@ -93,7 +85,7 @@ GridRun run_ray_tables(const GridGeometry& g, const std::vector<SensorReading>& 
         grid.clear();
         stats = FusionStats{};
         for (std::size_t s = 0; s < readings.size(); ++s) {
-            stats.add(tables[s].fuse(grid, readings[s].depth, model).value());
+            stats.add(tables[s].table().fuse(grid, readings[s].depth, model).value());
         }
         const auto t1 = Clock::now();
         ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());

@@ -2,11 +2,14 @@
 // on-the-fly fusion, within the stated boundary cases, and allocate nothing.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
 
@@ -14,27 +17,16 @@ using namespace cellguard;
 
 namespace {
 
+/// A built table (REQUIREd to build).
 struct OwnedTable {
-    std::vector<RayStep> steps;
-    std::vector<std::uint32_t> begin;
-    std::vector<float> enter;
-    std::vector<float> norm;
-    RayTable table;
+    host::OwnedRayTable owned;
+    const RayTable& table;
+    OwnedTable(const GridGeometry& g, const SensorReading& r) : table(owned.table()) {
+        REQUIRE(owned.build(g, r).ok());
+    }
 };
 
-OwnedTable make_table(const GridGeometry& g, const SensorReading& r) {
-    OwnedTable t;
-    const std::size_t n = count_ray_steps(g, r).value();
-    const std::size_t pixels = r.depth.size();
-    t.steps.resize(n);
-    t.begin.resize(pixels + 1U);
-    t.enter.resize(pixels);
-    t.norm.resize(pixels);
-    t.table = RayTable::build(g, r, RayTableStorage{{t.steps.data(), n}, {t.begin.data(), t.begin.size()},
-                                                    {t.enter.data(), t.enter.size()}, {t.norm.data(), t.norm.size()}})
-                  .value();
-    return t;
-}
+OwnedTable make_table(const GridGeometry& g, const SensorReading& r) { return OwnedTable(g, r); }
 
 struct OwnedGrid {
     std::vector<std::int16_t> lo;
@@ -45,6 +37,67 @@ struct OwnedGrid {
         grid.clear();
     }
 };
+
+
+/// The table's evidence as the plain per-ray walk, summed exactly: for each
+/// pixel, every entry the ray leaves before the reading gets the profile's
+/// evidence (constant, then the ramp), the reading's entry the peak.
+struct ExactSums {
+    std::vector<std::int64_t> sum;
+    std::vector<std::uint8_t> crossed;
+};
+
+ExactSums walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, const SensorModelTable& model,
+                       std::size_t voxel_count) {
+    ExactSums out{std::vector<std::int64_t>(voxel_count, 0), std::vector<std::uint8_t>(voxel_count, 0U)};
+    const auto ramp = static_cast<float>(model.ramp_length());
+    const auto add = [&](std::uint32_t v, std::int16_t e) {
+        out.sum[v] += e;
+        out.crossed[v] = 1U;
+    };
+    for (std::size_t i = 0; i < r.depth.size(); ++i) {
+        const float d = r.depth[i];
+        if (!std::isfinite(d) || d <= 0.0F) {
+            continue;
+        }
+        const float range = d * t.pixel_norm()[i];
+        if (range < r.min_range || range > r.max_range || range < t.pixel_enter()[i]) {
+            continue;
+        }
+        std::uint32_t k = t.pixel_begin()[i];
+        const std::uint32_t end = t.pixel_begin()[i + 1U];
+        for (; k < end && t.t_exit()[k] <= range - ramp; ++k) {
+            add(t.voxels()[k], model.constant_free_evidence());
+        }
+        for (; k < end && t.t_exit()[k] <= range; ++k) {
+            add(t.voxels()[k], model.free_evidence(static_cast<double>(range - t.t_exit()[k])));
+        }
+        if (k < end) {
+            add(t.voxels()[k], model.reading_evidence());
+        }
+    }
+    return out;
+}
+
+/// Voxels where the fused grid is not the exact sums saturated once.
+std::size_t differs_from_exact(const OwnedGrid& fused, const ExactSums& exact) {
+    std::size_t differ = 0;
+    for (std::size_t v = 0; v < exact.sum.size(); ++v) {
+        const std::int64_t clamped = std::clamp<std::int64_t>(exact.sum[v], kLogOddsMin, kLogOddsMax);
+        differ += (fused.lo[v] != clamped || fused.ob[v] != exact.crossed[v]) ? 1U : 0U;
+    }
+    return differ;
+}
+
+/// Depth values that put each pixel's reading at @p range_of(pixel) metres.
+template <typename RangeOf>
+std::vector<float> depths_at(const host::OwnedRayTable& t, std::size_t pixels, RangeOf range_of) {
+    std::vector<float> depth(pixels);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        depth[i] = range_of(i) / t.pixel_norm()[i];
+    }
+    return depth;
+}
 
 }  // namespace
 
@@ -82,6 +135,101 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
     CHECK(sign_differ <= g.voxel_count() / 200U);
 }
 
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evidence") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const SensorModelTable model;
+    for (const SensorReading& sensor : frame.readings) {
+        host::OwnedRayTable t;
+        REQUIRE(t.build(g, sensor).ok());
+        const std::size_t px = sensor.depth.size();
+        // The simulated frame; every reading at max range (the walked parts
+        // form one run per table); every reading 1 mm before where its ray
+        // leaves the grid (ramps and peaks in the last voxels, still one
+        // run); readings spread over each ray (runs break at every pixel,
+        // the constant part's end is searched for).
+        std::vector<std::vector<float>> cases;
+        cases.emplace_back(sensor.depth.begin(), sensor.depth.end());
+        cases.push_back(depths_at(t, px, [&](std::size_t) { return sensor.max_range * 0.9999F; }));
+        cases.push_back(depths_at(t, px, [&](std::size_t i) {
+            const std::uint32_t b = t.pixel_begin()[i];
+            const std::uint32_t e = t.pixel_begin()[i + 1U];
+            return e > b ? t.t_exit()[e - 1U] - 0.001F : sensor.max_range * 0.5F;
+        }));
+        cases.push_back(depths_at(t, px, [&](std::size_t i) {
+            return sensor.min_range + (sensor.max_range - sensor.min_range) * static_cast<float>(i % 97U) / 97.0F;
+        }));
+        for (std::size_t c = 0; c < cases.size(); ++c) {
+            CAPTURE(c);
+            SensorReading r = sensor;
+            r.depth = Span<const float>(cases[c].data(), cases[c].size());
+            OwnedGrid fused(g);
+            const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
+            const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
+            CHECK(st.voxel_updates > 0U);
+            CHECK(differs_from_exact(fused, exact) == 0U);
+        }
+    }
+}
+
+// verifies: SR-FUSE-006, SR-FUSE-002
+TEST_CASE("ray table: evidence beyond the saturation bound is the exact sum clamped once, never wrapped") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    // Strong free evidence: two rays through one voxel pass -32767.
+    const SensorModelTable model = SensorModelTable::make(SensorModelParams{1e-30, 0.56, 0.10}).value();
+    REQUIRE(model.constant_free_evidence() < -16384);
+    for (const SensorReading& sensor : frame.readings) {
+        host::OwnedRayTable t;
+        REQUIRE(t.build(g, sensor).ok());
+        // Readings 1 mm before the grid exit: every crossed voxel but the
+        // last of each ray saturates, and the peaks of rays ending in a
+        // voxel that other rays cross must not lift it above the bound.
+        const std::vector<float> depth = depths_at(t, sensor.depth.size(), [&](std::size_t i) {
+            const std::uint32_t b = t.pixel_begin()[i];
+            const std::uint32_t e = t.pixel_begin()[i + 1U];
+            return e > b ? t.t_exit()[e - 1U] - 0.001F : sensor.max_range * 0.5F;
+        });
+        SensorReading r = sensor;
+        r.depth = Span<const float>(depth.data(), depth.size());
+        OwnedGrid fused(g);
+        REQUIRE(t.table().fuse(fused.grid, r.depth, model).ok());
+        const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
+        std::size_t at_bound = 0;
+        for (std::size_t v = 0; v < g.voxel_count(); ++v) {
+            at_bound += fused.lo[v] == kLogOddsMin ? 1U : 0U;
+        }
+        MESSAGE("voxels at the bound: " << at_bound);
+        CHECK(at_bound > 0U);
+        CHECK(differs_from_exact(fused, exact) == 0U);
+    }
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: a model whose corrections could overflow 32 bits is refused, the grid untouched") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    // Constant -32767: peak - constant = 32829; x 76,800 camera pixels > 2^31,
+    // x 25,344 lidar pixels < 2^31.
+    const SensorModelTable model = SensorModelTable::make(SensorModelParams{1e-60, 0.56, 0.10}).value();
+    REQUIRE(model.constant_free_evidence() == kLogOddsMin);
+    for (const SensorReading& sensor : frame.readings) {
+        CAPTURE(sensor.depth.size());
+        host::OwnedRayTable t;
+        REQUIRE(t.build(g, sensor).ok());
+        OwnedGrid fused(g);
+        const Result<FusionStats> st = t.table().fuse(fused.grid, sensor.depth, model);
+        const bool fits = static_cast<std::uint64_t>(sensor.depth.size()) * 32829U < (1ULL << 31U);
+        CHECK(st.ok() == fits);
+        if (!fits) {
+            CHECK(st.error() == ErrorCode::kInvalidArgument);
+            CHECK(std::all_of(fused.lo.begin(), fused.lo.end(), [](std::int16_t v) { return v == 0; }));
+            CHECK(std::all_of(fused.ob.begin(), fused.ob.end(), [](std::uint8_t v) { return v == 0U; }));
+        }
+    }
+}
+
 // verifies: SR-GEN-002
 TEST_CASE("ray table: a frame through the table allocates no memory") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
@@ -109,12 +257,32 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     CHECK(t.table.fuse(other.grid, r.depth, model).error() == ErrorCode::kGeometryMismatch);
     CHECK(RayTable{}.fuse(grid.grid, r.depth, model).error() == ErrorCode::kInvalidArgument);
 
-    std::vector<RayStep> few(10);
-    std::vector<std::uint32_t> begin(r.depth.size() + 1U);
-    std::vector<float> enter(r.depth.size()), norm(r.depth.size());
-    CHECK(RayTable::build(g, r, RayTableStorage{{few.data(), few.size()}, {begin.data(), begin.size()},
-                                                {enter.data(), enter.size()}, {norm.data(), norm.size()}})
-              .error() == ErrorCode::kStorageTooSmall);
+    // Each span one entry short in turn (the others large enough) is refused.
+    const std::size_t n = count_ray_steps(g, r).value();
+    const std::size_t px = r.depth.size();
+    std::vector<std::uint32_t> voxels(n), begin(px + 1U), hits(g.voxel_count());
+    std::vector<std::int32_t> corrections(g.voxel_count());
+    std::vector<float> t_exit(n), enter(px), exit(px), norm(px);
+    const RayTableStorage full{{voxels.data(), n},         {t_exit.data(), n},
+                               {begin.data(), px + 1U},    {enter.data(), px},
+                               {exit.data(), px},          {norm.data(), px},
+                               {hits.data(), hits.size()}, {corrections.data(), corrections.size()}};
+    REQUIRE(RayTable::build(g, r, full).ok());
+    for (int shortened = 0; shortened < 8; ++shortened) {
+        CAPTURE(shortened);
+        RayTableStorage s = full;
+        switch (shortened) {
+            case 0: s.voxels = s.voxels.subspan(0, n - 1U); break;
+            case 1: s.t_exit = s.t_exit.subspan(0, n - 1U); break;
+            case 2: s.pixel_begin = s.pixel_begin.subspan(0, px); break;
+            case 3: s.pixel_enter = s.pixel_enter.subspan(0, px - 1U); break;
+            case 4: s.pixel_exit = s.pixel_exit.subspan(0, px - 1U); break;
+            case 5: s.pixel_norm = s.pixel_norm.subspan(0, px - 1U); break;
+            case 6: s.hit_count = s.hit_count.subspan(0, hits.size() - 1U); break;
+            default: s.hit_correction = s.hit_correction.subspan(0, corrections.size() - 1U); break;
+        }
+        CHECK(RayTable::build(g, r, s).error() == ErrorCode::kStorageTooSmall);
+    }
     SensorReading points = r;
     points.kind = SensorDataKind::kPointSet;
     CHECK(count_ray_steps(g, points).error() == ErrorCode::kInvalidArgument);

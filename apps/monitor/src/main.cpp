@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cellguard/accessibility.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/linux/monotonic_clock.hpp"
 #include "cellguard/linux/prior_files.hpp"
@@ -425,39 +426,24 @@ int main(int argc, char** argv) {
 
     // Ray tables of the static sensors.
     const sim::SimulatedFrame layout = sim::render_frame(specs, sim::reference_scene());
-    std::vector<std::vector<RayStep>> steps(specs.size());
-    std::vector<std::vector<std::uint32_t>> begins(specs.size());
-    std::vector<std::vector<float>> enters(specs.size()), norms(specs.size());
-    std::vector<RayTable> tables(specs.size());
+    std::vector<host::OwnedRayTable> tables(specs.size());
     std::size_t total_steps = 0U;
+    std::size_t total_bytes = 0U;
     for (std::size_t s = 0U; s < specs.size(); ++s) {
         if (!cfg.sensors[s].pcd_files.empty()) {
             continue;  // recorded point clouds: fused without a table
         }
-        const Result<std::size_t> n = count_ray_steps(g, layout.readings[s]);
-        if (!n.ok()) {
-            std::fprintf(stderr, "cellguard-monitor: sensor '%s': %s\n", specs[s].name.c_str(), to_string(n.error()));
-            return 1;
-        }
-        const std::size_t px = static_cast<std::size_t>(specs[s].width) * static_cast<std::size_t>(specs[s].height);
-        steps[s].resize(n.value());
-        begins[s].resize(px + 1U);
-        enters[s].resize(px);
-        norms[s].resize(px);
-        const Result<RayTable> t = RayTable::build(
-            g, layout.readings[s],
-            RayTableStorage{{steps[s].data(), steps[s].size()}, {begins[s].data(), begins[s].size()},
-                            {enters[s].data(), enters[s].size()}, {norms[s].data(), norms[s].size()}});
+        const Status t = tables[s].build(g, layout.readings[s]);
         if (!t.ok()) {
             std::fprintf(stderr, "cellguard-monitor: sensor '%s': ray table: %s\n", specs[s].name.c_str(),
                          to_string(t.error()));
             return 1;
         }
-        tables[s] = t.value();
-        total_steps += n.value();
+        total_steps += tables[s].table().step_count();
+        total_bytes += tables[s].storage_bytes();
     }
     std::printf("ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
-                static_cast<double>(total_steps * sizeof(RayStep)) / 1e6);
+                static_cast<double>(total_bytes) / 1e6);
     // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
     const CycleWorkBound work = compute_work_bound(g, {layout.readings.data(), layout.readings.size()}, zones);
     std::printf("work bound per cycle: %llu rays, %llu voxel steps, %llu grid-pass voxels, %llu zone updates\n",
@@ -531,7 +517,7 @@ int main(int argc, char** argv) {
             inputs[s].reading = frame.readings[s];
             inputs[s].captured_us = clock.base();
             inputs[s].present = true;
-            inputs[s].table = &tables[s];
+            inputs[s].table = &tables[s].table();
             if (recorded[s]) {
                 inputs[s].table = nullptr;
                 const PcdFrameCheck c = recorded[s]->load(static_cast<std::uint64_t>(k), inputs[s].reading);

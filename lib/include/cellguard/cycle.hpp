@@ -35,13 +35,16 @@ constexpr std::size_t kCycleStages = 4U;
 struct CycleWorkBound {
     std::uint64_t rays = 0U;         ///< readings the sensors can deliver (every pixel or point)
     std::uint64_t voxel_steps = 0U;  ///< rays x the most voxels one ray can visit
-    std::uint64_t grid_voxels = 0U;  ///< voxels touched by whole-grid passes (clear, subtract)
+    std::uint64_t grid_voxels = 0U;  ///< voxels touched by whole-grid passes (clear, subtract, ray tables' hit counts)
     std::uint64_t zone_updates = 0U; ///< zone counter updates (sum of zone voxel counts)
 };
 
 /// The bound for @p grid, the sensors described by @p sensors (their pixel
 /// or point capacities; the data are not read) and @p zones. Rays use
-/// max_voxels_per_segment (ray_traversal.hpp); the grid is passed twice.
+/// max_voxels_per_segment (ray_traversal.hpp); the grid is passed twice
+/// (clear, subtract) plus twice per depth-image sensor (a ray table zeroes
+/// and applies its per-voxel hit counts, ray_table.hpp; counted whether or
+/// not the sensor has a table, so the bound holds either way).
 [[nodiscard]] CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
                                                 const CompiledZones& zones) noexcept;
 

@@ -2,18 +2,41 @@
 /// Precomputed rays of a static depth sensor: the fast fusion path.
 ///
 /// Sensors in a workcell do not move. At commissioning, each pixel's ray is
-/// traversed once from the sensor origin to the sensor's max_range and its
-/// voxels are stored in order with the distance at which the ray leaves each
-/// (a `RayStep`). A frame then walks each pixel's list up to its reading:
-/// no traversal set-up and no floating point per voxel beyond one compare.
+/// traversed once from the sensor origin to the sensor's max_range, and its
+/// voxels are stored in order, each with the distance at which the ray leaves
+/// it. A frame then finds, per pixel, how far along its list the reading
+/// lies; no traversal set-up and no floating point per voxel.
+///
+/// How a frame is fused (RayTable::fuse):
+/// - A ray's voxels up to its reading are a prefix of its pixel's list. The
+///   prefixes of successive pixels are adjacent in the table whenever a
+///   reading lies in its ray's last voxel or beyond the grid, so they are
+///   walked as long runs that only count hits per voxel (`hit_count`).
+/// - Every walked voxel is counted as if it got the sensor model's constant
+///   evidence; a ramp voxel or the reading's voxel adds its difference to
+///   the constant to `hit_correction`.
+/// - One pass over the grid then adds each crossed voxel's exact sum, hits
+///   x constant + correction (64-bit), with one saturation, and sets its
+///   observed flag. fuse() refuses a model whose corrections could overflow
+///   32 bits (pixels x (peak - constant) >= 2^31; the paper's model is far
+///   below: 76,800 x 124).
+/// - Finding where a ray's constant part ends costs nothing when the reading
+///   lies at least one ramp beyond where the ray leaves the grid; otherwise
+///   the search starts at the proportional estimate between the ray's entry
+///   and exit distances and steps from there (a few steps).
 ///
 /// Equivalence with fuse_sensor (fusion.hpp): the same voxels get the same
 /// evidence, except where a reading lies within float rounding of a voxel
 /// face (the table puts a reading exactly on a face in the voxel the ray
 /// enters next; fuse_sensor uses the half-open rule of grid.hpp) or where a
 /// ray grazes a voxel edge (the table's ray is the pixel's exact direction,
-/// fuse_sensor's ray ends at the float reading). The unit tests bound how
-/// many voxels differ on the simulated workcell.
+/// fuse_sensor's ray ends at the float reading). fuse_sensor saturates after
+/// every addition, the table once per voxel and frame, so the two also
+/// differ where one of fuse_sensor's partial sums reaches a saturation bound
+/// (+-32767, about +-128 nats): there the table's result is the exact sum,
+/// saturated, and does not depend on the order of the pixels. The unit tests
+/// bound how many voxels differ on the simulated workcell and check equality
+/// with the per-ray walk where nothing saturates.
 ///
 /// Storage is the caller's: `count_ray_steps` sizes it, `RayTable::build`
 /// fills it. The table is valid only for the pose, intrinsics, grid and
@@ -31,33 +54,35 @@
 
 namespace cellguard {
 
-/// One voxel of a precomputed ray.
-struct RayStep {
-    std::uint32_t voxel;  ///< linear voxel index
-    float t_exit;         ///< metres from the sensor origin where the ray leaves the voxel
-};
-
-/// The voxel value of the marker that ends every pixel's steps (t_exit = +inf).
-constexpr std::uint32_t kRayEndMarker = 0xFFFFFFFFU;
-
-/// Caller storage of a ray table: steps for all pixels, and per pixel the
-/// offset of its first step (pixels + 1 entries) and where its ray enters
-/// the grid.
+/// Caller storage of a ray table (structure of arrays): every pixel's voxels
+/// and exit distances, per pixel the offset of its first voxel and where its
+/// ray enters and leaves the grid, and the per-voxel sums fuse() works in.
+/// The working memory (`hit_count`, `hit_correction`) may be shared by
+/// tables that are fused one after another: fuse() zeroes it first.
 struct RayTableStorage {
-    Span<RayStep> steps{};                ///< at least count_ray_steps(...) entries
-    Span<std::uint32_t> pixel_begin{};    ///< width * height + 1 entries
-    Span<float> pixel_enter{};            ///< width * height entries
-    Span<float> pixel_norm{};             ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
+    Span<std::uint32_t> voxels{};       ///< count_ray_steps(...) entries: linear voxel indices, pixel by pixel
+    Span<float> t_exit{};               ///< count_ray_steps(...) entries: metres from the origin where the ray leaves each voxel
+    Span<std::uint32_t> pixel_begin{};  ///< width * height + 1 entries: offset of each pixel's first voxel
+    Span<float> pixel_enter{};          ///< width * height entries: where the ray enters the grid (+inf: it misses)
+    Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
+    Span<float> pixel_norm{};           ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
+    Span<std::uint32_t> hit_count{};    ///< grid.voxel_count() entries: working memory, rays per voxel
+    Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
 };
 
-/// Number of RayStep entries the table of this sensor needs in this grid:
-/// every pixel's voxels plus one end marker per pixel.
+/// Number of voxel entries (`voxels`, `t_exit`) the table of this sensor
+/// needs in this grid: the sum over pixels of the voxels each ray crosses.
 /// The sensor description is checked as by validate_sensor_reading (the
-/// depth view itself is not used). Errors: those of validate_sensor_reading.
+/// depth view itself is not used). Errors: those of validate_sensor_reading;
+/// kInvalidArgument unless the sensor is a depth image.
 [[nodiscard]] Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReading& sensor,
                                                   Rasterization rasterization = Rasterization::kExact) noexcept;
 
 /// The precomputed rays of one depth sensor.
+///
+/// fuse() writes the table's working memory: a table (or tables sharing
+/// working memory) must not be fused from two threads at once (the cycle
+/// executive fuses one sensor at a time).
 class RayTable {
 public:
     /// An empty table (placeholder only; fuse() refuses it).
@@ -66,18 +91,20 @@ public:
     /// Traverses every pixel's ray to sensor.max_range and stores it.
     /// Errors: those of validate_sensor_reading; kInvalidArgument unless the
     /// sensor is a depth image; kStorageTooSmall when a span is too small;
-    /// kCapacityExceeded above 2^32 - 1 steps.
+    /// kCapacityExceeded above 2^32 - 1 voxel entries.
     static Result<RayTable> build(const GridGeometry& grid, const SensorReading& sensor, RayTableStorage storage,
                                   Rasterization rasterization = Rasterization::kExact) noexcept;
 
     /// Fuses one depth image of this sensor into @p grid (same geometry as
-    /// built for). Readings are classified and counted as by fuse_sensor.
+    /// built for). Readings are classified and counted as by fuse_sensor;
+    /// `voxel_updates` counts the same (voxel, ray) additions as fuse_sensor.
     /// Errors: kGeometryMismatch, kMalformedInput when the image size
-    /// differs, kInvalidArgument for an empty table.
+    /// differs, kInvalidArgument for an empty table or a model whose
+    /// corrections could overflow (see above). On error the grid is untouched.
     [[nodiscard]] Result<FusionStats> fuse(EvidenceGrid& grid, Span<const float> depth,
                                            const SensorModelTable& model) const noexcept;
 
-    /// Number of stored steps.
+    /// Number of stored voxel entries.
     [[nodiscard]] std::size_t step_count() const noexcept { return step_count_; }
     /// Pixels of the sensor.
     [[nodiscard]] std::size_t pixel_count() const noexcept { return pixels_; }

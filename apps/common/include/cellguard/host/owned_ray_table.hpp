@@ -1,0 +1,62 @@
+/// @file owned_ray_table.hpp
+/// A ray table (lib/'s ray_table.hpp) with its storage on the host heap: the
+/// one way the host programs, benchmarks and tests build one, so the storage
+/// layout is written once. lib/ itself never allocates; this is apps/ code.
+#ifndef CELLGUARD_HOST_OWNED_RAY_TABLE_HPP
+#define CELLGUARD_HOST_OWNED_RAY_TABLE_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "cellguard/ray_table.hpp"
+
+namespace cellguard::host {
+
+/// A RayTable and the vectors it points into. Movable (a moved vector keeps
+/// its buffer, so the table's spans stay valid), not copyable.
+class OwnedRayTable {
+public:
+    OwnedRayTable() = default;
+    OwnedRayTable(const OwnedRayTable&) = delete;
+    OwnedRayTable& operator=(const OwnedRayTable&) = delete;
+    OwnedRayTable(OwnedRayTable&&) noexcept = default;
+    OwnedRayTable& operator=(OwnedRayTable&&) noexcept = default;
+    ~OwnedRayTable() = default;
+
+    /// Sizes the storage with count_ray_steps and builds the table in place
+    /// (replacing any table held before). Errors: those of count_ray_steps
+    /// and RayTable::build; on error the object holds no table.
+    [[nodiscard]] Status build(const GridGeometry& grid, const SensorReading& sensor,
+                               Rasterization rasterization = Rasterization::kExact);
+
+    /// The table (empty until built).
+    [[nodiscard]] const RayTable& table() const noexcept { return table_; }
+    /// Bytes of the table's storage (what a target must provide for it).
+    [[nodiscard]] std::size_t storage_bytes() const noexcept;
+    /// Voxel index of every entry, pixel by pixel.
+    [[nodiscard]] const std::vector<std::uint32_t>& voxels() const noexcept { return voxels_; }
+    /// Offset of each pixel's first entry (pixels + 1 entries).
+    [[nodiscard]] const std::vector<std::uint32_t>& pixel_begin() const noexcept { return pixel_begin_; }
+    /// Exit distances of every entry.
+    [[nodiscard]] const std::vector<float>& t_exit() const noexcept { return t_exit_; }
+    /// Where each pixel's ray enters the grid (+inf: it misses).
+    [[nodiscard]] const std::vector<float>& pixel_enter() const noexcept { return pixel_enter_; }
+    /// Norm factor of each pixel (range = depth x norm).
+    [[nodiscard]] const std::vector<float>& pixel_norm() const noexcept { return pixel_norm_; }
+
+private:
+    std::vector<std::uint32_t> voxels_;
+    std::vector<float> t_exit_;
+    std::vector<std::uint32_t> pixel_begin_;
+    std::vector<float> pixel_enter_;
+    std::vector<float> pixel_exit_;
+    std::vector<float> pixel_norm_;
+    std::vector<std::uint32_t> hit_count_;
+    std::vector<std::int32_t> hit_correction_;
+    RayTable table_;
+};
+
+}  // namespace cellguard::host
+
+#endif  // CELLGUARD_HOST_OWNED_RAY_TABLE_HPP

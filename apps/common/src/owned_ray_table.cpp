@@ -1,0 +1,46 @@
+#include "cellguard/host/owned_ray_table.hpp"
+
+namespace cellguard::host {
+
+Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& sensor, Rasterization rasterization) {
+    table_ = RayTable{};
+    const Result<std::size_t> n = count_ray_steps(grid, sensor, rasterization);
+    if (!n.ok()) {
+        return n.error();
+    }
+    const std::size_t pixels =
+        static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
+    voxels_.resize(n.value());
+    t_exit_.resize(n.value());
+    pixel_begin_.resize(pixels + 1U);
+    pixel_enter_.resize(pixels);
+    pixel_exit_.resize(pixels);
+    pixel_norm_.resize(pixels);
+    hit_count_.resize(grid.voxel_count());
+    hit_correction_.resize(grid.voxel_count());
+    const Result<RayTable> built = RayTable::build(
+        grid, sensor,
+        RayTableStorage{{voxels_.data(), voxels_.size()},
+                        {t_exit_.data(), t_exit_.size()},
+                        {pixel_begin_.data(), pixel_begin_.size()},
+                        {pixel_enter_.data(), pixel_enter_.size()},
+                        {pixel_exit_.data(), pixel_exit_.size()},
+                        {pixel_norm_.data(), pixel_norm_.size()},
+                        {hit_count_.data(), hit_count_.size()},
+                        {hit_correction_.data(), hit_correction_.size()}},
+        rasterization);
+    if (!built.ok()) {
+        return built.error();
+    }
+    table_ = built.value();
+    return Status{};
+}
+
+std::size_t OwnedRayTable::storage_bytes() const noexcept {
+    return voxels_.size() * sizeof(std::uint32_t) + t_exit_.size() * sizeof(float) +
+           pixel_begin_.size() * sizeof(std::uint32_t) +
+           (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
+           hit_count_.size() * sizeof(std::uint32_t) + hit_correction_.size() * sizeof(std::int32_t);
+}
+
+}  // namespace cellguard::host
