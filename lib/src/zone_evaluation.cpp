@@ -28,12 +28,30 @@ Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
     const Span<const std::uint8_t> observed(frame.observed().data(), n);
     const Span<const std::uint32_t> mask = zones.membership();
     const bool write_subtracted = !subtracted_out.empty();
+    // Voxels that count are summed per run of equal zone masks, and a run's
+    // sums go to its zones once: the same counts as adding voxel by voxel,
+    // with the per-zone work done per run (zones are boxes and prisms, so
+    // successive voxels mostly share their mask).
+    std::uint32_t run_mask = 0U;
+    std::uint32_t run_foreground = 0U;
+    std::uint32_t run_unseen = 0U;
+    const auto flush_run = [&]() noexcept {
+        std::uint32_t bits = run_mask;
+        for (std::size_t z = 0U; bits != 0U; ++z, bits >>= 1U) {
+            if ((bits & 1U) != 0U) {
+                foreground[z] += run_foreground;
+                unseen[z] += run_unseen;
+            }
+        }
+        run_foreground = 0U;
+        run_unseen = 0U;
+    };
     for (std::size_t i = 0U; i < n; ++i) {
         const std::int16_t sum = add_saturating(lo[i], prior[i]);
         if (write_subtracted) {
             subtracted_out[i] = sum;
         }
-        std::uint32_t bits = mask[i];
+        const std::uint32_t bits = mask[i];
         if (bits == 0U) {
             continue;
         }
@@ -43,13 +61,15 @@ Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
         if (!is_foreground && !is_unseen) {
             continue;
         }
-        for (std::size_t z = 0U; bits != 0U; ++z, bits >>= 1U) {
-            if ((bits & 1U) != 0U) {
-                foreground[z] += is_foreground ? 1U : 0U;
-                unseen[z] += is_unseen ? 1U : 0U;
-            }
+        if (bits != run_mask) {
+            flush_run();
+            run_mask = bits;
         }
+        // A run is at most n <= kMaxVoxels (2^27) voxels long: no overflow.
+        run_foreground += is_foreground ? 1U : 0U;
+        run_unseen += is_unseen ? 1U : 0U;
     }
+    flush_run();
     out = ZoneEvaluation{};
     out.count = zones.size();
     for (std::size_t z = 0U; z < zones.size(); ++z) {

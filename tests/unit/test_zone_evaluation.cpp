@@ -118,3 +118,52 @@ TEST_CASE("zone evaluation: zones of another grid or a short prior are refused")
     CHECK(evaluate_zones(other.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
           ErrorCode::kGeometryMismatch);
 }
+
+// verifies: SR-ZONE-003, SR-ZONE-004
+TEST_CASE("zone evaluation: counts per run of equal zone masks equal counting voxel by voxel") {
+    // Eight overlapping zones (boxes of different sizes) and a pseudo-random
+    // frame: runs of equal masks are long in some rows and one voxel long
+    // where box edges alternate.
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{10, 10, 10}).value();
+    std::vector<ZoneConfig> zs(8);
+    for (std::size_t z = 0; z < zs.size(); ++z) {
+        const double a = 0.1 * static_cast<double>(z % 3U);
+        const double b = 0.3 + 0.1 * static_cast<double>(z);
+        zs[z].box_min = Eigen::Vector3d(a, 0.1 * static_cast<double>(z % 2U), 0.0);
+        zs[z].box_max = Eigen::Vector3d(b, 1.0, b);
+        zs[z].min_foreground_voxels = 1000U;  // counts only, states do not matter here
+        zs[z].max_unseen_voxels = 1000U;
+    }
+    std::vector<std::uint32_t> mask(g.voxel_count());
+    const CompiledZones zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}, nullptr).value();
+    std::vector<std::int16_t> lo(g.voxel_count());
+    std::vector<std::uint8_t> ob(g.voxel_count());
+    std::vector<std::int16_t> prior(g.voxel_count());
+    std::uint32_t x = 12345U;
+    for (std::size_t i = 0; i < g.voxel_count(); ++i) {
+        x = x * 1664525U + 1013904223U;  // LCG
+        lo[i] = (x >> 28U) < 5U ? 600 : -600;
+        ob[i] = ((x >> 20U) & 3U) == 0U ? 0U : 1U;
+        prior[i] = ((x >> 16U) & 7U) == 0U ? kNeverForeground : 0;
+    }
+    const EvidenceGrid frame = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
+    const ZoneEvaluationParams params;
+    ZoneEvaluation e;
+    REQUIRE(evaluate_zones(frame, {prior.data(), prior.size()}, zones, params, e).ok());
+    for (std::size_t z = 0; z < zs.size(); ++z) {
+        CAPTURE(z);
+        std::uint32_t fg = 0;
+        std::uint32_t unseen = 0;
+        for (std::size_t i = 0; i < g.voxel_count(); ++i) {
+            if ((mask[i] & (1U << z)) == 0U) {
+                continue;
+            }
+            fg += add_saturating(lo[i], prior[i]) >= params.foreground_threshold ? 1U : 0U;
+            unseen += (ob[i] == 0U && prior[i] != kNeverForeground && prior[i] >= params.accessible_min_prior) ? 1U : 0U;
+        }
+        CHECK(fg > 0U);
+        CHECK(unseen > 0U);
+        CHECK(e.zones[z].foreground == fg);
+        CHECK(e.zones[z].unseen == unseen);
+    }
+}
