@@ -18,7 +18,7 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
         b.rays += n;
     }
     b.voxel_steps = b.rays * static_cast<std::uint64_t>(max_voxels_per_segment(grid));
-    b.grid_voxels = (2U + 2U * depth_images) * static_cast<std::uint64_t>(grid.voxel_count());
+    b.grid_voxels = (2U + 3U * depth_images) * static_cast<std::uint64_t>(grid.voxel_count());
     b.zone_updates = static_cast<std::uint64_t>(zones.total_memberships());
     return b;
 }

@@ -65,6 +65,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
     if (storage.pixel_begin.size() < pixels + 1U || storage.pixel_enter.size() < pixels ||
         storage.pixel_exit.size() < pixels || storage.pixel_norm.size() < pixels ||
+        storage.pixel_walked.size() < pixels || storage.full_hits.size() < grid.voxel_count() ||
         storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
@@ -87,7 +88,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
             float last_exit = -kNone;
             (void)traverse(rasterization, grid, origin, ray.far_point, [&](const TraversedVoxel& t) {
                 const auto t_exit = static_cast<float>(t.t_exit);
-                // fuse() binary-searches a pixel's exit distances: they must not decrease.
+                // fuse() searches a pixel's exit distances: they must not decrease.
                 CG_ENFORCE(t_exit >= last_exit, "ray traversal exit distances must not decrease");
                 if (last_exit == -kNone) {
                     storage.pixel_enter[pixel] = static_cast<float>(t.t_enter);
@@ -111,6 +112,14 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         return ErrorCode::kStorageTooSmall;
     }
     storage.pixel_begin[pixels] = static_cast<std::uint32_t>(n);
+    // How many of the table's rays cross each voxel (a ray crosses a voxel
+    // at most once, so a count is at most the pixel count).
+    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
+        storage.full_hits[v] = 0U;
+    }
+    for (std::size_t k = 0U; k < n; ++k) {
+        ++storage.full_hits[storage.voxels[k]];
+    }
     RayTable table;
     table.geometry_ = grid;
     table.storage_ = storage;
@@ -122,6 +131,34 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
 }
 
 namespace {
+
+/// Adds @p delta (modulo 2^32: 0xFFFFFFFF subtracts one) to the hit count
+/// of every table entry in the pixels' segments: [begin[i], walked[i]) when
+/// @p walked_part, else [walked[i], begin[i + 1]). Segments that continue
+/// one another are walked as one run.
+void count_segments(const std::uint32_t* voxels, const std::uint32_t* begin, const std::uint32_t* walked,
+                    std::size_t pixels, bool walked_part, std::uint32_t delta, std::uint32_t* hits) noexcept {
+    std::uint32_t run_begin = 0U;
+    std::uint32_t run_end = 0U;
+    const auto count_run = [&]() noexcept {
+        for (std::uint32_t k = run_begin; k < run_end; ++k) {
+            hits[voxels[k]] += delta;
+        }
+    };
+    for (std::size_t i = 0U; i < pixels; ++i) {
+        const std::uint32_t b = walked_part ? begin[i] : walked[i];
+        const std::uint32_t e = walked_part ? walked[i] : begin[i + 1U];
+        if (b == e) {
+            continue;
+        }
+        if (b != run_end) {
+            count_run();
+            run_begin = b;
+        }
+        run_end = e;
+    }
+    count_run();
+}
 
 /// A hint to load @p address into the cache ahead of its use (no effect on
 /// results; compilers without the builtin get nothing).
@@ -138,28 +175,21 @@ constexpr std::size_t kPrefetchPixels = 16U;
 
 /// The end of a pixel's constant part: the first of the entries [first, end)
 /// whose exit distance exceeds @p free_until (end if none). The entries'
-/// exit distances do not decrease; the pixel's ray crosses the grid between
-/// @p enter and @p exit (> free_until), with its voxels spread about evenly
-/// along it, so the search starts at the proportional estimate and steps
-/// from there: a few steps in practice, at most end - first.
-std::uint32_t find_free_end(const float* t_exit, std::uint32_t first, std::uint32_t end, float free_until, float enter,
-                            float exit) noexcept {
-    if (free_until < enter) {
+/// exit distances do not decrease.
+std::uint32_t find_free_end(const float* t_exit, std::uint32_t first, std::uint32_t end, float free_until) noexcept {
+    // Branch-free binary search (the loop's trip count depends only on the
+    // pixel's entry count): the first entry whose exit exceeds free_until.
+    const float* base = t_exit + first;
+    std::uint32_t n = end - first;
+    if (n == 0U) {
         return first;
     }
-    const float fraction = (free_until - enter) / (exit - enter);  // in [0, 1): free_until < exit
-    const auto span = static_cast<float>(end - first);
-    std::uint32_t k = first + static_cast<std::uint32_t>(fraction >= 0.0F && fraction < 1.0F ? fraction * span : 0.0F);
-    if (k > end) {
-        k = end;
+    while (n > 1U) {
+        const std::uint32_t half = n / 2U;
+        base = base[half - 1U] <= free_until ? base + half : base;
+        n -= half;
     }
-    while (k > first && t_exit[k - 1U] > free_until) {
-        --k;
-    }
-    while (k < end && t_exit[k] <= free_until) {
-        ++k;
-    }
-    return k;
+    return static_cast<std::uint32_t>(base - t_exit) + (*base <= free_until ? 1U : 0U);
 }
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
@@ -187,6 +217,7 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     }
     const std::size_t voxel_count = geometry_.voxel_count();
     CG_ENFORCE(step_count_ <= storage_.voxels.size() && step_count_ <= storage_.t_exit.size() &&
+                   pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
                    voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
                "ray table storage changed size");
     const std::int16_t constant = model.constant_free_evidence();
@@ -195,7 +226,8 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     // [0, peak - constant]; the corrections of one frame sum exactly in 32
     // bits when every pixel's could land in one voxel.
     const auto max_correction = static_cast<std::uint64_t>(static_cast<std::int32_t>(peak) - constant);
-    if (static_cast<std::uint64_t>(pixels_) * max_correction > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
+    constexpr auto kCorrectionLimit = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
+    if (static_cast<std::uint64_t>(pixels_) * max_correction > kCorrectionLimit) {
         return ErrorCode::kInvalidArgument;
     }
     std::int16_t* const lo = grid.log_odds().data();
@@ -205,26 +237,35 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     const std::uint32_t* const begin = storage_.pixel_begin.data();
     std::uint32_t* const hits = storage_.hit_count.data();
     std::int32_t* const correction = storage_.hit_correction.data();
+    std::uint32_t* const walked = storage_.pixel_walked.data();
     for (std::size_t v = 0U; v < voxel_count; ++v) {
-        hits[v] = 0U;
         correction[v] = 0;
     }
     const auto ramp = static_cast<float>(model.ramp_length());
-    // The pending run of constant-evidence voxels: table entries [run_begin, run_end).
-    std::uint32_t run_begin = 0U;
-    std::uint32_t run_end = 0U;
-    const auto count_run = [&]() noexcept {
-        for (std::uint32_t k = run_begin; k < run_end; ++k) {
-            ++hits[voxels[k]];
+    const auto prefetch_reading = [&](std::size_t j, float d) noexcept {
+        const float enter = storage_.pixel_enter[j];
+        const float exit = storage_.pixel_exit[j];
+        const float range = d * storage_.pixel_norm[j];  // NaN and negative depths fail both compares
+        if (range >= enter && range < exit + ramp) {
+            const float fraction = (range - ramp - enter) / (exit - enter);
+            const auto span = static_cast<float>(begin[j + 1U] - begin[j]);
+            const std::uint32_t k =
+                begin[j] + static_cast<std::uint32_t>(fraction > 0.0F && fraction < 1.0F ? fraction * span : 0.0F);
+            prefetch(t_exit + k);
+            prefetch(voxels + k);
         }
     };
+    // Pass 1, per pixel: where its walk ends (walked[i]; begin[i] when it
+    // walks nothing), and the ramp and peak corrections.
     FusionStats s;
     for (std::size_t i = 0U; i < pixels_; ++i) {
-        // A reading inside the grid reads exit distances near its ray's end:
-        // a cache miss per pixel unless asked for ahead.
+        // A reading inside the grid reads the entries around its position on
+        // the ray: a cache miss per pixel unless asked for ahead. The hint
+        // uses the same proportional estimate as find_free_end.
         if (i + kPrefetchPixels < pixels_) {
-            prefetch(t_exit + begin[i + kPrefetchPixels + 1U]);
+            prefetch_reading(i + kPrefetchPixels, depth[i + kPrefetchPixels]);
         }
+        walked[i] = begin[i];
         const float d = depth[i];
         if (std::isnan(d)) {
             ++s.skipped_nan;
@@ -258,14 +299,12 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
         const float free_until = range - ramp;
         std::uint32_t free_end = end;
         if (free_until < storage_.pixel_exit[i]) {
-            free_end = find_free_end(t_exit, first, end, free_until, storage_.pixel_enter[i], storage_.pixel_exit[i]);
+            free_end = find_free_end(t_exit, first, end, free_until);
         }
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
-        // counted in the run as if it got the constant, and a ramp or peak
-        // voxel's correction (its evidence minus the constant) is summed
-        // apart: so the runs of successive pixels stay contiguous whenever a
-        // reading lies in its ray's last voxel or beyond.
+        // counted as if it got the constant (pass 2); a ramp or peak voxel's
+        // correction (its evidence minus the constant) is summed here.
         std::uint32_t k = free_end;
         for (; k < end && t_exit[k] <= range; ++k) {
             const std::int16_t e = model.free_evidence(static_cast<double>(range - t_exit[k]));
@@ -276,14 +315,24 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
             ++k;
             ++s.readings_in_grid;
         }
-        if (first != run_end) {
-            count_run();
-            run_begin = first;
-        }
-        run_end = k;
+        walked[i] = k;
         s.voxel_updates += static_cast<std::uint64_t>(k - first);
     }
-    count_run();
+    // Pass 2: the hits per voxel. Count the walked entries, or, when more
+    // than half of the table was walked, start from the table's full counts
+    // and take off the entries not walked: at most half the table either way.
+    if (2U * s.voxel_updates <= static_cast<std::uint64_t>(step_count_)) {
+        for (std::size_t v = 0U; v < voxel_count; ++v) {
+            hits[v] = 0U;
+        }
+        count_segments(voxels, begin, walked, pixels_, true, 1U, hits);
+    } else {
+        const std::uint32_t* const full = storage_.full_hits.data();
+        for (std::size_t v = 0U; v < voxel_count; ++v) {
+            hits[v] = full[v];
+        }
+        count_segments(voxels, begin, walked, pixels_, false, std::numeric_limits<std::uint32_t>::max(), hits);
+    }
     // Each crossed voxel's exact sum, added with one saturation.
     for (std::size_t v = 0U; v < voxel_count; ++v) {
         if (hits[v] != 0U) {

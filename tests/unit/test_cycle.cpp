@@ -76,7 +76,7 @@ TEST_CASE("cycle: the work bound follows from sensors, grid and zones") {
     const CycleWorkBound b = compute_work_bound(g, sensors, zones);
     CHECK(b.rays == 2U * 320U * 240U);
     CHECK(b.voxel_steps == b.rays * (34U + 30U + 30U - 2U));
-    // clear + subtract, and per depth image the ray table's zeroing and apply pass
-    CHECK(b.grid_voxels == (2U + 2U * 2U) * 30600U);
+    // clear + subtract, and per depth image the ray table's three grid passes
+    CHECK(b.grid_voxels == (2U + 3U * 2U) * 30600U);
     CHECK(b.zone_updates == 2U * zones.voxel_count(0));
 }

@@ -144,11 +144,11 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
         host::OwnedRayTable t;
         REQUIRE(t.build(g, sensor).ok());
         const std::size_t px = sensor.depth.size();
-        // The simulated frame; every reading at max range (the walked parts
-        // form one run per table); every reading 1 mm before where its ray
-        // leaves the grid (ramps and peaks in the last voxels, still one
-        // run); readings spread over each ray (runs break at every pixel,
-        // the constant part's end is searched for).
+        // The simulated frame; every reading at max range (the whole table
+        // walked: pass 2 takes off nothing); every reading 1 mm before where
+        // its ray leaves the grid (ramps and peaks in the last voxels);
+        // readings spread over each ray (the constant part's end is searched
+        // for, runs break at every pixel).
         std::vector<std::vector<float>> cases;
         cases.emplace_back(sensor.depth.begin(), sensor.depth.end());
         cases.push_back(depths_at(t, px, [&](std::size_t) { return sensor.max_range * 0.9999F; }));
@@ -160,6 +160,17 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
         cases.push_back(depths_at(t, px, [&](std::size_t i) {
             return sensor.min_range + (sensor.max_range - sensor.min_range) * static_cast<float>(i % 97U) / 97.0F;
         }));
+        // A quarter along each ray in the grid (less than half of the table
+        // walked: pass 2 counts the walked entries), and every other pixel
+        // invalid, the rest at max range (about half walked).
+        cases.push_back(depths_at(t, px, [&](std::size_t i) {
+            const std::uint32_t b = t.pixel_begin()[i];
+            const std::uint32_t e = t.pixel_begin()[i + 1U];
+            return e > b ? t.t_exit()[b + (e - b) / 4U] : sensor.max_range * 0.5F;
+        }));
+        cases.push_back(depths_at(t, px, [&](std::size_t i) {
+            return i % 2U == 0U ? std::numeric_limits<float>::quiet_NaN() : sensor.max_range * 0.9999F;
+        }));
         for (std::size_t c = 0; c < cases.size(); ++c) {
             CAPTURE(c);
             SensorReading r = sensor;
@@ -168,6 +179,7 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
             const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
             const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
             CHECK(st.voxel_updates > 0U);
+            MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
             CHECK(differs_from_exact(fused, exact) == 0U);
         }
     }
@@ -260,15 +272,16 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     // Each span one entry short in turn (the others large enough) is refused.
     const std::size_t n = count_ray_steps(g, r).value();
     const std::size_t px = r.depth.size();
-    std::vector<std::uint32_t> voxels(n), begin(px + 1U), hits(g.voxel_count());
+    std::vector<std::uint32_t> voxels(n), begin(px + 1U), all(g.voxel_count()), walked(px), hits(g.voxel_count());
     std::vector<std::int32_t> corrections(g.voxel_count());
     std::vector<float> t_exit(n), enter(px), exit(px), norm(px);
     const RayTableStorage full{{voxels.data(), n},         {t_exit.data(), n},
                                {begin.data(), px + 1U},    {enter.data(), px},
                                {exit.data(), px},          {norm.data(), px},
+                               {all.data(), all.size()},   {walked.data(), px},
                                {hits.data(), hits.size()}, {corrections.data(), corrections.size()}};
     REQUIRE(RayTable::build(g, r, full).ok());
-    for (int shortened = 0; shortened < 8; ++shortened) {
+    for (int shortened = 0; shortened < 10; ++shortened) {
         CAPTURE(shortened);
         RayTableStorage s = full;
         switch (shortened) {
@@ -279,6 +292,8 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
             case 4: s.pixel_exit = s.pixel_exit.subspan(0, px - 1U); break;
             case 5: s.pixel_norm = s.pixel_norm.subspan(0, px - 1U); break;
             case 6: s.hit_count = s.hit_count.subspan(0, hits.size() - 1U); break;
+            case 7: s.full_hits = s.full_hits.subspan(0, all.size() - 1U); break;
+            case 8: s.pixel_walked = s.pixel_walked.subspan(0, px - 1U); break;
             default: s.hit_correction = s.hit_correction.subspan(0, corrections.size() - 1U); break;
         }
         CHECK(RayTable::build(g, r, s).error() == ErrorCode::kStorageTooSmall);

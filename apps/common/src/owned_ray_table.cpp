@@ -16,6 +16,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     pixel_enter_.resize(pixels);
     pixel_exit_.resize(pixels);
     pixel_norm_.resize(pixels);
+    full_hits_.resize(grid.voxel_count());
+    pixel_walked_.resize(pixels);
     hit_count_.resize(grid.voxel_count());
     hit_correction_.resize(grid.voxel_count());
     const Result<RayTable> built = RayTable::build(
@@ -26,6 +28,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
                         {pixel_enter_.data(), pixel_enter_.size()},
                         {pixel_exit_.data(), pixel_exit_.size()},
                         {pixel_norm_.data(), pixel_norm_.size()},
+                        {full_hits_.data(), full_hits_.size()},
+                        {pixel_walked_.data(), pixel_walked_.size()},
                         {hit_count_.data(), hit_count_.size()},
                         {hit_correction_.data(), hit_correction_.size()}},
         rasterization);
@@ -40,6 +44,7 @@ std::size_t OwnedRayTable::storage_bytes() const noexcept {
     return voxels_.size() * sizeof(std::uint32_t) + t_exit_.size() * sizeof(float) +
            pixel_begin_.size() * sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
+           (full_hits_.size() + pixel_walked_.size()) * sizeof(std::uint32_t) +
            hit_count_.size() * sizeof(std::uint32_t) + hit_correction_.size() * sizeof(std::int32_t);
 }
 

@@ -42,9 +42,10 @@ struct CycleWorkBound {
 /// The bound for @p grid, the sensors described by @p sensors (their pixel
 /// or point capacities; the data are not read) and @p zones. Rays use
 /// max_voxels_per_segment (ray_traversal.hpp); the grid is passed twice
-/// (clear, subtract) plus twice per depth-image sensor (a ray table zeroes
-/// and applies its per-voxel hit counts, ray_table.hpp; counted whether or
-/// not the sensor has a table, so the bound holds either way).
+/// (clear, subtract) plus three times per depth-image sensor (a ray table
+/// zeroes its corrections, sets its hit counts and adds the sums,
+/// ray_table.hpp; counted whether or not the sensor has a table, so the
+/// bound holds either way).
 [[nodiscard]] CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
                                                 const CompiledZones& zones) noexcept;
 

@@ -8,22 +8,26 @@
 /// lies; no traversal set-up and no floating point per voxel.
 ///
 /// How a frame is fused (RayTable::fuse):
-/// - A ray's voxels up to its reading are a prefix of its pixel's list. The
-///   prefixes of successive pixels are adjacent in the table whenever a
-///   reading lies in its ray's last voxel or beyond the grid, so they are
-///   walked as long runs that only count hits per voxel (`hit_count`).
-/// - Every walked voxel is counted as if it got the sensor model's constant
+/// - Pass 1, per pixel: a ray's voxels up to its reading are a prefix of its
+///   pixel's list; the pass finds where the prefix ends (`pixel_walked`).
+///   Every walked voxel counts as if it got the sensor model's constant
 ///   evidence; a ramp voxel or the reading's voxel adds its difference to
-///   the constant to `hit_correction`.
-/// - One pass over the grid then adds each crossed voxel's exact sum, hits
-///   x constant + correction (64-bit), with one saturation, and sets its
-///   observed flag. fuse() refuses a model whose corrections could overflow
-///   32 bits (pixels x (peak - constant) >= 2^31; the paper's model is far
-///   below: 76,800 x 124).
-/// - Finding where a ray's constant part ends costs nothing when the reading
-///   lies at least one ramp beyond where the ray leaves the grid; otherwise
-///   the search starts at the proportional estimate between the ray's entry
-///   and exit distances and steps from there (a few steps).
+///   the constant to `hit_correction`. Finding where the constant part ends
+///   costs nothing when the reading lies at least one ramp beyond where the
+///   ray leaves the grid; otherwise the search starts at the proportional
+///   estimate between the ray's entry and exit distances (a few steps).
+/// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
+///   entries, or, when more than half of the table was walked, starts from
+///   the table's full counts (`full_hits`, made by build()) and takes off
+///   the entries not walked. The entries of successive pixels are walked as
+///   one run where they continue one another. So the counting visits at
+///   most half of the table's entries in any frame, and none when every
+///   reading lies in its ray's last voxel or beyond the grid.
+/// - Pass 3 adds each crossed voxel's exact sum, hits x constant +
+///   correction (64-bit), with one saturation, and sets its observed flag.
+///   fuse() refuses a model whose corrections could overflow 32 bits
+///   (pixels x (peak - constant) >= 2^31; the paper's model is far below:
+///   76,800 x 124).
 ///
 /// Equivalence with fuse_sensor (fusion.hpp): the same voxels get the same
 /// evidence, except where a reading lies within float rounding of a voxel
@@ -57,8 +61,8 @@ namespace cellguard {
 /// Caller storage of a ray table (structure of arrays): every pixel's voxels
 /// and exit distances, per pixel the offset of its first voxel and where its
 /// ray enters and leaves the grid, and the per-voxel sums fuse() works in.
-/// The working memory (`hit_count`, `hit_correction`) may be shared by
-/// tables that are fused one after another: fuse() zeroes it first.
+/// The working memory (`pixel_walked`, `hit_count`, `hit_correction`) may be
+/// shared by tables that are fused one after another: fuse() sets it first.
 struct RayTableStorage {
     Span<std::uint32_t> voxels{};       ///< count_ray_steps(...) entries: linear voxel indices, pixel by pixel
     Span<float> t_exit{};               ///< count_ray_steps(...) entries: metres from the origin where the ray leaves each voxel
@@ -66,6 +70,8 @@ struct RayTableStorage {
     Span<float> pixel_enter{};          ///< width * height entries: where the ray enters the grid (+inf: it misses)
     Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
     Span<float> pixel_norm{};           ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
+    Span<std::uint32_t> full_hits{};    ///< grid.voxel_count() entries: how many of the table's rays cross each voxel
+    Span<std::uint32_t> pixel_walked{}; ///< width * height entries: working memory, where each pixel's walk ends
     Span<std::uint32_t> hit_count{};    ///< grid.voxel_count() entries: working memory, rays per voxel
     Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
 };

@@ -52,6 +52,8 @@ private:
     std::vector<float> pixel_enter_;
     std::vector<float> pixel_exit_;
     std::vector<float> pixel_norm_;
+    std::vector<std::uint32_t> full_hits_;
+    std::vector<std::uint32_t> pixel_walked_;
     std::vector<std::uint32_t> hit_count_;
     std::vector<std::int32_t> hit_correction_;
     RayTable table_;
