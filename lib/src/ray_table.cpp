@@ -55,6 +55,20 @@ Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReadin
     return total;
 }
 
+namespace {
+
+/// Entry access for both entry kinds: the voxel, and the exit distance as
+/// fuse() compares it (@p enter and @p step are the pixel's grid entry and
+/// the table's exit step; a wide entry stores the distance itself).
+inline std::uint32_t voxel_of(const CompactRayEntry& e) noexcept { return e.voxel; }
+inline std::uint32_t voxel_of(const WideRayEntry& e) noexcept { return e.voxel; }
+inline float exit_of(const CompactRayEntry& e, float enter, float step) noexcept {
+    return enter + static_cast<float>(e.exit_steps) * step;
+}
+inline float exit_of(const WideRayEntry& e, float /*enter*/, float /*step*/) noexcept { return e.exit; }
+
+}  // namespace
+
 Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& sensor, RayTableStorage storage,
                                  Rasterization rasterization) noexcept {
     const Status ok = check_depth_sensor(sensor);
@@ -69,8 +83,13 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
-    const std::size_t capacity =
-        storage.voxels.size() < storage.t_exit.size() ? storage.voxels.size() : storage.t_exit.size();
+    const bool compact = ray_table_is_compact(grid);
+    const std::size_t capacity = compact ? storage.compact_entries.size() : storage.wide_entries.size();
+    // Exit distances of a compact table: steps of 1/65535 of the grid's
+    // diagonal (slightly widened for rounding), the longest a ray can run
+    // inside the grid.
+    const Eigen::Vector3d extent = grid.max_corner() - grid.origin();
+    const auto exit_step = static_cast<float>(extent.norm() * 1.0001 / 65535.0);
     const Eigen::Vector3d origin = sensor.pose.translation();
     constexpr float kNone = std::numeric_limits<float>::infinity();
     std::size_t n = 0U;
@@ -85,22 +104,36 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
             storage.pixel_norm[pixel] = static_cast<float>(ray.norm);
             storage.pixel_enter[pixel] = kNone;
             storage.pixel_exit[pixel] = kNone;
+            double enter = -1.0;
             float last_exit = -kNone;
             (void)traverse(rasterization, grid, origin, ray.far_point, [&](const TraversedVoxel& t) {
-                const auto t_exit = static_cast<float>(t.t_exit);
-                // fuse() searches a pixel's exit distances: they must not decrease.
-                CG_ENFORCE(t_exit >= last_exit, "ray traversal exit distances must not decrease");
-                if (last_exit == -kNone) {
+                if (enter < 0.0) {
+                    enter = t.t_enter;
                     storage.pixel_enter[pixel] = static_cast<float>(t.t_enter);
                 }
-                last_exit = t_exit;
                 if (n < capacity) {
-                    storage.voxels[n] = static_cast<std::uint32_t>(t.index);
-                    storage.t_exit[n] = t_exit;
+                    if (compact) {
+                        const double steps = std::round((t.t_exit - enter) / static_cast<double>(exit_step));
+                        storage.compact_entries[n] = CompactRayEntry{
+                            static_cast<std::uint16_t>(t.index),
+                            static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps)};
+                    } else {
+                        storage.wide_entries[n] = WideRayEntry{static_cast<std::uint32_t>(t.index),
+                                                               static_cast<float>(t.t_exit)};
+                    }
                 }
                 ++n;
             });
-            if (last_exit != -kNone) {
+            // The exit distances as fuse() compares them: they must not
+            // decrease (it searches them), and the last is the ray's exit.
+            const std::size_t first = storage.pixel_begin[pixel];
+            for (std::size_t k = first; k < n && k < capacity; ++k) {
+                const float e = compact ? exit_of(storage.compact_entries[k], storage.pixel_enter[pixel], exit_step)
+                                        : exit_of(storage.wide_entries[k], 0.0F, 0.0F);
+                CG_ENFORCE(e >= last_exit, "ray table exit distances must not decrease");
+                last_exit = e;
+            }
+            if (n > first && n <= capacity) {
                 storage.pixel_exit[pixel] = last_exit;
             }
         }
@@ -118,7 +151,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         storage.full_hits[v] = 0U;
     }
     for (std::size_t k = 0U; k < n; ++k) {
-        ++storage.full_hits[storage.voxels[k]];
+        ++storage.full_hits[compact ? voxel_of(storage.compact_entries[k]) : voxel_of(storage.wide_entries[k])];
     }
     RayTable table;
     table.geometry_ = grid;
@@ -127,7 +160,21 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     table.step_count_ = n;
     table.min_range_ = sensor.min_range;
     table.max_range_ = sensor.max_range;
+    table.exit_step_ = exit_step;
+    table.compact_ = compact;
     return table;
+}
+
+std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {
+    CG_ENFORCE(entry < step_count_, "ray table entry out of range");
+    return compact_ ? voxel_of(storage_.compact_entries[entry]) : voxel_of(storage_.wide_entries[entry]);
+}
+
+float RayTable::entry_exit(std::size_t pixel, std::size_t entry) const noexcept {
+    CG_ENFORCE(pixel < pixels_ && entry >= storage_.pixel_begin[pixel] && entry < storage_.pixel_begin[pixel + 1U],
+               "ray table entry is not the pixel's");
+    return compact_ ? exit_of(storage_.compact_entries[entry], storage_.pixel_enter[pixel], exit_step_)
+                    : exit_of(storage_.wide_entries[entry], 0.0F, 0.0F);
 }
 
 namespace {
@@ -136,13 +183,22 @@ namespace {
 /// of every table entry in the pixels' segments: [begin[i], walked[i]) when
 /// @p walked_part, else [walked[i], begin[i + 1]). Segments that continue
 /// one another are walked as one run.
-void count_segments(const std::uint32_t* voxels, const std::uint32_t* begin, const std::uint32_t* walked,
+template <typename Entry>
+void count_segments(const Entry* entries, const std::uint32_t* begin, const std::uint32_t* walked,
                     std::size_t pixels, bool walked_part, std::uint32_t delta, std::uint32_t* hits) noexcept {
     std::uint32_t run_begin = 0U;
     std::uint32_t run_end = 0U;
     const auto count_run = [&]() noexcept {
-        for (std::uint32_t k = run_begin; k < run_end; ++k) {
-            hits[voxels[k]] += delta;
+        std::uint32_t k = run_begin;
+        // Four entries per step: the loop's own instructions were a third of it.
+        for (; k + 4U <= run_end; k += 4U) {
+            hits[voxel_of(entries[k])] += delta;
+            hits[voxel_of(entries[k + 1U])] += delta;
+            hits[voxel_of(entries[k + 2U])] += delta;
+            hits[voxel_of(entries[k + 3U])] += delta;
+        }
+        for (; k < run_end; ++k) {
+            hits[voxel_of(entries[k])] += delta;
         }
     };
     for (std::size_t i = 0U; i < pixels; ++i) {
@@ -160,36 +216,24 @@ void count_segments(const std::uint32_t* voxels, const std::uint32_t* begin, con
     count_run();
 }
 
-/// A hint to load @p address into the cache ahead of its use (no effect on
-/// results; compilers without the builtin get nothing).
-inline void prefetch(const void* address) noexcept {
-#if defined(__GNUC__) || defined(__clang__)
-    __builtin_prefetch(address);
-#else
-    (void)address;
-#endif
-}
-
-/// How many pixels ahead fuse() asks for a pixel's last exit distances.
-constexpr std::size_t kPrefetchPixels = 16U;
-
 /// The end of a pixel's constant part: the first of the entries [first, end)
 /// whose exit distance exceeds @p free_until (end if none). The entries'
-/// exit distances do not decrease.
-std::uint32_t find_free_end(const float* t_exit, std::uint32_t first, std::uint32_t end, float free_until) noexcept {
-    // Branch-free binary search (the loop's trip count depends only on the
-    // pixel's entry count): the first entry whose exit exceeds free_until.
-    const float* base = t_exit + first;
+/// exit distances do not decrease. Branch-free binary search: the loop's
+/// trip count depends only on the pixel's entry count.
+template <typename Entry>
+std::uint32_t find_free_end(const Entry* entries, std::uint32_t first, std::uint32_t end, float free_until,
+                            float enter, float step) noexcept {
+    const Entry* base = entries + first;
     std::uint32_t n = end - first;
     if (n == 0U) {
         return first;
     }
     while (n > 1U) {
         const std::uint32_t half = n / 2U;
-        base = base[half - 1U] <= free_until ? base + half : base;
+        base = exit_of(base[half - 1U], enter, step) <= free_until ? base + half : base;
         n -= half;
     }
-    return static_cast<std::uint32_t>(base - t_exit) + (*base <= free_until ? 1U : 0U);
+    return static_cast<std::uint32_t>(base - entries) + (exit_of(*base, enter, step) <= free_until ? 1U : 0U);
 }
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
@@ -202,70 +246,41 @@ std::int16_t add_frame_sum_saturating(std::int16_t value, std::uint32_t hits, st
     return static_cast<std::int16_t>(sum < kLogOddsMin ? kLogOddsMin : sum > kLogOddsMax ? kLogOddsMax : sum);
 }
 
-}  // namespace
+/// What fuse() passes to fuse_entries: the table's arrays and limits.
+struct FuseView {
+    const std::uint32_t* begin;
+    const float* enter;
+    const float* exit;
+    const float* norm;
+    const std::uint32_t* full_hits;
+    std::uint32_t* walked;
+    std::uint32_t* hits;
+    std::int32_t* correction;
+    std::size_t pixels;
+    std::size_t steps;
+    std::size_t voxels;
+    float min_range;
+    float max_range;
+    float exit_step;
+};
 
-Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
-                                   const SensorModelTable& model) const noexcept {
-    if (pixels_ == 0U) {
-        return ErrorCode::kInvalidArgument;
-    }
-    if (!(grid.geometry() == geometry_)) {
-        return ErrorCode::kGeometryMismatch;
-    }
-    if (depth.size() != pixels_) {
-        return ErrorCode::kMalformedInput;
-    }
-    const std::size_t voxel_count = geometry_.voxel_count();
-    CG_ENFORCE(step_count_ <= storage_.voxels.size() && step_count_ <= storage_.t_exit.size() &&
-                   pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
-                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
-               "ray table storage changed size");
-    const std::int16_t constant = model.constant_free_evidence();
-    const std::int16_t peak = model.reading_evidence();
-    // A ramp or peak voxel's correction (evidence minus the constant) lies in
-    // [0, peak - constant]; the corrections of one frame sum exactly in 32
-    // bits when every pixel's could land in one voxel.
-    const auto max_correction = static_cast<std::uint64_t>(static_cast<std::int32_t>(peak) - constant);
-    constexpr auto kCorrectionLimit = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
-    if (static_cast<std::uint64_t>(pixels_) * max_correction > kCorrectionLimit) {
-        return ErrorCode::kInvalidArgument;
-    }
+/// RayTable::fuse for one entry kind (the checks are done by the caller).
+template <typename Entry>
+FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& grid, Span<const float> depth,
+                         const SensorModelTable& model) noexcept {
     std::int16_t* const lo = grid.log_odds().data();
     std::uint8_t* const obs = grid.observed().data();
-    const std::uint32_t* const voxels = storage_.voxels.data();
-    const float* const t_exit = storage_.t_exit.data();
-    const std::uint32_t* const begin = storage_.pixel_begin.data();
-    std::uint32_t* const hits = storage_.hit_count.data();
-    std::int32_t* const correction = storage_.hit_correction.data();
-    std::uint32_t* const walked = storage_.pixel_walked.data();
-    for (std::size_t v = 0U; v < voxel_count; ++v) {
-        correction[v] = 0;
-    }
+    const std::int16_t constant = model.constant_free_evidence();
+    const std::int16_t peak = model.reading_evidence();
     const auto ramp = static_cast<float>(model.ramp_length());
-    const auto prefetch_reading = [&](std::size_t j, float d) noexcept {
-        const float enter = storage_.pixel_enter[j];
-        const float exit = storage_.pixel_exit[j];
-        const float range = d * storage_.pixel_norm[j];  // NaN and negative depths fail both compares
-        if (range >= enter && range < exit + ramp) {
-            const float fraction = (range - ramp - enter) / (exit - enter);
-            const auto span = static_cast<float>(begin[j + 1U] - begin[j]);
-            const std::uint32_t k =
-                begin[j] + static_cast<std::uint32_t>(fraction > 0.0F && fraction < 1.0F ? fraction * span : 0.0F);
-            prefetch(t_exit + k);
-            prefetch(voxels + k);
-        }
-    };
+    for (std::size_t v = 0U; v < t.voxels; ++v) {
+        t.correction[v] = 0;
+    }
     // Pass 1, per pixel: where its walk ends (walked[i]; begin[i] when it
     // walks nothing), and the ramp and peak corrections.
     FusionStats s;
-    for (std::size_t i = 0U; i < pixels_; ++i) {
-        // A reading inside the grid reads the entries around its position on
-        // the ray: a cache miss per pixel unless asked for ahead. The hint
-        // uses the same proportional estimate as find_free_end.
-        if (i + kPrefetchPixels < pixels_) {
-            prefetch_reading(i + kPrefetchPixels, depth[i + kPrefetchPixels]);
-        }
-        walked[i] = begin[i];
+    for (std::size_t i = 0U; i < t.pixels; ++i) {
+        t.walked[i] = t.begin[i];
         const float d = depth[i];
         if (std::isnan(d)) {
             ++s.skipped_nan;
@@ -283,64 +298,103 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
             ++s.skipped_behind;
             continue;
         }
-        const float range = d * storage_.pixel_norm[i];
-        if (range < min_range_ || range > max_range_) {
+        const float range = d * t.norm[i];
+        if (range < t.min_range || range > t.max_range) {
             ++s.skipped_out_of_range;
             continue;
         }
         ++s.rays_fused;
-        if (range < storage_.pixel_enter[i]) {
+        const float enter = t.enter[i];
+        if (range < enter) {
             continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
         }
-        const std::uint32_t first = begin[i];
-        const std::uint32_t end = begin[i + 1U];
+        const std::uint32_t first = t.begin[i];
+        const std::uint32_t end = t.begin[i + 1U];
         // The constant part of the profile: the voxels left at least one ramp
         // before the reading, entries [first, free_end).
         const float free_until = range - ramp;
-        std::uint32_t free_end = end;
-        if (free_until < storage_.pixel_exit[i]) {
-            free_end = find_free_end(t_exit, first, end, free_until);
-        }
+        const std::uint32_t free_end =
+            free_until < t.exit[i] ? find_free_end(entries, first, end, free_until, enter, t.exit_step) : end;
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
         // correction (its evidence minus the constant) is summed here.
         std::uint32_t k = free_end;
-        for (; k < end && t_exit[k] <= range; ++k) {
-            const std::int16_t e = model.free_evidence(static_cast<double>(range - t_exit[k]));
-            correction[voxels[k]] += static_cast<std::int32_t>(e) - constant;
+        for (; k < end; ++k) {
+            const float exit = exit_of(entries[k], enter, t.exit_step);
+            if (exit > range) {
+                break;
+            }
+            const std::int16_t e = model.free_evidence(static_cast<double>(range - exit));
+            t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(e) - constant;
         }
         if (k < end) {
-            correction[voxels[k]] += static_cast<std::int32_t>(peak) - constant;
+            t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(peak) - constant;
             ++k;
             ++s.readings_in_grid;
         }
-        walked[i] = k;
+        t.walked[i] = k;
         s.voxel_updates += static_cast<std::uint64_t>(k - first);
     }
     // Pass 2: the hits per voxel. Count the walked entries, or, when more
     // than half of the table was walked, start from the table's full counts
     // and take off the entries not walked: at most half the table either way.
-    if (2U * s.voxel_updates <= static_cast<std::uint64_t>(step_count_)) {
-        for (std::size_t v = 0U; v < voxel_count; ++v) {
-            hits[v] = 0U;
+    if (2U * s.voxel_updates <= static_cast<std::uint64_t>(t.steps)) {
+        for (std::size_t v = 0U; v < t.voxels; ++v) {
+            t.hits[v] = 0U;
         }
-        count_segments(voxels, begin, walked, pixels_, true, 1U, hits);
+        count_segments(entries, t.begin, t.walked, t.pixels, true, 1U, t.hits);
     } else {
-        const std::uint32_t* const full = storage_.full_hits.data();
-        for (std::size_t v = 0U; v < voxel_count; ++v) {
-            hits[v] = full[v];
+        for (std::size_t v = 0U; v < t.voxels; ++v) {
+            t.hits[v] = t.full_hits[v];
         }
-        count_segments(voxels, begin, walked, pixels_, false, std::numeric_limits<std::uint32_t>::max(), hits);
+        count_segments(entries, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(), t.hits);
     }
-    // Each crossed voxel's exact sum, added with one saturation.
-    for (std::size_t v = 0U; v < voxel_count; ++v) {
-        if (hits[v] != 0U) {
-            lo[v] = add_frame_sum_saturating(lo[v], hits[v], constant, correction[v]);
+    // Pass 3: each crossed voxel's exact sum, added with one saturation.
+    for (std::size_t v = 0U; v < t.voxels; ++v) {
+        if (t.hits[v] != 0U) {
+            lo[v] = add_frame_sum_saturating(lo[v], t.hits[v], constant, t.correction[v]);
             obs[v] = 1U;
         }
     }
     return s;
+}
+
+}  // namespace
+
+Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
+                                   const SensorModelTable& model) const noexcept {
+    if (pixels_ == 0U) {
+        return ErrorCode::kInvalidArgument;
+    }
+    if (!(grid.geometry() == geometry_)) {
+        return ErrorCode::kGeometryMismatch;
+    }
+    if (depth.size() != pixels_) {
+        return ErrorCode::kMalformedInput;
+    }
+    const std::size_t voxel_count = geometry_.voxel_count();
+    CG_ENFORCE((compact_ ? storage_.compact_entries.size() : storage_.wide_entries.size()) >= step_count_ &&
+                   pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
+                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
+               "ray table storage changed size");
+    // A ramp or peak voxel's correction (evidence minus the constant) lies in
+    // [0, peak - constant]; the corrections of one frame sum exactly in 32
+    // bits when every pixel's could land in one voxel.
+    const std::int16_t constant = model.constant_free_evidence();
+    const std::int16_t peak = model.reading_evidence();
+    const auto max_correction = static_cast<std::uint64_t>(static_cast<std::int32_t>(peak) - constant);
+    constexpr auto kCorrectionLimit = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
+    if (static_cast<std::uint64_t>(pixels_) * max_correction > kCorrectionLimit) {
+        return ErrorCode::kInvalidArgument;
+    }
+    const FuseView view{storage_.pixel_begin.data(), storage_.pixel_enter.data(), storage_.pixel_exit.data(),
+                        storage_.pixel_norm.data(),  storage_.full_hits.data(),   storage_.pixel_walked.data(),
+                        storage_.hit_count.data(),   storage_.hit_correction.data(), pixels_,
+                        step_count_,                 voxel_count,                 min_range_,
+                        max_range_,                  exit_step_};
+    return compact_ ? fuse_entries(storage_.compact_entries.data(), view, grid, depth, model)
+                    : fuse_entries(storage_.wide_entries.data(), view, grid, depth, model);
 }
 
 }  // namespace cellguard

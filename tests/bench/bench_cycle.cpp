@@ -246,24 +246,24 @@ int main(int argc, char** argv) {
             return 2;
         }
         table_voxel_steps += tables[s].table().step_count();
-        const std::vector<std::uint32_t>& begins = tables[s].pixel_begin();
-        const std::vector<float>& norms = tables[s].pixel_norm();
+        const RayTable& table = tables[s].table();
         // Every reading at the maximum range: depth along the axis = range / |dir|,
         // the largest float whose range (as the table computes it) is within max_range.
         // grid-exit: the reading 1 mm before where the ray leaves the grid;
         // mid-ray: the reading 1 mm before the exit of the ray's middle voxel.
         for (std::size_t i = 0U; i < px; ++i) {
             float range = r.max_range;
-            const std::uint32_t b = begins[i];
-            const std::uint32_t e = begins[i + 1U];
+            const std::uint32_t b = table.pixel_begin(i);
+            const std::uint32_t e = table.pixel_begin(i + 1U);
             if (grid_exit && e > b) {
-                range = std::min(r.max_range, tables[s].t_exit()[e - 1U] - 0.001F);
+                range = std::min(r.max_range, table.entry_exit(i, e - 1U) - 0.001F);
             }
             if (mid_ray && e > b) {
-                range = std::min(r.max_range, tables[s].t_exit()[b + (e - b) / 2U] - 0.001F);
+                range = std::min(r.max_range, table.entry_exit(i, b + (e - b) / 2U) - 0.001F);
             }
-            float d = range / norms[i];
-            while (d * norms[i] > range) {
+            const float norm = table.pixel_norm(i);
+            float d = range / norm;
+            while (d * norm > range) {
                 d = std::nextafter(d, 0.0F);
             }
             depth[s][i] = d;

@@ -60,20 +60,20 @@ ExactSums walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, con
         if (!std::isfinite(d) || d <= 0.0F) {
             continue;
         }
-        const float range = d * t.pixel_norm()[i];
-        if (range < r.min_range || range > r.max_range || range < t.pixel_enter()[i]) {
+        const float range = d * t.table().pixel_norm(i);
+        if (range < r.min_range || range > r.max_range || range < t.table().pixel_enter(i)) {
             continue;
         }
-        std::uint32_t k = t.pixel_begin()[i];
-        const std::uint32_t end = t.pixel_begin()[i + 1U];
-        for (; k < end && t.t_exit()[k] <= range - ramp; ++k) {
-            add(t.voxels()[k], model.constant_free_evidence());
+        std::uint32_t k = t.table().pixel_begin(i);
+        const std::uint32_t end = t.table().pixel_begin(i + 1U);
+        for (; k < end && t.table().entry_exit(i, k) <= range - ramp; ++k) {
+            add(t.table().entry_voxel(k), model.constant_free_evidence());
         }
-        for (; k < end && t.t_exit()[k] <= range; ++k) {
-            add(t.voxels()[k], model.free_evidence(static_cast<double>(range - t.t_exit()[k])));
+        for (; k < end && t.table().entry_exit(i, k) <= range; ++k) {
+            add(t.table().entry_voxel(k), model.free_evidence(static_cast<double>(range - t.table().entry_exit(i, k))));
         }
         if (k < end) {
-            add(t.voxels()[k], model.reading_evidence());
+            add(t.table().entry_voxel(k), model.reading_evidence());
         }
     }
     return out;
@@ -94,7 +94,7 @@ template <typename RangeOf>
 std::vector<float> depths_at(const host::OwnedRayTable& t, std::size_t pixels, RangeOf range_of) {
     std::vector<float> depth(pixels);
     for (std::size_t i = 0; i < pixels; ++i) {
-        depth[i] = range_of(i) / t.pixel_norm()[i];
+        depth[i] = range_of(i) / t.table().pixel_norm(i);
     }
     return depth;
 }
@@ -138,49 +138,57 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
 // verifies: SR-FUSE-006
 TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evidence") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    const GridGeometry g = paper_grid_geometry();
+    // The paper's grid (compact entries) and the same cell in 2.5 cm voxels
+    // (244,800 voxels: wide entries).
+    const GridGeometry paper = paper_grid_geometry();
+    const GridGeometry fine = GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
+    REQUIRE(ray_table_is_compact(paper));
+    REQUIRE(!ray_table_is_compact(fine));
     const SensorModelTable model;
-    for (const SensorReading& sensor : frame.readings) {
-        host::OwnedRayTable t;
-        REQUIRE(t.build(g, sensor).ok());
-        const std::size_t px = sensor.depth.size();
-        // The simulated frame; every reading at max range (the whole table
-        // walked: pass 2 takes off nothing); every reading 1 mm before where
-        // its ray leaves the grid (ramps and peaks in the last voxels);
-        // readings spread over each ray (the constant part's end is searched
-        // for, runs break at every pixel).
-        std::vector<std::vector<float>> cases;
-        cases.emplace_back(sensor.depth.begin(), sensor.depth.end());
-        cases.push_back(depths_at(t, px, [&](std::size_t) { return sensor.max_range * 0.9999F; }));
-        cases.push_back(depths_at(t, px, [&](std::size_t i) {
-            const std::uint32_t b = t.pixel_begin()[i];
-            const std::uint32_t e = t.pixel_begin()[i + 1U];
-            return e > b ? t.t_exit()[e - 1U] - 0.001F : sensor.max_range * 0.5F;
-        }));
-        cases.push_back(depths_at(t, px, [&](std::size_t i) {
-            return sensor.min_range + (sensor.max_range - sensor.min_range) * static_cast<float>(i % 97U) / 97.0F;
-        }));
-        // A quarter along each ray in the grid (less than half of the table
-        // walked: pass 2 counts the walked entries), and every other pixel
-        // invalid, the rest at max range (about half walked).
-        cases.push_back(depths_at(t, px, [&](std::size_t i) {
-            const std::uint32_t b = t.pixel_begin()[i];
-            const std::uint32_t e = t.pixel_begin()[i + 1U];
-            return e > b ? t.t_exit()[b + (e - b) / 4U] : sensor.max_range * 0.5F;
-        }));
-        cases.push_back(depths_at(t, px, [&](std::size_t i) {
-            return i % 2U == 0U ? std::numeric_limits<float>::quiet_NaN() : sensor.max_range * 0.9999F;
-        }));
-        for (std::size_t c = 0; c < cases.size(); ++c) {
-            CAPTURE(c);
-            SensorReading r = sensor;
-            r.depth = Span<const float>(cases[c].data(), cases[c].size());
-            OwnedGrid fused(g);
-            const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
-            const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
-            CHECK(st.voxel_updates > 0U);
-            MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
-            CHECK(differs_from_exact(fused, exact) == 0U);
+    for (const GridGeometry& g : {paper, fine}) {
+        CAPTURE(g.voxel_count());
+        for (const SensorReading& sensor : frame.readings) {
+            host::OwnedRayTable t;
+            REQUIRE(t.build(g, sensor).ok());
+            const std::size_t px = sensor.depth.size();
+            // The simulated frame; every reading at max range (the whole table
+            // walked: pass 2 takes off nothing); every reading 1 mm before where
+            // its ray leaves the grid (ramps and peaks in the last voxels);
+            // readings spread over each ray (the constant part's end is searched
+            // for, runs break at every pixel).
+            std::vector<std::vector<float>> cases;
+            cases.emplace_back(sensor.depth.begin(), sensor.depth.end());
+            cases.push_back(depths_at(t, px, [&](std::size_t) { return sensor.max_range * 0.9999F; }));
+            cases.push_back(depths_at(t, px, [&](std::size_t i) {
+                const std::uint32_t b = t.table().pixel_begin(i);
+                const std::uint32_t e = t.table().pixel_begin(i + 1U);
+                return e > b ? t.table().entry_exit(i, e - 1U) - 0.001F : sensor.max_range * 0.5F;
+            }));
+            cases.push_back(depths_at(t, px, [&](std::size_t i) {
+                return sensor.min_range + (sensor.max_range - sensor.min_range) * static_cast<float>(i % 97U) / 97.0F;
+            }));
+            // A quarter along each ray in the grid (less than half of the table
+            // walked: pass 2 counts the walked entries), and every other pixel
+            // invalid, the rest at max range (about half walked).
+            cases.push_back(depths_at(t, px, [&](std::size_t i) {
+                const std::uint32_t b = t.table().pixel_begin(i);
+                const std::uint32_t e = t.table().pixel_begin(i + 1U);
+                return e > b ? t.table().entry_exit(i, b + (e - b) / 4U) : sensor.max_range * 0.5F;
+            }));
+            cases.push_back(depths_at(t, px, [&](std::size_t i) {
+                return i % 2U == 0U ? std::numeric_limits<float>::quiet_NaN() : sensor.max_range * 0.9999F;
+            }));
+            for (std::size_t c = 0; c < cases.size(); ++c) {
+                CAPTURE(c);
+                SensorReading r = sensor;
+                r.depth = Span<const float>(cases[c].data(), cases[c].size());
+                OwnedGrid fused(g);
+                const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
+                const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
+                CHECK(st.voxel_updates > 0U);
+                MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
+                CHECK(differs_from_exact(fused, exact) == 0U);
+            }
         }
     }
 }
@@ -199,9 +207,9 @@ TEST_CASE("ray table: evidence beyond the saturation bound is the exact sum clam
         // last of each ray saturates, and the peaks of rays ending in a
         // voxel that other rays cross must not lift it above the bound.
         const std::vector<float> depth = depths_at(t, sensor.depth.size(), [&](std::size_t i) {
-            const std::uint32_t b = t.pixel_begin()[i];
-            const std::uint32_t e = t.pixel_begin()[i + 1U];
-            return e > b ? t.t_exit()[e - 1U] - 0.001F : sensor.max_range * 0.5F;
+            const std::uint32_t b = t.table().pixel_begin(i);
+            const std::uint32_t e = t.table().pixel_begin(i + 1U);
+            return e > b ? t.table().entry_exit(i, e - 1U) - 0.001F : sensor.max_range * 0.5F;
         });
         SensorReading r = sensor;
         r.depth = Span<const float>(depth.data(), depth.size());
@@ -272,10 +280,12 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     // Each span one entry short in turn (the others large enough) is refused.
     const std::size_t n = count_ray_steps(g, r).value();
     const std::size_t px = r.depth.size();
-    std::vector<std::uint32_t> voxels(n), begin(px + 1U), all(g.voxel_count()), walked(px), hits(g.voxel_count());
+    REQUIRE(ray_table_is_compact(g));
+    std::vector<CompactRayEntry> entries(n);
+    std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), walked(px), hits(g.voxel_count());
     std::vector<std::int32_t> corrections(g.voxel_count());
-    std::vector<float> t_exit(n), enter(px), exit(px), norm(px);
-    const RayTableStorage full{{voxels.data(), n},         {t_exit.data(), n},
+    std::vector<float> enter(px), exit(px), norm(px);
+    const RayTableStorage full{{entries.data(), n},        {},
                                {begin.data(), px + 1U},    {enter.data(), px},
                                {exit.data(), px},          {norm.data(), px},
                                {all.data(), all.size()},   {walked.data(), px},
@@ -285,8 +295,8 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
         CAPTURE(shortened);
         RayTableStorage s = full;
         switch (shortened) {
-            case 0: s.voxels = s.voxels.subspan(0, n - 1U); break;
-            case 1: s.t_exit = s.t_exit.subspan(0, n - 1U); break;
+            case 0: s.compact_entries = s.compact_entries.subspan(0, n - 1U); break;
+            case 1: s.compact_entries = {}; break;  // a compact grid needs compact entries
             case 2: s.pixel_begin = s.pixel_begin.subspan(0, px); break;
             case 3: s.pixel_enter = s.pixel_enter.subspan(0, px - 1U); break;
             case 4: s.pixel_exit = s.pixel_exit.subspan(0, px - 1U); break;

@@ -10,8 +10,9 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     }
     const std::size_t pixels =
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
-    voxels_.resize(n.value());
-    t_exit_.resize(n.value());
+    const bool compact = ray_table_is_compact(grid);
+    compact_entries_.assign(compact ? n.value() : 0U, CompactRayEntry{});
+    wide_entries_.assign(compact ? 0U : n.value(), WideRayEntry{});
     pixel_begin_.resize(pixels + 1U);
     pixel_enter_.resize(pixels);
     pixel_exit_.resize(pixels);
@@ -22,8 +23,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     hit_correction_.resize(grid.voxel_count());
     const Result<RayTable> built = RayTable::build(
         grid, sensor,
-        RayTableStorage{{voxels_.data(), voxels_.size()},
-                        {t_exit_.data(), t_exit_.size()},
+        RayTableStorage{{compact_entries_.data(), compact_entries_.size()},
+                        {wide_entries_.data(), wide_entries_.size()},
                         {pixel_begin_.data(), pixel_begin_.size()},
                         {pixel_enter_.data(), pixel_enter_.size()},
                         {pixel_exit_.data(), pixel_exit_.size()},
@@ -41,11 +42,11 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
 }
 
 std::size_t OwnedRayTable::storage_bytes() const noexcept {
-    return voxels_.size() * sizeof(std::uint32_t) + t_exit_.size() * sizeof(float) +
-           pixel_begin_.size() * sizeof(std::uint32_t) +
+    return compact_entries_.size() * sizeof(CompactRayEntry) + wide_entries_.size() * sizeof(WideRayEntry) +
+           (pixel_begin_.size() + full_hits_.size() + pixel_walked_.size() + hit_count_.size()) *
+               sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
-           (full_hits_.size() + pixel_walked_.size()) * sizeof(std::uint32_t) +
-           hit_count_.size() * sizeof(std::uint32_t) + hit_correction_.size() * sizeof(std::int32_t);
+           hit_correction_.size() * sizeof(std::int32_t);
 }
 
 }  // namespace cellguard::host

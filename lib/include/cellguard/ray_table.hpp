@@ -4,8 +4,9 @@
 /// Sensors in a workcell do not move. At commissioning, each pixel's ray is
 /// traversed once from the sensor origin to the sensor's max_range, and its
 /// voxels are stored in order, each with the distance at which the ray leaves
-/// it. A frame then finds, per pixel, how far along its list the reading
-/// lies; no traversal set-up and no floating point per voxel.
+/// it (an entry: 4 bytes in grids of up to 65,536 voxels, 8 bytes above). A
+/// frame then finds, per pixel, how far along its list the reading lies; no
+/// traversal set-up and no floating point per voxel.
 ///
 /// How a frame is fused (RayTable::fuse):
 /// - Pass 1, per pixel: a ray's voxels up to its reading are a prefix of its
@@ -34,7 +35,8 @@
 /// face (the table puts a reading exactly on a face in the voxel the ray
 /// enters next; fuse_sensor uses the half-open rule of grid.hpp) or where a
 /// ray grazes a voxel edge (the table's ray is the pixel's exact direction,
-/// fuse_sensor's ray ends at the float reading). fuse_sensor saturates after
+/// fuse_sensor's ray ends at the float reading; a compact table stores exit
+/// distances to 1/65535 of the grid's diagonal). fuse_sensor saturates after
 /// every addition, the table once per voxel and frame, so the two also
 /// differ where one of fuse_sensor's partial sums reaches a saturation bound
 /// (+-32767, about +-128 nats): there the table's result is the exact sum,
@@ -58,15 +60,40 @@
 
 namespace cellguard {
 
-/// Caller storage of a ray table (structure of arrays): every pixel's voxels
-/// and exit distances, per pixel the offset of its first voxel and where its
-/// ray enters and leaves the grid, and the per-voxel sums fuse() works in.
-/// The working memory (`pixel_walked`, `hit_count`, `hit_correction`) may be
-/// shared by tables that are fused one after another: fuse() sets it first.
+/// One table entry in a grid of at most kCompactRayTableVoxels voxels: the
+/// voxel and where the ray leaves it, as enter + exit_steps x the table's
+/// exit step (the grid's diagonal / 65535: 0.04 mm in the paper's grid).
+struct CompactRayEntry {
+    std::uint16_t voxel;       ///< linear voxel index
+    std::uint16_t exit_steps;  ///< exit distance from the ray's grid entry, in exit steps (rounded)
+};
+
+/// One table entry in a larger grid: the voxel and the exit distance itself.
+struct WideRayEntry {
+    std::uint32_t voxel;  ///< linear voxel index
+    float exit;           ///< metres from the sensor origin where the ray leaves the voxel
+};
+
+/// Grids of at most this many voxels use CompactRayEntry (4 bytes per entry,
+/// half the memory traffic of WideRayEntry); larger grids WideRayEntry.
+constexpr std::size_t kCompactRayTableVoxels = 65536U;
+
+/// True when a table for @p grid stores CompactRayEntry.
+[[nodiscard]] inline bool ray_table_is_compact(const GridGeometry& grid) noexcept {
+    return grid.voxel_count() <= kCompactRayTableVoxels;
+}
+
+/// Caller storage of a ray table: every pixel's entries, per pixel the
+/// offset of its first entry and where its ray enters and leaves the grid,
+/// per voxel how many rays cross it, and the working memory of fuse().
+/// Exactly one of `compact_entries` and `wide_entries` is used (see
+/// ray_table_is_compact); the other may be empty. The working memory
+/// (`pixel_walked`, `hit_count`, `hit_correction`) may be shared by tables
+/// that are fused one after another: fuse() sets it first.
 struct RayTableStorage {
-    Span<std::uint32_t> voxels{};       ///< count_ray_steps(...) entries: linear voxel indices, pixel by pixel
-    Span<float> t_exit{};               ///< count_ray_steps(...) entries: metres from the origin where the ray leaves each voxel
-    Span<std::uint32_t> pixel_begin{};  ///< width * height + 1 entries: offset of each pixel's first voxel
+    Span<CompactRayEntry> compact_entries{};  ///< count_ray_steps(...) entries if compact
+    Span<WideRayEntry> wide_entries{};        ///< count_ray_steps(...) entries if not compact
+    Span<std::uint32_t> pixel_begin{};  ///< width * height + 1 entries: offset of each pixel's first entry
     Span<float> pixel_enter{};          ///< width * height entries: where the ray enters the grid (+inf: it misses)
     Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
     Span<float> pixel_norm{};           ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
@@ -76,7 +103,7 @@ struct RayTableStorage {
     Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
 };
 
-/// Number of voxel entries (`voxels`, `t_exit`) the table of this sensor
+/// Number of entries (`compact_entries` or `wide_entries`) the table of this sensor
 /// needs in this grid: the sum over pixels of the voxels each ray crosses.
 /// The sensor description is checked as by validate_sensor_reading (the
 /// depth view itself is not used). Errors: those of validate_sensor_reading;
@@ -110,10 +137,21 @@ public:
     [[nodiscard]] Result<FusionStats> fuse(EvidenceGrid& grid, Span<const float> depth,
                                            const SensorModelTable& model) const noexcept;
 
-    /// Number of stored voxel entries.
+    /// Number of stored entries.
     [[nodiscard]] std::size_t step_count() const noexcept { return step_count_; }
     /// Pixels of the sensor.
     [[nodiscard]] std::size_t pixel_count() const noexcept { return pixels_; }
+    /// Offset of pixel @p pixel's first entry; pixel_count() gives the end.
+    [[nodiscard]] std::uint32_t pixel_begin(std::size_t pixel) const noexcept { return storage_.pixel_begin.at(pixel); }
+    /// Where pixel @p pixel's ray enters the grid, metres (+inf: it misses).
+    [[nodiscard]] float pixel_enter(std::size_t pixel) const noexcept { return storage_.pixel_enter.at(pixel); }
+    /// Pixel @p pixel's norm factor: range = depth x norm.
+    [[nodiscard]] float pixel_norm(std::size_t pixel) const noexcept { return storage_.pixel_norm.at(pixel); }
+    /// Voxel of entry @p entry.
+    [[nodiscard]] std::uint32_t entry_voxel(std::size_t entry) const noexcept;
+    /// Exit distance of entry @p entry of pixel @p pixel, metres, as fuse()
+    /// compares it (for a compact table: the stored steps turned back).
+    [[nodiscard]] float entry_exit(std::size_t pixel, std::size_t entry) const noexcept;
 
 private:
     GridGeometry geometry_{};
@@ -122,6 +160,8 @@ private:
     std::size_t step_count_ = 0U;
     float min_range_ = 0.0F;
     float max_range_ = 0.0F;
+    float exit_step_ = 0.0F;  ///< metres per CompactRayEntry::exit_steps unit
+    bool compact_ = false;
 };
 
 }  // namespace cellguard

@@ -34,20 +34,10 @@ public:
     [[nodiscard]] const RayTable& table() const noexcept { return table_; }
     /// Bytes of the table's storage (what a target must provide for it).
     [[nodiscard]] std::size_t storage_bytes() const noexcept;
-    /// Voxel index of every entry, pixel by pixel.
-    [[nodiscard]] const std::vector<std::uint32_t>& voxels() const noexcept { return voxels_; }
-    /// Offset of each pixel's first entry (pixels + 1 entries).
-    [[nodiscard]] const std::vector<std::uint32_t>& pixel_begin() const noexcept { return pixel_begin_; }
-    /// Exit distances of every entry.
-    [[nodiscard]] const std::vector<float>& t_exit() const noexcept { return t_exit_; }
-    /// Where each pixel's ray enters the grid (+inf: it misses).
-    [[nodiscard]] const std::vector<float>& pixel_enter() const noexcept { return pixel_enter_; }
-    /// Norm factor of each pixel (range = depth x norm).
-    [[nodiscard]] const std::vector<float>& pixel_norm() const noexcept { return pixel_norm_; }
 
 private:
-    std::vector<std::uint32_t> voxels_;
-    std::vector<float> t_exit_;
+    std::vector<CompactRayEntry> compact_entries_;
+    std::vector<WideRayEntry> wide_entries_;
     std::vector<std::uint32_t> pixel_begin_;
     std::vector<float> pixel_enter_;
     std::vector<float> pixel_exit_;
