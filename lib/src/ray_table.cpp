@@ -67,6 +67,31 @@ inline float exit_of(const CompactRayEntry& e, float enter, float step) noexcept
 }
 inline float exit_of(const WideRayEntry& e, float /*enter*/, float /*step*/) noexcept { return e.exit; }
 
+/// Search keys: an entry's ray has left it at distance x exactly when
+/// key(entry) <= key_limit(x). For a compact entry the key is its exit steps
+/// and the limit the largest step count q with exit_of(q) <= x (found from
+/// the quotient and checked with exit_of's own expression, so the two
+/// agree exactly); comparing integers keeps the floating point out of the
+/// search. For a wide entry both are the distances themselves.
+inline std::int32_t key(const CompactRayEntry& e) noexcept { return e.exit_steps; }
+inline float key(const WideRayEntry& e) noexcept { return e.exit; }
+inline std::int32_t key_limit(const CompactRayEntry* /*kind*/, float x, float enter, float step) noexcept {
+    constexpr std::int32_t kMaxSteps = 65535;
+    const auto at = [&](std::int32_t q) noexcept { return enter + static_cast<float>(q) * step; };
+    const float quotient = (x - enter) / step;
+    std::int32_t q = !(quotient >= 0.0F) ? -1
+                     : quotient >= static_cast<float>(kMaxSteps) ? kMaxSteps
+                                                                 : static_cast<std::int32_t>(quotient);
+    while (q >= 0 && at(q) > x) {
+        --q;
+    }
+    while (q < kMaxSteps && at(q + 1) <= x) {
+        ++q;
+    }
+    return q;
+}
+inline float key_limit(const WideRayEntry* /*kind*/, float x, float /*enter*/, float /*step*/) noexcept { return x; }
+
 }  // namespace
 
 Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& sensor, RayTableStorage storage,
@@ -217,12 +242,11 @@ void count_segments(const Entry* entries, const std::uint32_t* begin, const std:
 }
 
 /// The end of a pixel's constant part: the first of the entries [first, end)
-/// whose exit distance exceeds @p free_until (end if none). The entries'
-/// exit distances do not decrease. Branch-free binary search: the loop's
-/// trip count depends only on the pixel's entry count.
-template <typename Entry>
-std::uint32_t find_free_end(const Entry* entries, std::uint32_t first, std::uint32_t end, float free_until,
-                            float enter, float step) noexcept {
+/// whose key exceeds @p limit (end if none); keys do not decrease along a
+/// pixel's entries. Branch-free binary search: the loop's trip count
+/// depends only on the pixel's entry count.
+template <typename Entry, typename Limit>
+std::uint32_t find_free_end(const Entry* entries, std::uint32_t first, std::uint32_t end, Limit limit) noexcept {
     const Entry* base = entries + first;
     std::uint32_t n = end - first;
     if (n == 0U) {
@@ -230,10 +254,10 @@ std::uint32_t find_free_end(const Entry* entries, std::uint32_t first, std::uint
     }
     while (n > 1U) {
         const std::uint32_t half = n / 2U;
-        base = exit_of(base[half - 1U], enter, step) <= free_until ? base + half : base;
+        base = key(base[half - 1U]) <= limit ? base + half : base;
         n -= half;
     }
-    return static_cast<std::uint32_t>(base - entries) + (exit_of(*base, enter, step) <= free_until ? 1U : 0U);
+    return static_cast<std::uint32_t>(base - entries) + (key(*base) <= limit ? 1U : 0U);
 }
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
@@ -314,17 +338,16 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
         // before the reading, entries [first, free_end).
         const float free_until = range - ramp;
         const std::uint32_t free_end =
-            free_until < t.exit[i] ? find_free_end(entries, first, end, free_until, enter, t.exit_step) : end;
+            free_until < t.exit[i] ? find_free_end(entries, first, end, key_limit(entries, free_until, enter, t.exit_step))
+                                   : end;
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
         // correction (its evidence minus the constant) is summed here.
         std::uint32_t k = free_end;
-        for (; k < end; ++k) {
+        const auto range_limit = key_limit(entries, range, enter, t.exit_step);
+        for (; k < end && key(entries[k]) <= range_limit; ++k) {
             const float exit = exit_of(entries[k], enter, t.exit_step);
-            if (exit > range) {
-                break;
-            }
             const std::int16_t e = model.free_evidence(static_cast<double>(range - exit));
             t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(e) - constant;
         }
