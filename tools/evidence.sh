@@ -253,11 +253,29 @@ if [ "$check" -eq 0 ]; then
             "$bench_build/tests/bench_cycle" --cycles "$cycles" 2>&1 || echo "(bench_cycle exited with status $?)"
             echo '```'
             echo
+            # The ray tables' fusion costs most when readings lie inside the
+            # grid (ray_table.hpp): the other input patterns, cycle times only.
+            for readings in grid-exit mid-ray; do
+                echo "\`bench_cycle --cycles $cycles --readings $readings\` (cycle times):"
+                echo
+                echo '```'
+                "$bench_build/tests/bench_cycle" --cycles "$cycles" --readings "$readings" 2>&1 |
+                    sed -n '/every reading/p;/^cycle time over/,/wall clock/p' || echo "(bench_cycle exited with status $?)"
+                echo '```'
+                echo
+            done
             if command -v valgrind >/dev/null && [ -x tools/bench-cycle-callgrind.sh ]; then
                 echo "\`tools/bench-cycle-callgrind.sh $bench_build 3\` (instructions inside SafetyController::run_cycle):"
                 echo
                 echo '```'
                 tools/bench-cycle-callgrind.sh "$bench_build" 3 2>&1 || echo "(callgrind run failed with status $?)"
+                echo '```'
+                echo
+                echo "The same with \`--readings mid-ray\`:"
+                echo
+                echo '```'
+                tools/bench-cycle-callgrind.sh "$bench_build" 3 --readings mid-ray 2>&1 ||
+                    echo "(callgrind run failed with status $?)"
                 echo '```'
             else
                 echo "callgrind: not run (valgrind or tools/bench-cycle-callgrind.sh missing)."
