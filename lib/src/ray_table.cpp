@@ -205,27 +205,31 @@ float RayTable::entry_exit(std::size_t pixel, std::size_t entry) const noexcept 
 namespace {
 
 /// Adds @p delta (modulo 2^32: 0xFFFFFFFF subtracts one) to the hit count
-/// of every table entry in the pixels' segments: [begin[i], walked[i]) when
+/// of the voxel of every entry in [@p run_begin, @p run_end).
+template <typename Entry>
+void add_to_hits(const Entry* entries, std::uint32_t run_begin, std::uint32_t run_end, std::uint32_t delta,
+                 Span<std::uint32_t> hits) noexcept {
+    std::uint32_t k = run_begin;
+    // Four entries per step: the loop's own instructions were a third of it.
+    for (; k + 4U <= run_end; k += 4U) {
+        hits[voxel_of(entries[k])] += delta;
+        hits[voxel_of(entries[k + 1U])] += delta;
+        hits[voxel_of(entries[k + 2U])] += delta;
+        hits[voxel_of(entries[k + 3U])] += delta;
+    }
+    for (; k < run_end; ++k) {
+        hits[voxel_of(entries[k])] += delta;
+    }
+}
+
+/// add_to_hits for the pixels' segments: [begin[i], walked[i]) when
 /// @p walked_part, else [walked[i], begin[i + 1]). Segments that continue
-/// one another are walked as one run.
+/// one another are added as one run.
 template <typename Entry>
 void count_segments(const Entry* entries, const std::uint32_t* begin, const std::uint32_t* walked,
-                    std::size_t pixels, bool walked_part, std::uint32_t delta, std::uint32_t* hits) noexcept {
+                    std::size_t pixels, bool walked_part, std::uint32_t delta, Span<std::uint32_t> hits) noexcept {
     std::uint32_t run_begin = 0U;
     std::uint32_t run_end = 0U;
-    const auto count_run = [&]() noexcept {
-        std::uint32_t k = run_begin;
-        // Four entries per step: the loop's own instructions were a third of it.
-        for (; k + 4U <= run_end; k += 4U) {
-            hits[voxel_of(entries[k])] += delta;
-            hits[voxel_of(entries[k + 1U])] += delta;
-            hits[voxel_of(entries[k + 2U])] += delta;
-            hits[voxel_of(entries[k + 3U])] += delta;
-        }
-        for (; k < run_end; ++k) {
-            hits[voxel_of(entries[k])] += delta;
-        }
-    };
     for (std::size_t i = 0U; i < pixels; ++i) {
         const std::uint32_t b = walked_part ? begin[i] : walked[i];
         const std::uint32_t e = walked_part ? walked[i] : begin[i + 1U];
@@ -233,12 +237,12 @@ void count_segments(const Entry* entries, const std::uint32_t* begin, const std:
             continue;
         }
         if (b != run_end) {
-            count_run();
+            add_to_hits(entries, run_begin, run_end, delta, hits);
             run_begin = b;
         }
         run_end = e;
     }
-    count_run();
+    add_to_hits(entries, run_begin, run_end, delta, hits);
 }
 
 /// The end of a pixel's constant part: the first of the entries [first, end)
@@ -366,12 +370,13 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
         for (std::size_t v = 0U; v < t.voxels; ++v) {
             t.hits[v] = 0U;
         }
-        count_segments(entries, t.begin, t.walked, t.pixels, true, 1U, t.hits);
+        count_segments(entries, t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
     } else {
         for (std::size_t v = 0U; v < t.voxels; ++v) {
             t.hits[v] = t.full_hits[v];
         }
-        count_segments(entries, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(), t.hits);
+        count_segments(entries, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
+                       Span<std::uint32_t>(t.hits, t.voxels));
     }
     // Pass 3: each crossed voxel's exact sum, added with one saturation.
     for (std::size_t v = 0U; v < t.voxels; ++v) {
