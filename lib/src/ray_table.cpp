@@ -105,6 +105,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     if (storage.pixel_begin.size() < pixels + 1U || storage.pixel_enter.size() < pixels ||
         storage.pixel_exit.size() < pixels || storage.pixel_norm.size() < pixels ||
         storage.pixel_walked.size() < pixels || storage.full_hits.size() < grid.voxel_count() ||
+        storage.crossed_voxels.size() < grid.voxel_count() ||
         storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
@@ -178,8 +179,17 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     for (std::size_t k = 0U; k < n; ++k) {
         ++storage.full_hits[compact ? voxel_of(storage.compact_entries[k]) : voxel_of(storage.wide_entries[k])];
     }
+    // The voxels some ray crosses, ascending: fuse() sets and sums only these.
+    std::size_t crossed = 0U;
+    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
+        if (storage.full_hits[v] != 0U) {
+            storage.crossed_voxels[crossed] = static_cast<std::uint32_t>(v);
+            ++crossed;
+        }
+    }
     RayTable table;
     table.geometry_ = grid;
+    table.crossed_count_ = crossed;
     table.storage_ = storage;
     table.pixels_ = pixels;
     table.step_count_ = n;
@@ -281,6 +291,8 @@ struct FuseView {
     const float* exit;
     const float* norm;
     const std::uint32_t* full_hits;
+    const std::uint32_t* crossed;
+    std::size_t crossed_count;
     std::uint32_t* walked;
     std::uint32_t* hits;
     std::int32_t* correction;
@@ -301,8 +313,8 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
     const std::int16_t constant = model.constant_free_evidence();
     const std::int16_t peak = model.reading_evidence();
     const auto ramp = static_cast<float>(model.ramp_length());
-    for (std::size_t v = 0U; v < t.voxels; ++v) {
-        t.correction[v] = 0;
+    for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+        t.correction[t.crossed[j]] = 0;
     }
     // Pass 1, per pixel: where its walk ends (walked[i]; begin[i] when it
     // walks nothing), and the ramp and peak corrections.
@@ -367,19 +379,20 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
     // than half of the table was walked, start from the table's full counts
     // and take off the entries not walked: at most half the table either way.
     if (2U * s.voxel_updates <= static_cast<std::uint64_t>(t.steps)) {
-        for (std::size_t v = 0U; v < t.voxels; ++v) {
-            t.hits[v] = 0U;
+        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+            t.hits[t.crossed[j]] = 0U;
         }
         count_segments(entries, t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
     } else {
-        for (std::size_t v = 0U; v < t.voxels; ++v) {
-            t.hits[v] = t.full_hits[v];
+        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+            t.hits[t.crossed[j]] = t.full_hits[t.crossed[j]];
         }
         count_segments(entries, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
                        Span<std::uint32_t>(t.hits, t.voxels));
     }
     // Pass 3: each crossed voxel's exact sum, added with one saturation.
-    for (std::size_t v = 0U; v < t.voxels; ++v) {
+    for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+        const std::uint32_t v = t.crossed[j];
         if (t.hits[v] != 0U) {
             lo[v] = add_frame_sum_saturating(lo[v], t.hits[v], constant, t.correction[v]);
             obs[v] = 1U;
@@ -404,6 +417,7 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     const std::size_t voxel_count = geometry_.voxel_count();
     CG_ENFORCE((compact_ ? storage_.compact_entries.size() : storage_.wide_entries.size()) >= step_count_ &&
                    pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
+                   crossed_count_ <= storage_.crossed_voxels.size() &&
                    voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
                "ray table storage changed size");
     // A ramp or peak voxel's correction (evidence minus the constant) lies in
@@ -417,7 +431,8 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
         return ErrorCode::kInvalidArgument;
     }
     const FuseView view{storage_.pixel_begin.data(), storage_.pixel_enter.data(), storage_.pixel_exit.data(),
-                        storage_.pixel_norm.data(),  storage_.full_hits.data(),   storage_.pixel_walked.data(),
+                        storage_.pixel_norm.data(),  storage_.full_hits.data(),   storage_.crossed_voxels.data(),
+                        crossed_count_,              storage_.pixel_walked.data(),
                         storage_.hit_count.data(),   storage_.hit_correction.data(), pixels_,
                         step_count_,                 voxel_count,                 min_range_,
                         max_range_,                  exit_step_};

@@ -282,16 +282,18 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     const std::size_t px = r.depth.size();
     REQUIRE(ray_table_is_compact(g));
     std::vector<CompactRayEntry> entries(n);
-    std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), walked(px), hits(g.voxel_count());
+    std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), crossed(g.voxel_count()), walked(px),
+        hits(g.voxel_count());
     std::vector<std::int32_t> corrections(g.voxel_count());
     std::vector<float> enter(px), exit(px), norm(px);
     const RayTableStorage full{{entries.data(), n},        {},
                                {begin.data(), px + 1U},    {enter.data(), px},
                                {exit.data(), px},          {norm.data(), px},
-                               {all.data(), all.size()},   {walked.data(), px},
+                               {all.data(), all.size()},   {crossed.data(), crossed.size()},
+                               {walked.data(), px},
                                {hits.data(), hits.size()}, {corrections.data(), corrections.size()}};
     REQUIRE(RayTable::build(g, r, full).ok());
-    for (int shortened = 0; shortened < 10; ++shortened) {
+    for (int shortened = 0; shortened < 11; ++shortened) {
         CAPTURE(shortened);
         RayTableStorage s = full;
         switch (shortened) {
@@ -304,6 +306,7 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
             case 6: s.hit_count = s.hit_count.subspan(0, hits.size() - 1U); break;
             case 7: s.full_hits = s.full_hits.subspan(0, all.size() - 1U); break;
             case 8: s.pixel_walked = s.pixel_walked.subspan(0, px - 1U); break;
+            case 9: s.crossed_voxels = s.crossed_voxels.subspan(0, crossed.size() - 1U); break;
             default: s.hit_correction = s.hit_correction.subspan(0, corrections.size() - 1U); break;
         }
         CHECK(RayTable::build(g, r, s).error() == ErrorCode::kStorageTooSmall);

@@ -18,6 +18,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     pixel_exit_.resize(pixels);
     pixel_norm_.resize(pixels);
     full_hits_.resize(grid.voxel_count());
+    crossed_voxels_.resize(grid.voxel_count());
     pixel_walked_.resize(pixels);
     hit_count_.resize(grid.voxel_count());
     hit_correction_.resize(grid.voxel_count());
@@ -30,6 +31,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
                         {pixel_exit_.data(), pixel_exit_.size()},
                         {pixel_norm_.data(), pixel_norm_.size()},
                         {full_hits_.data(), full_hits_.size()},
+                        {crossed_voxels_.data(), crossed_voxels_.size()},
                         {pixel_walked_.data(), pixel_walked_.size()},
                         {hit_count_.data(), hit_count_.size()},
                         {hit_correction_.data(), hit_correction_.size()}},
@@ -43,7 +45,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
 
 std::size_t OwnedRayTable::storage_bytes() const noexcept {
     return compact_entries_.size() * sizeof(CompactRayEntry) + wide_entries_.size() * sizeof(WideRayEntry) +
-           (pixel_begin_.size() + full_hits_.size() + pixel_walked_.size() + hit_count_.size()) *
+           (pixel_begin_.size() + full_hits_.size() + crossed_voxels_.size() + pixel_walked_.size() + hit_count_.size()) *
                sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
            hit_correction_.size() * sizeof(std::int32_t);

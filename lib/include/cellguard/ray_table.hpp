@@ -24,6 +24,9 @@
 ///   one run where they continue one another. So the counting visits at
 ///   most half of the table's entries in any frame, and none when every
 ///   reading lies in its ray's last voxel or beyond the grid.
+/// - The working memory is set, and pass 3 visits, only the voxels some ray
+///   of the table crosses (`crossed_voxels`, listed by build()): in a grid
+///   much larger than the sensor's view the passes do not scale with it.
 /// - Pass 3 adds each crossed voxel's exact sum, hits x constant +
 ///   correction (64-bit), with one saturation, and sets its observed flag.
 ///   fuse() refuses a model whose corrections could overflow 32 bits
@@ -98,6 +101,7 @@ struct RayTableStorage {
     Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
     Span<float> pixel_norm{};           ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
     Span<std::uint32_t> full_hits{};    ///< grid.voxel_count() entries: how many of the table's rays cross each voxel
+    Span<std::uint32_t> crossed_voxels{};  ///< grid.voxel_count() entries: build lists the voxels any ray crosses
     Span<std::uint32_t> pixel_walked{}; ///< width * height entries: working memory, where each pixel's walk ends
     Span<std::uint32_t> hit_count{};    ///< grid.voxel_count() entries: working memory, rays per voxel
     Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
@@ -158,6 +162,7 @@ private:
     RayTableStorage storage_{};
     std::size_t pixels_ = 0U;
     std::size_t step_count_ = 0U;
+    std::size_t crossed_count_ = 0U;
     float min_range_ = 0.0F;
     float max_range_ = 0.0F;
     float exit_step_ = 0.0F;  ///< metres per CompactRayEntry::exit_steps unit

@@ -43,6 +43,7 @@ private:
     std::vector<float> pixel_exit_;
     std::vector<float> pixel_norm_;
     std::vector<std::uint32_t> full_hits_;
+    std::vector<std::uint32_t> crossed_voxels_;
     std::vector<std::uint32_t> pixel_walked_;
     std::vector<std::uint32_t> hit_count_;
     std::vector<std::int32_t> hit_correction_;
