@@ -15,8 +15,8 @@
 ///   evidence; a ramp voxel or the reading's voxel adds its difference to
 ///   the constant to `hit_correction`. Finding where the constant part ends
 ///   costs nothing when the reading lies at least one ramp beyond where the
-///   ray leaves the grid; otherwise the search starts at the proportional
-///   estimate between the ray's entry and exit distances (a few steps).
+///   ray leaves the grid; otherwise it is a branch-free binary search of the
+///   pixel's entries (on integer exit steps in a compact table).
 /// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
 ///   entries, or, when more than half of the table was walked, starts from
 ///   the table's full counts (`full_hits`, made by build()) and takes off
@@ -44,8 +44,9 @@
 /// differ where one of fuse_sensor's partial sums reaches a saturation bound
 /// (+-32767, about +-128 nats): there the table's result is the exact sum,
 /// saturated, and does not depend on the order of the pixels. The unit tests
-/// bound how many voxels differ on the simulated workcell and check equality
-/// with the per-ray walk where nothing saturates.
+/// bound how many voxels differ from fuse_sensor on the simulated workcell
+/// and check that every voxel equals the exact per-ray sum, saturated once,
+/// with and without saturation.
 ///
 /// Storage is the caller's: `count_ray_steps` sizes it, `RayTable::build`
 /// fills it. The table is valid only for the pose, intrinsics, grid and
