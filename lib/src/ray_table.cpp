@@ -62,30 +62,34 @@ namespace {
 /// the table's exit step; a wide entry stores the distance itself).
 inline std::uint32_t voxel_of(const CompactRayEntry& e) noexcept { return e.voxel; }
 inline std::uint32_t voxel_of(const WideRayEntry& e) noexcept { return e.voxel; }
+/// The distance @p steps exit steps after @p enter: the one expression both
+/// exit_of and key_limit use, so they agree exactly.
+inline float exit_at(float enter, std::int32_t steps, float step) noexcept {
+    return enter + static_cast<float>(steps) * step;
+}
 inline float exit_of(const CompactRayEntry& e, float enter, float step) noexcept {
-    return enter + static_cast<float>(e.exit_steps) * step;
+    return exit_at(enter, e.exit_steps, step);
 }
 inline float exit_of(const WideRayEntry& e, float /*enter*/, float /*step*/) noexcept { return e.exit; }
 
 /// Search keys: an entry's ray has left it at distance x exactly when
 /// key(entry) <= key_limit(x). For a compact entry the key is its exit steps
-/// and the limit the largest step count q with exit_of(q) <= x (found from
-/// the quotient and checked with exit_of's own expression, so the two
+/// and the limit the largest step count q with exit_at(q) <= x (found from
+/// the quotient and checked with exit_at, as exit_of computes, so the two
 /// agree exactly); comparing integers keeps the floating point out of the
 /// search. For a wide entry both are the distances themselves.
 inline std::int32_t key(const CompactRayEntry& e) noexcept { return e.exit_steps; }
 inline float key(const WideRayEntry& e) noexcept { return e.exit; }
 inline std::int32_t key_limit(const CompactRayEntry* /*kind*/, float x, float enter, float step) noexcept {
     constexpr std::int32_t kMaxSteps = 65535;
-    const auto at = [&](std::int32_t q) noexcept { return enter + static_cast<float>(q) * step; };
     const float quotient = (x - enter) / step;
     std::int32_t q = !(quotient >= 0.0F) ? -1
                      : quotient >= static_cast<float>(kMaxSteps) ? kMaxSteps
                                                                  : static_cast<std::int32_t>(quotient);
-    while (q >= 0 && at(q) > x) {
+    while (q >= 0 && exit_at(enter, q, step) > x) {
         --q;
     }
-    while (q < kMaxSteps && at(q + 1) <= x) {
+    while (q < kMaxSteps && exit_at(enter, q + 1, step) <= x) {
         ++q;
     }
     return q;
@@ -353,9 +357,15 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
         // The constant part of the profile: the voxels left at least one ramp
         // before the reading, entries [first, free_end).
         const float free_until = range - ramp;
+        if (free_until >= t.exit[i]) {
+            // The reading lies at least one ramp beyond where the ray leaves
+            // the grid: every entry gets the constant, no ramp, no peak.
+            t.walked[i] = end;
+            s.voxel_updates += static_cast<std::uint64_t>(end - first);
+            continue;
+        }
         const std::uint32_t free_end =
-            free_until < t.exit[i] ? find_free_end(entries, first, end, key_limit(entries, free_until, enter, t.exit_step))
-                                   : end;
+            find_free_end(entries, first, end, key_limit(entries, free_until, enter, t.exit_step));
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
