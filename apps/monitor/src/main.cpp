@@ -101,6 +101,18 @@ Options parse_args(int argc, char** argv) {
             }
             return argv[++i];
         };
+        // The value of option @p name as an integer in [lo, hi]; anything else is a usage error.
+        auto integer_value = [&](const char* name, long lo, long hi) -> long {
+            const std::string v = value(name);
+            char* end = nullptr;
+            errno = 0;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (errno != 0 || end == v.c_str() || *end != '\0' || n < lo || n > hi) {
+                usage_error(std::string(name) + " expects an integer " + std::to_string(lo) + ".." + std::to_string(hi) +
+                            ", got '" + v + "'");
+            }
+            return n;
+        };
         if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
             std::exit(0);
@@ -109,14 +121,7 @@ Options parse_args(int argc, char** argv) {
         } else if (a == "--config") {
             o.config_path = value("--config");
         } else if (a == "--cycles") {
-            const std::string v = value("--cycles");
-            char* end = nullptr;
-            errno = 0;
-            const long n = std::strtol(v.c_str(), &end, 10);
-            if (errno != 0 || end == v.c_str() || *end != '\0' || n < 1 || n > 1000000) {
-                usage_error("--cycles expects an integer 1..1000000, got '" + v + "'");
-            }
-            o.cycles = static_cast<int>(n);
+            o.cycles = static_cast<int>(integer_value("--cycles", 1, 1000000));
         } else if (a == "--log") {
             o.log_file = value("--log");
         } else if (a == "--can-interface") {
@@ -124,14 +129,7 @@ Options parse_args(int argc, char** argv) {
         } else if (a == "--paced") {
             o.paced = true;
         } else if (a == "--budget-ms") {
-            const std::string v = value("--budget-ms");
-            char* end = nullptr;
-            errno = 0;
-            const long n = std::strtol(v.c_str(), &end, 10);
-            if (errno != 0 || end == v.c_str() || *end != '\0' || n < 1 || n > 60000) {
-                usage_error("--budget-ms expects an integer 1..60000, got '" + v + "'");
-            }
-            o.budget_ms = n;
+            o.budget_ms = integer_value("--budget-ms", 1, 60000);
         } else if (a == "--realtime") {
             o.realtime = true;
         } else if (a == "--quiet") {
