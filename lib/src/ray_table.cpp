@@ -1,5 +1,6 @@
 #include "cellguard/ray_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -55,46 +56,58 @@ Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReadin
     return total;
 }
 
+float compact_exit_step(const GridGeometry& grid, const SensorReading& sensor) noexcept {
+    if (!validate_sensor_reading(sensor).ok()) {
+        return 0.0F;
+    }
+    // The farthest point of the box from the origin is one of its corners.
+    const Eigen::Vector3d origin = sensor.pose.translation();
+    const Eigen::Vector3d lo = grid.origin();
+    const Eigen::Vector3d hi = grid.max_corner();
+    double farthest = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d c((corner & 1) != 0 ? hi.x() : lo.x(), (corner & 2) != 0 ? hi.y() : lo.y(),
+                                (corner & 4) != 0 ? hi.z() : lo.z());
+        farthest = std::max(farthest, (c - origin).norm());
+    }
+    const double reach = std::min(farthest, static_cast<double>(sensor.max_range)) * 1.0001;
+    int exponent = 0;
+    (void)std::frexp(reach / 65535.0, &exponent);  // reach / 65535 < 2^exponent
+    return static_cast<float>(std::ldexp(1.0, exponent));
+}
+
+bool ray_table_is_compact(const GridGeometry& grid, const SensorReading& sensor) noexcept {
+    const float step = compact_exit_step(grid, sensor);
+    return grid.voxel_count() <= kCompactRayTableVoxels && step > 0.0F &&
+           static_cast<double>(step) <= grid.voxel_size() / kCompactStepsPerVoxelEdge;
+}
+
 namespace {
 
 /// Entry access for both entry kinds: the voxel, and the exit distance as
-/// fuse() compares it (@p enter and @p step are the pixel's grid entry and
-/// the table's exit step; a wide entry stores the distance itself).
+/// fuse() compares it (@p step is a compact table's exit step; a wide entry
+/// stores the distance itself).
 inline std::uint32_t voxel_of(const CompactRayEntry& e) noexcept { return e.voxel; }
 inline std::uint32_t voxel_of(const WideRayEntry& e) noexcept { return e.voxel; }
-/// The distance @p steps exit steps after @p enter: the one expression both
-/// exit_of and key_limit use, so they agree exactly.
-inline float exit_at(float enter, std::int32_t steps, float step) noexcept {
-    return enter + static_cast<float>(steps) * step;
-}
-inline float exit_of(const CompactRayEntry& e, float enter, float step) noexcept {
-    return exit_at(enter, e.exit_steps, step);
-}
-inline float exit_of(const WideRayEntry& e, float /*enter*/, float /*step*/) noexcept { return e.exit; }
+/// Exact in float: a 16-bit count times a power of two.
+inline float exit_of(const CompactRayEntry& e, float step) noexcept { return static_cast<float>(e.exit_steps) * step; }
+inline float exit_of(const WideRayEntry& e, float /*step*/) noexcept { return e.exit; }
 
 /// Search keys: an entry's ray has left it at distance x exactly when
 /// key(entry) <= key_limit(x). For a compact entry the key is its exit steps
-/// and the limit the largest step count q with exit_at(q) <= x (found from
-/// the quotient and checked with exit_at, as exit_of computes, so the two
-/// agree exactly); comparing integers keeps the floating point out of the
-/// search. For a wide entry both are the distances themselves.
+/// and the limit floor(x x steps_per_metre) (-1 below 0, at most 65535):
+/// steps x step <= x exactly when steps <= x x steps_per_metre, and both
+/// products are exact because the step is a power of two, so comparing
+/// integers keeps the floating point out of the search. For a wide entry
+/// both are the distances themselves.
 inline std::int32_t key(const CompactRayEntry& e) noexcept { return e.exit_steps; }
 inline float key(const WideRayEntry& e) noexcept { return e.exit; }
-inline std::int32_t key_limit(const CompactRayEntry* /*kind*/, float x, float enter, float step) noexcept {
+inline std::int32_t key_limit(const CompactRayEntry* /*kind*/, float x, float steps_per_metre) noexcept {
     constexpr std::int32_t kMaxSteps = 65535;
-    const float quotient = (x - enter) / step;
-    std::int32_t q = !(quotient >= 0.0F) ? -1
-                     : quotient >= static_cast<float>(kMaxSteps) ? kMaxSteps
-                                                                 : static_cast<std::int32_t>(quotient);
-    while (q >= 0 && exit_at(enter, q, step) > x) {
-        --q;
-    }
-    while (q < kMaxSteps && exit_at(enter, q + 1, step) <= x) {
-        ++q;
-    }
-    return q;
+    const float steps = x * steps_per_metre;
+    return !(steps >= 0.0F) ? -1 : steps >= static_cast<float>(kMaxSteps) ? kMaxSteps : static_cast<std::int32_t>(steps);
 }
-inline float key_limit(const WideRayEntry* /*kind*/, float x, float /*enter*/, float /*step*/) noexcept { return x; }
+inline float key_limit(const WideRayEntry* /*kind*/, float x, float /*steps_per_metre*/) noexcept { return x; }
 
 }  // namespace
 
@@ -113,13 +126,10 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
-    const bool compact = ray_table_is_compact(grid);
+    const bool compact = ray_table_is_compact(grid, sensor);
     const std::size_t capacity = compact ? storage.compact_entries.size() : storage.wide_entries.size();
-    // Exit distances of a compact table: steps of 1/65535 of the grid's
-    // diagonal (slightly widened for rounding), the longest a ray can run
-    // inside the grid.
-    const Eigen::Vector3d extent = grid.max_corner() - grid.origin();
-    const auto exit_step = static_cast<float>(extent.norm() * 1.0001 / 65535.0);
+    // Exit distances of a compact table, in steps of a power of two metres.
+    const float exit_step = compact ? compact_exit_step(grid, sensor) : 0.0F;
     const Eigen::Vector3d origin = sensor.pose.translation();
     constexpr float kNone = std::numeric_limits<float>::infinity();
     std::size_t n = 0U;
@@ -143,7 +153,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
                 }
                 if (n < capacity) {
                     if (compact) {
-                        const double steps = std::round((t.t_exit - enter) / static_cast<double>(exit_step));
+                        const double steps = std::round(t.t_exit / static_cast<double>(exit_step));
                         storage.compact_entries[n] = CompactRayEntry{
                             static_cast<std::uint16_t>(t.index),
                             static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps)};
@@ -158,8 +168,8 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
             // decrease (it searches them), and the last is the ray's exit.
             const std::size_t first = storage.pixel_begin[pixel];
             for (std::size_t k = first; k < n && k < capacity; ++k) {
-                const float e = compact ? exit_of(storage.compact_entries[k], storage.pixel_enter[pixel], exit_step)
-                                        : exit_of(storage.wide_entries[k], 0.0F, 0.0F);
+                const float e = compact ? exit_of(storage.compact_entries[k], exit_step)
+                                        : exit_of(storage.wide_entries[k], 0.0F);
                 CG_ENFORCE(e >= last_exit, "ray table exit distances must not decrease");
                 last_exit = e;
             }
@@ -200,6 +210,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     table.min_range_ = sensor.min_range;
     table.max_range_ = sensor.max_range;
     table.exit_step_ = exit_step;
+    table.steps_per_metre_ = compact ? 1.0F / exit_step : 0.0F;
     table.compact_ = compact;
     return table;
 }
@@ -212,8 +223,8 @@ std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {
 float RayTable::entry_exit(std::size_t pixel, std::size_t entry) const noexcept {
     CG_ENFORCE(pixel < pixels_ && entry >= storage_.pixel_begin[pixel] && entry < storage_.pixel_begin[pixel + 1U],
                "ray table entry is not the pixel's");
-    return compact_ ? exit_of(storage_.compact_entries[entry], storage_.pixel_enter[pixel], exit_step_)
-                    : exit_of(storage_.wide_entries[entry], 0.0F, 0.0F);
+    return compact_ ? exit_of(storage_.compact_entries[entry], exit_step_)
+                    : exit_of(storage_.wide_entries[entry], 0.0F);
 }
 
 namespace {
@@ -306,6 +317,7 @@ struct FuseView {
     float min_range;
     float max_range;
     float exit_step;
+    float steps_per_metre;
 };
 
 /// RayTable::fuse for one entry kind (the checks are done by the caller).
@@ -365,15 +377,15 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
             continue;
         }
         const std::uint32_t free_end =
-            find_free_end(entries, first, end, key_limit(entries, free_until, enter, t.exit_step));
+            find_free_end(entries, first, end, key_limit(entries, free_until, t.steps_per_metre));
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
         // correction (its evidence minus the constant) is summed here.
         std::uint32_t k = free_end;
-        const auto range_limit = key_limit(entries, range, enter, t.exit_step);
+        const auto range_limit = key_limit(entries, range, t.steps_per_metre);
         for (; k < end && key(entries[k]) <= range_limit; ++k) {
-            const float exit = exit_of(entries[k], enter, t.exit_step);
+            const float exit = exit_of(entries[k], t.exit_step);
             const std::int16_t e = model.free_evidence(static_cast<double>(range - exit));
             t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(e) - constant;
         }
@@ -445,7 +457,8 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                         crossed_count_,              storage_.pixel_walked.data(),
                         storage_.hit_count.data(),   storage_.hit_correction.data(), pixels_,
                         step_count_,                 voxel_count,                 min_range_,
-                        max_range_,                  exit_step_};
+                        max_range_,                  exit_step_,
+                        steps_per_metre_};
     return compact_ ? fuse_entries(storage_.compact_entries.data(), view, grid, depth, model)
                     : fuse_entries(storage_.wide_entries.data(), view, grid, depth, model);
 }

@@ -142,8 +142,8 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
     // (244,800 voxels: wide entries).
     const GridGeometry paper = paper_grid_geometry();
     const GridGeometry fine = GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
-    REQUIRE(ray_table_is_compact(paper));
-    REQUIRE(!ray_table_is_compact(fine));
+    REQUIRE(ray_table_is_compact(paper, frame.readings[0]));
+    REQUIRE(!ray_table_is_compact(fine, frame.readings[0]));
     const SensorModelTable model;
     for (const GridGeometry& g : {paper, fine}) {
         CAPTURE(g.voxel_count());
@@ -280,7 +280,7 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     // Each span one entry short in turn (the others large enough) is refused.
     const std::size_t n = count_ray_steps(g, r).value();
     const std::size_t px = r.depth.size();
-    REQUIRE(ray_table_is_compact(g));
+    REQUIRE(ray_table_is_compact(g, r));
     std::vector<CompactRayEntry> entries(n);
     std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), crossed(g.voxel_count()), walked(px),
         hits(g.voxel_count());

@@ -10,7 +10,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     }
     const std::size_t pixels =
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
-    const bool compact = ray_table_is_compact(grid);
+    const bool compact = ray_table_is_compact(grid, sensor);
     compact_entries_.assign(compact ? n.value() : 0U, CompactRayEntry{});
     wide_entries_.assign(compact ? 0U : n.value(), WideRayEntry{});
     pixel_begin_.resize(pixels + 1U);

@@ -4,7 +4,8 @@
 /// Sensors in a workcell do not move. At commissioning, each pixel's ray is
 /// traversed once from the sensor origin to the sensor's max_range, and its
 /// voxels are stored in order, each with the distance at which the ray leaves
-/// it (an entry: 4 bytes in grids of up to 65,536 voxels, 8 bytes above). A
+/// it (an entry: 4 bytes in a compact table, see ray_table_is_compact; 8
+/// bytes otherwise). A
 /// frame then finds, per pixel, how far along its list the reading lies; no
 /// traversal set-up and no floating point per voxel.
 ///
@@ -16,7 +17,9 @@
 ///   the constant to `hit_correction`. Finding where the constant part ends
 ///   costs nothing when the reading lies at least one ramp beyond where the
 ///   ray leaves the grid; otherwise it is a branch-free binary search of the
-///   pixel's entries (on integer exit steps in a compact table).
+///   pixel's entries. In a compact table the search compares integer exit
+///   steps: a reading's distance times the power-of-two steps per metre,
+///   truncated, is exactly the last step count at or before it.
 /// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
 ///   entries, or, when more than half of the table was walked, starts from
 ///   the table's full counts (`full_hits`, made by build()) and takes off
@@ -38,8 +41,8 @@
 /// face (the table puts a reading exactly on a face in the voxel the ray
 /// enters next; fuse_sensor uses the half-open rule of grid.hpp) or where a
 /// ray grazes a voxel edge (the table's ray is the pixel's exact direction,
-/// fuse_sensor's ray ends at the float reading; a compact table stores exit
-/// distances to 1/65535 of the grid's diagonal). fuse_sensor saturates after
+/// fuse_sensor's ray ends at the float reading; a compact table rounds exit
+/// distances to its exit step, 0.12 mm in the paper's cell). fuse_sensor saturates after
 /// every addition, the table once per voxel and frame, so the two also
 /// differ where one of fuse_sensor's partial sums reaches a saturation bound
 /// (+-32767, about +-128 nats): there the table's result is the exact sum,
@@ -64,12 +67,13 @@
 
 namespace cellguard {
 
-/// One table entry in a grid of at most kCompactRayTableVoxels voxels: the
-/// voxel and where the ray leaves it, as enter + exit_steps x the table's
-/// exit step (the grid's diagonal / 65535: 0.04 mm in the paper's grid).
+/// One table entry of a compact table: the voxel and where the ray leaves
+/// it, as exit_steps x the table's exit step, metres from the sensor origin.
+/// The exit step is a power of two (compact_exit_step), so the distance is
+/// exact in float and a reading's position converts to steps exactly.
 struct CompactRayEntry {
     std::uint16_t voxel;       ///< linear voxel index
-    std::uint16_t exit_steps;  ///< exit distance from the ray's grid entry, in exit steps (rounded)
+    std::uint16_t exit_steps;  ///< exit distance from the sensor origin, in exit steps (rounded to nearest)
 };
 
 /// One table entry in a larger grid: the voxel and the exit distance itself.
@@ -78,14 +82,25 @@ struct WideRayEntry {
     float exit;           ///< metres from the sensor origin where the ray leaves the voxel
 };
 
-/// Grids of at most this many voxels use CompactRayEntry (4 bytes per entry,
-/// half the memory traffic of WideRayEntry); larger grids WideRayEntry.
+/// Grids of at most this many voxels can use CompactRayEntry (4 bytes per
+/// entry, half the memory traffic of WideRayEntry).
 constexpr std::size_t kCompactRayTableVoxels = 65536U;
 
-/// True when a table for @p grid stores CompactRayEntry.
-[[nodiscard]] inline bool ray_table_is_compact(const GridGeometry& grid) noexcept {
-    return grid.voxel_count() <= kCompactRayTableVoxels;
-}
+/// A compact table's exit step may be at most this fraction of a voxel's
+/// edge (1/256: 0.2 mm in the paper's 5 cm grid); a coarser step would move
+/// readings near a voxel face into the neighbouring voxel too often.
+constexpr double kCompactStepsPerVoxelEdge = 256.0;
+
+/// The exit step of a compact table for @p sensor in @p grid, metres: the
+/// smallest power of two whose 65535 steps reach the farthest point where a
+/// ray can leave the grid (min(max_range, the farthest grid corner)), or 0
+/// when @p sensor fails validate_sensor_reading.
+[[nodiscard]] float compact_exit_step(const GridGeometry& grid, const SensorReading& sensor) noexcept;
+
+/// True when a table for @p sensor in @p grid stores CompactRayEntry: at
+/// most kCompactRayTableVoxels voxels and an exit step of at most
+/// voxel_size / kCompactStepsPerVoxelEdge. Otherwise it stores WideRayEntry.
+[[nodiscard]] bool ray_table_is_compact(const GridGeometry& grid, const SensorReading& sensor) noexcept;
 
 /// Caller storage of a ray table: every pixel's entries, per pixel the
 /// offset of its first entry and where its ray enters and leaves the grid,
@@ -166,7 +181,8 @@ private:
     std::size_t crossed_count_ = 0U;
     float min_range_ = 0.0F;
     float max_range_ = 0.0F;
-    float exit_step_ = 0.0F;  ///< metres per CompactRayEntry::exit_steps unit
+    float exit_step_ = 0.0F;       ///< metres per CompactRayEntry::exit_steps unit (a power of two)
+    float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
 };
 
