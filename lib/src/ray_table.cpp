@@ -84,30 +84,42 @@ bool ray_table_is_compact(const GridGeometry& grid, const SensorReading& sensor)
 
 namespace {
 
-/// Entry access for both entry kinds: the voxel, and the exit distance as
-/// fuse() compares it (@p step is a compact table's exit step; a wide entry
-/// stores the distance itself).
-inline std::uint32_t voxel_of(const CompactRayEntry& e) noexcept { return e.voxel; }
-inline std::uint32_t voxel_of(const WideRayEntry& e) noexcept { return e.voxel; }
-/// Exact in float: a 16-bit count times a power of two.
-inline float exit_of(const CompactRayEntry& e, float step) noexcept { return static_cast<float>(e.exit_steps) * step; }
-inline float exit_of(const WideRayEntry& e, float /*step*/) noexcept { return e.exit; }
+/// A table's entries, one array per field: pass 2 reads only the voxels,
+/// the search only the keys, so each reads half the bytes of a record.
+/// Compact: 16-bit voxels and exit steps; wide: 32-bit voxels and float
+/// exit distances.
+struct CompactEntries {
+    const std::uint16_t* voxel;
+    const std::uint16_t* exit_steps;
+};
+struct WideEntries {
+    const std::uint32_t* voxel;
+    const float* exit;
+};
+
+/// The exit distance of entry @p k as fuse() compares it (@p step is a
+/// compact table's exit step; a wide table stores the distance itself).
+/// Exact in float for a compact table: a 16-bit count times a power of two.
+inline float exit_of(const CompactEntries& e, std::size_t k, float step) noexcept {
+    return static_cast<float>(e.exit_steps[k]) * step;
+}
+inline float exit_of(const WideEntries& e, std::size_t k, float /*step*/) noexcept { return e.exit[k]; }
 
 /// Search keys: an entry's ray has left it at distance x exactly when
-/// key(entry) <= key_limit(x). For a compact entry the key is its exit steps
+/// its key <= key_limit(x). For a compact table the key is the exit steps
 /// and the limit floor(x x steps_per_metre) (-1 below 0, at most 65535):
 /// steps x step <= x exactly when steps <= x x steps_per_metre, and both
 /// products are exact because the step is a power of two, so comparing
-/// integers keeps the floating point out of the search. For a wide entry
+/// integers keeps the floating point out of the search. For a wide table
 /// both are the distances themselves.
-inline std::int32_t key(const CompactRayEntry& e) noexcept { return e.exit_steps; }
-inline float key(const WideRayEntry& e) noexcept { return e.exit; }
-inline std::int32_t key_limit(const CompactRayEntry* /*kind*/, float x, float steps_per_metre) noexcept {
+inline const std::uint16_t* keys(const CompactEntries& e) noexcept { return e.exit_steps; }
+inline const float* keys(const WideEntries& e) noexcept { return e.exit; }
+inline std::int32_t key_limit(const CompactEntries& /*kind*/, float x, float steps_per_metre) noexcept {
     constexpr std::int32_t kMaxSteps = 65535;
     const float steps = x * steps_per_metre;
     return !(steps >= 0.0F) ? -1 : steps >= static_cast<float>(kMaxSteps) ? kMaxSteps : static_cast<std::int32_t>(steps);
 }
-inline float key_limit(const WideRayEntry* /*kind*/, float x, float /*steps_per_metre*/) noexcept { return x; }
+inline float key_limit(const WideEntries& /*kind*/, float x, float /*steps_per_metre*/) noexcept { return x; }
 
 }  // namespace
 
@@ -127,7 +139,8 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         return ErrorCode::kStorageTooSmall;
     }
     const bool compact = ray_table_is_compact(grid, sensor);
-    const std::size_t capacity = compact ? storage.compact_entries.size() : storage.wide_entries.size();
+    const std::size_t capacity = compact ? std::min(storage.compact_voxels.size(), storage.compact_exit_steps.size())
+                                         : std::min(storage.wide_voxels.size(), storage.wide_exits.size());
     // Exit distances of a compact table, in steps of a power of two metres.
     const float exit_step = compact ? compact_exit_step(grid, sensor) : 0.0F;
     const Eigen::Vector3d origin = sensor.pose.translation();
@@ -154,12 +167,12 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
                 if (n < capacity) {
                     if (compact) {
                         const double steps = std::round(t.t_exit / static_cast<double>(exit_step));
-                        storage.compact_entries[n] = CompactRayEntry{
-                            static_cast<std::uint16_t>(t.index),
-                            static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps)};
+                        storage.compact_voxels[n] = static_cast<std::uint16_t>(t.index);
+                        storage.compact_exit_steps[n] =
+                            static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps);
                     } else {
-                        storage.wide_entries[n] = WideRayEntry{static_cast<std::uint32_t>(t.index),
-                                                               static_cast<float>(t.t_exit)};
+                        storage.wide_voxels[n] = static_cast<std::uint32_t>(t.index);
+                        storage.wide_exits[n] = static_cast<float>(t.t_exit);
                     }
                 }
                 ++n;
@@ -168,8 +181,8 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
             // decrease (it searches them), and the last is the ray's exit.
             const std::size_t first = storage.pixel_begin[pixel];
             for (std::size_t k = first; k < n && k < capacity; ++k) {
-                const float e = compact ? exit_of(storage.compact_entries[k], exit_step)
-                                        : exit_of(storage.wide_entries[k], 0.0F);
+                const float e = compact ? static_cast<float>(storage.compact_exit_steps[k]) * exit_step
+                                        : storage.wide_exits[k];
                 CG_ENFORCE(e >= last_exit, "ray table exit distances must not decrease");
                 last_exit = e;
             }
@@ -191,7 +204,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         storage.full_hits[v] = 0U;
     }
     for (std::size_t k = 0U; k < n; ++k) {
-        ++storage.full_hits[compact ? voxel_of(storage.compact_entries[k]) : voxel_of(storage.wide_entries[k])];
+        ++storage.full_hits[compact ? storage.compact_voxels[k] : storage.wide_voxels[k]];
     }
     // The voxels some ray crosses, ascending: fuse() sets and sums only these.
     std::size_t crossed = 0U;
@@ -217,41 +230,41 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
 
 std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {
     CG_ENFORCE(entry < step_count_, "ray table entry out of range");
-    return compact_ ? voxel_of(storage_.compact_entries[entry]) : voxel_of(storage_.wide_entries[entry]);
+    return compact_ ? storage_.compact_voxels[entry] : storage_.wide_voxels[entry];
 }
 
 float RayTable::entry_exit(std::size_t pixel, std::size_t entry) const noexcept {
     CG_ENFORCE(pixel < pixels_ && entry >= storage_.pixel_begin[pixel] && entry < storage_.pixel_begin[pixel + 1U],
                "ray table entry is not the pixel's");
-    return compact_ ? exit_of(storage_.compact_entries[entry], exit_step_)
-                    : exit_of(storage_.wide_entries[entry], 0.0F);
+    return compact_ ? static_cast<float>(storage_.compact_exit_steps[entry]) * exit_step_
+                    : storage_.wide_exits[entry];
 }
 
 namespace {
 
 /// Adds @p delta (modulo 2^32: 0xFFFFFFFF subtracts one) to the hit count
 /// of the voxel of every entry in [@p run_begin, @p run_end).
-template <typename Entry>
-void add_to_hits(const Entry* entries, std::uint32_t run_begin, std::uint32_t run_end, std::uint32_t delta,
+template <typename Voxel>
+void add_to_hits(const Voxel* voxels, std::uint32_t run_begin, std::uint32_t run_end, std::uint32_t delta,
                  Span<std::uint32_t> hits) noexcept {
     std::uint32_t k = run_begin;
     // Four entries per step: the loop's own instructions were a third of it.
     for (; k + 4U <= run_end; k += 4U) {
-        hits[voxel_of(entries[k])] += delta;
-        hits[voxel_of(entries[k + 1U])] += delta;
-        hits[voxel_of(entries[k + 2U])] += delta;
-        hits[voxel_of(entries[k + 3U])] += delta;
+        hits[voxels[k]] += delta;
+        hits[voxels[k + 1U]] += delta;
+        hits[voxels[k + 2U]] += delta;
+        hits[voxels[k + 3U]] += delta;
     }
     for (; k < run_end; ++k) {
-        hits[voxel_of(entries[k])] += delta;
+        hits[voxels[k]] += delta;
     }
 }
 
 /// add_to_hits for the pixels' segments: [begin[i], walked[i]) when
 /// @p walked_part, else [walked[i], begin[i + 1]). Segments that continue
 /// one another are added as one run.
-template <typename Entry>
-void count_segments(const Entry* entries, const std::uint32_t* begin, const std::uint32_t* walked,
+template <typename Voxel>
+void count_segments(const Voxel* voxels, const std::uint32_t* begin, const std::uint32_t* walked,
                     std::size_t pixels, bool walked_part, std::uint32_t delta, Span<std::uint32_t> hits) noexcept {
     std::uint32_t run_begin = 0U;
     std::uint32_t run_end = 0U;
@@ -262,31 +275,31 @@ void count_segments(const Entry* entries, const std::uint32_t* begin, const std:
             continue;
         }
         if (b != run_end) {
-            add_to_hits(entries, run_begin, run_end, delta, hits);
+            add_to_hits(voxels, run_begin, run_end, delta, hits);
             run_begin = b;
         }
         run_end = e;
     }
-    add_to_hits(entries, run_begin, run_end, delta, hits);
+    add_to_hits(voxels, run_begin, run_end, delta, hits);
 }
 
 /// The end of a pixel's constant part: the first of the entries [first, end)
 /// whose key exceeds @p limit (end if none); keys do not decrease along a
 /// pixel's entries. Branch-free binary search: the loop's trip count
 /// depends only on the pixel's entry count.
-template <typename Entry, typename Limit>
-std::uint32_t find_free_end(const Entry* entries, std::uint32_t first, std::uint32_t end, Limit limit) noexcept {
-    const Entry* base = entries + first;
+template <typename Key, typename Limit>
+std::uint32_t find_free_end(const Key* keys, std::uint32_t first, std::uint32_t end, Limit limit) noexcept {
+    const Key* base = keys + first;
     std::uint32_t n = end - first;
     if (n == 0U) {
         return first;
     }
     while (n > 1U) {
         const std::uint32_t half = n / 2U;
-        base = key(base[half - 1U]) <= limit ? base + half : base;
+        base = base[half - 1U] <= limit ? base + half : base;
         n -= half;
     }
-    return static_cast<std::uint32_t>(base - entries) + (key(*base) <= limit ? 1U : 0U);
+    return static_cast<std::uint32_t>(base - keys) + (*base <= limit ? 1U : 0U);
 }
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
@@ -321,8 +334,8 @@ struct FuseView {
 };
 
 /// RayTable::fuse for one entry kind (the checks are done by the caller).
-template <typename Entry>
-FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& grid, Span<const float> depth,
+template <typename Entries>
+FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid& grid, Span<const float> depth,
                          const SensorModelTable& model) noexcept {
     std::int16_t* const lo = grid.log_odds().data();
     std::uint8_t* const obs = grid.observed().data();
@@ -377,20 +390,20 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
             continue;
         }
         const std::uint32_t free_end =
-            find_free_end(entries, first, end, key_limit(entries, free_until, t.steps_per_metre));
+            find_free_end(keys(entries), first, end, key_limit(entries, free_until, t.steps_per_metre));
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
         // correction (its evidence minus the constant) is summed here.
         std::uint32_t k = free_end;
         const auto range_limit = key_limit(entries, range, t.steps_per_metre);
-        for (; k < end && key(entries[k]) <= range_limit; ++k) {
-            const float exit = exit_of(entries[k], t.exit_step);
+        for (; k < end && keys(entries)[k] <= range_limit; ++k) {
+            const float exit = exit_of(entries, k, t.exit_step);
             const std::int16_t e = model.free_evidence(static_cast<double>(range - exit));
-            t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(e) - constant;
+            t.correction[entries.voxel[k]] += static_cast<std::int32_t>(e) - constant;
         }
         if (k < end) {
-            t.correction[voxel_of(entries[k])] += static_cast<std::int32_t>(peak) - constant;
+            t.correction[entries.voxel[k]] += static_cast<std::int32_t>(peak) - constant;
             ++k;
             ++s.readings_in_grid;
         }
@@ -404,12 +417,12 @@ FusionStats fuse_entries(const Entry* entries, const FuseView& t, EvidenceGrid& 
         for (std::size_t j = 0U; j < t.crossed_count; ++j) {
             t.hits[t.crossed[j]] = 0U;
         }
-        count_segments(entries, t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
+        count_segments(entries.voxel, t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
     } else {
         for (std::size_t j = 0U; j < t.crossed_count; ++j) {
             t.hits[t.crossed[j]] = t.full_hits[t.crossed[j]];
         }
-        count_segments(entries, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
+        count_segments(entries.voxel, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
                        Span<std::uint32_t>(t.hits, t.voxels));
     }
     // Pass 3: each crossed voxel's exact sum, added with one saturation.
@@ -437,7 +450,8 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
         return ErrorCode::kMalformedInput;
     }
     const std::size_t voxel_count = geometry_.voxel_count();
-    CG_ENFORCE((compact_ ? storage_.compact_entries.size() : storage_.wide_entries.size()) >= step_count_ &&
+    CG_ENFORCE((compact_ ? std::min(storage_.compact_voxels.size(), storage_.compact_exit_steps.size())
+                         : std::min(storage_.wide_voxels.size(), storage_.wide_exits.size())) >= step_count_ &&
                    pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
                    crossed_count_ <= storage_.crossed_voxels.size() &&
                    voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
@@ -459,8 +473,10 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                         step_count_,                 voxel_count,                 min_range_,
                         max_range_,                  exit_step_,
                         steps_per_metre_};
-    return compact_ ? fuse_entries(storage_.compact_entries.data(), view, grid, depth, model)
-                    : fuse_entries(storage_.wide_entries.data(), view, grid, depth, model);
+    return compact_ ? fuse_entries(CompactEntries{storage_.compact_voxels.data(), storage_.compact_exit_steps.data()},
+                                   view, grid, depth, model)
+                    : fuse_entries(WideEntries{storage_.wide_voxels.data(), storage_.wide_exits.data()}, view, grid,
+                                   depth, model);
 }
 
 }  // namespace cellguard

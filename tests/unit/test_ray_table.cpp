@@ -281,24 +281,27 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     const std::size_t n = count_ray_steps(g, r).value();
     const std::size_t px = r.depth.size();
     REQUIRE(ray_table_is_compact(g, r));
-    std::vector<CompactRayEntry> entries(n);
+    std::vector<std::uint16_t> voxels(n), steps(n);
     std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), crossed(g.voxel_count()), walked(px),
         hits(g.voxel_count());
     std::vector<std::int32_t> corrections(g.voxel_count());
     std::vector<float> enter(px), exit(px), norm(px);
-    const RayTableStorage full{{entries.data(), n},        {},
+    const RayTableStorage full{{voxels.data(), n},         {steps.data(), n},
+                               {},                         {},
                                {begin.data(), px + 1U},    {enter.data(), px},
                                {exit.data(), px},          {norm.data(), px},
                                {all.data(), all.size()},   {crossed.data(), crossed.size()},
                                {walked.data(), px},
                                {hits.data(), hits.size()}, {corrections.data(), corrections.size()}};
     REQUIRE(RayTable::build(g, r, full).ok());
-    for (int shortened = 0; shortened < 11; ++shortened) {
+    for (int shortened = 0; shortened < 13; ++shortened) {
         CAPTURE(shortened);
         RayTableStorage s = full;
         switch (shortened) {
-            case 0: s.compact_entries = s.compact_entries.subspan(0, n - 1U); break;
-            case 1: s.compact_entries = {}; break;  // a compact grid needs compact entries
+            case 0: s.compact_voxels = s.compact_voxels.subspan(0, n - 1U); break;
+            case 1: s.compact_voxels = {}; break;  // a compact grid needs compact entries
+            case 11: s.compact_exit_steps = s.compact_exit_steps.subspan(0, n - 1U); break;
+            case 12: s.compact_exit_steps = {}; break;
             case 2: s.pixel_begin = s.pixel_begin.subspan(0, px); break;
             case 3: s.pixel_enter = s.pixel_enter.subspan(0, px - 1U); break;
             case 4: s.pixel_exit = s.pixel_exit.subspan(0, px - 1U); break;

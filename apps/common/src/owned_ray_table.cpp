@@ -11,8 +11,10 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     const std::size_t pixels =
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
     const bool compact = ray_table_is_compact(grid, sensor);
-    compact_entries_.assign(compact ? n.value() : 0U, CompactRayEntry{});
-    wide_entries_.assign(compact ? 0U : n.value(), WideRayEntry{});
+    compact_voxels_.assign(compact ? n.value() : 0U, 0U);
+    compact_exit_steps_.assign(compact ? n.value() : 0U, 0U);
+    wide_voxels_.assign(compact ? 0U : n.value(), 0U);
+    wide_exits_.assign(compact ? 0U : n.value(), 0.0F);
     pixel_begin_.resize(pixels + 1U);
     pixel_enter_.resize(pixels);
     pixel_exit_.resize(pixels);
@@ -24,8 +26,10 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     hit_correction_.resize(grid.voxel_count());
     const Result<RayTable> built = RayTable::build(
         grid, sensor,
-        RayTableStorage{{compact_entries_.data(), compact_entries_.size()},
-                        {wide_entries_.data(), wide_entries_.size()},
+        RayTableStorage{{compact_voxels_.data(), compact_voxels_.size()},
+                        {compact_exit_steps_.data(), compact_exit_steps_.size()},
+                        {wide_voxels_.data(), wide_voxels_.size()},
+                        {wide_exits_.data(), wide_exits_.size()},
                         {pixel_begin_.data(), pixel_begin_.size()},
                         {pixel_enter_.data(), pixel_enter_.size()},
                         {pixel_exit_.data(), pixel_exit_.size()},
@@ -44,7 +48,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
 }
 
 std::size_t OwnedRayTable::storage_bytes() const noexcept {
-    return compact_entries_.size() * sizeof(CompactRayEntry) + wide_entries_.size() * sizeof(WideRayEntry) +
+    return (compact_voxels_.size() + compact_exit_steps_.size()) * sizeof(std::uint16_t) +
+           wide_voxels_.size() * sizeof(std::uint32_t) + wide_exits_.size() * sizeof(float) +
            (pixel_begin_.size() + full_hits_.size() + crossed_voxels_.size() + pixel_walked_.size() + hit_count_.size()) *
                sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +

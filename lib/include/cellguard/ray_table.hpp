@@ -67,23 +67,16 @@
 
 namespace cellguard {
 
-/// One table entry of a compact table: the voxel and where the ray leaves
-/// it, as exit_steps x the table's exit step, metres from the sensor origin.
-/// The exit step is a power of two (compact_exit_step), so the distance is
-/// exact in float and a reading's position converts to steps exactly.
-struct CompactRayEntry {
-    std::uint16_t voxel;       ///< linear voxel index
-    std::uint16_t exit_steps;  ///< exit distance from the sensor origin, in exit steps (rounded to nearest)
-};
+/// A table entry is a voxel and where the ray leaves it. A compact table
+/// stores it in 4 bytes, as two arrays: a 16-bit voxel index and a 16-bit
+/// exit distance from the sensor origin in exit steps (rounded to nearest).
+/// The exit step is a power of two metres (compact_exit_step), so the
+/// distance is exact in float and a reading's position converts to steps
+/// exactly. A wide table stores a 32-bit voxel index and a float exit
+/// distance in metres (8 bytes).
 
-/// One table entry in a larger grid: the voxel and the exit distance itself.
-struct WideRayEntry {
-    std::uint32_t voxel;  ///< linear voxel index
-    float exit;           ///< metres from the sensor origin where the ray leaves the voxel
-};
-
-/// Grids of at most this many voxels can use CompactRayEntry (4 bytes per
-/// entry, half the memory traffic of WideRayEntry).
+/// Grids of at most this many voxels can have compact tables (4 bytes per
+/// entry, half the memory traffic of a wide table).
 constexpr std::size_t kCompactRayTableVoxels = 65536U;
 
 /// A compact table's exit step may be at most this fraction of a voxel's
@@ -97,21 +90,23 @@ constexpr double kCompactStepsPerVoxelEdge = 256.0;
 /// when @p sensor fails validate_sensor_reading.
 [[nodiscard]] float compact_exit_step(const GridGeometry& grid, const SensorReading& sensor) noexcept;
 
-/// True when a table for @p sensor in @p grid stores CompactRayEntry: at
-/// most kCompactRayTableVoxels voxels and an exit step of at most
-/// voxel_size / kCompactStepsPerVoxelEdge. Otherwise it stores WideRayEntry.
+/// True when a table for @p sensor in @p grid is compact: at most
+/// kCompactRayTableVoxels voxels and an exit step of at most
+/// voxel_size / kCompactStepsPerVoxelEdge. Otherwise it is wide.
 [[nodiscard]] bool ray_table_is_compact(const GridGeometry& grid, const SensorReading& sensor) noexcept;
 
 /// Caller storage of a ray table: every pixel's entries, per pixel the
 /// offset of its first entry and where its ray enters and leaves the grid,
 /// per voxel how many rays cross it, and the working memory of fuse().
-/// Exactly one of `compact_entries` and `wide_entries` is used (see
-/// ray_table_is_compact); the other may be empty. The working memory
+/// Either the two `compact_` spans or the two `wide_` spans are used (see
+/// ray_table_is_compact); the others may be empty. The working memory
 /// (`pixel_walked`, `hit_count`, `hit_correction`) may be shared by tables
 /// that are fused one after another: fuse() sets it first.
 struct RayTableStorage {
-    Span<CompactRayEntry> compact_entries{};  ///< count_ray_steps(...) entries if compact
-    Span<WideRayEntry> wide_entries{};        ///< count_ray_steps(...) entries if not compact
+    Span<std::uint16_t> compact_voxels{};      ///< count_ray_steps(...) entries if compact: voxel indices
+    Span<std::uint16_t> compact_exit_steps{};  ///< count_ray_steps(...) entries if compact: exit distances in steps
+    Span<std::uint32_t> wide_voxels{};         ///< count_ray_steps(...) entries if wide: voxel indices
+    Span<float> wide_exits{};                  ///< count_ray_steps(...) entries if wide: exit distances, metres
     Span<std::uint32_t> pixel_begin{};  ///< width * height + 1 entries: offset of each pixel's first entry
     Span<float> pixel_enter{};          ///< width * height entries: where the ray enters the grid (+inf: it misses)
     Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
@@ -123,7 +118,7 @@ struct RayTableStorage {
     Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
 };
 
-/// Number of entries (`compact_entries` or `wide_entries`) the table of this sensor
+/// Number of entries (the length of each entry span) the table of this sensor
 /// needs in this grid: the sum over pixels of the voxels each ray crosses.
 /// The sensor description is checked as by validate_sensor_reading (the
 /// depth view itself is not used). Errors: those of validate_sensor_reading;
@@ -181,7 +176,7 @@ private:
     std::size_t crossed_count_ = 0U;
     float min_range_ = 0.0F;
     float max_range_ = 0.0F;
-    float exit_step_ = 0.0F;       ///< metres per CompactRayEntry::exit_steps unit (a power of two)
+    float exit_step_ = 0.0F;       ///< metres per compact exit step (a power of two)
     float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
 };

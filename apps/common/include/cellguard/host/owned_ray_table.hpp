@@ -36,8 +36,10 @@ public:
     [[nodiscard]] std::size_t storage_bytes() const noexcept;
 
 private:
-    std::vector<CompactRayEntry> compact_entries_;
-    std::vector<WideRayEntry> wide_entries_;
+    std::vector<std::uint16_t> compact_voxels_;
+    std::vector<std::uint16_t> compact_exit_steps_;
+    std::vector<std::uint32_t> wide_voxels_;
+    std::vector<float> wide_exits_;
     std::vector<std::uint32_t> pixel_begin_;
     std::vector<float> pixel_enter_;
     std::vector<float> pixel_exit_;
