@@ -22,7 +22,7 @@
 // in the same run. A program that prints figures, not a test with a time
 // limit: time never decides the exit status.
 //
-// Usage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray]
+// Usage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray|random]
 //   --cycles N   measured cycles (default 10000), after 20 warm-up cycles
 //   --readings   max-range (default, the worst case): every reading at
 //                the sensor's maximum range; grid-exit: every reading 1 mm
@@ -33,7 +33,10 @@
 //                last voxel the reading's peak; mid-ray: every reading in
 //                the middle voxel of its ray's part in the grid, so half of
 //                each table is walked (the most the ray table's hit
-//                counting visits, ray_table.hpp) and the rest is not
+//                counting visits, ray_table.hpp) and the rest is not;
+//                random: every reading in a voxel of its ray drawn at
+//                random (a fixed seed), so where each search ends and how
+//                long each ramp is cannot be predicted from the last pixel
 //   --no-timing  no warm-up and no timing report (for callgrind:
 //                tools/bench-cycle-callgrind.sh divides the instructions
 //                counted inside run_cycle by N)
@@ -187,7 +190,7 @@ std::uint64_t count_zone_visits(const EvidenceGrid& frame, const std::vector<std
 }
 
 [[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr, "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray]\n",
+    std::fprintf(stderr, "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray|random]\n",
                  message);
     std::exit(2);
 }
@@ -199,6 +202,8 @@ int main(int argc, char** argv) {
     bool timing = true;
     bool grid_exit = false;
     bool mid_ray = false;
+    bool random_voxel = false;
+    std::uint64_t lcg = 0x853c49e6748fea9bULL;  // the random pattern's generator state
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--cycles" && i + 1 < argc) {
@@ -212,11 +217,12 @@ int main(int argc, char** argv) {
             timing = false;
         } else if (a == "--readings" && i + 1 < argc) {
             const std::string v = argv[++i];
-            if (v != "max-range" && v != "grid-exit" && v != "mid-ray") {
-                usage("--readings expects max-range, grid-exit or mid-ray");
+            if (v != "max-range" && v != "grid-exit" && v != "mid-ray" && v != "random") {
+                usage("--readings expects max-range, grid-exit, mid-ray or random");
             }
             grid_exit = v == "grid-exit";
             mid_ray = v == "mid-ray";
+            random_voxel = v == "random";
         } else {
             usage(("unknown argument '" + a + "'").c_str());
         }
@@ -250,7 +256,10 @@ int main(int argc, char** argv) {
         // Every reading at the maximum range: depth along the axis = range / |dir|,
         // the largest float whose range (as the table computes it) is within max_range.
         // grid-exit: the reading 1 mm before where the ray leaves the grid;
-        // mid-ray: the reading 1 mm before the exit of the ray's middle voxel.
+        // mid-ray: the reading 1 mm before the exit of the ray's middle voxel;
+        // random: 1 mm before the exit of a voxel drawn from the ray's voxels
+        // (a 64-bit linear congruential generator: the same draws on every
+        // platform, unlike std::uniform_int_distribution).
         for (std::size_t i = 0U; i < px; ++i) {
             float range = r.max_range;
             const std::uint32_t b = table.pixel_begin(i);
@@ -260,6 +269,11 @@ int main(int argc, char** argv) {
             }
             if (mid_ray && e > b) {
                 range = std::min(r.max_range, table.entry_exit(i, b + (e - b) / 2U) - 0.001F);
+            }
+            if (random_voxel && e > b) {
+                lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
+                const auto pick = static_cast<std::uint32_t>((lcg >> 33U) % (e - b));
+                range = std::min(r.max_range, table.entry_exit(i, b + pick) - 0.001F);
             }
             const float norm = table.pixel_norm(i);
             float d = range / norm;
