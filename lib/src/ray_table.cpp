@@ -1,6 +1,7 @@
 #include "cellguard/ray_table.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -283,23 +284,46 @@ void count_segments(const Voxel* voxels, const std::uint32_t* begin, const std::
     add_to_hits(voxels, run_begin, run_end, delta, hits);
 }
 
-/// The end of a pixel's constant part: the first of the entries [first, end)
-/// whose key exceeds @p limit (end if none); keys do not decrease along a
-/// pixel's entries. Branch-free binary search: the loop's trip count
-/// depends only on the pixel's entry count.
+/// Pixels whose binary searches pass 1 runs together (see find_free_ends).
+constexpr std::size_t kSearchBatch = 16U;
+
+/// One pixel's search in pass 1: its entries [base, base + n) (n >= 1) are
+/// searched for the first whose key exceeds free_limit; base is the result.
+template <typename Limit>
+struct SearchSlot {
+    std::uint32_t pixel;
+    std::uint32_t base;
+    std::uint32_t n;
+    Limit free_limit;   ///< key_limit(range - ramp): the constant part ends here
+    Limit range_limit;  ///< key_limit(range): the ramp ends here
+    float range;        ///< the reading, metres from the sensor origin
+};
+
+/// The end of each slot's constant part: the first of its entries whose key
+/// exceeds free_limit (base + n if none); keys do not decrease along a
+/// pixel's entries. Branch-free binary searches, a step of every slot at a
+/// time: one search is a chain of dependent loads, and the slots' chains
+/// overlap. A branching search mispredicts about half its steps when
+/// readings vary from pixel to pixel (bench_cycle --readings random).
 template <typename Key, typename Limit>
-std::uint32_t find_free_end(const Key* keys, std::uint32_t first, std::uint32_t end, Limit limit) noexcept {
-    const Key* base = keys + first;
-    std::uint32_t n = end - first;
-    if (n == 0U) {
-        return first;
+void find_free_ends(const Key* keys, Span<SearchSlot<Limit>> slots) noexcept {
+    std::uint32_t widest = 0U;
+    for (const SearchSlot<Limit>& slot : slots) {
+        widest = slot.n > widest ? slot.n : widest;
     }
-    while (n > 1U) {
-        const std::uint32_t half = n / 2U;
-        base = base[half - 1U] <= limit ? base + half : base;
-        n -= half;
+    // Each step takes n to n - n / 2 (the kept half holds the answer); a
+    // slot at n = 1 probes keys[base] and stays put, so all run in step.
+    while (widest > 1U) {
+        for (SearchSlot<Limit>& slot : slots) {
+            const std::uint32_t half = slot.n / 2U;
+            slot.base += half & (0U - static_cast<std::uint32_t>(keys[slot.base + half] <= slot.free_limit));
+            slot.n -= half;
+        }
+        widest -= widest / 2U;
     }
-    return static_cast<std::uint32_t>(base - keys) + (*base <= limit ? 1U : 0U);
+    for (SearchSlot<Limit>& slot : slots) {
+        slot.base += static_cast<std::uint32_t>(keys[slot.base] <= slot.free_limit);
+    }
 }
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
@@ -346,69 +370,83 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
         t.correction[t.crossed[j]] = 0;
     }
     // Pass 1, per pixel: where its walk ends (walked[i]; begin[i] when it
-    // walks nothing), and the ramp and peak corrections.
+    // walks nothing), and the ramp and peak corrections; kSearchBatch pixels
+    // at a time: classify them, search them together, then take their ramps.
+    using Limit = decltype(key_limit(entries, 0.0F, 0.0F));
+    std::array<SearchSlot<Limit>, kSearchBatch> batch{};
     FusionStats s;
-    for (std::size_t i = 0U; i < t.pixels; ++i) {
-        t.walked[i] = t.begin[i];
-        const float d = depth[i];
-        if (std::isnan(d)) {
-            ++s.skipped_nan;
-            continue;
+    for (std::size_t batch_begin = 0U; batch_begin < t.pixels; batch_begin += kSearchBatch) {
+        const std::size_t batch_end = std::min(t.pixels, batch_begin + kSearchBatch);
+        std::size_t searched = 0U;
+        for (std::size_t i = batch_begin; i < batch_end; ++i) {
+            t.walked[i] = t.begin[i];
+            const float d = depth[i];
+            if (std::isnan(d)) {
+                ++s.skipped_nan;
+                continue;
+            }
+            if (std::isinf(d)) {
+                ++s.skipped_infinite;
+                continue;
+            }
+            if (d == 0.0F) {
+                ++s.skipped_zero;
+                continue;
+            }
+            if (d < 0.0F) {
+                ++s.skipped_behind;
+                continue;
+            }
+            const float range = d * t.norm[i];
+            if (range < t.min_range || range > t.max_range) {
+                ++s.skipped_out_of_range;
+                continue;
+            }
+            ++s.rays_fused;
+            if (range < t.enter[i]) {
+                continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
+            }
+            // The ray enters the grid, so it has at least one entry.
+            const std::uint32_t first = t.begin[i];
+            const std::uint32_t end = t.begin[i + 1U];
+            // The constant part of the profile: the voxels left at least one
+            // ramp before the reading, entries [first, free_end).
+            const float free_until = range - ramp;
+            if (free_until >= t.exit[i]) {
+                // The reading lies at least one ramp beyond where the ray
+                // leaves the grid: every entry gets the constant, no ramp, no peak.
+                t.walked[i] = end;
+                s.voxel_updates += static_cast<std::uint64_t>(end - first);
+                continue;
+            }
+            batch[searched] = SearchSlot<Limit>{static_cast<std::uint32_t>(i), first, end - first,
+                                                key_limit(entries, free_until, t.steps_per_metre),
+                                                key_limit(entries, range, t.steps_per_metre), range};
+            ++searched;
         }
-        if (std::isinf(d)) {
-            ++s.skipped_infinite;
-            continue;
-        }
-        if (d == 0.0F) {
-            ++s.skipped_zero;
-            continue;
-        }
-        if (d < 0.0F) {
-            ++s.skipped_behind;
-            continue;
-        }
-        const float range = d * t.norm[i];
-        if (range < t.min_range || range > t.max_range) {
-            ++s.skipped_out_of_range;
-            continue;
-        }
-        ++s.rays_fused;
-        const float enter = t.enter[i];
-        if (range < enter) {
-            continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
-        }
-        const std::uint32_t first = t.begin[i];
-        const std::uint32_t end = t.begin[i + 1U];
-        // The constant part of the profile: the voxels left at least one ramp
-        // before the reading, entries [first, free_end).
-        const float free_until = range - ramp;
-        if (free_until >= t.exit[i]) {
-            // The reading lies at least one ramp beyond where the ray leaves
-            // the grid: every entry gets the constant, no ramp, no peak.
-            t.walked[i] = end;
-            s.voxel_updates += static_cast<std::uint64_t>(end - first);
-            continue;
-        }
-        const std::uint32_t free_end =
-            find_free_end(keys(entries), first, end, key_limit(entries, free_until, t.steps_per_metre));
+        find_free_ends(keys(entries), Span<SearchSlot<Limit>>(batch.data(), searched));
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's
         // correction (its evidence minus the constant) is summed here.
-        std::uint32_t k = free_end;
-        const auto range_limit = key_limit(entries, range, t.steps_per_metre);
-        for (; k < end && keys(entries)[k] <= range_limit; ++k) {
-            const float exit = exit_of(entries, k, t.exit_step);
-            const std::int16_t e = model.free_evidence(static_cast<double>(range - exit));
-            t.correction[entries.voxel[k]] += static_cast<std::int32_t>(e) - constant;
+        for (std::size_t j = 0U; j < searched; ++j) {
+            const SearchSlot<Limit>& slot = batch[j];
+            const std::uint32_t first = t.begin[slot.pixel];
+            const std::uint32_t end = t.begin[slot.pixel + 1U];
+            std::uint32_t k = slot.base;
+            for (; k < end && keys(entries)[k] <= slot.range_limit; ++k) {
+                const float exit = exit_of(entries, k, t.exit_step);
+                const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
+                t.correction[entries.voxel[k]] += static_cast<std::int32_t>(e) - constant;
+            }
+            if (k < end) {
+                t.correction[entries.voxel[k]] += static_cast<std::int32_t>(peak) - constant;
+                ++k;
+                ++s.readings_in_grid;
+            }
+            t.walked[slot.pixel] = k;
+            s.voxel_updates += static_cast<std::uint64_t>(k - first);
         }
-        if (k < end) {
-            t.correction[entries.voxel[k]] += static_cast<std::int32_t>(peak) - constant;
-            ++k;
-            ++s.readings_in_grid;
-        }
-        t.walked[i] = k;
-        s.voxel_updates += static_cast<std::uint64_t>(k - first);
     }
     // Pass 2: the hits per voxel. Count the walked entries, or, when more
     // than half of the table was walked, start from the table's full counts

@@ -17,7 +17,8 @@
 ///   the constant to `hit_correction`. Finding where the constant part ends
 ///   costs nothing when the reading lies at least one ramp beyond where the
 ///   ray leaves the grid; otherwise it is a branch-free binary search of the
-///   pixel's entries. In a compact table the search compares integer exit
+///   pixel's entries, run a step at a time over 16 pixels together so that
+///   their chains of dependent loads overlap. In a compact table the search compares integer exit
 ///   steps: a reading's distance times the power-of-two steps per metre,
 ///   truncated, is exactly the last step count at or before it.
 /// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
