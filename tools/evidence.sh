@@ -254,8 +254,10 @@ if [ "$check" -eq 0 ]; then
             echo '```'
             echo
             # The ray tables' fusion costs most when readings lie inside the
-            # grid (ray_table.hpp): the other input patterns, cycle times only.
-            for readings in grid-exit mid-ray; do
+            # grid (ray_table.hpp), and most of all when where they lie varies
+            # from pixel to pixel (random): the other input patterns, cycle
+            # times only.
+            for readings in grid-exit mid-ray random; do
                 echo "\`bench_cycle --cycles $cycles --readings $readings\` (cycle times):"
                 echo
                 echo '```'

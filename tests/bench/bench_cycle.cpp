@@ -336,8 +336,9 @@ int main(int argc, char** argv) {
     std::printf("  grid %d x %d x %d = %zu voxels; %zu sensors, %llu pixels, every reading %s\n", g.dims().nx,
                 g.dims().ny, g.dims().nz, g.voxel_count(), n_sensors, static_cast<unsigned long long>(bound.rays),
                 grid_exit ? "1 mm before where its ray leaves the grid"
-                : mid_ray ? "in the middle voxel of its ray in the grid"
-                          : "at the sensor's max range (10 m)");
+                : mid_ray      ? "in the middle voxel of its ray in the grid"
+                : random_voxel ? "in a randomly drawn voxel of its ray in the grid"
+                               : "at the sensor's max range (10 m)");
     std::printf("  %zu zones (kMaxZones), each covering the grid; prior: every voxel foreground (%d)\n", zones.size(),
                 static_cast<int>(kLogOddsMax));
 
