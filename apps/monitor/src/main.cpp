@@ -66,7 +66,8 @@ const char* kUsage =
     "  --help              this text\n"
     "\n"
     "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
-    "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration.\n";
+    "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
+    "3 done but the CAN output failed in some cycle (the PLC may have missed frames).\n";
 
 struct Options {
     bool demo = false;
@@ -494,6 +495,7 @@ int main(int argc, char** argv) {
     int cycles_run = 0, stop_cycles = 0, warning_cycles = 0, first_stop_after_release = -1, send_failures = 0;
     bool released = false;
     std::uint32_t faults_seen = 0U;
+    int can_fault_cycles = 0;  // cycles that ended with the CAN-error fault latched
     std::uint64_t max_cycle_us = 0U;
     timespec next{};
     clock_gettime(CLOCK_MONOTONIC, &next);
@@ -538,6 +540,9 @@ int main(int argc, char** argv) {
         max_cycle_us = std::max(max_cycle_us, cycle_us);
         ++cycles_run;
         faults_seen |= r.safety.latched_faults;
+        if ((r.safety.latched_faults & fault_bit(Fault::kCanError)) != 0U) {
+            ++can_fault_cycles;
+        }
         if (!socket_can.is_open() && log_writer.lines() - sent_before != 3U) {
             ++send_failures;
         }
@@ -591,6 +596,13 @@ int main(int argc, char** argv) {
     if (!log_ok || send_failures != 0) {
         std::fprintf(stderr, "cellguard-monitor: writing the CAN log failed\n");
         return 1;
+    }
+    if (can_fault_cycles != 0) {
+        // A supervisor (systemd, the commissioning script) must not read
+        // this run as clean: the safe state held, but frames were lost.
+        std::fprintf(stderr, "cellguard-monitor: the CAN output failed: CAN-error fault latched in %d of %d cycles\n",
+                     can_fault_cycles, cycles_run);
+        return 3;
     }
     return 0;
 }

@@ -151,7 +151,10 @@ else
 fi
 wait "$monitor_pid"
 rc=$?
-[ $rc -eq 0 ] || { fail "monitor exit status $rc in the fault run"; show "$work/fault.err"; }
+# Exit status 3: the run completed but the CAN output failed in some cycle.
+[ $rc -eq 3 ] || { fail "monitor exit status $rc in the fault run (expected 3: CAN output failed)"; show "$work/fault.err"; }
+grep -q 'the CAN output failed: CAN-error fault latched in' "$work/fault.err" ||
+    { fail "the monitor did not say why it exited 3"; show "$work/fault.err"; }
 grep '^summary:' "$work/fault.out" | sed 's/^/    /'
 # Let candump read what is queued, then stop it (it flushes on SIGINT).
 sleep 0.5
