@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "cellguard/contract.hpp"
+#include "cellguard/crc32.hpp"
 #include "cellguard/log_odds.hpp"
 
 namespace cellguard {
@@ -226,7 +228,118 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     table.exit_step_ = exit_step;
     table.steps_per_metre_ = compact ? 1.0F / exit_step : 0.0F;
     table.compact_ = compact;
+    const CheckHeader header = table.check_header();
+    std::uint32_t crc = kCrc32Init;
+    for (const Span<const std::uint8_t>& part : table.check_parts(header)) {
+        crc = crc32_update(crc, part);
+    }
+    table.storage_crc_ = crc32_finish(crc);
     return table;
+}
+
+namespace {
+
+/// The bytes of @p count values at @p values, for the CRC.
+template <typename T>
+Span<const std::uint8_t> bytes_of(const T* values, std::size_t count) noexcept {
+    // Reading an object's bytes through unsigned char is always allowed.
+    return {reinterpret_cast<const std::uint8_t*>(values),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
+            count * sizeof(T)};
+}
+
+std::uint32_t bits_of(float value) noexcept {
+    std::uint32_t bits = 0U;
+    std::memcpy(&bits, &value, sizeof(bits));
+    return bits;
+}
+
+/// Low and high word of @p value's bits.
+std::array<std::uint32_t, 2> bits_of(double value) noexcept {
+    std::uint64_t bits = 0U;
+    std::memcpy(&bits, &value, sizeof(bits));
+    return {static_cast<std::uint32_t>(bits), static_cast<std::uint32_t>(bits >> 32U)};
+}
+
+}  // namespace
+
+RayTable::CheckHeader RayTable::check_header() const noexcept {
+    const std::array<std::uint32_t, 2> size = bits_of(geometry_.voxel_size());
+    const std::array<std::uint32_t, 2> ox = bits_of(geometry_.origin().x());
+    const std::array<std::uint32_t, 2> oy = bits_of(geometry_.origin().y());
+    const std::array<std::uint32_t, 2> oz = bits_of(geometry_.origin().z());
+    return CheckHeader{static_cast<std::uint32_t>(pixels_),
+                       static_cast<std::uint32_t>(step_count_),
+                       static_cast<std::uint32_t>(crossed_count_),
+                       bits_of(min_range_),
+                       bits_of(max_range_),
+                       bits_of(exit_step_),
+                       bits_of(steps_per_metre_),
+                       compact_ ? 1U : 0U,
+                       static_cast<std::uint32_t>(geometry_.dims().nx),
+                       static_cast<std::uint32_t>(geometry_.dims().ny),
+                       static_cast<std::uint32_t>(geometry_.dims().nz),
+                       size[0], size[1], ox[0], ox[1], oy[0], oy[1], oz[0], oz[1]};
+}
+
+RayTable::CheckParts RayTable::check_parts(const CheckHeader& header) const noexcept {
+    if (pixels_ == 0U) {
+        return CheckParts{};
+    }
+    const std::size_t voxels = geometry_.voxel_count();
+    return CheckParts{
+        bytes_of(header.data(), header.size()),
+        compact_ ? bytes_of(storage_.compact_voxels.data(), step_count_)
+                 : bytes_of(storage_.wide_voxels.data(), step_count_),
+        compact_ ? bytes_of(storage_.compact_exit_steps.data(), step_count_)
+                 : bytes_of(storage_.wide_exits.data(), step_count_),
+        bytes_of(storage_.pixel_begin.data(), pixels_ + 1U),
+        bytes_of(storage_.pixel_enter.data(), pixels_),
+        bytes_of(storage_.pixel_exit.data(), pixels_),
+        bytes_of(storage_.pixel_norm.data(), pixels_),
+        bytes_of(storage_.full_hits.data(), voxels),
+        bytes_of(storage_.crossed_voxels.data(), crossed_count_),
+    };
+}
+
+std::size_t RayTable::checked_bytes() const noexcept {
+    static constexpr CheckHeader kSizesOnly{};  // the parts' sizes do not depend on the header's words
+    std::size_t total = 0U;
+    for (const Span<const std::uint8_t>& part : check_parts(kSizesOnly)) {
+        total += part.size();
+    }
+    return total;
+}
+
+bool RayTable::check_next_slice(RayTableCheck& check, std::size_t slice_bytes) const noexcept {
+    CG_ENFORCE(slice_bytes > 0U, "a check slice must read at least one byte");
+    if (check.table != this) {
+        check = RayTableCheck{this, 0U, kCrc32Init};
+    }
+    if (pixels_ == 0U) {
+        return true;  // an empty table has nothing to check
+    }
+    const CheckHeader header = check_header();
+    const CheckParts parts = check_parts(header);
+    std::size_t budget = slice_bytes;
+    std::size_t part_begin = 0U;
+    for (const Span<const std::uint8_t>& part : parts) {
+        const std::size_t part_end = part_begin + part.size();
+        if (budget > 0U && check.offset < part_end) {
+            const std::size_t from = check.offset - part_begin;
+            const std::size_t n = std::min(budget, part.size() - from);
+            check.crc_state = crc32_update(check.crc_state, part.subspan(from, n));
+            check.offset += n;
+            budget -= n;
+        }
+        part_begin = part_end;
+    }
+    if (check.offset < part_begin) {
+        return true;  // the pass goes on
+    }
+    const bool intact = crc32_finish(check.crc_state) == storage_crc_;
+    check.offset = 0U;
+    check.crc_state = kCrc32Init;
+    return intact;
 }
 
 std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {

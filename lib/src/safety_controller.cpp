@@ -27,6 +27,7 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
       logic_(config.logic, zones),
       monitor_(config.cycle_budget_us) {
     CG_ENFORCE(config.prior_check_slice_bytes > 0U, "prior_check_slice_bytes must be positive");
+    CG_ENFORCE(config.table_check_slice_bytes > 0U, "table_check_slice_bytes must be positive");
     if (prior.size() != frame_grid.voxel_count()) {
         construction_faults_ |= fault_bit(Fault::kPriorCheckFailed);
     }
@@ -53,6 +54,21 @@ bool SafetyController::step_prior_check() noexcept {
         prior_check_offset_ = 0U;
     }
     return prior_failed_;
+}
+
+bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcept {
+    // One sensor's table per cycle, the sensors in turn; a sensor without a
+    // table (or without a frame this cycle) passes its turn.
+    const std::size_t slots = sensors.size() < kMaxSensors ? sensors.size() : kMaxSensors;
+    if (slots != 0U) {
+        const std::size_t i = table_check_sensor_ < slots ? table_check_sensor_ : 0U;
+        table_check_sensor_ = i + 1U;
+        const RayTable* table = sensors[i].table;
+        if (table != nullptr && !table->check_next_slice(table_checks_[i], config_.table_check_slice_bytes)) {
+            table_failed_ = true;
+        }
+    }
+    return table_failed_;
 }
 
 std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now,
@@ -102,6 +118,9 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     }
     if (step_prior_check()) {
         detected |= fault_bit(Fault::kPriorCheckFailed);
+    }
+    if (step_table_check(sensors)) {
+        detected |= fault_bit(Fault::kInternalCheck);
     }
     monitor_.end_stage(CycleStage::kSubtractAndZones, clock_->now_us());
 

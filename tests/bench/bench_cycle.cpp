@@ -341,6 +341,18 @@ int main(int argc, char** argv) {
                                : "at the sensor's max range (10 m)");
     std::printf("  %zu zones (kMaxZones), each covering the grid; prior: every voxel foreground (%d)\n", zones.size(),
                 static_cast<int>(kLogOddsMax));
+    // The periodic ray-table check: one sensor's slice per cycle, the sensors in turn.
+    std::size_t table_bytes = 0U;
+    std::size_t slowest_pass = 0U;  // cycles until the largest table has been read once
+    for (std::size_t s = 0U; s < n_sensors; ++s) {
+        const std::size_t bytes = tables[s].table().checked_bytes();
+        table_bytes += bytes;
+        slowest_pass = std::max(slowest_pass, n_sensors * ((bytes + cc.table_check_slice_bytes - 1U) /
+                                                           cc.table_check_slice_bytes));
+    }
+    std::printf("  ray-table check: %zu bytes of table RAM, %zu per cycle (prior: %zu per cycle); the largest\n"
+                "  table is read once every %zu cycles\n",
+                table_bytes, cc.table_check_slice_bytes, cc.prior_check_slice_bytes, slowest_pass);
 
     // Warm-up (not measured), then the measured cycles.
     const int warmup = timing ? kWarmupCycles : 0;

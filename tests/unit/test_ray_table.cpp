@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "ray_table_vectors.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -278,21 +279,11 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     CHECK(RayTable{}.fuse(grid.grid, r.depth, model).error() == ErrorCode::kInvalidArgument);
 
     // Each span one entry short in turn (the others large enough) is refused.
-    const std::size_t n = count_ray_steps(g, r).value();
-    const std::size_t px = r.depth.size();
     REQUIRE(ray_table_is_compact(g, r));
-    std::vector<std::uint16_t> voxels(n), steps(n);
-    std::vector<std::uint32_t> begin(px + 1U), all(g.voxel_count()), crossed(g.voxel_count()), walked(px),
-        hits(g.voxel_count());
-    std::vector<std::int32_t> corrections(g.voxel_count());
-    std::vector<float> enter(px), exit(px), norm(px);
-    const RayTableStorage full{{voxels.data(), n},         {steps.data(), n},
-                               {},                         {},
-                               {begin.data(), px + 1U},    {enter.data(), px},
-                               {exit.data(), px},          {norm.data(), px},
-                               {all.data(), all.size()},   {crossed.data(), crossed.size()},
-                               {walked.data(), px},
-                               {hits.data(), hits.size()}, {corrections.data(), corrections.size()}};
+    test::RayTableVectors v(g, r);
+    const std::size_t n = v.entries;
+    const std::size_t px = v.pixels;
+    const RayTableStorage full = v.storage();
     REQUIRE(RayTable::build(g, r, full).ok());
     for (int shortened = 0; shortened < 13; ++shortened) {
         CAPTURE(shortened);
@@ -306,11 +297,11 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
             case 3: s.pixel_enter = s.pixel_enter.subspan(0, px - 1U); break;
             case 4: s.pixel_exit = s.pixel_exit.subspan(0, px - 1U); break;
             case 5: s.pixel_norm = s.pixel_norm.subspan(0, px - 1U); break;
-            case 6: s.hit_count = s.hit_count.subspan(0, hits.size() - 1U); break;
-            case 7: s.full_hits = s.full_hits.subspan(0, all.size() - 1U); break;
+            case 6: s.hit_count = s.hit_count.subspan(0, v.hits.size() - 1U); break;
+            case 7: s.full_hits = s.full_hits.subspan(0, v.full_hits.size() - 1U); break;
             case 8: s.pixel_walked = s.pixel_walked.subspan(0, px - 1U); break;
-            case 9: s.crossed_voxels = s.crossed_voxels.subspan(0, crossed.size() - 1U); break;
-            default: s.hit_correction = s.hit_correction.subspan(0, corrections.size() - 1U); break;
+            case 9: s.crossed_voxels = s.crossed_voxels.subspan(0, v.crossed.size() - 1U); break;
+            default: s.hit_correction = s.hit_correction.subspan(0, v.corrections.size() - 1U); break;
         }
         CHECK(RayTable::build(g, r, s).error() == ErrorCode::kStorageTooSmall);
     }
@@ -343,4 +334,89 @@ TEST_CASE("ray table: invalid depth values are skipped and counted like on-the-f
     CHECK(st.skipped_behind == 1U);
     CHECK(st.skipped_out_of_range == 1U);
     CHECK(st.skipped() == sd.skipped());
+}
+
+// verifies: SR-FUSE-007
+TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found within one check pass") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const SensorReading& r = frame.readings[1];
+    test::RayTableVectors v(g, r);
+    const std::size_t n = v.entries;
+    const std::size_t px = v.pixels;
+    const RayTableStorage storage = v.storage();
+    const RayTable table = RayTable::build(g, r, storage).value();
+    std::size_t crossed_count = 0U;
+    for (const std::uint32_t h : v.full_hits) {
+        crossed_count += h != 0U ? 1U : 0U;
+    }
+    // What a pass reads: the limits (19 words), both entry arrays, the four
+    // per-pixel arrays, full_hits and the crossed voxels.
+    CHECK(table.checked_bytes() ==
+          19U * 4U + 4U * n + 4U * (px + 1U) + 12U * px + 4U * g.voxel_count() + 4U * crossed_count);
+    constexpr std::size_t kSlice = 65536U;
+    const std::size_t calls_per_pass = (table.checked_bytes() + kSlice - 1U) / kSlice;
+
+    // Runs check passes until one ends; returns its verdict and how many calls it took.
+    const auto run_pass = [&](RayTableCheck& check) {
+        std::size_t calls = 0U;
+        bool intact = true;
+        do {
+            intact = table.check_next_slice(check, kSlice);
+            ++calls;
+        } while (intact && check.offset != 0U && calls <= 2U * calls_per_pass);
+        return std::make_pair(intact, calls);
+    };
+    RayTableCheck check;
+    for (int pass = 0; pass < 2; ++pass) {
+        const auto [intact, calls] = run_pass(check);
+        CHECK(intact);
+        CHECK(calls == calls_per_pass);
+    }
+    // Working memory is not checked: fuse() writes it.
+    v.walked[7] ^= 1U;
+    v.hits[7] ^= 1U;
+    v.corrections[7] ^= 1;
+    CHECK(run_pass(check).first);
+
+    std::uint8_t* const parts[] = {reinterpret_cast<std::uint8_t*>(v.voxels.data()),  // NOLINT: bit flips for the test
+                                   reinterpret_cast<std::uint8_t*>(v.steps.data()),   // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.begin.data()),   // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.enter.data()),   // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.exit.data()),    // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.norm.data()),    // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.full_hits.data()),  // NOLINT
+                                   reinterpret_cast<std::uint8_t*>(v.crossed.data())};   // NOLINT
+    for (std::size_t p = 0U; p < std::size(parts); ++p) {
+        CAPTURE(p);
+        // Mid-pass: the flip lands in a part the pass has not read yet or has.
+        RayTableCheck mid;
+        (void)table.check_next_slice(mid, kSlice);
+        parts[p][3] ^= 0x10U;
+        // The pass under way may end intact (it read the byte before the
+        // flip); the next must not.
+        bool found = false;
+        std::size_t calls = 0U;
+        while (!found && calls <= 2U * calls_per_pass + 1U) {
+            found = !table.check_next_slice(mid, kSlice);
+            ++calls;
+        }
+        CHECK(found);
+        CHECK(calls <= 2U * calls_per_pass);
+        parts[p][3] ^= 0x10U;
+        CHECK(run_pass(mid).first);  // repaired: the next whole pass is intact again
+    }
+
+    // A check handed another table starts a pass over it.
+    const RayTable other = RayTable::build(g, r, storage).value();
+    RayTableCheck moved;
+    (void)table.check_next_slice(moved, kSlice);
+    CHECK(moved.table == &table);
+    CHECK(other.check_next_slice(moved, kSlice));
+    CHECK(moved.table == &other);
+    CHECK(moved.offset == std::min(kSlice, other.checked_bytes()));
+    // An empty table reads nothing and passes.
+    RayTableCheck empty_check;
+    CHECK(RayTable{}.checked_bytes() == 0U);
+    CHECK(RayTable{}.check_next_slice(empty_check, kSlice));
 }

@@ -4,9 +4,11 @@
 // cycle allocates no memory.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "ray_table_vectors.hpp"
 #include "cellguard/accessibility.hpp"
 #include "cellguard/safety_controller.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -194,6 +196,45 @@ TEST_CASE("controller: a corrupted prior is caught while running within one chec
     CHECK(cycles <= 2U * pass);
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
     w.prior[12345] ^= 0x0100;  // even repaired, the fault stays latched
+    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+}
+
+// verifies: SR-CTRL-007, SR-LOGIC-006
+TEST_CASE("controller: a ray table corrupted in RAM is caught while running within two check passes") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    config.table_check_slice_bytes = 1U << 20U;
+    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    Frame f(w, sim::reference_scene(), clock.t);
+    std::vector<test::RayTableVectors> storage;
+    std::vector<RayTable> tables;
+    storage.reserve(f.inputs.size());
+    tables.reserve(f.inputs.size());
+    std::size_t longest_pass = 0U;  // calls per pass of the largest table
+    for (SensorInput& in : f.inputs) {
+        storage.emplace_back(w.g, in.reading);
+        tables.push_back(RayTable::build(w.g, in.reading, storage.back().storage()).value());
+        in.table = &tables.back();
+        longest_pass = std::max(longest_pass, (tables.back().checked_bytes() + config.table_check_slice_bytes - 1U) /
+                                                  config.table_check_slice_bytes);
+    }
+    // Each sensor's table gets a slice every sensor_count cycles.
+    const std::size_t two_passes = 2U * longest_pass * f.inputs.size();
+    for (std::size_t k = 0U; k < two_passes; ++k) {
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        REQUIRE(r.detected_faults == 0U);  // intact tables pass, pass after pass
+    }
+    CHECK_FALSE(c.report().safety.stop_requested);
+    storage[2].full_hits[storage[2].crossed[5]] ^= 0x4U;  // a bit flips in the third sensor's table
+    std::size_t cycles = 0U;
+    while ((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= two_passes);
+    }
+    CHECK(c.report().safety.stop_requested);
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+    storage[2].full_hits[storage[2].crossed[5]] ^= 0x4U;  // even repaired, the fault stays latched
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 }
 

@@ -58,6 +58,7 @@
 #ifndef CELLGUARD_RAY_TABLE_HPP
 #define CELLGUARD_RAY_TABLE_HPP
 
+#include <array>
 #include <cstdint>
 
 #include "cellguard/evidence_grid.hpp"
@@ -129,9 +130,26 @@ struct RayTableStorage {
 
 /// The precomputed rays of one depth sensor.
 ///
+class RayTable;
+
+/// Progress of the periodic integrity check of one table's constant RAM
+/// (RayTable::check_next_slice). Start from a default value; a check that
+/// is handed another table starts a new pass over it.
+struct RayTableCheck {
+    const RayTable* table = nullptr;  ///< the table the pass is over
+    std::size_t offset = 0U;          ///< bytes of the pass read so far
+    std::uint32_t crc_state = 0xFFFFFFFFU;  ///< CRC-32 register of the pass (kCrc32Init)
+};
+
 /// fuse() writes the table's working memory: a table (or tables sharing
 /// working memory) must not be fused from two threads at once (the cycle
 /// executive fuses one sensor at a time).
+///
+/// Everything else of the table is constant after build(): the entries, the
+/// per-pixel arrays, full_hits, the crossed voxels and the table's own
+/// limits. build() takes their CRC-32 (storage_crc); check_next_slice
+/// re-reads them a slice at a time, so a bit that flips in that RAM is
+/// found within one pass (checked_bytes() / slice bytes calls).
 class RayTable {
 public:
     /// An empty table (placeholder only; fuse() refuses it).
@@ -169,7 +187,27 @@ public:
     /// compares it (for a compact table: the stored steps turned back).
     [[nodiscard]] float entry_exit(std::size_t pixel, std::size_t entry) const noexcept;
 
+    /// CRC-32 of the table's constant RAM (see the class comment), taken by build().
+    [[nodiscard]] std::uint32_t storage_crc() const noexcept { return storage_crc_; }
+    /// Bytes one pass of check_next_slice reads (0 for an empty table).
+    [[nodiscard]] std::size_t checked_bytes() const noexcept;
+    /// Reads the next at most @p slice_bytes (> 0) bytes of the constant RAM
+    /// into @p check. At the end of a pass compares the CRC with
+    /// storage_crc() and starts the next pass. Returns false exactly when a
+    /// pass ended with a mismatch: the table's RAM changed since build().
+    /// An empty table passes.
+    [[nodiscard]] bool check_next_slice(RayTableCheck& check, std::size_t slice_bytes) const noexcept;
+
 private:
+    static constexpr std::size_t kCheckHeaderWords = 19U;
+    static constexpr std::size_t kCheckParts = 9U;
+    using CheckHeader = std::array<std::uint32_t, kCheckHeaderWords>;
+    using CheckParts = std::array<Span<const std::uint8_t>, kCheckParts>;
+    /// The table's geometry and limits as words: the first part of a pass.
+    [[nodiscard]] CheckHeader check_header() const noexcept;
+    /// The constant RAM in the order a pass reads it, @p header first.
+    [[nodiscard]] CheckParts check_parts(const CheckHeader& header) const noexcept;
+
     GridGeometry geometry_{};
     RayTableStorage storage_{};
     std::size_t pixels_ = 0U;
@@ -180,6 +218,7 @@ private:
     float exit_step_ = 0.0F;       ///< metres per compact exit step (a power of two)
     float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
+    std::uint32_t storage_crc_ = 0U;
 };
 
 }  // namespace cellguard

@@ -12,6 +12,10 @@
 ///   end of the pass of the periodic check that reads the changed byte
 ///   (prior_check_slice_bytes per cycle); a prior or zones that do not
 ///   match the grid: at construction, latched for good;
+/// - a sensor's ray table no longer matching its CRC (kInternalCheck): at
+///   the end of the pass of the periodic check that reads the changed byte
+///   (table_check_slice_bytes of one sensor's table per cycle, the sensors
+///   in turn), latched for good;
 /// - zone evaluation failing (kZoneEvaluation): this cycle;
 /// - the output failing (kCanError) and the cycle overrunning its budget
 ///   (kCycleOverrun): reported in the next cycle, since the current one has
@@ -21,6 +25,7 @@
 #ifndef CELLGUARD_SAFETY_CONTROLLER_HPP
 #define CELLGUARD_SAFETY_CONTROLLER_HPP
 
+#include <array>
 #include <cstdint>
 
 #include "cellguard/cycle.hpp"
@@ -62,6 +67,7 @@ struct ControllerConfig {
     std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
     std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
     std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
+    std::size_t table_check_slice_bytes = 65536U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
 };
 
@@ -117,6 +123,7 @@ public:
 private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
     bool step_prior_check() noexcept;
+    bool step_table_check(Span<const SensorInput> sensors) noexcept;
 
     ControllerConfig config_;
     EvidenceGrid* grid_;
@@ -134,6 +141,9 @@ private:
     std::uint32_t prior_check_state_ = 0U;
     std::size_t prior_check_offset_ = 0U;
     bool prior_failed_ = false;
+    std::array<RayTableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the pass over its table
+    std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
+    bool table_failed_ = false;
 };
 
 }  // namespace cellguard
