@@ -65,12 +65,12 @@ float compact_exit_step(const GridGeometry& grid, const SensorReading& sensor) n
     }
     // The farthest point of the box from the origin is one of its corners.
     const Eigen::Vector3d origin = sensor.pose.translation();
-    const Eigen::Vector3d lo = grid.origin();
+    const Eigen::Vector3d& lo = grid.origin();
     const Eigen::Vector3d hi = grid.max_corner();
     double farthest = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3d c((corner & 1) != 0 ? hi.x() : lo.x(), (corner & 2) != 0 ? hi.y() : lo.y(),
-                                (corner & 4) != 0 ? hi.z() : lo.z());
+    for (unsigned corner = 0U; corner < 8U; ++corner) {
+        const Eigen::Vector3d c((corner & 1U) != 0U ? hi.x() : lo.x(), (corner & 2U) != 0U ? hi.y() : lo.y(),
+                                (corner & 4U) != 0U ? hi.z() : lo.z());
         farthest = std::max(farthest, (c - origin).norm());
     }
     const double reach = std::min(farthest, static_cast<double>(sensor.max_range)) * 1.0001;
@@ -117,6 +117,8 @@ inline float exit_of(const WideEntries& e, std::size_t k, float /*step*/) noexce
 /// both are the distances themselves.
 inline const std::uint16_t* keys(const CompactEntries& e) noexcept { return e.exit_steps; }
 inline const float* keys(const WideEntries& e) noexcept { return e.exit; }
+inline const std::uint16_t* voxels(const CompactEntries& e) noexcept { return e.voxel; }
+inline const std::uint32_t* voxels(const WideEntries& e) noexcept { return e.voxel; }
 inline std::int32_t key_limit(const CompactEntries& /*kind*/, float x, float steps_per_metre) noexcept {
     constexpr std::int32_t kMaxSteps = 65535;
     const float steps = x * steps_per_metre;
@@ -550,10 +552,10 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
             for (; k < end && keys(entries)[k] <= slot.range_limit; ++k) {
                 const float exit = exit_of(entries, k, t.exit_step);
                 const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
-                t.correction[entries.voxel[k]] += static_cast<std::int32_t>(e) - constant;
+                t.correction[voxels(entries)[k]] += static_cast<std::int32_t>(e) - constant;
             }
             if (k < end) {
-                t.correction[entries.voxel[k]] += static_cast<std::int32_t>(peak) - constant;
+                t.correction[voxels(entries)[k]] += static_cast<std::int32_t>(peak) - constant;
                 ++k;
                 ++s.readings_in_grid;
             }
@@ -568,12 +570,12 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
         for (std::size_t j = 0U; j < t.crossed_count; ++j) {
             t.hits[t.crossed[j]] = 0U;
         }
-        count_segments(entries.voxel, t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
+        count_segments(voxels(entries), t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
     } else {
         for (std::size_t j = 0U; j < t.crossed_count; ++j) {
             t.hits[t.crossed[j]] = t.full_hits[t.crossed[j]];
         }
-        count_segments(entries.voxel, t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
+        count_segments(voxels(entries), t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
                        Span<std::uint32_t>(t.hits, t.voxels));
     }
     // Pass 3: each crossed voxel's exact sum, added with one saturation.

@@ -59,12 +59,14 @@ bool SafetyController::step_prior_check() noexcept {
 bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcept {
     // One sensor's table per cycle, the sensors in turn; a sensor without a
     // table (or without a frame this cycle) passes its turn.
-    const std::size_t slots = sensors.size() < kMaxSensors ? sensors.size() : kMaxSensors;
-    if (slots != 0U) {
-        const std::size_t i = table_check_sensor_ < slots ? table_check_sensor_ : 0U;
-        table_check_sensor_ = i + 1U;
-        const RayTable* table = sensors[i].table;
-        if (table != nullptr && !table->check_next_slice(table_checks_[i], config_.table_check_slice_bytes)) {
+    if (table_check_sensor_ >= sensors.size() || table_check_sensor_ >= kMaxSensors) {
+        table_check_sensor_ = 0U;
+    }
+    if (table_check_sensor_ < sensors.size()) {
+        const RayTable* table = sensors[table_check_sensor_].table;
+        RayTableCheck& check = table_checks_[table_check_sensor_];  // < kMaxSensors: reset above
+        ++table_check_sensor_;
+        if (table != nullptr && !table->check_next_slice(check, config_.table_check_slice_bytes)) {
             table_failed_ = true;
         }
     }
