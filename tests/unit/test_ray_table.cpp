@@ -420,3 +420,38 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     CHECK(RayTable{}.checked_bytes() == 0U);
     CHECK(RayTable{}.check_next_slice(empty_check, kSlice));
 }
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: the compact exit step is the smallest power of two that reaches the grid's far corner") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const SensorReading& r = frame.readings[0];
+    double farthest = 0.0;
+    for (const double x : {g.origin().x(), g.max_corner().x()}) {
+        for (const double y : {g.origin().y(), g.max_corner().y()}) {
+            for (const double z : {g.origin().z(), g.max_corner().z()}) {
+                farthest = std::max(farthest, (Eigen::Vector3d(x, y, z) - r.pose.translation()).norm());
+            }
+        }
+    }
+    const double reach = std::min(farthest, static_cast<double>(r.max_range));
+    const auto step = static_cast<double>(compact_exit_step(g, r));
+    int exponent = 0;
+    CHECK(std::frexp(step, &exponent) == 0.5);  // a power of two
+    CHECK(65535.0 * step >= reach);
+    CHECK(65535.0 * step / 2.0 < reach * 1.0001);  // and the smallest such
+    CHECK(ray_table_is_compact(g, r));
+
+    // 90 m away with a 100 m range the step (2^-9 m) is coarser than
+    // 1/256 of a 5 cm voxel: the table is wide.
+    SensorReading distant = r;
+    distant.max_range = kMaxSensorRange;
+    distant.pose.translation() += Eigen::Vector3d(0.0, 0.0, 90.0);
+    CHECK(static_cast<double>(compact_exit_step(g, distant)) == std::ldexp(1.0, -9));
+    CHECK_FALSE(ray_table_is_compact(g, distant));
+    // An invalid sensor has no step.
+    SensorReading invalid = r;
+    invalid.max_range = -1.0F;
+    CHECK(compact_exit_step(g, invalid) == 0.0F);
+    CHECK_FALSE(ray_table_is_compact(g, invalid));
+}
