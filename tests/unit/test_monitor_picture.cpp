@@ -1,6 +1,6 @@
 // Verifies the monitor's configuration picture (apps/monitor: png.hpp,
 // picture.hpp): the PNG writer's file is valid (signature, IHDR, chunk
-// CRC-32s, zlib header, stored deflate blocks, Adler-32) and decodes to the
+// CRC-32s, zlib header, stored or fixed-Huffman deflate blocks, Adler-32) and decodes to the
 // image written; the zones are drawn where they are, in the top view and in
 // the sensor view; the background is grey.
 #include <doctest/doctest.h>
@@ -120,7 +120,7 @@ std::vector<std::uint8_t> inflate(const std::vector<std::uint8_t>& z, std::size_
 }
 
 /// A PNG decoded by this test's own reader (only what encode_png writes:
-/// 8-bit RGB, filter 0, stored deflate blocks); every check is a CHECK.
+/// 8-bit RGB or indexed, filter 0, stored or fixed-Huffman deflate blocks); every check is a CHECK.
 struct Decoded {
     bool ok = false;
     std::uint32_t width = 0U;
@@ -176,7 +176,7 @@ Decoded decode(const std::vector<std::uint8_t>& png) {
     CHECK(at == png.size());
     CHECK(ihdr);
     CHECK(iend);
-    // zlib: header, stored blocks, Adler-32.
+    // zlib: header, stored or fixed-Huffman blocks, Adler-32.
     REQUIRE(idat.size() >= 6U);
     CHECK((idat[0] * 256U + idat[1]) % 31U == 0U);
     CHECK((idat[0] & 0x0FU) == 8U);
