@@ -241,14 +241,6 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
 
 namespace {
 
-/// The bytes of @p count values at @p values, for the CRC.
-template <typename T>
-Span<const std::uint8_t> bytes_of(const T* values, std::size_t count) noexcept {
-    // Reading an object's bytes through unsigned char is always allowed.
-    return {reinterpret_cast<const std::uint8_t*>(values),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
-            count * sizeof(T)};
-}
-
 std::uint32_t bits_of(float value) noexcept {
     std::uint32_t bits = 0U;
     std::memcpy(&bits, &value, sizeof(bits));
@@ -289,17 +281,17 @@ RayTable::CheckParts RayTable::check_parts(const CheckHeader& header) const noex
     }
     const std::size_t voxels = geometry_.voxel_count();
     return CheckParts{
-        bytes_of(header.data(), header.size()),
-        compact_ ? bytes_of(storage_.compact_voxels.data(), step_count_)
-                 : bytes_of(storage_.wide_voxels.data(), step_count_),
-        compact_ ? bytes_of(storage_.compact_exit_steps.data(), step_count_)
-                 : bytes_of(storage_.wide_exits.data(), step_count_),
-        bytes_of(storage_.pixel_begin.data(), pixels_ + 1U),
-        bytes_of(storage_.pixel_enter.data(), pixels_),
-        bytes_of(storage_.pixel_exit.data(), pixels_),
-        bytes_of(storage_.pixel_norm.data(), pixels_),
-        bytes_of(storage_.full_hits.data(), voxels),
-        bytes_of(storage_.crossed_voxels.data(), crossed_count_),
+        as_bytes(Span<const std::uint32_t>(header.data(), header.size())),
+        compact_ ? as_bytes(storage_.compact_voxels.subspan(0U, step_count_))
+                 : as_bytes(storage_.wide_voxels.subspan(0U, step_count_)),
+        compact_ ? as_bytes(storage_.compact_exit_steps.subspan(0U, step_count_))
+                 : as_bytes(storage_.wide_exits.subspan(0U, step_count_)),
+        as_bytes(storage_.pixel_begin.subspan(0U, pixels_ + 1U)),
+        as_bytes(storage_.pixel_enter.subspan(0U, pixels_)),
+        as_bytes(storage_.pixel_exit.subspan(0U, pixels_)),
+        as_bytes(storage_.pixel_norm.subspan(0U, pixels_)),
+        as_bytes(storage_.full_hits.subspan(0U, voxels)),
+        as_bytes(storage_.crossed_voxels.subspan(0U, crossed_count_)),
     };
 }
 

@@ -4,16 +4,6 @@
 
 namespace cellguard {
 
-namespace {
-
-Span<const std::uint8_t> bytes_of(Span<const std::int16_t> values) noexcept {
-    // Reading an object's bytes through unsigned char is always allowed.
-    return {reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): byte view for the CRC
-            values.size() * sizeof(std::int16_t)};
-}
-
-}  // namespace
-
 SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
                                    Span<const std::int16_t> prior, const CompiledZones& zones,
                                    const SensorModelTable& model, MonotonicClock& clock, CycleOutput* output) noexcept
@@ -35,12 +25,12 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
         config.sensor_count > kMaxSensors) {
         construction_faults_ |= fault_bit(Fault::kInternalCheck);
     }
-    prior_crc_ = crc32(bytes_of(prior_));
+    prior_crc_ = crc32(as_bytes(prior_));
     prior_check_state_ = kCrc32Init;
 }
 
 bool SafetyController::step_prior_check() noexcept {
-    const Span<const std::uint8_t> bytes = bytes_of(prior_);
+    const Span<const std::uint8_t> bytes = as_bytes(prior_);
     if (bytes.empty()) {
         return false;
     }

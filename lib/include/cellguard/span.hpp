@@ -6,6 +6,8 @@
 #define CELLGUARD_SPAN_HPP
 
 #include <cstddef>
+#include <cstdint>
+#include <type_traits>
 
 #include "cellguard/contract.hpp"
 
@@ -54,6 +56,16 @@ private:
     T* data_ = nullptr;
     std::size_t size_ = 0U;
 };
+
+/// The bytes of @p values, read-only: the view a CRC takes of typed storage.
+/// Only trivially copyable types have a defined byte image, so only they are accepted.
+template <typename T>
+[[nodiscard]] Span<const std::uint8_t> as_bytes(Span<T> values) noexcept {
+    static_assert(std::is_trivially_copyable<T>::value, "as_bytes needs a trivially copyable type");
+    // Reading an object's bytes through unsigned char is always allowed.
+    return {reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): the one byte view of typed storage, for CRCs
+            values.size() * sizeof(T)};
+}
 
 }  // namespace cellguard
 
