@@ -27,6 +27,18 @@ std::uint32_t crc32_bitwise(Span<const std::uint8_t> data) {
     return r ^ 0xFFFFFFFFU;
 }
 
+// The bare register after shifting @p data bit by bit from 0, with no initial value or final XOR.
+std::uint32_t register_from_zero(Span<const std::uint8_t> data) {
+    std::uint32_t r = 0U;
+    for (const std::uint8_t b : data) {
+        r ^= b;
+        for (int i = 0; i < 8; ++i) {
+            r = (r & 1U) != 0U ? (r >> 1U) ^ 0xEDB88320U : r >> 1U;
+        }
+    }
+    return r;
+}
+
 constexpr std::uint8_t kCheck[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
 static_assert(crc32(Span<const std::uint8_t>(kCheck)) == 0xCBF43926U, "check value at compile time");
 }  // namespace
@@ -55,18 +67,21 @@ TEST_CASE("crc32: the polynomial is 0x04C11DB7, reflected as 0xEDB88320") {
         }
     }
     CHECK(reflected == kCrc32ReflectedPolynomial);
-    CHECK(kCrc32Table.entries[0] == 0U);
-    CHECK(kCrc32Table.entries[128] == kCrc32ReflectedPolynomial);
+    CHECK(kCrc32Table.slices[0][0] == 0U);
+    CHECK(kCrc32Table.slices[0][128] == kCrc32ReflectedPolynomial);
 }
 
 // verifies: SR-PRIOR-013
 TEST_CASE("crc32: the table-driven CRC equals the bitwise definition on random messages") {
     std::mt19937 rng(7U);
-    for (std::size_t len : {1U, 2U, 3U, 7U, 64U, 255U, 1000U}) {
-        std::vector<std::uint8_t> data(len);
+    for (std::size_t len : {1U, 2U, 3U, 7U, 8U, 9U, 15U, 16U, 17U, 64U, 255U, 1000U}) {
+        std::vector<std::uint8_t> data(len + 7U);
         for (auto& b : data) b = static_cast<std::uint8_t>(rng());
-        const Span<const std::uint8_t> s(data.data(), data.size());
-        CHECK(crc32(s) == crc32_bitwise(s));
+        // Every start offset modulo 8, so the sliced loads also run unaligned.
+        for (std::size_t offset = 0; offset < 8U; ++offset) {
+            const Span<const std::uint8_t> s(data.data() + offset, len);
+            CHECK(crc32(s) == crc32_bitwise(s));
+        }
     }
 }
 
@@ -111,12 +126,21 @@ TEST_CASE("crc32: the start-up self-test passes on the table in flash and fails 
     CHECK(crc32_table_self_test());
     Crc32Table copy = kCrc32Table;
     CHECK(crc32_table_self_test(copy));
-    for (const std::size_t i : {0U, 1U, 128U, 255U}) {
-        copy.entries[i] ^= 1U << 17U;
-        CHECK_FALSE(crc32_table_self_test(copy));
-        copy.entries[i] ^= 1U << 17U;
+    for (std::size_t k = 0; k < kCrc32Slices; ++k) {
+        for (const std::size_t i : {0U, 1U, 128U, 255U}) {
+            copy.slices[k][i] ^= 1U << 17U;
+            CHECK_FALSE(crc32_table_self_test(copy));
+            copy.slices[k][i] ^= 1U << 17U;
+        }
     }
+    CHECK(crc32_table_self_test(copy));
     for (std::uint32_t i = 0; i < 256U; ++i) {
-        CHECK(kCrc32Table.entries[i] == crc32_table_entry(i));
+        CHECK(kCrc32Table.slices[0][i] == crc32_table_entry(i));
+        // slices[k][i] is byte i followed by k zero bytes, shifted through a register that starts at 0.
+        for (std::size_t k = 1; k < kCrc32Slices; ++k) {
+            std::uint8_t message[kCrc32Slices] = {};
+            message[0] = static_cast<std::uint8_t>(i);
+            CHECK(kCrc32Table.slices[k][i] == register_from_zero(Span<const std::uint8_t>(message, k + 1U)));
+        }
     }
 }
