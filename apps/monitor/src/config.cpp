@@ -335,7 +335,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
             L.fail(t.get("max_frame_age_ms")->source(), "cycle.max_frame_age_ms", "expected more than 0, at most 60000");
         }
         c.max_frame_age_us = ms_to_us(age);
-        c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 64)) * 1024U;
+        c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
     }
     {
         const toml::table& t = L.table(root, "", "restart_interlock");

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cellguard/accessibility.hpp"
+#include "cellguard/crc32.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/linux/monotonic_clock.hpp"
@@ -273,6 +274,12 @@ sim::SensorSpec to_spec(const SensorSettings& s, std::string& error) {
 
 int main(int argc, char** argv) {
     const Options opt = parse_args(argc, argv);
+    // Every prior and ray-table check below reads these tables; a corrupt table would pass a
+    // bad prior or fail a good one (hazard H-MEM-2), so they are checked before anything else.
+    if (!cellguard::crc32_table_self_test()) {
+        std::fprintf(stderr, "cellguard-monitor: start-up self-test: the CRC-32 tables in memory are corrupt\n");
+        return 1;
+    }
     MonitorConfig cfg;
     if (opt.demo) {
         cfg = demo_config();

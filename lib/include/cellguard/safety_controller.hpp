@@ -67,7 +67,7 @@ struct ControllerConfig {
     std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
     std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
     std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
-    std::size_t table_check_slice_bytes = 65536U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
+    std::size_t table_check_slice_bytes = 262144U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
 };
 
