@@ -11,6 +11,10 @@
 #include "cellguard/crc32.hpp"
 #include "cellguard/log_odds.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace cellguard {
 
 namespace {
@@ -413,7 +417,7 @@ struct SearchSlot {
 /// overlap. A branching search mispredicts about half its steps when
 /// readings vary from pixel to pixel (bench_cycle --readings random).
 template <typename Key, typename Limit>
-void find_free_ends(const Key* keys, Span<SearchSlot<Limit>> slots) noexcept {
+void find_free_ends(const Key* keys, std::size_t /*key_count*/, Span<SearchSlot<Limit>> slots) noexcept {
     std::uint32_t widest = 0U;
     for (const SearchSlot<Limit>& slot : slots) {
         widest = slot.n > widest ? slot.n : widest;
@@ -432,6 +436,39 @@ void find_free_ends(const Key* keys, Span<SearchSlot<Limit>> slots) noexcept {
         slot.base += static_cast<std::uint32_t>(keys[slot.base] <= slot.free_limit);
     }
 }
+
+#if defined(__SSE2__)
+/// Entries a compact pixel's window search compares at once.
+constexpr std::uint32_t kKeyWindow = 32U;
+
+/// find_free_ends for a compact table on x86-64: a pixel of at most
+/// kKeyWindow entries, whose window lies inside the key array, compares
+/// all kKeyWindow keys of the window with its limit at once (four 8-lane
+/// compares) and takes the first key above it: no chain of dependent loads
+/// and no branch on the data. Longer pixels, and those at the array's end,
+/// take the binary search. Same result: keys do not decrease along a pixel.
+void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
+                    Span<SearchSlot<std::int32_t>> slots) noexcept {
+    const __m128i bias = _mm_set1_epi16(static_cast<std::int16_t>(-32768));
+    for (SearchSlot<std::int32_t>& slot : slots) {
+        if (slot.n > kKeyWindow || key_count - slot.base < kKeyWindow || slot.free_limit < 0) {
+            find_free_ends<std::uint16_t, std::int32_t>(keys, key_count, Span<SearchSlot<std::int32_t>>(&slot, 1U));
+            continue;
+        }
+        // Unsigned 16-bit compare as signed: flip the top bit of both sides.
+        const __m128i limit = _mm_set1_epi16(static_cast<std::int16_t>(slot.free_limit - 32768));
+        const std::uint16_t* window = keys + slot.base;
+        const auto above = [&](std::size_t q) noexcept {
+            const __m128i k = _mm_loadu_si128(reinterpret_cast<const __m128i*>(window + 8U * q));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): unaligned SIMD load of the keys
+            return _mm_cmpgt_epi16(_mm_xor_si128(k, bias), limit);
+        };
+        const auto low = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(0U), above(1U))));
+        const auto high = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(2U), above(3U))));
+        const std::uint64_t mask = static_cast<std::uint64_t>(low | (high << 16U)) | (std::uint64_t{1} << slot.n);
+        slot.base += static_cast<std::uint32_t>(__builtin_ctzll(mask));
+    }
+}
+#endif
 
 /// @p value plus @p hits times @p constant plus @p correction, summed
 /// exactly in 64 bits (|hits x constant| < 2^47) and saturated once.
@@ -531,7 +568,7 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
                                                 key_limit(entries, range, t.steps_per_metre), range};
             ++searched;
         }
-        find_free_ends(keys(entries), Span<SearchSlot<Limit>>(batch.data(), searched));
+        find_free_ends(keys(entries), t.steps, Span<SearchSlot<Limit>>(batch.data(), searched));
         // The ramp: voxels left before the reading; then the voxel holding
         // the reading, if it lies inside the grid. Every walked voxel is
         // counted as if it got the constant (pass 2); a ramp or peak voxel's

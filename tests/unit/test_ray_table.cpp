@@ -194,6 +194,61 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
     }
 }
 
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, give the exact sums for rays of every length") {
+    // The search for the end of the constant part compares keys with a
+    // limit. A search that ends one entry late gives a ramp voxel only the
+    // constant, and readings on a boundary are where that shows (tried: it
+    // fails here); one that ends early costs time only, since the ramp gives
+    // the constant beyond its length. Rays of the paper's grid are 1 to over
+    // 32 entries long (x86-64 compares up to 32 keys at once and searches
+    // longer rays), and the table's last pixels end near the end of the key array.
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const SensorModelTable model;
+    const auto ramp = static_cast<float>(model.ramp_length());
+    std::size_t longest = 0U;
+    std::size_t shortest = std::numeric_limits<std::size_t>::max();
+    for (const SensorReading& sensor : frame.readings) {
+        host::OwnedRayTable t;
+        REQUIRE(t.build(g, sensor).ok());
+        REQUIRE(ray_table_is_compact(g, sensor));
+        const std::size_t px = sensor.depth.size();
+        for (std::size_t i = 0; i < px; ++i) {
+            const std::size_t n = t.table().pixel_begin(i + 1U) - t.table().pixel_begin(i);
+            if (n > 0U) {
+                longest = std::max(longest, n);
+                shortest = std::min(shortest, n);
+            }
+        }
+        // The k-th entry's exit, k drawn per pixel: exactly on it, one float
+        // above it, and one ramp beyond it (the constant part ends exactly there).
+        const auto entry_exit_of = [&](std::size_t i) {
+            const std::uint32_t b = t.table().pixel_begin(i);
+            const std::uint32_t e = t.table().pixel_begin(i + 1U);
+            return e > b ? t.table().entry_exit(i, b + static_cast<std::uint32_t>((i * 7U) % (e - b)))
+                         : sensor.max_range * 0.5F;
+        };
+        std::vector<std::vector<float>> cases;
+        cases.push_back(depths_at(t, px, entry_exit_of));
+        cases.push_back(depths_at(t, px, [&](std::size_t i) {
+            return std::nextafter(entry_exit_of(i), std::numeric_limits<float>::infinity());
+        }));
+        cases.push_back(depths_at(t, px, [&](std::size_t i) { return entry_exit_of(i) + ramp; }));
+        for (std::size_t c = 0; c < cases.size(); ++c) {
+            CAPTURE(c);
+            SensorReading r = sensor;
+            r.depth = Span<const float>(cases[c].data(), cases[c].size());
+            OwnedGrid fused(g);
+            REQUIRE(t.table().fuse(fused.grid, r.depth, model).ok());
+            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g.voxel_count())) == 0U);
+        }
+    }
+    MESSAGE("rays of " << shortest << " to " << longest << " entries");
+    CHECK(shortest < 32U);
+    CHECK(longest > 32U);
+}
+
 // verifies: SR-FUSE-006, SR-FUSE-002
 TEST_CASE("ray table: evidence beyond the saturation bound is the exact sum clamped once, never wrapped") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
