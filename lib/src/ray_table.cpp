@@ -441,31 +441,44 @@ void find_free_ends(const Key* keys, std::size_t /*key_count*/, Span<SearchSlot<
 /// Entries a compact pixel's window search compares at once.
 constexpr std::uint32_t kKeyWindow = 32U;
 
-/// find_free_ends for a compact table on x86-64: a pixel of at most
-/// kKeyWindow entries, whose window lies inside the key array, compares
-/// all kKeyWindow keys of the window with its limit at once (four 8-lane
-/// compares) and takes the first key above it: no chain of dependent loads
-/// and no branch on the data. Longer pixels, and those at the array's end,
-/// take the binary search. Same result: keys do not decrease along a pixel.
+/// find_free_ends for a compact table on x86-64: each pixel compares a
+/// window of kKeyWindow keys with its limit at once (four 8-lane compares)
+/// and takes the first key above it, or, when there is none and the pixel
+/// goes on, the next window: no chain of dependent loads. Windows must lie
+/// inside the key array; a pixel whose window would not takes the binary
+/// search. Same result: keys do not decrease along a pixel.
 void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
                     Span<SearchSlot<std::int32_t>> slots) noexcept {
     const __m128i bias = _mm_set1_epi16(static_cast<std::int16_t>(-32768));
     for (SearchSlot<std::int32_t>& slot : slots) {
-        if (slot.n > kKeyWindow || key_count - slot.base < kKeyWindow || slot.free_limit < 0) {
-            find_free_ends<std::uint16_t, std::int32_t>(keys, key_count, Span<SearchSlot<std::int32_t>>(&slot, 1U));
-            continue;
+        if (slot.free_limit < 0) {
+            continue;  // every key is above it: the constant part is empty
         }
         // Unsigned 16-bit compare as signed: flip the top bit of both sides.
         const __m128i limit = _mm_set1_epi16(static_cast<std::int16_t>(slot.free_limit - 32768));
-        const std::uint16_t* window = keys + slot.base;
-        const auto above = [&](std::size_t q) noexcept {
-            const __m128i k = _mm_loadu_si128(reinterpret_cast<const __m128i*>(window + 8U * q));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): unaligned SIMD load of the keys
-            return _mm_cmpgt_epi16(_mm_xor_si128(k, bias), limit);
-        };
-        const auto low = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(0U), above(1U))));
-        const auto high = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(2U), above(3U))));
-        const std::uint64_t mask = static_cast<std::uint64_t>(low | (high << 16U)) | (std::uint64_t{1} << slot.n);
-        slot.base += static_cast<std::uint32_t>(__builtin_ctzll(mask));
+        while (key_count - slot.base >= kKeyWindow) {
+            const std::uint16_t* window = keys + slot.base;
+            const auto above = [&](std::size_t q) noexcept {
+                const __m128i k = _mm_loadu_si128(reinterpret_cast<const __m128i*>(window + 8U * q));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): unaligned SIMD load of the keys
+                return _mm_cmpgt_epi16(_mm_xor_si128(k, bias), limit);
+            };
+            const auto low = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(0U), above(1U))));
+            const auto high = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(2U), above(3U))));
+            std::uint64_t mask = static_cast<std::uint64_t>(low | (high << 16U));
+            if (slot.n <= kKeyWindow) {
+                mask |= std::uint64_t{1} << slot.n;  // none above: the pixel's end
+            }
+            if (mask != 0U) {
+                slot.base += static_cast<std::uint32_t>(__builtin_ctzll(mask));
+                slot.n = 0U;  // found
+                break;
+            }
+            slot.base += kKeyWindow;
+            slot.n -= kKeyWindow;
+        }
+        if (slot.n != 0U) {
+            find_free_ends<std::uint16_t, std::int32_t>(keys, key_count, Span<SearchSlot<std::int32_t>>(&slot, 1U));
+        }
     }
 }
 #endif
