@@ -16,11 +16,14 @@
 ///   evidence; a ramp voxel or the reading's voxel adds its difference to
 ///   the constant to `hit_correction`. Finding where the constant part ends
 ///   costs nothing when the reading lies at least one ramp beyond where the
-///   ray leaves the grid; otherwise it is a branch-free binary search of the
-///   pixel's entries, run a step at a time over 16 pixels together so that
-///   their chains of dependent loads overlap. In a compact table the search compares integer exit
-///   steps: a reading's distance times the power-of-two steps per metre,
-///   truncated, is exactly the last step count at or before it.
+///   ray leaves the grid; otherwise it is a search of the pixel's entries.
+///   In a compact table the search compares integer exit steps: a
+///   reading's distance times the power-of-two steps per metre, truncated,
+///   is exactly the last step count at or before it. On x86-64 a compact
+///   pixel compares a window of 32 keys at once (SSE2), window after
+///   window; elsewhere, and for wide tables, a branch-free binary search
+///   runs a step at a time over 16 pixels together so that their chains of
+///   dependent loads overlap.
 /// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
 ///   entries, or, when more than half of the table was walked, starts from
 ///   the table's full counts (`full_hits`, made by build()) and takes off
