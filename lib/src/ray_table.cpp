@@ -464,7 +464,7 @@ void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
             };
             const auto low = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(0U), above(1U))));
             const auto high = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(2U), above(3U))));
-            std::uint64_t mask = static_cast<std::uint64_t>(low | (high << 16U));
+            auto mask = static_cast<std::uint64_t>(low | (high << 16U));
             if (slot.n <= kKeyWindow) {
                 mask |= std::uint64_t{1} << slot.n;  // none above: the pixel's end
             }
