@@ -15,21 +15,9 @@ Span<const std::uint8_t> bytes_of(const char* s) {
     return Span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(s), std::strlen(s));
 }
 
-// Bit-by-bit CRC-32 from the definition (reflected, poly 0x04C11DB7), without the table.
-std::uint32_t crc32_bitwise(Span<const std::uint8_t> data) {
-    std::uint32_t r = 0xFFFFFFFFU;
-    for (const std::uint8_t b : data) {
-        r ^= b;
-        for (int i = 0; i < 8; ++i) {
-            r = (r & 1U) != 0U ? (r >> 1U) ^ 0xEDB88320U : r >> 1U;
-        }
-    }
-    return r ^ 0xFFFFFFFFU;
-}
-
-// The bare register after shifting @p data bit by bit from 0, with no initial value or final XOR.
-std::uint32_t register_from_zero(Span<const std::uint8_t> data) {
-    std::uint32_t r = 0U;
+// The register @p r after shifting @p data through it bit by bit, from the definition
+// (reflected, poly 0x04C11DB7), without the table.
+std::uint32_t shift_bitwise(std::uint32_t r, Span<const std::uint8_t> data) {
     for (const std::uint8_t b : data) {
         r ^= b;
         for (int i = 0; i < 8; ++i) {
@@ -38,6 +26,12 @@ std::uint32_t register_from_zero(Span<const std::uint8_t> data) {
     }
     return r;
 }
+
+// Bit-by-bit CRC-32: initial register 0xFFFFFFFF, final XOR 0xFFFFFFFF.
+std::uint32_t crc32_bitwise(Span<const std::uint8_t> data) { return shift_bitwise(0xFFFFFFFFU, data) ^ 0xFFFFFFFFU; }
+
+// The bare register after shifting @p data from 0, with no initial value or final XOR.
+std::uint32_t register_from_zero(Span<const std::uint8_t> data) { return shift_bitwise(0U, data); }
 
 constexpr std::uint8_t kCheck[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
 static_assert(crc32(Span<const std::uint8_t>(kCheck)) == 0xCBF43926U, "check value at compile time");
