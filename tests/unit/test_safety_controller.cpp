@@ -10,6 +10,7 @@
 #include "alloc_counter.hpp"
 #include "ray_table_vectors.hpp"
 #include "cellguard/accessibility.hpp"
+#include "cellguard/firmware/scenario.hpp"
 #include "cellguard/safety_controller.hpp"
 #include "cellguard/sim/workcell.hpp"
 
@@ -35,8 +36,9 @@ public:
     int published = 0;
 };
 
-// The paper's cell, its background prior (probabilistic method), and two zones
-// on the free floor in front of the first background box.
+// The paper's cell, its background prior (probabilistic method), and the
+// firmware scenario's two zones on the free floor in front of the first
+// background box.
 struct Workcell {
     GridGeometry g = paper_grid_geometry();
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
@@ -66,27 +68,15 @@ struct Workcell {
         REQUIRE(compute_accessibility_prior(bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
                                             {prior.data(), prior.size()}, {})
                     .ok());
-        ZoneConfig protective;  // on the floor in front of box B, x in [0.0, 0.4], y in [0.2, 0.6]
-        protective.box_min = Eigen::Vector3d(0.0, 0.2, 0.0);
-        protective.box_max = Eigen::Vector3d(0.4, 0.6, 1.2);
-        protective.max_unseen_voxels = 20U;
-        ZoneConfig warning;
-        warning.kind = ZoneKind::kWarning;
-        warning.box_min = Eigen::Vector3d(-0.8, 0.45, 0.0);
-        warning.box_max = Eigen::Vector3d(0.8, 0.75, 1.2);
-        warning.max_unseen_voxels = 40U;
-        const ZoneConfig zs[] = {protective, warning};
-        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+        // The firmware scenario's zones: zone 0 protective, on the floor in
+        // front of box B; zone 1 a warning zone across it.
+        const auto zs = firmware::scenario_zone_configs();
+        zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}, nullptr).value();
     }
 
-    ControllerConfig config() const {
-        ControllerConfig c;
-        c.sensor_count = sensors.size();
-        c.logic.restart_delay_us = 0U;
-        c.logic.fault_recovery_cycles = 2U;
-        c.cycle_budget_us = 1000000000U;  // timing is not under test here
-        return c;
-    }
+    // The firmware scenario's configuration: no restart delay, recovery
+    // after 2 good cycles, a 10 s budget (the test clock advances 1 us per reading).
+    ControllerConfig config() const { return firmware::scenario_controller_config(sensors.size()); }
 };
 
 struct Frame {

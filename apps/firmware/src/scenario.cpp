@@ -1,6 +1,7 @@
 // The firmware's canned run (scenario.hpp): the same source on the MCU and the hosts.
 #include "cellguard/firmware/scenario.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -202,6 +203,28 @@ void format_decimal(std::uint64_t value, char (&out)[21]) noexcept {
     out[n] = '\0';
 }
 
+std::array<ZoneConfig, kScenarioZones> scenario_zone_configs() noexcept {
+    ZoneConfig protective;  // on the floor in front of a background box
+    protective.box_min = Eigen::Vector3d(0.0, 0.2, 0.0);
+    protective.box_max = Eigen::Vector3d(0.4, 0.6, 1.2);
+    protective.max_unseen_voxels = 20U;
+    ZoneConfig warning;
+    warning.kind = ZoneKind::kWarning;
+    warning.box_min = Eigen::Vector3d(-0.8, 0.45, 0.0);
+    warning.box_max = Eigen::Vector3d(0.8, 0.75, 1.2);
+    warning.max_unseen_voxels = 40U;
+    return {protective, warning};
+}
+
+ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept {
+    ControllerConfig config;
+    config.sensor_count = sensor_count;
+    config.logic.restart_delay_us = 0U;       // the interlock is not under test here
+    config.logic.fault_recovery_cycles = 2U;
+    config.cycle_budget_us = 10000000U;       // generous: timing must not change the results
+    return config;
+}
+
 ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
     ScenarioSummary summary;
     const GridGeometry geometry = paper_grid_geometry();
@@ -223,18 +246,9 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     const Result<EvidenceGrid> grid =
         EvidenceGrid::make(geometry, Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
                            Span<std::uint8_t>(g_grid.observed, GridStorage::kVoxels));
-    ZoneConfig protective;  // on the floor in front of a background box
-    protective.box_min = Eigen::Vector3d(0.0, 0.2, 0.0);
-    protective.box_max = Eigen::Vector3d(0.4, 0.6, 1.2);
-    protective.max_unseen_voxels = 20U;
-    ZoneConfig warning;
-    warning.kind = ZoneKind::kWarning;
-    warning.box_min = Eigen::Vector3d(-0.8, 0.45, 0.0);
-    warning.box_max = Eigen::Vector3d(0.8, 0.75, 1.2);
-    warning.max_unseen_voxels = 40U;
-    const ZoneConfig zone_configs[] = {protective, warning};
+    const std::array<ZoneConfig, kScenarioZones> zone_configs = scenario_zone_configs();
     const Result<CompiledZones> zones =
-        CompiledZones::compile(geometry, Span<const ZoneConfig>(zone_configs, 2U),
+        CompiledZones::compile(geometry, Span<const ZoneConfig>(zone_configs.data(), zone_configs.size()),
                                Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels), nullptr);
     if (!grid.ok() || !zones.ok()) {
         text.write("error: grid or zones refused\n");
@@ -243,16 +257,12 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
 
     Digest digest;
     SafetyOutputConfig output_config;
-    output_config.zone_count = 2U;
+    output_config.zone_count = kScenarioZones;
     output_config.prior_crc = prior::kPayloadCrc;
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 
-    ControllerConfig config;
-    config.sensor_count = canned::kSensorCount;
-    config.logic.restart_delay_us = 0U;       // the interlock is not under test here
-    config.logic.fault_recovery_cycles = 2U;
-    config.cycle_budget_us = 10000000U;       // generous: timing must not change the digest
+    const ControllerConfig config = scenario_controller_config(canned::kSensorCount);
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of g_grid
     SafetyController controller(config, frame_grid,

@@ -18,10 +18,13 @@
 #ifndef CELLGUARD_FIRMWARE_SCENARIO_HPP
 #define CELLGUARD_FIRMWARE_SCENARIO_HPP
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "cellguard/safety_controller.hpp"
 #include "cellguard/safety_output.hpp"
+#include "cellguard/zones.hpp"
 
 namespace cellguard::firmware {
 
@@ -50,6 +53,24 @@ struct ScenarioSummary {
 
 /// Number of cycles in the script.
 constexpr std::uint32_t kScenarioCycles = 8U;
+
+/// Number of zones the scenario compiles.
+constexpr std::size_t kScenarioZones = 2U;
+
+/// The scenario's zones in the paper's cell (paper_grid_geometry(), the
+/// simulator's reference scene): zone 0 is protective, on the free floor in
+/// front of the first background box (x 0.0 to 0.4 m, y 0.2 to 0.6 m, z up to
+/// 1.2 m, at most 20 unseen voxels); zone 1 is a warning zone across it
+/// (x -0.8 to 0.8 m, y 0.45 to 0.75 m, z up to 1.2 m, at most 40 unseen
+/// voxels). The host tests of the SafetyController use the same two zones.
+[[nodiscard]] std::array<ZoneConfig, kScenarioZones> scenario_zone_configs() noexcept;
+
+/// The scenario's controller configuration for @p sensor_count sensors: no
+/// restart delay (the interlock is not under test), recovery from a fault
+/// after 2 good cycles, and a generous 10 s cycle budget, so that timing
+/// cannot change the results. The host tests of the SafetyController start
+/// from it.
+[[nodiscard]] ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept;
 
 /// Runs the script: prints one line per cycle ("cycle N ...") and a last
 /// line "digest 0x%08x" to @p text, sends every cycle's CAN frames through
