@@ -6,6 +6,7 @@
 
 #include "cellguard/plc_receiver.hpp"
 #include "contract_capture.hpp"
+#include "enum_names.hpp"
 
 using namespace cellguard;
 
@@ -369,4 +370,9 @@ TEST_CASE("plc receiver: the safe-state message stops, warns, faults and marks e
     CHECK(test::violates_contract([] { (void)safe_state_message(17U); }));
     CHECK(std::string(to_string(ReceiverFault::kSctExpired)) == "safeguard cycle time expired");
     CHECK(std::string(to_string(static_cast<ReceiverFault>(99))) == "unknown receiver fault");
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
+    test::check_enum_names<ReceiverFault>(16U, "unknown receiver fault");
 }

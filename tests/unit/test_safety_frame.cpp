@@ -6,6 +6,7 @@
 
 #include "cellguard/safety_frame.hpp"
 #include "contract_capture.hpp"
+#include "enum_names.hpp"
 
 using namespace cellguard;
 
@@ -328,4 +329,9 @@ TEST_CASE("safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..
     CHECK(to_error_code(FrameCheck::kWrongCanId) == ErrorCode::kMalformedInput);
     const SafetyMessage defaults;
     CHECK(defaults.protective_stop);  // a default message is the safe state
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback name") {
+    test::check_enum_names<FrameCheck>(7U, "unknown frame check");
 }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cellguard/safety_logic.hpp"
+#include "enum_names.hpp"
 
 using namespace cellguard;
 
@@ -185,4 +186,9 @@ TEST_CASE("safety logic: missing zone results are a fault") {
     const SafetyOutputs o = logic.step(in);
     CHECK(o.stop_requested);
     CHECK((o.latched_faults & fault_bit(Fault::kZoneEvaluation)) != 0U);
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("safety logic: every fault has its own name, and a code outside the enumeration is named unknown fault") {
+    test::check_enum_names<Fault>(kFaultCount, "unknown fault");
 }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cellguard/zone_evaluation.hpp"
+#include "enum_names.hpp"
 
 using namespace cellguard;
 
@@ -117,6 +118,15 @@ TEST_CASE("zone evaluation: zones of another grid or a short prior are refused")
     other.frame = EvidenceGrid::make(other.g, {other.lo.data(), 1000U}, {other.ob.data(), 1000U}).value();
     CHECK(evaluate_zones(other.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
           ErrorCode::kGeometryMismatch);
+    // An output array for the subtracted grid that is given but too short.
+    std::vector<std::int16_t> subtracted(999U);
+    CHECK(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e,
+                         {subtracted.data(), subtracted.size()})
+              .error() == ErrorCode::kStorageTooSmall);
+    subtracted.resize(1000U);
+    CHECK(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e,
+                         {subtracted.data(), subtracted.size()})
+              .ok());
 }
 
 // verifies: SR-ZONE-003, SR-ZONE-004
@@ -166,4 +176,9 @@ TEST_CASE("zone evaluation: counts per run of equal zone masks equal counting vo
         CHECK(e.zones[z].foreground == fg);
         CHECK(e.zones[z].unseen == unseen);
     }
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("zone evaluation: every zone state has its own name, and a value outside the enumeration is named INVALID") {
+    test::check_enum_names<ZoneState>(4U, "INVALID");
 }

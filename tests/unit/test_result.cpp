@@ -1,0 +1,60 @@
+// Requirements: Result and Status, the return types of every operation that
+// can fail on outside input, and the names of their error codes.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <cstring>
+
+#include "cellguard/result.hpp"
+#include "contract_capture.hpp"
+#include "enum_names.hpp"
+
+using namespace cellguard;
+
+// verifies: SR-GEN-004
+TEST_CASE("result: every error code has its own name, and a code outside the enumeration is named unknown error") {
+    // Stable values (result.hpp: append only): logs and CAN frames carry them.
+    CHECK(static_cast<int>(ErrorCode::kOk) == 0);
+    CHECK(static_cast<int>(ErrorCode::kUnsupportedType) == 13);
+    test::check_enum_names<ErrorCode>(14U, "unknown error");
+    CHECK(std::strcmp(to_string(ErrorCode::kOk), "ok") == 0);
+    CHECK(std::strcmp(to_string(ErrorCode::kCrcMismatch), "CRC mismatch") == 0);
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a failed Result holds its code and no value, a successful one its value") {
+    const Result<std::int32_t> good(42);
+    CHECK(good.ok());
+    CHECK(static_cast<bool>(good));
+    CHECK(good.error() == ErrorCode::kOk);
+    CHECK(good.value() == 42);
+    CHECK(good.value_or(7) == 42);
+
+    const Result<std::int32_t> bad(ErrorCode::kCrcMismatch);
+    CHECK_FALSE(bad.ok());
+    CHECK_FALSE(static_cast<bool>(bad));
+    CHECK(bad.error() == ErrorCode::kCrcMismatch);
+    CHECK(bad.value_or(7) == 7);
+}
+
+// verifies: SR-GEN-003, SR-GEN-004
+TEST_CASE("result: reading the value of a failed Result, or failing without a code, violates the contract") {
+    const Result<std::int32_t> bad(ErrorCode::kTruncatedInput);
+    CHECK(test::violates_contract([&] { (void)bad.value(); }));
+    CHECK(test::violates_contract([] { const Result<std::int32_t> r(ErrorCode::kOk); (void)r; }));
+    const Result<std::int32_t> good(1);
+    CHECK_FALSE(test::violates_contract([&] { (void)good.value(); }));
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a default Status is success and a Status from a code other than kOk is that failure") {
+    constexpr Status success;
+    static_assert(success.ok(), "a default Status is success");
+    CHECK(static_cast<bool>(success));
+    CHECK(success.error() == ErrorCode::kOk);
+    constexpr Status failed(ErrorCode::kOutOfGrid);
+    static_assert(!failed.ok(), "a Status with an error code is a failure");
+    CHECK_FALSE(static_cast<bool>(failed));
+    CHECK(failed.error() == ErrorCode::kOutOfGrid);
+    CHECK(Status(ErrorCode::kOk).ok());
+}
