@@ -19,6 +19,16 @@ TEST_CASE("evidence grid: storage smaller than the grid is refused") {
           ErrorCode::kStorageTooSmall);
     CHECK(EvidenceGrid::make(GridGeometry{}, Span<std::int16_t>(lo), Span<std::uint8_t>(ob)).error() ==
           ErrorCode::kInvalidArgument);
+    // Each of the two arrays on its own: too small, or a null pointer with a size.
+    std::int16_t lo24[24];
+    std::uint8_t ob23[23];
+    CHECK(EvidenceGrid::make(small_geometry(), Span<std::int16_t>(lo24), Span<std::uint8_t>(ob23)).error() ==
+          ErrorCode::kStorageTooSmall);
+    CHECK(EvidenceGrid::make(small_geometry(), Span<std::int16_t>(nullptr, 24U), Span<std::uint8_t>(ob)).error() ==
+          ErrorCode::kStorageTooSmall);
+    CHECK(EvidenceGrid::make(small_geometry(), Span<std::int16_t>(lo24), Span<std::uint8_t>(nullptr, 24U)).error() ==
+          ErrorCode::kStorageTooSmall);
+    CHECK(EvidenceGrid::make(small_geometry(), Span<std::int16_t>(lo24), Span<std::uint8_t>(ob)).ok());
 }
 
 // verifies: SR-GRID-003

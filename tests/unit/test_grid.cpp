@@ -1,6 +1,7 @@
 // Requirements: grid geometry, index math, world <-> voxel conversion.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "cellguard/grid.hpp"
@@ -52,7 +53,10 @@ TEST_CASE("grid: invalid geometries are rejected with a clear error") {
     CHECK(GridGeometry::make(o, -1.0, GridDims{1, 1, 1}).error() == ErrorCode::kInvalidArgument);
     CHECK(GridGeometry::make(o, std::numeric_limits<double>::infinity(), GridDims{1, 1, 1}).error() ==
           ErrorCode::kNonFiniteValue);
+    CHECK(GridGeometry::make(Eigen::Vector3d(0.0, std::nan(""), 0.0), 0.1, GridDims{1, 1, 1}).error() ==
+          ErrorCode::kNonFiniteValue);
     CHECK(GridGeometry::make(o, 0.1, GridDims{0, 1, 1}).error() == ErrorCode::kInvalidArgument);
+    CHECK(GridGeometry::make(o, 0.1, GridDims{1, 1, -2}).error() == ErrorCode::kInvalidArgument);
     CHECK(GridGeometry::make(o, 0.1, GridDims{1, kMaxDimension + 1, 1}).error() == ErrorCode::kInvalidArgument);
     CHECK(GridGeometry::make(o, 0.1, GridDims{4096, 4096, 16}).error() == ErrorCode::kCapacityExceeded);
 }

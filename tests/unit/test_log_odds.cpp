@@ -73,3 +73,16 @@ TEST_CASE("log-odds: a threshold in log-odds agrees with thresholding the probab
         }
     }
 }
+
+// verifies: SR-GRID-002
+TEST_CASE("log-odds: a threshold at or beyond 0 or 1, or NaN, or beyond the log-odds range, maps to the range's end") {
+    CHECK(threshold_log_odds(0.0) == kLogOddsMin);
+    CHECK(threshold_log_odds(-0.5) == kLogOddsMin);
+    CHECK(threshold_log_odds(std::nan("")) == kLogOddsMin);  // never a threshold that lets a NaN through as 'above'
+    CHECK(threshold_log_odds(1.0) == kLogOddsMax);
+    CHECK(threshold_log_odds(2.0) == kLogOddsMax);
+    // A probability whose log-odds lie below int16 at 256 units per nat
+    // (below -128 nats). Above +128 nats there is no double below 1.
+    CHECK(threshold_log_odds(1e-60) == kLogOddsMin);
+    CHECK(threshold_log_odds(1e-50) > kLogOddsMin);  // -115 nats: inside the range
+}

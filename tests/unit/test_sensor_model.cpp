@@ -53,4 +53,12 @@ TEST_CASE("sensor model: parameters outside their range are rejected") {
     CHECK(SensorModelTable::make(SensorModelParams{0.44, 1.0, 0.1}).error() == ErrorCode::kInvalidArgument);
     CHECK(SensorModelTable::make(SensorModelParams{0.44, 0.56, -0.1}).error() == ErrorCode::kInvalidArgument);
     CHECK(SensorModelTable::make(SensorModelParams{nan, 0.56, 0.1}).error() == ErrorCode::kNonFiniteValue);
+    // Each remaining bound on its own: p_reading non-finite, ramp non-finite,
+    // ramp over 10 m; the limits themselves are accepted.
+    const double inf = std::numeric_limits<double>::infinity();
+    CHECK(SensorModelTable::make(SensorModelParams{0.44, nan, 0.1}).error() == ErrorCode::kNonFiniteValue);
+    CHECK(SensorModelTable::make(SensorModelParams{0.44, 0.56, inf}).error() == ErrorCode::kNonFiniteValue);
+    CHECK(SensorModelTable::make(SensorModelParams{0.44, 0.56, 10.001}).error() == ErrorCode::kInvalidArgument);
+    CHECK(SensorModelTable::make(SensorModelParams{0.44, 0.56, 10.0}).ok());
+    CHECK(SensorModelTable::make(SensorModelParams{0.44, 0.56, 0.0}).ok());
 }

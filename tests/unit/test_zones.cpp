@@ -92,6 +92,51 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
 }
 
 // verifies: SR-ZONE-002
+TEST_CASE("zones: every coordinate of a zone is checked on its own: non-finite, outside each face, unknown kind or shape") {
+    std::vector<std::uint32_t> mask(1000);
+    const auto refused = [&](const ZoneConfig& bad, ErrorCode code) {
+        const ZoneConfig zs[] = {bad};
+        ZoneError err;
+        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err);
+        CHECK(err.zone == 0U);
+        CHECK(err.reason[0] != '\0');
+        return r.error() == code;
+    };
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    // Boxes: either corner non-finite; each face outside the grid [0, 1]^3.
+    CHECK(refused(box(0, 0, 0, kInf, 0.5, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(refused(box(-kInf, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(refused(box(-0.1, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(box(0, -0.1, 0, 0.5, 0.5, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(box(0, 0, -0.1, 0.5, 0.5, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(box(0, 0, 0, 1.1, 0.5, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(box(0, 0, 0, 0.5, 1.1, 0.5), ErrorCode::kOutOfGrid));
+    // Prisms: the height range non-finite at either end, or outside the grid at either end.
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1}}, kNaN, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1}}, 0, kInf), ErrorCode::kNonFiniteValue));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1}}, -0.1, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1}}, 0.5, 1.1), ErrorCode::kOutOfGrid));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1}}, 0.5, 0.4), ErrorCode::kInvalidArgument));  // inverted
+    // A vertex non-finite in x or in y, or outside the grid on each side.
+    CHECK(refused(prism({{0, 0}, {kNaN, 0}, {0, 1}}, 0, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, -kInf}}, 0, 0.5), ErrorCode::kNonFiniteValue));
+    CHECK(refused(prism({{-0.1, 0}, {1, 0}, {0, 1}}, 0, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(prism({{0, -0.1}, {1, 0}, {0, 1}}, 0, 0.5), ErrorCode::kOutOfGrid));
+    CHECK(refused(prism({{0, 0}, {1, 0}, {0, 1.1}}, 0, 0.5), ErrorCode::kOutOfGrid));
+    // More than 16 vertices; a kind or shape value from a corrupted configuration.
+    ZoneConfig many_vertices = prism({{0, 0}, {1, 0}, {0, 1}}, 0, 0.5);
+    many_vertices.polygon_size = kMaxPolygonVertices + 1U;
+    CHECK(refused(many_vertices, ErrorCode::kInvalidArgument));
+    ZoneConfig bad_kind = box(0, 0, 0, 0.5, 0.5, 0.5);
+    bad_kind.kind = static_cast<ZoneKind>(9);
+    CHECK(refused(bad_kind, ErrorCode::kInvalidArgument));
+    ZoneConfig bad_shape = box(0, 0, 0, 0.5, 0.5, 0.5);
+    bad_shape.shape = static_cast<ZoneShape>(9);
+    CHECK(refused(bad_shape, ErrorCode::kInvalidArgument));
+}
+
+// verifies: SR-ZONE-002
 TEST_CASE("zones: more than 32 zones or too little storage is refused") {
     std::vector<std::uint32_t> mask(1000);
     std::vector<ZoneConfig> many(kMaxZones + 1U, box(0, 0, 0, 0.5, 0.5, 0.5));
