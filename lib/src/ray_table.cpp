@@ -359,6 +359,9 @@ namespace {
 template <typename Voxel>
 void add_to_hits(const Voxel* voxels, std::uint32_t run_begin, std::uint32_t run_end, std::uint32_t delta,
                  Span<std::uint32_t> hits) noexcept {
+    if (run_begin == run_end) {
+        return;
+    }
     std::uint32_t k = run_begin;
     // Four entries per step: the loop's own instructions were a third of it.
     for (; k + 4U <= run_end; k += 4U) {
@@ -367,9 +370,14 @@ void add_to_hits(const Voxel* voxels, std::uint32_t run_begin, std::uint32_t run
         hits[voxels[k + 2U]] += delta;
         hits[voxels[k + 3U]] += delta;
     }
-    for (; k < run_end; ++k) {
-        hits[voxels[k]] += delta;
-    }
+    // The last 0 to 3 entries without a loop: run lengths vary from pixel to
+    // pixel, and a loop's exit mispredicts. A lane past the run adds 0 to the
+    // run's last voxel (indices stay inside the run).
+    const std::uint32_t last = run_end - 1U;
+    const std::uint32_t left = run_end - k;
+    hits[voxels[std::min(k, last)]] += delta & (0U - static_cast<std::uint32_t>(left > 0U));
+    hits[voxels[std::min(k + 1U, last)]] += delta & (0U - static_cast<std::uint32_t>(left > 1U));
+    hits[voxels[std::min(k + 2U, last)]] += delta & (0U - static_cast<std::uint32_t>(left > 2U));
 }
 
 /// add_to_hits for the pixels' segments: [begin[i], walked[i]) when
