@@ -63,18 +63,37 @@ bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcep
     return table_failed_;
 }
 
+bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept {
+    if (config_.max_repeated_frames == 0U || slot >= kMaxSensors) {
+        return false;
+    }
+    FrameHistory& h = frame_history_[slot];
+    const std::uint64_t fingerprint = reading_fingerprint(input.reading);
+    // The same frame delivered again (same time stamp) is not a new frame:
+    // the age limit covers it.
+    if (h.seen && input.captured_us != h.captured_us) {
+        const bool same = fingerprint == h.fingerprint;
+        h.repeats = !same ? 0U : (h.repeats == UINT32_MAX ? h.repeats : h.repeats + 1U);
+    }
+    h.seen = true;
+    h.captured_us = input.captured_us;
+    h.fingerprint = fingerprint;
+    return h.repeats >= config_.max_repeated_frames;
+}
+
 std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now,
                                              FusionStats& stats) noexcept {
     std::uint32_t faults = 0U;
     if (sensors.size() != config_.sensor_count) {
         faults |= fault_bit(Fault::kSensorMissing);
     }
-    for (const SensorInput& s : sensors) {
+    for (std::size_t slot = 0U; slot < sensors.size(); ++slot) {
+        const SensorInput& s = sensors[slot];
         if (!s.present) {
             faults |= fault_bit(Fault::kSensorMissing);
             continue;
         }
-        if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us) {
+        if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us || frame_is_frozen(slot, s)) {
             faults |= fault_bit(Fault::kSensorStale);
             continue;
         }

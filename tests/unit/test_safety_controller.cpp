@@ -169,6 +169,78 @@ TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives 
     CHECK_FALSE(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
 }
 
+// verifies: SR-CTRL-008
+TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time stamps is frozen after max_repeated_frames new frames") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    config.max_repeated_frames = 3U;
+    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    Frame f(w, sim::reference_scene(), clock.t);
+    const std::uint32_t stale = fault_bit(Fault::kSensorStale);
+    // Sensors 0, 1 and 3 are alive: one pixel alternates, as noise would make
+    // every frame differ. Sensor 2 delivers the same image with fresh stamps.
+    const auto next_frame = [&](int k) {
+        for (std::size_t s = 0; s < f.inputs.size(); ++s) {
+            f.inputs[s].captured_us = clock.t;
+            if (s != 2U) {
+                f.sim.depth[s][0] = (k % 2 == 0) ? 1.0F : 1.001F;
+            }
+        }
+    };
+    next_frame(0);
+    const std::uint64_t all_rays = c.run_cycle(f.span(), false).fusion.rays_fused;  // the first frame: nothing to compare
+    for (int k = 1; k <= 2; ++k) {  // repeats 1 and 2 of sensor 2: below the limit
+        next_frame(k);
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CHECK((r.detected_faults & stale) == 0U);
+        CHECK(r.fusion.rays_fused == all_rays);
+    }
+    next_frame(3);  // the third new frame with the same data: frozen
+    const CycleReport& frozen = c.run_cycle(f.span(), false);
+    CHECK((frozen.detected_faults & stale) != 0U);
+    CHECK(frozen.safety.stop_requested);
+    CHECK(frozen.fusion.rays_fused < all_rays);  // sensor 2's frame was not fused
+    next_frame(4);  // still frozen
+    CHECK((c.run_cycle(f.span(), false).detected_faults & stale) != 0U);
+    // Recovery: sensor 2's image changes; after fault_recovery_cycles (2)
+    // clean cycles the latch clears (restart delay 0 in this configuration).
+    f.sim.depth[2][0] += 0.01F;
+    next_frame(5);
+    const CycleReport& changed = c.run_cycle(f.span(), false);
+    CHECK((changed.detected_faults & stale) == 0U);
+    CHECK(changed.fusion.rays_fused == all_rays);
+    CHECK(changed.safety.stop_requested);  // 1 clean cycle
+    f.sim.depth[2][0] += 0.01F;
+    next_frame(6);
+    CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
+}
+
+// verifies: SR-CTRL-008
+TEST_CASE("controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by default") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    config.max_repeated_frames = 1U;  // the strictest limit: one new frame with the same data
+    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);  // one time stamp for every cycle
+    for (int k = 0; k < 5; ++k) {
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) == 0U);
+    }
+    // The same data with a new stamp is frozen at once with a limit of 1.
+    const Frame restamped(w, sim::reference_scene(), clock.t);
+    CHECK((c.run_cycle(restamped.span(), false).detected_faults & fault_bit(Fault::kSensorStale)) != 0U);
+
+    // Default configuration: identical images with fresh stamps are fused, no fault.
+    REQUIRE(w.config().max_repeated_frames == 0U);
+    SafetyController off(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    for (int k = 0; k < 5; ++k) {
+        const CycleReport& r = off.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false);
+        CHECK(r.detected_faults == 0U);
+    }
+}
+
 // verifies: SR-CTRL-003, SR-PRIOR-012, SR-LOGIC-006
 TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
     Workcell w;

@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <utility>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -108,4 +110,58 @@ TEST_CASE("sensor frame: 640 x 480 pixels are accepted and a point set over that
     CHECK(validate_sensor_reading(p).ok());
     p.max_range = -1.0F;  // ranges are checked for point sets too
     CHECK(validate_sensor_reading(p).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-CTRL-008
+TEST_CASE("sensor frame: the fingerprint is equal for equal data and changes with any single bit, the order or the count") {
+    DepthFixture a;
+    DepthFixture b;  // the same values in other memory
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        a.depth[i] = 0.5F + 0.25F * static_cast<float>(i);
+        b.depth[i] = a.depth[i];
+    }
+    const std::uint64_t fa = reading_fingerprint(a.reading);
+    CHECK(reading_fingerprint(b.reading) == fa);
+    // Every bit of every value, one at a time.
+    for (std::size_t i = 0; i < b.depth.size(); ++i) {
+        for (unsigned bit = 0; bit < 32U; ++bit) {
+            std::uint32_t bits = 0U;
+            std::memcpy(&bits, &a.depth[i], sizeof bits);
+            bits ^= 1U << bit;
+            std::memcpy(&b.depth[i], &bits, sizeof bits);
+            CAPTURE(i);
+            CAPTURE(bit);
+            CHECK(reading_fingerprint(b.reading) != fa);
+            b.depth[i] = a.depth[i];
+        }
+    }
+    // Two values swapped, in the same lane (i, i + 4) and across lanes (i, i + 1).
+    std::swap(b.depth[1], b.depth[5]);
+    CHECK(reading_fingerprint(b.reading) != fa);
+    std::swap(b.depth[1], b.depth[5]);
+    std::swap(b.depth[6], b.depth[7]);
+    CHECK(reading_fingerprint(b.reading) != fa);
+    std::swap(b.depth[6], b.depth[7]);
+    REQUIRE(reading_fingerprint(b.reading) == fa);
+    // One value fewer (the count is part of it), and 0.0 against -0.0 (other bits).
+    b.reading.depth = b.reading.depth.subspan(0U, b.depth.size() - 1U);
+    CHECK(reading_fingerprint(b.reading) != fa);
+    a.depth.assign(12U, 0.0F);
+    b.depth.assign(12U, -0.0F);
+    CHECK(reading_fingerprint(a.reading) != reading_fingerprint(b.reading));
+}
+
+// verifies: SR-CTRL-008
+TEST_CASE("sensor frame: a point set's fingerprint follows its coordinates") {
+    std::vector<Eigen::Vector3f> points = {{0.0F, 0.0F, 1.0F}, {0.1F, 0.2F, 1.5F}, {-0.3F, 0.0F, 2.0F}};
+    SensorReading p;
+    p.points = Span<const Eigen::Vector3f>(points.data(), points.size());
+    const std::uint64_t f = reading_fingerprint(p);
+    CHECK(reading_fingerprint(p) == f);
+    points[2].y() = 1e-6F;
+    CHECK(reading_fingerprint(p) != f);
+    points[2].y() = 0.0F;
+    CHECK(reading_fingerprint(p) == f);
+    p.points = p.points.subspan(0U, 2U);
+    CHECK(reading_fingerprint(p) != f);
 }

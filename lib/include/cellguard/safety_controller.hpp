@@ -65,6 +65,12 @@ struct ControllerConfig {
     ZoneEvaluationParams zones{};              ///< t_f and the accessibility threshold for unseen
     std::size_t sensor_count = 0U;             ///< sensors configured (1..kMaxSensors)
     std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
+    /// A sensor whose data are bit-identical (reading_fingerprint) in this
+    /// many new frames in a row (new: a time stamp other than the previous
+    /// frame's) is frozen: kSensorStale, and its frame is not fused. 0 turns
+    /// the check off: for noise-free sources (the simulator's ideal frames,
+    /// a recording replayed frame by frame) whose frames repeat by design.
+    std::uint32_t max_repeated_frames = 0U;
     std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
     std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
     std::size_t table_check_slice_bytes = 262144U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
@@ -124,6 +130,15 @@ private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
     bool step_prior_check() noexcept;
     bool step_table_check(Span<const SensorInput> sensors) noexcept;
+    bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
+
+    /// What the frozen-sensor check keeps of a sensor slot's last frame.
+    struct FrameHistory {
+        bool seen = false;                 ///< a frame has been fingerprinted
+        std::uint64_t captured_us = 0U;    ///< its time stamp
+        std::uint64_t fingerprint = 0U;    ///< reading_fingerprint of its data
+        std::uint32_t repeats = 0U;        ///< new frames in a row with the same data (saturating)
+    };
 
     ControllerConfig config_;
     EvidenceGrid* grid_;
@@ -144,6 +159,7 @@ private:
     std::array<RayTableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the pass over its table
     std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;
+    std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
 };
 
 }  // namespace cellguard

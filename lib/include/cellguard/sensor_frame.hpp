@@ -64,6 +64,16 @@ struct SensorReading {
 /// kCapacityExceeded, kMalformedInput (size mismatch).
 [[nodiscard]] Status validate_sensor_reading(const SensorReading& reading) noexcept;
 
+/// A 64-bit fingerprint of a reading's data: the bit patterns of every depth
+/// value (kDepthImage) or point coordinate (kPointSet), in order, and their
+/// count. Equal data give equal fingerprints on every platform. Different
+/// data can share one (the function is fast, not cryptographic); for the
+/// frozen-sensor check that can only raise a false fault, never hide a
+/// frozen image. Used to see a frozen sensor: a new frame (a fresh time
+/// stamp) whose data are bit-identical to the previous frame's, which a
+/// live sensor's noise makes practically impossible. Reads every value once.
+[[nodiscard]] std::uint64_t reading_fingerprint(const SensorReading& reading) noexcept;
+
 }  // namespace cellguard
 
 #endif  // CELLGUARD_SENSOR_FRAME_HPP
