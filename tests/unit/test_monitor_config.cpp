@@ -59,6 +59,7 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
     CHECK(c.zones[1].zone.polygon_size == 4U);
     CHECK(c.zones[0].zone.max_unseen_voxels == 20U);
     CHECK(c.table_check_bytes == 262144U);
+    CHECK(c.max_repeated_frames == 0U);
     CHECK(c.prior.source == PriorSource::kSimulatedBackground);
     CHECK(c.can.channel.safety_can_id == 0x101U);
     CHECK(c.can.channel.data_id_mode == E2eP01DataIdMode::kBoth);
@@ -130,6 +131,11 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "budget_ms"), "cycle.budget_ms: expected more than 0 and at most period_ms");
     t = edited("table_check_kib = 256", "table_check_kib = 0");
     check_refused(t, line_of(t, "table_check_kib"), "cycle.table_check_kib: expected an integer in 1..65536");
+    t = edited("max_repeated_frames = 0", "max_repeated_frames = 1001");
+    check_refused(t, line_of(t, "max_repeated_frames"), "cycle.max_repeated_frames: expected an integer in 0..1000");
+    const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 0", "max_repeated_frames = 3"), "cell.toml");
+    REQUIRE_MESSAGE(frozen_check.ok, frozen_check.error);
+    CHECK(frozen_check.config.max_repeated_frames == 3U);
     t = edited("reset_required = false", "reset_required = \"no\"");
     check_refused(t, line_of(t, "reset_required"), "restart_interlock.reset_required: expected true or false");
     t = edited("source = \"simulated-background\"", "source = \"guess\"");

@@ -466,6 +466,7 @@ int main(int argc, char** argv) {
     cc.max_frame_age_us = cfg.max_frame_age_us;
     cc.cycle_budget_us = cfg.budget_us;
     cc.table_check_slice_bytes = cfg.table_check_bytes;
+    cc.max_repeated_frames = cfg.max_repeated_frames;
 
     // The controller computes the prior CRC at construction; the output needs
     // it, so the output is bound after the controller through a forwarder.
