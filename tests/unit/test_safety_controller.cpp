@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -308,6 +309,97 @@ TEST_CASE("controller: a prior of the wrong size is refused for good") {
     const Frame f(w, sim::reference_scene(), clock.t);
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
+}
+
+// verifies: SR-CTRL-009, SR-LOGIC-006
+TEST_CASE("controller: zones of another grid, or no sensors or more than eight, latch an internal-check fault for good") {
+    Workcell w;
+    TestClock clock;
+    const Frame f(w, sim::reference_scene(), clock.t);
+    // Zones compiled for a grid shifted by one voxel.
+    const GridGeometry shifted =
+        GridGeometry::make(w.g.origin() + Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0), w.g.voxel_size(), w.g.dims()).value();
+    std::vector<std::uint32_t> other_mask(shifted.voxel_count());
+    const auto zs = firmware::scenario_zone_configs();
+    ZoneConfig inside = zs[0];  // the protective zone moved into the shifted grid
+    inside.box_min += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
+    inside.box_max += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
+    const CompiledZones other_zones =
+        CompiledZones::compile(shifted, {&inside, 1U}, {other_mask.data(), other_mask.size()}, nullptr).value();
+    SafetyController wrong_grid(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, other_zones, w.model, clock,
+                                nullptr);
+    ControllerConfig none = w.config();
+    none.sensor_count = 0U;
+    SafetyController no_sensors(none, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    ControllerConfig nine = w.config();
+    nine.sensor_count = kMaxSensors + 1U;
+    SafetyController nine_sensors(nine, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    for (SafetyController* c : {&wrong_grid, &no_sensors, &nine_sensors}) {
+        for (int i = 0; i < 4; ++i) {
+            const CycleReport& r = c->run_cycle(f.span(), false);
+            CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+            CHECK(r.safety.stop_requested);
+        }
+        CHECK((c->report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+    }
+}
+
+namespace {
+class StuckClock final : public MonotonicClock {
+public:
+    std::uint64_t now_us() noexcept override { return t; }
+    std::uint64_t t = 5000000U;
+};
+}  // namespace
+
+// verifies: SR-LOGIC-007, SR-LOGIC-006
+TEST_CASE("controller: a clock that stops advancing latches a clock fault and the stop, for good") {
+    Workcell w;
+    StuckClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    (void)c.run_cycle(f.span(), false);  // the first cycle has no previous time to compare with
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK((r.safety.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
+    CHECK(r.safety.stop_requested);
+    clock.t += 100000U;  // moving again does not clear it
+    for (int i = 0; i < 5; ++i) {
+        clock.t += 100000U;
+        CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    }
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
+}
+
+// verifies: SR-CTRL-002
+TEST_CASE("controller: a frame stamped in the future is stale") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    Frame f(w, sim::reference_scene(), clock.t);
+    f.inputs[3].captured_us = clock.t + 1000000U;  // 1 s ahead of the controller's clock
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
+// verifies: SR-FUSE-003, SR-ZONE-004
+TEST_CASE("controller: sensors that send frames without a valid reading leave the protective zone UNSEEN, not CLEAR") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    Frame blind(w, sim::reference_scene(), clock.t);
+    std::uint64_t pixels = 0U;
+    for (std::vector<float>& image : blind.sim.depth) {
+        std::fill(image.begin(), image.end(), std::numeric_limits<float>::quiet_NaN());  // covered lenses
+        pixels += image.size();
+    }
+    const CycleReport& r = c.run_cycle(blind.span(), false);
+    CHECK(r.fusion.rays_fused == 0U);
+    CHECK(r.fusion.skipped_nan == pixels);
+    CHECK(r.detected_faults == 0U);  // frames arrive on time: no sensor fault, the zone logic must catch it
+    CHECK(r.zones.zones[0].state == ZoneState::kUnseen);
+    CHECK(r.zones.zones[0].unseen > 20U);
+    CHECK(r.safety.stop_requested);
 }
 
 // verifies: SR-CTRL-004
