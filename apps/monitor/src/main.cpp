@@ -21,6 +21,7 @@
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/linux/monotonic_clock.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/linux/prior_files.hpp"
 #include "cellguard/linux/socketcan.hpp"
 #include "cellguard/monitor/config.hpp"
@@ -193,34 +194,6 @@ void enter_realtime() {
     }
 }
 
-/// Simulated time for the unpaced demo: advances one period per cycle and,
-/// within a cycle, with the real clock (so cycle times are real); never goes back.
-class CycleClock final : public MonotonicClock {
-public:
-    explicit CycleClock(bool paced) : paced_(paced) {}
-    /// Starts the next cycle at simulated time @p sim_us (ignored when paced).
-    void start_cycle(std::uint64_t sim_us) {
-        base_real_ = real_.now_us();
-        base_sim_ = paced_ ? base_real_ : std::max(sim_us, last_ + 1U);
-    }
-    std::uint64_t now_us() noexcept override {
-        std::uint64_t v = paced_ ? real_.now_us() : base_sim_ + (real_.now_us() - base_real_);
-        if (v <= last_) {
-            v = last_ + 1U;
-        }
-        last_ = v;
-        return v;
-    }
-    std::uint64_t base() const { return base_sim_; }
-
-private:
-    bool paced_;
-    linux_port::LinuxMonotonicClock real_;
-    std::uint64_t base_real_ = 0U;
-    std::uint64_t base_sim_ = 0U;
-    std::uint64_t last_ = 0U;
-};
-
 class SocketCanSender final : public CanSender {
 public:
     explicit SocketCanSender(linux_port::SocketCan& can) : can_(&can) {}
@@ -341,7 +314,8 @@ int main(int argc, char** argv) {
     const CompiledZones zones = compiled.value();
 
     // CAN output.
-    CycleClock clock(opt.paced);
+    linux_port::LinuxMonotonicClock real_clock;
+    monitor::CycleClock clock(opt.paced, real_clock);
     linux_port::CandumpLogWriter log_writer;
     linux_port::SocketCan socket_can;
     SocketCanSender socket_sender(socket_can);

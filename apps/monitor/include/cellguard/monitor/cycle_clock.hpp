@@ -1,0 +1,57 @@
+/// @file cycle_clock.hpp
+/// The monitor's clock for the SafetyController. Paced (--paced, one cycle
+/// per period): the source clock (CLOCK_MONOTONIC) unchanged, so a clock that
+/// stops or steps back reaches the safety logic and latches kClockFault
+/// (SR-LOGIC-007). Unpaced (the demo as fast as possible): simulated time
+/// that advances one period per cycle and, within a cycle, with the source
+/// clock (so cycle times are real) and never repeats a value; there a stuck
+/// source only shows as stage times of zero.
+#ifndef CELLGUARD_MONITOR_CYCLE_CLOCK_HPP
+#define CELLGUARD_MONITOR_CYCLE_CLOCK_HPP
+
+#include <algorithm>
+#include <cstdint>
+
+#include "cellguard/safety_controller.hpp"
+
+namespace cellguard::monitor {
+
+/// See the file comment.
+class CycleClock final : public MonotonicClock {
+public:
+    /// @p source: the real clock (kept by reference, must outlive this).
+    CycleClock(bool paced, MonotonicClock& source) noexcept : paced_(paced), source_(&source) {}
+
+    /// Starts the next cycle at simulated time @p sim_us (ignored when paced).
+    void start_cycle(std::uint64_t sim_us) noexcept {
+        base_real_ = source_->now_us();
+        base_sim_ = paced_ ? base_real_ : std::max(sim_us, last_ + 1U);
+    }
+
+    /// Paced: the source's reading. Unpaced: the simulated time.
+    std::uint64_t now_us() noexcept override {
+        if (paced_) {
+            return source_->now_us();
+        }
+        std::uint64_t v = base_sim_ + (source_->now_us() - base_real_);
+        if (v <= last_) {
+            v = last_ + 1U;
+        }
+        last_ = v;
+        return v;
+    }
+
+    /// The time start_cycle took as the cycle's start.
+    [[nodiscard]] std::uint64_t base() const noexcept { return base_sim_; }
+
+private:
+    bool paced_;
+    MonotonicClock* source_;
+    std::uint64_t base_real_ = 0U;
+    std::uint64_t base_sim_ = 0U;
+    std::uint64_t last_ = 0U;
+};
+
+}  // namespace cellguard::monitor
+
+#endif  // CELLGUARD_MONITOR_CYCLE_CLOCK_HPP
