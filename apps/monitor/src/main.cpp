@@ -480,15 +480,28 @@ int main(int argc, char** argv) {
     std::uint32_t faults_seen = 0U;
     int can_fault_cycles = 0;  // cycles that ended with the CAN-error fault latched
     std::uint64_t max_cycle_us = 0U;
+    std::uint64_t skipped_periods = 0U;  // --paced: periods skipped after a cycle ran past its period
     timespec next{};
     clock_gettime(CLOCK_MONOTONIC, &next);
     const std::uint64_t sim_start_us = 1000000U;
     for (int k = 0; k < cfg.demo_cycles && g_stop_signal == 0; ++k) {
         if (opt.paced) {
             clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
-            next.tv_nsec += static_cast<long>((cfg.period_us % 1000000U) * 1000U);
-            next.tv_sec += static_cast<time_t>(cfg.period_us / 1000000U) + next.tv_nsec / 1000000000L;
-            next.tv_nsec %= 1000000000L;
+            const auto advance = [&next, &cfg] {
+                next.tv_nsec += static_cast<long>((cfg.period_us % 1000000U) * 1000U);
+                next.tv_sec += static_cast<time_t>(cfg.period_us / 1000000U) + next.tv_nsec / 1000000000L;
+                next.tv_nsec %= 1000000000L;
+            };
+            advance();
+            // After a cycle that ran past its period the next start is
+            // already over: skip the periods that are over instead of
+            // running their cycles back to back (a burst).
+            timespec now{};
+            clock_gettime(CLOCK_MONOTONIC, &now);
+            while (next.tv_sec < now.tv_sec || (next.tv_sec == now.tv_sec && next.tv_nsec <= now.tv_nsec)) {
+                advance();
+                ++skipped_periods;
+            }
         }
         const PersonPosition person = demo_person(k);
         sim::Scene scene = sim::reference_scene();
@@ -563,6 +576,10 @@ int main(int argc, char** argv) {
                 fault_names(faults_seen).c_str(), static_cast<double>(max_cycle_us) / 1000.0,
                 static_cast<double>(cfg.budget_us) / 1000.0,
                 static_cast<unsigned long long>(controller.monitor().overruns()));
+    if (opt.paced) {
+        std::printf("summary: paced: %llu periods skipped after cycles that ran past their period\n",
+                    static_cast<unsigned long long>(skipped_periods));
+    }
     for (const std::unique_ptr<PcdFrameSource>& r : recorded) {
         if (r) {
             std::printf("summary: sensor '%s': %llu recorded frames used, %llu refused (frame inconsistent)\n",
