@@ -1,7 +1,5 @@
 #include "cellguard/safety_controller.hpp"
 
-#include "cellguard/crc32.hpp"
-
 namespace cellguard {
 
 SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
@@ -15,9 +13,13 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
       clock_(&clock),
       output_(output),
       logic_(config.logic, zones),
-      monitor_(config.cycle_budget_us) {
+      monitor_(config.cycle_budget_us),
+      prior_check_(as_bytes(prior)),
+      zone_mask_check_(as_bytes(zones.membership())),
+      zone_settings_crc_(zones.settings_crc()) {
     CG_ENFORCE(config.prior_check_slice_bytes > 0U, "prior_check_slice_bytes must be positive");
     CG_ENFORCE(config.table_check_slice_bytes > 0U, "table_check_slice_bytes must be positive");
+    CG_ENFORCE(config.zone_check_slice_bytes > 0U, "zone_check_slice_bytes must be positive");
     if (prior.size() != frame_grid.voxel_count()) {
         construction_faults_ |= fault_bit(Fault::kPriorCheckFailed);
     }
@@ -25,25 +27,13 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
         config.sensor_count > kMaxSensors) {
         construction_faults_ |= fault_bit(Fault::kInternalCheck);
     }
-    prior_crc_ = crc32(as_bytes(prior_));
-    prior_check_state_ = kCrc32Init;
 }
 
-bool SafetyController::step_prior_check() noexcept {
-    const Span<const std::uint8_t> bytes = as_bytes(prior_);
-    if (bytes.empty()) {
-        return false;
-    }
-    const std::size_t remaining = bytes.size() - prior_check_offset_;
-    const std::size_t n = remaining < config_.prior_check_slice_bytes ? remaining : config_.prior_check_slice_bytes;
-    prior_check_state_ = crc32_update(prior_check_state_, bytes.subspan(prior_check_offset_, n));
-    prior_check_offset_ += n;
-    if (prior_check_offset_ == bytes.size()) {
-        prior_failed_ = prior_failed_ || crc32_finish(prior_check_state_) != prior_crc_;
-        prior_check_state_ = kCrc32Init;
-        prior_check_offset_ = 0U;
-    }
-    return prior_failed_;
+bool SafetyController::step_zone_checks() noexcept {
+    // The settings every cycle (a few hundred bytes); the mask in slices.
+    zone_settings_failed_ = zone_settings_failed_ || zones_->settings_crc() != zone_settings_crc_;
+    const bool mask_failed = zone_mask_check_.step(config_.zone_check_slice_bytes);
+    return zone_settings_failed_ || mask_failed;
 }
 
 bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcept {
@@ -127,10 +117,12 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     if (!zones_ok) {
         detected |= fault_bit(Fault::kZoneEvaluation);
     }
-    if (step_prior_check()) {
+    if (prior_check_.step(config_.prior_check_slice_bytes)) {
         detected |= fault_bit(Fault::kPriorCheckFailed);
     }
-    if (step_table_check(sensors)) {
+    const bool table_failed = step_table_check(sensors);
+    const bool zones_failed = step_zone_checks();  // both every cycle: constant work
+    if (table_failed || zones_failed) {
         detected |= fault_bit(Fault::kInternalCheck);
     }
     monitor_.end_stage(CycleStage::kSubtractAndZones, clock_->now_us());

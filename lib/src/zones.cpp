@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cellguard/crc32.hpp"
+
 namespace cellguard {
 
 namespace {
@@ -167,6 +169,24 @@ Result<CompiledZones> CompiledZones::compile(const GridGeometry& grid, Span<cons
     }
     c.membership_ = Span<const std::uint32_t>(mask.data(), mask.size());
     return c;
+}
+
+std::uint32_t CompiledZones::settings_crc() const noexcept {
+    Crc32 crc;
+    const auto u32 = [&crc](std::uint64_t v) noexcept {
+        const std::uint8_t b[4] = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8U),
+                                   static_cast<std::uint8_t>(v >> 16U), static_cast<std::uint8_t>(v >> 24U)};
+        crc.update(Span<const std::uint8_t>(b));
+    };
+    u32(count_);
+    u32(total_);
+    for (std::size_t z = 0U; z < count_ && z < kMaxZones; ++z) {
+        u32(static_cast<std::uint64_t>(zones_[z].kind));
+        u32(zones_[z].min_foreground_voxels);
+        u32(zones_[z].max_unseen_voxels);
+        u32(voxels_[z]);
+    }
+    return crc.value();
 }
 
 }  // namespace cellguard

@@ -301,6 +301,41 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 }
 
+// verifies: SR-CTRL-010, SR-LOGIC-006
+TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check passes, changed zone settings at once") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
+    const std::size_t pass = (w.mask.size() * 4U + config.zone_check_slice_bytes - 1U) / config.zone_check_slice_bytes;
+    // A voxel of the protective zone drops out of it (bit 0 clears).
+    const auto in_zone = std::find_if(w.mask.begin(), w.mask.end(), [](std::uint32_t m) { return (m & 1U) != 0U; });
+    REQUIRE(in_zone != w.mask.end());
+    *in_zone &= ~1U;
+    std::size_t cycles = 0U;
+    while ((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= 2U * pass);
+    }
+    CHECK(c.report().safety.stop_requested);
+    *in_zone |= 1U;  // repaired: the fault stays latched
+    for (int i = 0; i < 4; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+
+    // The zones object rewritten under a running controller: the protective
+    // zone turned into a warning zone. Caught in the next cycle.
+    Workcell v;
+    SafetyController d(v.config(), v.frame_grid, {v.prior.data(), v.prior.size()}, v.zones, v.model, clock, nullptr);
+    CHECK_FALSE(d.run_cycle(Frame(v, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
+    auto zs = firmware::scenario_zone_configs();
+    zs[0].kind = ZoneKind::kWarning;
+    v.zones = CompiledZones::compile(v.g, {zs.data(), zs.size()}, {v.mask.data(), v.mask.size()}, nullptr).value();
+    const CycleReport& r = d.run_cycle(Frame(v, sim::reference_scene(), clock.t).span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
 // verifies: SR-CTRL-003, SR-LOGIC-006
 TEST_CASE("controller: a prior of the wrong size is refused for good") {
     Workcell w;

@@ -147,3 +147,30 @@ TEST_CASE("zones: more than 32 zones or too little storage is refused") {
     CHECK(CompiledZones::compile(grid10(), {many.data(), 1U}, {mask.data(), 999U}, &err).error() ==
           ErrorCode::kStorageTooSmall);
 }
+
+// verifies: SR-CTRL-010
+TEST_CASE("zones: the settings CRC changes with a zone's kind, thresholds or count, not with its geometry alone") {
+    std::vector<std::uint32_t> mask(1000);
+    ZoneConfig a = box(0, 0, 0, 0.5, 0.5, 0.5);
+    const ZoneConfig one[] = {a};
+    const std::uint32_t base = CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}, nullptr).value().settings_crc();
+    CHECK(CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}, nullptr).value().settings_crc() == base);
+    const auto crc_with = [&](const ZoneConfig& z) {
+        const ZoneConfig zs[] = {z};
+        return CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, nullptr).value().settings_crc();
+    };
+    ZoneConfig warning = a;
+    warning.kind = ZoneKind::kWarning;
+    CHECK(crc_with(warning) != base);
+    ZoneConfig fg = a;
+    fg.min_foreground_voxels = 2U;
+    CHECK(crc_with(fg) != base);
+    ZoneConfig unseen = a;
+    unseen.max_unseen_voxels = 1U;
+    CHECK(crc_with(unseen) != base);
+    CHECK(crc_with(box(0, 0, 0, 0.5, 0.5, 0.4)) != base);  // another voxel count
+    // The same voxels from a slightly different box: the same settings (the mask is checked on its own).
+    CHECK(crc_with(box(0, 0, 0, 0.5, 0.5, 0.49)) == base);
+    const ZoneConfig two[] = {a, a};
+    CHECK(CompiledZones::compile(grid10(), two, {mask.data(), mask.size()}, nullptr).value().settings_crc() != base);
+}

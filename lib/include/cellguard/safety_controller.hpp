@@ -12,6 +12,10 @@
 ///   end of the pass of the periodic check that reads the changed byte
 ///   (prior_check_slice_bytes per cycle); a prior or zones that do not
 ///   match the grid: at construction, latched for good;
+/// - the zones' membership mask in RAM no longer matching its CRC
+///   (kInternalCheck): at the end of the pass of the periodic check
+///   (zone_check_slice_bytes per cycle); their settings (kinds, thresholds,
+///   voxel counts): every cycle; latched for good;
 /// - a sensor's ray table no longer matching its CRC (kInternalCheck): at
 ///   the end of the pass of the periodic check that reads the changed byte
 ///   (table_check_slice_bytes of one sensor's table per cycle, the sensors
@@ -30,6 +34,7 @@
 
 #include "cellguard/cycle.hpp"
 #include "cellguard/fusion.hpp"
+#include "cellguard/ram_check.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/safety_logic.hpp"
 #include "cellguard/zone_evaluation.hpp"
@@ -74,6 +79,7 @@ struct ControllerConfig {
     std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
     std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
     std::size_t table_check_slice_bytes = 262144U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
+    std::size_t zone_check_slice_bytes = 16384U;   ///< bytes of the zone membership mask re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
 };
 
@@ -110,7 +116,8 @@ public:
     /// Binds the parts. A prior that does not hold one value per voxel, or
     /// zones compiled for another grid, latch kPriorCheckFailed or
     /// kInternalCheck: the controller then stays in the safe state. The
-    /// prior's bytes are CRC'd now; the periodic check compares against it.
+    /// prior's and the zone mask's bytes and the zones' settings are CRC'd
+    /// now; the periodic checks compare against these.
     SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<const std::int16_t> prior,
                      const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
                      CycleOutput* output) noexcept;
@@ -124,11 +131,11 @@ public:
     /// The deadline monitor.
     [[nodiscard]] const CycleMonitor& monitor() const noexcept { return monitor_; }
     /// CRC-32 of the prior's bytes taken at construction.
-    [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_crc_; }
+    [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_check_.reference(); }
 
 private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
-    bool step_prior_check() noexcept;
+    bool step_zone_checks() noexcept;
     bool step_table_check(Span<const SensorInput> sensors) noexcept;
     bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
 
@@ -152,10 +159,10 @@ private:
     CycleReport report_{};
     std::uint32_t pending_faults_ = 0U;
     std::uint32_t construction_faults_ = 0U;
-    std::uint32_t prior_crc_ = 0U;
-    std::uint32_t prior_check_state_ = 0U;
-    std::size_t prior_check_offset_ = 0U;
-    bool prior_failed_ = false;
+    BlockSignatureCheck prior_check_;  ///< the prior's bytes
+    BlockSignatureCheck zone_mask_check_;  ///< the zones' membership mask
+    std::uint32_t zone_settings_crc_ = 0U;  ///< CompiledZones::settings_crc() at construction
+    bool zone_settings_failed_ = false;
     std::array<RayTableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the pass over its table
     std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;

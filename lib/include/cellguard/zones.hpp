@@ -105,6 +105,12 @@ public:
     [[nodiscard]] Span<const std::uint32_t> membership() const noexcept { return membership_; }
     /// The grid the zones were compiled for.
     [[nodiscard]] const GridGeometry& geometry() const noexcept { return geometry_; }
+    /// CRC-32 of what zone evaluation and the safety logic read besides the
+    /// membership mask: the zone count, total_memberships(), and per zone its
+    /// kind, min_foreground_voxels, max_unseen_voxels and voxel count (each
+    /// as little-endian uint32). The controller compares it every cycle with
+    /// its value at start-up (SR-CTRL-010).
+    [[nodiscard]] std::uint32_t settings_crc() const noexcept;
 
 private:
     GridGeometry geometry_{};
