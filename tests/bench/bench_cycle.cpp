@@ -354,9 +354,10 @@ int main(int argc, char** argv) {
         slowest_pass = std::max(slowest_pass, n_sensors * ((bytes + cc.table_check_slice_bytes - 1U) /
                                                            cc.table_check_slice_bytes));
     }
-    std::printf("  ray-table check: %zu bytes of table RAM, %zu per cycle (prior: %zu per cycle); the largest\n"
-                "  table is read once every %zu cycles\n",
-                table_bytes, cc.table_check_slice_bytes, cc.prior_check_slice_bytes, slowest_pass);
+    std::printf("  ray-table check: %zu bytes of table RAM, %zu per cycle (prior: %zu, zone mask: %zu per cycle);\n"
+                "  the largest table is read once every %zu cycles\n",
+                table_bytes, cc.table_check_slice_bytes, cc.prior_check_slice_bytes, cc.zone_check_slice_bytes,
+                slowest_pass);
     std::printf("  frozen-sensor check on: every frame is fingerprinted (its limit is set out of reach)\n");
     std::printf("  every cycle fuses the same frames and does the same work; cycles differ only in which slices\n"
                 "  the integrity checks read, so the spread of the cycle times below does not come from the input\n");

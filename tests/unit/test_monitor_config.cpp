@@ -60,6 +60,7 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
     CHECK(c.zones[0].zone.max_unseen_voxels == 20U);
     CHECK(c.table_check_bytes == 262144U);
     CHECK(c.max_repeated_frames == 0U);
+    CHECK(c.zone_check_bytes == 16384U);
     CHECK(c.prior.source == PriorSource::kSimulatedBackground);
     CHECK(c.can.channel.safety_can_id == 0x101U);
     CHECK(c.can.channel.data_id_mode == E2eP01DataIdMode::kBoth);
@@ -131,6 +132,8 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "budget_ms"), "cycle.budget_ms: expected more than 0 and at most period_ms");
     t = edited("table_check_kib = 256", "table_check_kib = 0");
     check_refused(t, line_of(t, "table_check_kib"), "cycle.table_check_kib: expected an integer in 1..65536");
+    t = edited("zone_check_kib = 16", "zone_check_kib = 65537");
+    check_refused(t, line_of(t, "zone_check_kib"), "cycle.zone_check_kib: expected an integer in 1..65536");
     t = edited("max_repeated_frames = 0", "max_repeated_frames = 1001");
     check_refused(t, line_of(t, "max_repeated_frames"), "cycle.max_repeated_frames: expected an integer in 0..1000");
     const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 0", "max_repeated_frames = 3"), "cell.toml");

@@ -319,7 +319,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     }
     {
         const toml::table& t = L.table(root, "", "cycle");
-        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "max_repeated_frames"});
+        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames"});
         const double period = L.number(t, "cycle", "period_ms");
         if (!(period >= 1.0 && period <= 10000.0)) {
             L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
@@ -336,6 +336,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
         }
         c.max_frame_age_us = ms_to_us(age);
         c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
+        c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
         c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
     }
     {

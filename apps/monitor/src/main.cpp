@@ -441,6 +441,7 @@ int main(int argc, char** argv) {
     cc.cycle_budget_us = cfg.budget_us;
     cc.table_check_slice_bytes = cfg.table_check_bytes;
     cc.max_repeated_frames = cfg.max_repeated_frames;
+    cc.zone_check_slice_bytes = cfg.zone_check_bytes;
 
     // The controller computes the prior CRC at construction; the output needs
     // it, so the output is bound after the controller through a forwarder.
