@@ -20,14 +20,6 @@ const char* to_string(Fault fault) noexcept {
 SafetyLogic::SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& zones) noexcept
     : config_(config), zones_(&zones) {
     CG_ENFORCE(config.fault_recovery_cycles >= 1U, "fault_recovery_cycles must be at least 1");
-    for (std::size_t z = 0U; z < zones.size(); ++z) {
-        const std::uint32_t bit = 1U << z;
-        if (zones.config(z).kind == ZoneKind::kProtective) {
-            protective_mask_ |= bit;
-        } else {
-            warning_mask_ |= bit;
-        }
-    }
 }
 
 SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
@@ -68,8 +60,21 @@ SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
         out.unseen_mask = in.zones->unseen_mask;
         not_clear = in.zones->not_clear_mask;
     }
-    out.warning = (not_clear & warning_mask_) != 0U;
-    const bool protective_clear = !faulted && (not_clear & protective_mask_) == 0U;
+    // Which zones are protective, read from the zones every cycle (their
+    // settings are CRC-checked every cycle, SR-CTRL-010) rather than kept in
+    // a copy of our own; any kind other than kWarning counts as protective.
+    std::uint32_t warning_mask = 0U;
+    std::uint32_t protective_mask = 0U;
+    for (std::size_t z = 0U; z < zones_->size(); ++z) {
+        const std::uint32_t bit = 1U << z;
+        if (zones_->config(z).kind == ZoneKind::kWarning) {
+            warning_mask |= bit;
+        } else {
+            protective_mask |= bit;
+        }
+    }
+    out.warning = (not_clear & warning_mask) != 0U;
+    const bool protective_clear = !faulted && (not_clear & protective_mask) == 0U;
 
     const bool reset_edge = in.reset_input && !last_reset_;
     last_reset_ = in.reset_input;

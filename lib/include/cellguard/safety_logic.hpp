@@ -103,8 +103,6 @@ public:
 private:
     SafetyLogicConfig config_;
     const CompiledZones* zones_;
-    std::uint32_t protective_mask_ = 0U;
-    std::uint32_t warning_mask_ = 0U;
     SafetyOutputs out_{};
     std::uint32_t latched_ = 0U;
     std::uint32_t clean_cycles_[kFaultCount] = {};
