@@ -71,6 +71,17 @@ bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& inpu
     return h.repeats >= config_.max_repeated_frames;
 }
 
+bool SafetyController::shows_background(const SensorInput& input) noexcept {
+    if (input.background == nullptr) {
+        return true;
+    }
+    if (input.reading.kind != SensorDataKind::kDepthImage) {
+        return false;  // a reference is a depth image: a point set cannot show it
+    }
+    const Result<BackgroundMatch> m = match_background(input.reading.depth, *input.background);
+    return m.ok() && background_seen(m.value(), input.background->min_match_fraction);
+}
+
 std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now,
                                              FusionStats& stats) noexcept {
     std::uint32_t faults = 0U;
@@ -85,6 +96,10 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
         }
         if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us || frame_is_frozen(slot, s)) {
             faults |= fault_bit(Fault::kSensorStale);
+            continue;
+        }
+        if (!shows_background(s)) {
+            faults |= fault_bit(Fault::kFrameInconsistent);
             continue;
         }
         const Result<FusionStats> r = (s.table != nullptr && s.reading.kind == SensorDataKind::kDepthImage)

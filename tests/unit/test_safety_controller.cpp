@@ -336,6 +336,47 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
     CHECK(r.safety.stop_requested);
 }
 
+// verifies: SR-CTRL-011
+TEST_CASE("controller: with commissioned background views, a bumped or covered sensor is refused, a person is not") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    // Commissioning: each sensor's view of the empty cell.
+    const sim::SimulatedFrame empty = sim::render_frame(w.sensors, sim::reference_scene());
+    std::vector<BackgroundReference> refs(empty.depth.size());
+    for (std::size_t s = 0; s < refs.size(); ++s) {
+        refs[s].depth = Span<const float>(empty.depth[s].data(), empty.depth[s].size());
+    }
+    const auto with_refs = [&](Frame& f) {
+        for (std::size_t s = 0; s < f.inputs.size(); ++s) f.inputs[s].background = &refs[s];
+        return f.span();
+    };
+    Frame clear(w, sim::reference_scene(), clock.t);
+    CHECK(c.run_cycle(with_refs(clear), false).detected_faults == 0U);
+    // A person in the protective zone hides some background: still fused, still a stop for the intrusion.
+    Frame person(w, with_person(0.2, 0.4), clock.t);
+    const CycleReport& in_zone = c.run_cycle(with_refs(person), false);
+    CHECK(in_zone.detected_faults == 0U);
+    CHECK(in_zone.zones.zones[0].state == ZoneState::kIntruded);
+    // Sensor 1 bumped: it now aims 0.5 m off, but the controller still has
+    // its commissioned pose.
+    std::vector<sim::SensorSpec> bumped = w.sensors;
+    bumped[1].target += Eigen::Vector3d(0.5, 0.0, 0.0);
+    const sim::SimulatedFrame moved = sim::render_frame(bumped, sim::reference_scene());
+    Frame b(w, sim::reference_scene(), clock.t);
+    b.sim.depth[1] = moved.depth[1];  // same size: the depth span stays valid
+    b.inputs[1].reading.depth = Span<const float>(b.sim.depth[1].data(), b.sim.depth[1].size());
+    const BackgroundMatch seen = match_background(b.inputs[1].reading.depth, refs[1]).value();
+    INFO("bumped sensor: " << seen.matching << " of " << seen.referenced << " pixels match");
+    const CycleReport& r = c.run_cycle(with_refs(b), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kFrameInconsistent)) != 0U);
+    CHECK(r.safety.stop_requested);
+    // A covered lens: no reading at all.
+    Frame covered(w, sim::reference_scene(), clock.t);
+    std::fill(covered.sim.depth[3].begin(), covered.sim.depth[3].end(), std::numeric_limits<float>::quiet_NaN());
+    CHECK((c.run_cycle(with_refs(covered), false).detected_faults & fault_bit(Fault::kFrameInconsistent)) != 0U);
+}
+
 // verifies: SR-CTRL-003, SR-LOGIC-006
 TEST_CASE("controller: a prior of the wrong size is refused for good") {
     Workcell w;

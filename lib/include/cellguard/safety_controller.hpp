@@ -7,7 +7,8 @@
 /// Faults detected, and when:
 /// - a configured sensor without a frame (kSensorMissing), a frame older
 ///   than max_frame_age_us or stamped in the future (kSensorStale), a frame
-///   whose description fails its checks (kFrameInconsistent): this cycle;
+///   whose description fails its checks or that no longer shows its
+///   commissioned background (kFrameInconsistent): this cycle;
 /// - the prior in RAM no longer matching its CRC (kPriorCheckFailed): at the
 ///   end of the pass of the periodic check that reads the changed byte
 ///   (prior_check_slice_bytes per cycle); a prior or zones that do not
@@ -32,6 +33,7 @@
 #include <array>
 #include <cstdint>
 
+#include "cellguard/background_check.hpp"
 #include "cellguard/cycle.hpp"
 #include "cellguard/fusion.hpp"
 #include "cellguard/ram_check.hpp"
@@ -62,6 +64,10 @@ struct SensorInput {
     std::uint64_t captured_us = 0U;  ///< when it was captured, on the controller's clock
     bool present = false;            ///< false: no frame arrived for this cycle
     const RayTable* table = nullptr; ///< optional precomputed rays of this (static) depth sensor
+    /// Optional commissioned view of the empty cell of this (static) depth
+    /// sensor: a frame that shows less of it than reference.min_match_fraction
+    /// is kFrameInconsistent and is not fused (background_check.hpp).
+    const BackgroundReference* background = nullptr;
 };
 
 /// Configuration of the cycle executive.
@@ -138,6 +144,7 @@ private:
     bool step_zone_checks() noexcept;
     bool step_table_check(Span<const SensorInput> sensors) noexcept;
     bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
+    static bool shows_background(const SensorInput& input) noexcept;
 
     /// What the frozen-sensor check keeps of a sensor slot's last frame.
     struct FrameHistory {
