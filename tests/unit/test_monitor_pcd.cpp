@@ -193,6 +193,13 @@ TEST_CASE("pcd input: pcd_files is checked when the configuration loads") {
     CHECK(good.config.sensors[0].pcd_files[0] == CELLGUARD_SOURCE_DIR "/apps/monitor/test/pcd/recorded-ascii.pcd");
     CHECK(good.config.sensors[1].pcd_files.empty());
 
+    // A recorded sensor has no rendered view of the empty cell: the background check is refused.
+    std::string bg = with("pcd_files = [\"pcd/recorded-ascii.pcd\"]");
+    bg.replace(bg.find("background_match = 0 "), 21, "background_match = 0.5 ");
+    const ConfigLoad no_view = parse_monitor_config(bg, "cell.toml", CELLGUARD_SOURCE_DIR "/apps/monitor/test");
+    CHECK_FALSE(no_view.ok);
+    CHECK(no_view.error.find("cycle.background_match: needs each sensor's view of the empty cell") != std::string::npos);
+
     const ConfigLoad empty = parse_monitor_config(with("pcd_files = []"), "cell.toml");
     CHECK_FALSE(empty.ok);
     CHECK(empty.error.find("sensors[0].pcd_files") != std::string::npos);

@@ -319,7 +319,8 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     }
     {
         const toml::table& t = L.table(root, "", "cycle");
-        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames"});
+        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
+                                  "background_match", "background_tolerance_m"});
         const double period = L.number(t, "cycle", "period_ms");
         if (!(period >= 1.0 && period <= 10000.0)) {
             L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
@@ -338,6 +339,24 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
         c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
         c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
         c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
+        const double match = L.number_or(t, "cycle", "background_match", 0.0);
+        if (!(match >= 0.0 && match <= 1.0)) {
+            L.fail(t.get("background_match")->source(), "cycle.background_match", "expected 0 (off) to 1");
+        }
+        for (const SensorSettings& s : c.sensors) {
+            if (match > 0.0 && !s.pcd_files.empty()) {
+                L.fail(t.get("background_match")->source(), "cycle.background_match",
+                       "needs each sensor's view of the empty cell, which recorded sensors (pcd_files) do not have; "
+                       "set it to 0");
+            }
+        }
+        c.background_match = static_cast<float>(match);
+        const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
+        if (!(tolerance > 0.0 && tolerance <= 1.0)) {
+            L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
+                   "expected more than 0, at most 1 m");
+        }
+        c.background_tolerance_m = static_cast<float>(tolerance);
     }
     {
         const toml::table& t = L.table(root, "", "restart_interlock");

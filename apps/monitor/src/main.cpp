@@ -422,6 +422,19 @@ int main(int argc, char** argv) {
         total_steps += tables[s].table().step_count();
         total_bytes += tables[s].storage_bytes();
     }
+    // Commissioned views of the empty cell (cycle.background_match > 0): the
+    // simulated sensors' renders of the reference scene, like their tables.
+    std::vector<BackgroundReference> backgrounds(specs.size());
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        backgrounds[s].depth = layout.readings[s].depth;
+        backgrounds[s].tolerance_m = cfg.background_tolerance_m;
+        backgrounds[s].min_match_fraction = cfg.background_match;
+    }
+    if (cfg.background_match > 0.0F) {
+        std::printf("background check: every frame must show %.0f %% of its sensor's view of the empty cell (within %.0f mm)\n",
+                    100.0 * static_cast<double>(cfg.background_match),
+                    1000.0 * static_cast<double>(cfg.background_tolerance_m));
+    }
     std::printf("ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
                 static_cast<double>(total_bytes) / 1e6);
     // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
@@ -515,8 +528,10 @@ int main(int argc, char** argv) {
             inputs[s].captured_us = clock.base();
             inputs[s].present = true;
             inputs[s].table = &tables[s].table();
+            inputs[s].background = cfg.background_match > 0.0F ? &backgrounds[s] : nullptr;
             if (recorded[s]) {
                 inputs[s].table = nullptr;
+                inputs[s].background = nullptr;  // refused by the config loader; never compared
                 const PcdFrameCheck c = recorded[s]->load(static_cast<std::uint64_t>(k), inputs[s].reading);
                 if (!c.ok && !opt.quiet) {
                     std::printf("input: cycle %d sensor '%s': frame %s refused: %s\n", k, specs[s].name.c_str(),

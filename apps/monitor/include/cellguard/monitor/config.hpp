@@ -86,6 +86,8 @@ struct MonitorConfig {
     std::size_t table_check_bytes = 262144U;   ///< ray-table bytes CRC-checked per cycle (cycle.table_check_kib)
     std::uint32_t max_repeated_frames = 0U;    ///< frozen-sensor limit, 0 = off (cycle.max_repeated_frames)
     std::size_t zone_check_bytes = 16384U;     ///< zone-mask bytes CRC-checked per cycle (cycle.zone_check_kib)
+    float background_match = 0.0F;             ///< fraction of the commissioned view a frame must show, 0 = off (cycle.background_match)
+    float background_tolerance_m = 0.05F;      ///< depth tolerance of that comparison (cycle.background_tolerance_m)
     std::uint64_t restart_delay_us = 500000U;  ///< restart interlock delay
     bool reset_required = false;          ///< restart also needs a reset edge
     std::uint32_t fault_recovery_cycles = 10U;  ///< clean cycles before a recoverable fault clears
