@@ -1,11 +1,8 @@
 #include "cellguard/background_check.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace cellguard {
 
@@ -27,34 +24,39 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
     }
     BackgroundMatch m;
     std::size_t i = 0U;
-#if defined(__SSE2__)
-    // Four pixels at a time (x86-64); the same comparisons as the loop below,
-    // which takes the rest and is the whole of it on other targets.
-    const __m128 zero = _mm_setzero_ps();
-    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
-    const __m128 tolerance = _mm_set1_ps(reference.tolerance_m);
-    const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7FFFFFFF));
-    __m128i referenced4 = _mm_setzero_si128();  // per lane: the count (subtracting a true compare, -1, adds one)
-    __m128i matching4 = _mm_setzero_si128();
+    // Four pixels at a time in GCC/Clang vector types (SSE2 on x86-64, NEON
+    // on aarch64, scalar code on targets without SIMD): the same comparisons
+    // as the loop below, which takes the remaining pixels.
+    using Floats = float __attribute__((vector_size(16)));
+    using Lanes = std::int32_t __attribute__((vector_size(16)));
+    const float inf = std::numeric_limits<float>::infinity();
+    Lanes referenced4 = {0, 0, 0, 0};  // per lane: the count (subtracting a true compare, -1, adds one)
+    Lanes matching4 = {0, 0, 0, 0};
     for (; i + 4U <= live.size(); i += 4U) {
-        const __m128 r = _mm_loadu_ps(reference.depth.data() + i);
-        const __m128 d = _mm_loadu_ps(live.data() + i);
-        const __m128 r_ok = _mm_and_ps(_mm_cmpgt_ps(r, zero), _mm_cmplt_ps(r, inf));
-        const __m128 d_ok = _mm_and_ps(_mm_cmpgt_ps(d, zero), _mm_cmplt_ps(d, inf));
-        const __m128 near = _mm_cmple_ps(_mm_and_ps(_mm_sub_ps(d, r), magnitude), tolerance);
-        referenced4 = _mm_sub_epi32(referenced4, _mm_castps_si128(r_ok));
-        matching4 = _mm_sub_epi32(matching4, _mm_castps_si128(_mm_and_ps(r_ok, _mm_and_ps(d_ok, near))));
+        Floats r;
+        Floats d;
+        std::memcpy(&r, reference.depth.data() + i, sizeof r);
+        std::memcpy(&d, live.data() + i, sizeof d);
+        const Lanes r_ok = (r > 0.0F) & (r < inf);
+        const Lanes d_ok = (d > 0.0F) & (d < inf);
+        const Floats difference = d - r;
+        Lanes magnitude_bits;
+        std::memcpy(&magnitude_bits, &difference, sizeof magnitude_bits);
+        magnitude_bits &= 0x7FFFFFFF;  // |d - r|: the sign bit cleared, as fabs does
+        Floats magnitude;
+        std::memcpy(&magnitude, &magnitude_bits, sizeof magnitude);
+        const Lanes near = magnitude <= reference.tolerance_m;
+        referenced4 -= r_ok;
+        matching4 -= r_ok & d_ok & near;
     }
-    alignas(16) std::uint32_t lanes[8] = {};
-    _mm_store_si128(reinterpret_cast<__m128i*>(lanes), referenced4);      // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): SIMD store of the lane counts
-    _mm_store_si128(reinterpret_cast<__m128i*>(lanes + 4), matching4);    // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): SIMD store of the lane counts
-    m.referenced = lanes[0] + lanes[1] + lanes[2] + lanes[3];
-    m.matching = lanes[4] + lanes[5] + lanes[6] + lanes[7];
-#endif
+    for (int lane = 0; lane < 4; ++lane) {
+        m.referenced += static_cast<std::uint32_t>(referenced4[lane]);
+        m.matching += static_cast<std::uint32_t>(matching4[lane]);
+    }
     for (; i < live.size(); ++i) {
         const float r = reference.depth[i];
         const float d = live[i];
-        // Branch-free, so that the compiler can compare several pixels at once.
+        // The last 0 to 3 pixels: the same comparisons, one at a time.
         const std::uint32_t referenced = is_reading(r);
         const std::uint32_t within = is_reading(d) & static_cast<std::uint32_t>(std::fabs(d - r) <= reference.tolerance_m);
         m.referenced += referenced;
