@@ -3,8 +3,10 @@
 /// per period): the source clock (CLOCK_MONOTONIC) unchanged, so a clock that
 /// stops or steps back reaches the safety logic and latches kClockFault
 /// (SR-LOGIC-007). Unpaced (the demo as fast as possible): simulated time
-/// that advances one period per cycle and, within a cycle, with the source
-/// clock (so cycle times are real) and never repeats a value; there a stuck
+/// whose first reading in a cycle is exactly the cycle's simulated start
+/// (so runs repeat: the restart delay and frame ages do not depend on how
+/// long the host took between cycles), then advances with the source clock
+/// (so stage times are real) and never repeats a value; there a stuck
 /// source only shows as stage times of zero.
 #ifndef CELLGUARD_MONITOR_CYCLE_CLOCK_HPP
 #define CELLGUARD_MONITOR_CYCLE_CLOCK_HPP
@@ -26,12 +28,17 @@ public:
     void start_cycle(std::uint64_t sim_us) noexcept {
         base_real_ = source_->now_us();
         base_sim_ = paced_ ? base_real_ : std::max(sim_us, last_ + 1U);
+        first_reading_ = true;
     }
 
     /// Paced: the source's reading. Unpaced: the simulated time.
     std::uint64_t now_us() noexcept override {
         if (paced_) {
             return source_->now_us();
+        }
+        if (first_reading_) {
+            base_real_ = source_->now_us();  // the cycle's time starts at its first reading
+            first_reading_ = false;
         }
         std::uint64_t v = base_sim_ + (source_->now_us() - base_real_);
         if (v <= last_) {
@@ -50,6 +57,7 @@ private:
     std::uint64_t base_real_ = 0U;
     std::uint64_t base_sim_ = 0U;
     std::uint64_t last_ = 0U;
+    bool first_reading_ = false;
 };
 
 }  // namespace cellguard::monitor
