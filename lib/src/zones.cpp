@@ -1,5 +1,6 @@
 #include "cellguard/zones.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "cellguard/crc32.hpp"
@@ -172,21 +173,19 @@ Result<CompiledZones> CompiledZones::compile(const GridGeometry& grid, Span<cons
 }
 
 std::uint32_t CompiledZones::settings_crc() const noexcept {
-    Crc32 crc;
-    const auto u32 = [&crc](std::uint64_t v) noexcept {
-        const std::uint8_t b[4] = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8U),
-                                   static_cast<std::uint8_t>(v >> 16U), static_cast<std::uint8_t>(v >> 24U)};
-        crc.update(Span<const std::uint8_t>(b));
-    };
-    u32(count_);
-    u32(total_);
+    // The same way RayTable::check_header gathers its settings: words, then
+    // the CRC of their bytes.
+    std::array<std::uint32_t, 2U + 4U * kMaxZones> words{};
+    words[0] = static_cast<std::uint32_t>(count_);
+    words[1] = static_cast<std::uint32_t>(total_);
+    std::size_t n = 2U;
     for (std::size_t z = 0U; z < count_ && z < kMaxZones; ++z) {
-        u32(static_cast<std::uint64_t>(zones_[z].kind));
-        u32(zones_[z].min_foreground_voxels);
-        u32(zones_[z].max_unseen_voxels);
-        u32(voxels_[z]);
+        words[n++] = static_cast<std::uint32_t>(zones_[z].kind);
+        words[n++] = zones_[z].min_foreground_voxels;
+        words[n++] = zones_[z].max_unseen_voxels;
+        words[n++] = voxels_[z];
     }
-    return crc.value();
+    return crc32(as_bytes(Span<const std::uint32_t>(words.data(), n)));
 }
 
 }  // namespace cellguard

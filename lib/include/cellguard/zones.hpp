@@ -108,8 +108,9 @@ public:
     /// CRC-32 of what zone evaluation and the safety logic read besides the
     /// membership mask: the zone count, total_memberships(), and per zone its
     /// kind, min_foreground_voxels, max_unseen_voxels and voxel count (each
-    /// as little-endian uint32). The controller compares it every cycle with
-    /// its value at start-up (SR-CTRL-010).
+    /// a uint32 in host byte order: the value is only compared within one
+    /// run). The controller compares it every cycle with its value at
+    /// start-up (SR-CTRL-010).
     [[nodiscard]] std::uint32_t settings_crc() const noexcept;
 
 private:
