@@ -26,9 +26,8 @@ public:
 
     /// Starts the next cycle at simulated time @p sim_us (ignored when paced).
     void start_cycle(std::uint64_t sim_us) noexcept {
-        base_real_ = source_->now_us();
-        base_sim_ = paced_ ? base_real_ : std::max(sim_us, last_ + 1U);
-        first_reading_ = true;
+        base_sim_ = paced_ ? source_->now_us() : std::max(sim_us, last_ + 1U);
+        first_reading_ = true;  // unpaced: the real base is taken at the cycle's first reading
     }
 
     /// Paced: the source's reading. Unpaced: the simulated time.
@@ -54,7 +53,7 @@ public:
 private:
     bool paced_;
     MonotonicClock* source_;
-    std::uint64_t base_real_ = 0U;
+    std::uint64_t base_real_ = 0U;  ///< unpaced: the source's time at the cycle's first reading
     std::uint64_t base_sim_ = 0U;
     std::uint64_t last_ = 0U;
     bool first_reading_ = false;
