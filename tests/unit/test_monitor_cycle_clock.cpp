@@ -5,20 +5,14 @@
 #include <cstdint>
 
 #include "cellguard/monitor/cycle_clock.hpp"
+#include "settable_clock.hpp"
 
 using namespace cellguard;
-
-namespace {
-class SettableClock final : public MonotonicClock {
-public:
-    std::uint64_t now_us() noexcept override { return t; }
-    std::uint64_t t = 1000U;
-};
-}  // namespace
+using test::SettableClock;
 
 // verifies: SR-LOGIC-007
 TEST_CASE("monitor clock: paced, a source clock that stops or steps back is passed through unchanged") {
-    SettableClock source;
+    SettableClock source(1000U);
     monitor::CycleClock clock(true, source);
     clock.start_cycle(0U);
     CHECK(clock.base() == 1000U);
@@ -33,7 +27,7 @@ TEST_CASE("monitor clock: paced, a source clock that stops or steps back is pass
 
 // verifies: SR-LOGIC-007
 TEST_CASE("monitor clock: unpaced, a cycle's first reading is its simulated start, and time never repeats") {
-    SettableClock source;
+    SettableClock source(1000U);
     monitor::CycleClock clock(false, source);
     clock.start_cycle(100000U);
     CHECK(clock.base() == 100000U);
@@ -50,7 +44,7 @@ TEST_CASE("monitor clock: unpaced, a cycle's first reading is its simulated star
 
 // verifies: SR-LOGIC-007, SR-LOGIC-006
 TEST_CASE("monitor clock: paced, a stuck CLOCK_MONOTONIC latches the controller's clock fault") {
-    SettableClock source;
+    SettableClock source(1000U);
     monitor::CycleClock clock(true, source);
     SafetyLogicConfig config;
     config.restart_delay_us = 0U;

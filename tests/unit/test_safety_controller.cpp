@@ -10,6 +10,7 @@
 
 #include "alloc_counter.hpp"
 #include "ray_table_vectors.hpp"
+#include "settable_clock.hpp"
 #include "cellguard/accessibility.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/safety_controller.hpp"
@@ -78,6 +79,12 @@ struct Workcell {
     // The firmware scenario's configuration: no restart delay, recovery
     // after 2 good cycles, a 10 s budget (the test clock advances 1 us per reading).
     ControllerConfig config() const { return firmware::scenario_controller_config(sensors.size()); }
+
+    // A controller over this cell's grid, prior, zones and model.
+    SafetyController controller(const ControllerConfig& c, MonotonicClock& clock, CycleOutput* out = nullptr) {
+        return SafetyController(c, frame_grid, {prior.data(), prior.size()}, zones, model, clock, out);
+    }
+    SafetyController controller(MonotonicClock& clock, CycleOutput* out = nullptr) { return controller(config(), clock, out); }
 };
 
 struct Frame {
@@ -108,7 +115,7 @@ TEST_CASE("controller: the empty cell is clear and the stop is released") {
     Workcell w;
     TestClock clock;
     RecordingOutput out;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    SafetyController c = w.controller(clock, &out);
     const Frame f(w, sim::reference_scene(), clock.t);
     const CycleReport& r = c.run_cycle(f.span(), false);
     INFO("protective: fg " << r.zones.zones[0].foreground << " unseen " << r.zones.zones[0].unseen);
@@ -125,7 +132,7 @@ TEST_CASE("controller: a person entering the protective zone gives a stop reques
     Workcell w;
     TestClock clock;
     RecordingOutput out;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    SafetyController c = w.controller(clock, &out);
     CHECK_FALSE(c.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
     const CycleReport& r = c.run_cycle(Frame(w, with_person(0.2, 0.4), clock.t).span(), false);
     CHECK(r.zones.zones[0].state == ZoneState::kIntruded);
@@ -138,7 +145,7 @@ TEST_CASE("controller: a person entering the protective zone gives a stop reques
 TEST_CASE("controller: a person in the warning zone only gives a warning, not a stop") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     const CycleReport& r = c.run_cycle(Frame(w, with_person(-0.6, 0.6), clock.t).span(), false);
     CHECK(r.zones.zones[1].state == ZoneState::kIntruded);
     CHECK(r.zones.zones[0].state == ZoneState::kClear);
@@ -150,7 +157,7 @@ TEST_CASE("controller: a person in the warning zone only gives a warning, not a 
 TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives a fault and the stop") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     Frame quiet(w, sim::reference_scene(), clock.t);
     quiet.inputs[2].present = false;
     CycleReport r = c.run_cycle(quiet.span(), false);
@@ -176,7 +183,7 @@ TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time
     TestClock clock;
     ControllerConfig config = w.config();
     config.max_repeated_frames = 3U;
-    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(config, clock);
     Frame f(w, sim::reference_scene(), clock.t);
     const std::uint32_t stale = fault_bit(Fault::kSensorStale);
     // Sensors 0, 1 and 3 are alive: one pixel alternates, as noise would make
@@ -223,7 +230,7 @@ TEST_CASE("controller: a frame delivered again with its old time stamp is not a 
     TestClock clock;
     ControllerConfig config = w.config();
     config.max_repeated_frames = 1U;  // the strictest limit: one new frame with the same data
-    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(config, clock);
     const Frame f(w, sim::reference_scene(), clock.t);  // one time stamp for every cycle
     for (int k = 0; k < 5; ++k) {
         const CycleReport& r = c.run_cycle(f.span(), false);
@@ -235,7 +242,7 @@ TEST_CASE("controller: a frame delivered again with its old time stamp is not a 
 
     // Default configuration: identical images with fresh stamps are fused, no fault.
     REQUIRE(w.config().max_repeated_frames == 0U);
-    SafetyController off(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController off = w.controller(clock);
     for (int k = 0; k < 5; ++k) {
         const CycleReport& r = off.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false);
         CHECK(r.detected_faults == 0U);
@@ -246,7 +253,7 @@ TEST_CASE("controller: a frame delivered again with its old time stamp is not a 
 TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     const Frame f(w, sim::reference_scene(), clock.t);
     CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
     w.prior[12345] ^= 0x0100;  // a bit flips in RAM
@@ -268,7 +275,7 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
     TestClock clock;
     ControllerConfig config = w.config();
     config.table_check_slice_bytes = 1U << 20U;
-    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(config, clock);
     Frame f(w, sim::reference_scene(), clock.t);
     std::vector<test::RayTableVectors> storage;
     std::vector<RayTable> tables;
@@ -306,7 +313,7 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
-    SafetyController c(config, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(config, clock);
     const Frame f(w, sim::reference_scene(), clock.t);
     CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
     const std::size_t pass = (w.mask.size() * 4U + config.zone_check_slice_bytes - 1U) / config.zone_check_slice_bytes;
@@ -326,7 +333,7 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
     // The zones object rewritten under a running controller: the protective
     // zone turned into a warning zone. Caught in the next cycle.
     Workcell v;
-    SafetyController d(v.config(), v.frame_grid, {v.prior.data(), v.prior.size()}, v.zones, v.model, clock, nullptr);
+    SafetyController d = v.controller(clock);
     CHECK_FALSE(d.run_cycle(Frame(v, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
     auto zs = firmware::scenario_zone_configs();
     zs[0].kind = ZoneKind::kWarning;
@@ -340,7 +347,7 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
 TEST_CASE("controller: with commissioned background views, a bumped or covered sensor is refused, a person is not") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     // Commissioning: each sensor's view of the empty cell.
     const sim::SimulatedFrame empty = sim::render_frame(w.sensors, sim::reference_scene());
     std::vector<BackgroundReference> refs(empty.depth.size());
@@ -406,10 +413,10 @@ TEST_CASE("controller: zones of another grid, or no sensors or more than eight, 
                                 nullptr);
     ControllerConfig none = w.config();
     none.sensor_count = 0U;
-    SafetyController no_sensors(none, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController no_sensors = w.controller(none, clock);
     ControllerConfig nine = w.config();
     nine.sensor_count = kMaxSensors + 1U;
-    SafetyController nine_sensors(nine, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController nine_sensors = w.controller(nine, clock);
     for (SafetyController* c : {&wrong_grid, &no_sensors, &nine_sensors}) {
         for (int i = 0; i < 4; ++i) {
             const CycleReport& r = c->run_cycle(f.span(), false);
@@ -420,19 +427,11 @@ TEST_CASE("controller: zones of another grid, or no sensors or more than eight, 
     }
 }
 
-namespace {
-class StuckClock final : public MonotonicClock {
-public:
-    std::uint64_t now_us() noexcept override { return t; }
-    std::uint64_t t = 5000000U;
-};
-}  // namespace
-
 // verifies: SR-LOGIC-007, SR-LOGIC-006
 TEST_CASE("controller: a clock that stops advancing latches a clock fault and the stop, for good") {
     Workcell w;
-    StuckClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    test::SettableClock clock(5000000U);  // stuck until the test moves it
+    SafetyController c = w.controller(clock);
     const Frame f(w, sim::reference_scene(), clock.t);
     (void)c.run_cycle(f.span(), false);  // the first cycle has no previous time to compare with
     const CycleReport& r = c.run_cycle(f.span(), false);
@@ -450,7 +449,7 @@ TEST_CASE("controller: a clock that stops advancing latches a clock fault and th
 TEST_CASE("controller: a frame stamped in the future is stale") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     Frame f(w, sim::reference_scene(), clock.t);
     f.inputs[3].captured_us = clock.t + 1000000U;  // 1 s ahead of the controller's clock
     const CycleReport& r = c.run_cycle(f.span(), false);
@@ -462,7 +461,7 @@ TEST_CASE("controller: a frame stamped in the future is stale") {
 TEST_CASE("controller: sensors that send frames without a valid reading leave the protective zone UNSEEN, not CLEAR") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(clock);
     Frame blind(w, sim::reference_scene(), clock.t);
     std::uint64_t pixels = 0U;
     for (std::vector<float>& image : blind.sim.depth) {
@@ -483,7 +482,7 @@ TEST_CASE("controller: a failed output is a CAN fault in the next cycle") {
     Workcell w;
     TestClock clock;
     RecordingOutput out;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    SafetyController c = w.controller(clock, &out);
     const Frame f(w, sim::reference_scene(), clock.t);
     out.fail = true;
     (void)c.run_cycle(f.span(), false);
@@ -499,7 +498,7 @@ TEST_CASE("controller: a cycle over its budget is a fault in the next cycle") {
     TestClock clock;
     ControllerConfig cfg = w.config();
     cfg.cycle_budget_us = 3U;  // the test clock advances 1 us per reading: every cycle overruns
-    SafetyController c(cfg, w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, nullptr);
+    SafetyController c = w.controller(cfg, clock);
     const Frame f(w, sim::reference_scene(), clock.t);
     (void)c.run_cycle(f.span(), false);
     CHECK((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kCycleOverrun)) != 0U);
@@ -511,7 +510,7 @@ TEST_CASE("controller: a whole cycle allocates no memory") {
     Workcell w;
     TestClock clock;
     RecordingOutput out;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, w.zones, w.model, clock, &out);
+    SafetyController c = w.controller(clock, &out);
     const Frame f(w, with_person(0.2, 0.4), clock.t);
     const test::AllocationScope scope;
     (void)c.run_cycle(f.span(), false);
