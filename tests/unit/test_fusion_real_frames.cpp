@@ -14,7 +14,7 @@ using namespace cellguard;
 
 // verifies: SR-FUSE-001, SR-FUSE-003
 TEST_CASE("fusion: a real Kinect frame with NaN pixels fuses, skipping and counting every invalid pixel") {
-    const std::string path = std::string(CELLGUARD_SHARED_DATA_DIR) + "/kinect-frames/frame_20121214T142255.814212.pcd";
+    const std::string path = std::string(CELLGUARD_TEST_DATA_DIR) + "/kinect-frames/frame_20121214T142255.814212.pcd";
     std::vector<PcdPoint> raw(640U * 480U);
     PcdCloudInfo info;
     PcdReadOptions keep;

@@ -23,7 +23,7 @@ using namespace cellguard::monitor;
 namespace {
 
 const std::string kFixtures = CELLGUARD_SOURCE_DIR "/apps/monitor/test/pcd/";
-const std::string kKinect = CELLGUARD_SHARED_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd";
+const std::string kKinect = CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd";
 
 /// The fixtures' sensor (make_pcd_fixtures.py).
 sim::SensorSpec recorded_spec() {
@@ -148,11 +148,8 @@ TEST_CASE("pcd input: the fuzz corpus's PCD files and a real Kinect frame") {
         CHECK(c.reason.find("192 points, more than sensor 'small' delivers (10 x 10)") != std::string::npos);
     }
     // The real Kinect frame: 640 x 480, binary_compressed, many NaN pixels.
-    std::ifstream probe(kKinect, std::ios::binary);
-    if (!probe) {
-        MESSAGE("shared data not present: " << kKinect);
-        return;
-    }
+    // The frame ships in the repository (tests/data): its absence is a failure, never a skip.
+    REQUIRE_MESSAGE(std::ifstream(kKinect, std::ios::binary).good(), "test data missing: " << kKinect);
     PcdFrameSource kinect("kinect", {kKinect}, Eigen::Isometry3d::Identity(), 640, 480, 10.0F);
     const PcdFrameCheck k = kinect.load(0U, r);
     CAPTURE(k.reason);

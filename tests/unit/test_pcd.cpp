@@ -37,9 +37,9 @@ private:
 };
 
 const char* const kFrames[] = {
-    CELLGUARD_SHARED_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd",
-    CELLGUARD_SHARED_DATA_DIR "/kinect-frames/frame_20121214T142256.068683.pcd",
-    CELLGUARD_SHARED_DATA_DIR "/kinect-frames/frame_20121214T142256.332395.pcd",
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd",
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142256.068683.pcd",
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142256.332395.pcd",
 };
 constexpr std::size_t kFramePoints = 640U * 480U;
 
