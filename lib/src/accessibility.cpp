@@ -716,4 +716,21 @@ double accessibility_cost_error_bound(double t_e) noexcept {
     return 1.0 / (2.0 * static_cast<double>(kAccessibilityCostUnitsPerNat) * -std::log1p(-t_e));
 }
 
+std::uint32_t min_background_frames(const AccessibilityParams& params, const SensorModelTable& model,
+                                    BackgroundClamp clamp) noexcept {
+    const bool probabilistic =
+        params.method == PriorMethod::kProbabilistic || params.method == PriorMethod::kProbabilisticBaseline;
+    const std::int32_t empty_below = first_log_odds_at_or_above(probabilistic ? params.t_e : params.t_b);
+    const std::int32_t per_frame = model.constant_free_evidence();  // < 0 (SensorModelTable::make)
+    if (clamp.min >= empty_below || per_frame >= 0) {
+        return 0U;
+    }
+    // The smallest N with N * per_frame < empty_below; the clamp only stops the sum at clamp.min < empty_below.
+    const std::int32_t gap = empty_below - 1;  // N * per_frame <= gap
+    if (gap >= per_frame) {
+        return 1U;
+    }
+    return static_cast<std::uint32_t>((-gap + (-per_frame) - 1) / (-per_frame));
+}
+
 }  // namespace cellguard

@@ -15,9 +15,9 @@ void FusionStats::add(const FusionStats& other) noexcept {
     voxel_updates += other.voxel_updates;
 }
 
-std::uint32_t fuse_ray(EvidenceGrid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& reading,
-                       const SensorModelTable& model, Rasterization rasterization, bool* reading_in_grid) noexcept {
-    const GridGeometry& g = grid.geometry();
+std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry& g, const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& reading, const SensorModelTable& model,
+                                 Rasterization rasterization, bool* reading_in_grid) noexcept {
     const double length = (reading - origin).norm();
     if (!std::isfinite(length)) {
         return 0U;
@@ -29,18 +29,29 @@ std::uint32_t fuse_ray(EvidenceGrid& grid, const Eigen::Vector3d& origin, const 
     if (reading_in_grid != nullptr) {
         *reading_in_grid = end_inside;
     }
-    std::int16_t* const lo = grid.log_odds().data();
-    std::uint8_t* const obs = grid.observed().data();
-    const std::int16_t peak = model.reading_evidence();
-    std::uint32_t updates = 0U;
+    std::int16_t* const op = opinions.data();
+    const std::int16_t hit = model.reading_evidence();
+    std::uint32_t visits = 0U;
     const auto visit = [&](const TraversedVoxel& v) {
-        const std::int16_t e = (v.index == end_index) ? peak : model.free_evidence(length - v.t_exit);
-        lo[v.index] = add_finite_saturating(lo[v.index], e);
-        obs[v.index] = 1U;
-        ++updates;
+        const std::int16_t e = (v.index == end_index) ? hit : model.free_evidence(length - v.t_exit);
+        op[v.index] = e > op[v.index] ? e : op[v.index];
+        ++visits;
     };
     (void)traverse(rasterization, g, origin, reading, visit);
-    return updates;
+    return visits;
+}
+
+void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const SensorModelTable& model) noexcept {
+    std::int16_t* const lo = grid.log_odds().data();
+    std::uint8_t* const obs = grid.observed().data();
+    const std::size_t n = grid.voxel_count();
+    for (std::size_t i = 0U; i < n; ++i) {
+        const std::int16_t e = opinions[i];
+        if (e != kNoOpinion) {
+            lo[i] = model.pool(lo[i], e);
+            obs[i] = 1U;
+        }
+    }
 }
 
 namespace {
@@ -78,31 +89,27 @@ void count(FusionStats& s, ReadingClass c) noexcept {
     }
 }
 
-void fuse_point(EvidenceGrid& grid, const SensorReading& r, const Eigen::Vector3f& p, const SensorModelTable& model,
-                Rasterization rasterization, FusionStats& s) noexcept {
+void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& r, const Eigen::Vector3f& p,
+                const SensorModelTable& model, Rasterization rasterization, FusionStats& s) noexcept {
     const ReadingClass c = classify_point(p, r.min_range, r.max_range);
     if (c != ReadingClass::kValid) {
         count(s, c);
         return;
     }
     bool in_grid = false;
-    s.voxel_updates += fuse_ray(grid, r.pose.translation(), r.pose * p.cast<double>(), model, rasterization, &in_grid);
+    s.voxel_updates +=
+        trace_ray_opinions(opinions, g, r.pose.translation(), r.pose * p.cast<double>(), model, rasterization, &in_grid);
     ++s.rays_fused;
     s.readings_in_grid += in_grid ? 1U : 0U;
 }
 
-}  // namespace
-
-Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading, const SensorModelTable& model,
-                                Rasterization rasterization) noexcept {
-    const Status valid = validate_sensor_reading(reading);
-    if (!valid.ok()) {
-        return valid.error();
-    }
+/// Writes the opinions of every valid reading of @p reading (already validated) into @p opinions.
+FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& reading,
+                         const SensorModelTable& model, Rasterization rasterization) noexcept {
     FusionStats s;
     if (reading.kind == SensorDataKind::kPointSet) {
         for (const Eigen::Vector3f& p : reading.points) {
-            fuse_point(grid, reading, p, model, rasterization, s);
+            fuse_point(opinions, g, reading, p, model, rasterization, s);
         }
         return s;
     }
@@ -127,16 +134,40 @@ Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading
             const double rx = (static_cast<double>(u) - k.cx) * inv_fx;
             const Eigen::Vector3f p(static_cast<float>(rx * static_cast<double>(d)),
                                     static_cast<float>(ry * static_cast<double>(d)), d);
-            fuse_point(grid, reading, p, model, rasterization, s);
+            fuse_point(opinions, g, reading, p, model, rasterization, s);
         }
     }
     return s;
 }
 
+}  // namespace
+
+Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading, const SensorModelTable& model,
+                                Span<std::int16_t> scratch, Rasterization rasterization) noexcept {
+    const Status valid = validate_sensor_reading(reading);
+    if (!valid.ok()) {
+        return valid.error();
+    }
+    const std::size_t n = grid.voxel_count();
+    if (scratch.size() < n) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    const Span<std::int16_t> opinions = scratch.subspan(0U, n);
+    for (std::int16_t& e : opinions) {
+        e = kNoOpinion;
+    }
+    const FusionStats s = trace_sensor(opinions, grid.geometry(), reading, model, rasterization);
+    pool_opinions(grid, Span<const std::int16_t>(opinions), model);
+    return s;
+}
+
 Result<FusionStats> fuse_frame(EvidenceGrid& grid, Span<const SensorReading> sensors, const SensorModelTable& model,
-                               Rasterization rasterization) noexcept {
+                               Span<std::int16_t> scratch, Rasterization rasterization) noexcept {
     if (sensors.size() > kMaxSensors) {
         return ErrorCode::kCapacityExceeded;
+    }
+    if (scratch.size() < grid.voxel_count()) {
+        return ErrorCode::kStorageTooSmall;
     }
     for (const SensorReading& r : sensors) {
         const Status valid = validate_sensor_reading(r);
@@ -146,13 +177,29 @@ Result<FusionStats> fuse_frame(EvidenceGrid& grid, Span<const SensorReading> sen
     }
     FusionStats total;
     for (const SensorReading& r : sensors) {
-        const Result<FusionStats> s = fuse_sensor(grid, r, model, rasterization);
+        const Result<FusionStats> s = fuse_sensor(grid, r, model, scratch, rasterization);
         if (!s.ok()) {
             return s.error();  // unreachable: validated above
         }
         total.add(s.value());
     }
     return total;
+}
+
+Result<FusionStats> fuse_background_frame(EvidenceGrid& background, EvidenceGrid& frame,
+                                          Span<const SensorReading> sensors, const SensorModelTable& model,
+                                          Span<std::int16_t> scratch, Rasterization rasterization,
+                                          BackgroundClamp clamp) noexcept {
+    frame.clear();
+    const Result<FusionStats> fused = fuse_frame(frame, sensors, model, scratch, rasterization);
+    if (!fused.ok()) {
+        return fused.error();
+    }
+    const Status acc = accumulate_background(background, frame, clamp);
+    if (!acc.ok()) {
+        return acc.error();
+    }
+    return fused.value();
 }
 
 }  // namespace cellguard

@@ -144,7 +144,7 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
         storage.pixel_exit.size() < pixels || storage.pixel_norm.size() < pixels ||
         storage.pixel_walked.size() < pixels || storage.full_hits.size() < grid.voxel_count() ||
         storage.crossed_voxels.size() < grid.voxel_count() ||
-        storage.hit_count.size() < grid.voxel_count() || storage.hit_correction.size() < grid.voxel_count()) {
+        storage.hit_count.size() < grid.voxel_count() || storage.sensor_opinion.size() < grid.voxel_count()) {
         return ErrorCode::kStorageTooSmall;
     }
     const bool compact = ray_table_is_compact(grid, sensor);
@@ -491,16 +491,6 @@ void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
 }
 #endif
 
-/// @p value plus @p hits times @p constant plus @p correction, summed
-/// exactly in 64 bits (|hits x constant| < 2^47) and saturated once.
-std::int16_t add_frame_sum_saturating(std::int16_t value, std::uint32_t hits, std::int16_t constant,
-                                      std::int32_t correction) noexcept {
-    const std::int64_t sum = static_cast<std::int64_t>(value) +
-                             static_cast<std::int64_t>(hits) * static_cast<std::int64_t>(constant) +
-                             static_cast<std::int64_t>(correction);
-    return static_cast<std::int16_t>(sum < kLogOddsMin ? kLogOddsMin : sum > kLogOddsMax ? kLogOddsMax : sum);
-}
-
 /// What fuse() passes to fuse_entries: the table's arrays and limits.
 struct FuseView {
     const std::uint32_t* begin;
@@ -512,7 +502,7 @@ struct FuseView {
     std::size_t crossed_count;
     std::uint32_t* walked;
     std::uint32_t* hits;
-    std::int32_t* correction;
+    std::int16_t* opinion;
     std::size_t pixels;
     std::size_t steps;
     std::size_t voxels;
@@ -532,11 +522,12 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
     const std::int16_t peak = model.reading_evidence();
     const auto ramp = static_cast<float>(model.ramp_length());
     for (std::size_t j = 0U; j < t.crossed_count; ++j) {
-        t.correction[t.crossed[j]] = 0;
+        t.opinion[t.crossed[j]] = constant;
     }
     // Pass 1, per pixel: where its walk ends (walked[i]; begin[i] when it
-    // walks nothing), and the ramp and peak corrections; kSearchBatch pixels
-    // at a time: classify them, search them together, then take their ramps.
+    // walks nothing), and the opinions of its ramp and hit voxels;
+    // kSearchBatch pixels at a time: classify them, search them together,
+    // then take their ramps.
     using Limit = decltype(key_limit(entries, 0.0F, 0.0F));
     std::array<SearchSlot<Limit>, kSearchBatch> batch{};
     FusionStats s;
@@ -591,9 +582,10 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
         }
         find_free_ends(keys(entries), t.steps, Span<SearchSlot<Limit>>(batch.data(), searched));
         // The ramp: voxels left before the reading; then the voxel holding
-        // the reading, if it lies inside the grid. Every walked voxel is
-        // counted as if it got the constant (pass 2); a ramp or peak voxel's
-        // correction (its evidence minus the constant) is summed here.
+        // the reading, if it lies inside the grid. A walked voxel's opinion
+        // is the constant unless a ray's ramp or reading lies in it: then it
+        // is the largest of their opinions (the weakest free, or the hit),
+        // as fuse_sensor keeps it.
         for (std::size_t j = 0U; j < searched; ++j) {
             const SearchSlot<Limit>& slot = batch[j];
             const std::uint32_t first = t.begin[slot.pixel];
@@ -602,10 +594,11 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
             for (; k < end && keys(entries)[k] <= slot.range_limit; ++k) {
                 const float exit = exit_of(entries, k, t.exit_step);
                 const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
-                t.correction[voxels(entries)[k]] += static_cast<std::int32_t>(e) - constant;
+                std::int16_t& o = t.opinion[voxels(entries)[k]];
+                o = e > o ? e : o;
             }
             if (k < end) {
-                t.correction[voxels(entries)[k]] += static_cast<std::int32_t>(peak) - constant;
+                t.opinion[voxels(entries)[k]] = peak;  // above every free opinion
                 ++k;
                 ++s.readings_in_grid;
             }
@@ -628,11 +621,11 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
         count_segments(voxels(entries), t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
                        Span<std::uint32_t>(t.hits, t.voxels));
     }
-    // Pass 3: each crossed voxel's exact sum, added with one saturation.
+    // Pass 3: each voxel a walk reached gets the sensor's one opinion, pooled.
     for (std::size_t j = 0U; j < t.crossed_count; ++j) {
         const std::uint32_t v = t.crossed[j];
         if (t.hits[v] != 0U) {
-            lo[v] = add_frame_sum_saturating(lo[v], t.hits[v], constant, t.correction[v]);
+            lo[v] = model.pool(lo[v], t.opinion[v]);
             obs[v] = 1U;
         }
     }
@@ -657,22 +650,12 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                          : std::min(storage_.wide_voxels.size(), storage_.wide_exits.size())) >= step_count_ &&
                    pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
                    crossed_count_ <= storage_.crossed_voxels.size() &&
-                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.hit_correction.size(),
+                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.sensor_opinion.size(),
                "ray table storage changed size");
-    // A ramp or peak voxel's correction (evidence minus the constant) lies in
-    // [0, peak - constant]; the corrections of one frame sum exactly in 32
-    // bits when every pixel's could land in one voxel.
-    const std::int16_t constant = model.constant_free_evidence();
-    const std::int16_t peak = model.reading_evidence();
-    const auto max_correction = static_cast<std::uint64_t>(static_cast<std::int32_t>(peak) - constant);
-    constexpr auto kCorrectionLimit = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
-    if (static_cast<std::uint64_t>(pixels_) * max_correction > kCorrectionLimit) {
-        return ErrorCode::kInvalidArgument;
-    }
     const FuseView view{storage_.pixel_begin.data(), storage_.pixel_enter.data(), storage_.pixel_exit.data(),
                         storage_.pixel_norm.data(),  storage_.full_hits.data(),   storage_.crossed_voxels.data(),
                         crossed_count_,              storage_.pixel_walked.data(),
-                        storage_.hit_count.data(),   storage_.hit_correction.data(), pixels_,
+                        storage_.hit_count.data(),   storage_.sensor_opinion.data(), pixels_,
                         step_count_,                 voxel_count,                 min_range_,
                         max_range_,                  exit_step_,
                         steps_per_metre_};

@@ -3,10 +3,11 @@
 namespace cellguard {
 
 SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
-                                   Span<const std::int16_t> prior, const CompiledZones& zones,
+                                   Span<std::int16_t> fusion_scratch, Span<const std::int16_t> prior, const CompiledZones& zones,
                                    const SensorModelTable& model, MonotonicClock& clock, CycleOutput* output) noexcept
     : config_(config),
       grid_(&frame_grid),
+      scratch_(fusion_scratch),
       prior_(prior),
       zones_(&zones),
       model_(&model),
@@ -104,7 +105,7 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
         }
         const Result<FusionStats> r = (s.table != nullptr && s.reading.kind == SensorDataKind::kDepthImage)
                                           ? s.table->fuse(*grid_, s.reading.depth, *model_)
-                                          : fuse_sensor(*grid_, s.reading, *model_, config_.rasterization);
+                                          : fuse_sensor(*grid_, s.reading, *model_, scratch_, config_.rasterization);
         if (!r.ok()) {
             faults |= fault_bit(Fault::kFrameInconsistent);
             continue;

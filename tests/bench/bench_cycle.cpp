@@ -315,7 +315,9 @@ int main(int argc, char** argv) {
     cc.max_repeated_frames = std::numeric_limits<std::uint32_t>::max();
     ThreadCpuClock clock;
     Forward forward;
-    SafetyController controller(cc, frame_grid, {prior.data(), prior.size()}, zones, model, clock, &forward);
+    // Every sensor has a ray table: fuse_sensor's scratch is never used.
+    SafetyController controller(cc, frame_grid, Span<std::int16_t>(), {prior.data(), prior.size()}, zones, model,
+                                clock, &forward);
     MemorySender sender;
     SafetyOutputConfig oc;
     oc.zone_count = static_cast<std::uint8_t>(kMaxZonesInFrame);

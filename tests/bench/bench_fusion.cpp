@@ -50,11 +50,14 @@ GridRun run_cellguard(const GridGeometry& g, const std::vector<SensorReading>& r
                                            Span<std::uint8_t>(ob.data(), ob.size())).value();
     const SensorModelTable model;
     std::vector<double> ms;
+    std::vector<std::int16_t> scratch(g.voxel_count());
     FusionStats stats;
     for (int f = 0; f < frames; ++f) {
         const auto t0 = Clock::now();
         grid.clear();
-        stats = fuse_frame(grid, Span<const SensorReading>(readings.data(), readings.size()), model, raster).value();
+        stats = fuse_frame(grid, Span<const SensorReading>(readings.data(), readings.size()), model,
+                           {scratch.data(), scratch.size()}, raster)
+                    .value();
         const auto t1 = Clock::now();
         ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     }

@@ -18,7 +18,7 @@ struct RayTableVectors {
     std::size_t pixels = 0U;
     std::vector<std::uint16_t> voxels, steps;
     std::vector<std::uint32_t> begin, full_hits, crossed, walked, hits;
-    std::vector<std::int32_t> corrections;
+    std::vector<std::int16_t> opinions;
     std::vector<float> enter, exit, norm;
 
     RayTableVectors(const GridGeometry& grid, const SensorReading& sensor)
@@ -31,7 +31,7 @@ struct RayTableVectors {
           crossed(grid.voxel_count()),
           walked(pixels),
           hits(grid.voxel_count()),
-          corrections(grid.voxel_count()),
+          opinions(grid.voxel_count()),
           enter(pixels),
           exit(pixels),
           norm(pixels) {}
@@ -50,7 +50,7 @@ struct RayTableVectors {
                                {crossed.data(), crossed.size()},
                                {walked.data(), walked.size()},
                                {hits.data(), hits.size()},
-                               {corrections.data(), corrections.size()}};
+                               {opinions.data(), opinions.size()}};
     }
 };
 

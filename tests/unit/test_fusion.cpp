@@ -1,9 +1,12 @@
-// Requirements: multi-sensor ray fusion (independent opinion pool), skipped
-// readings, validation of sensor descriptions, no allocation while fusing.
+// Requirements: multi-sensor fusion with one opinion per sensor, voxel and
+// frame ("occupied wins"), skipped readings, validation of sensor
+// descriptions, no allocation while fusing.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -19,7 +22,9 @@ struct SmallGrid {
     static constexpr std::size_t kN = 20U * 4U * 4U;
     std::int16_t lo[kN];
     std::uint8_t ob[kN];
+    std::int16_t scratch_storage[kN];
     EvidenceGrid grid;
+    Span<std::int16_t> scratch{scratch_storage};
     SmallGrid() {
         const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{20, 4, 4}).value();
         grid = EvidenceGrid::make(g, lo, ob).value();
@@ -50,7 +55,7 @@ TEST_CASE("fusion: a ray clears the voxels before the reading, marks the reading
     const SensorModelTable model;
     const Eigen::Vector3f p(0.0F, 0.0F, 1.5625F);  // reaches world x = 1.0625: voxel x = 10
     const SensorReading r = looking_along_x(Span<const Eigen::Vector3f>(&p, 1));
-    const FusionStats st = fuse_sensor(s.grid, r, model).value();
+    const FusionStats st = fuse_sensor(s.grid, r, model, s.scratch).value();
     CHECK(st.rays_fused == 1U);
     CHECK(st.readings_in_grid == 1U);
     CHECK(st.voxel_updates == 11U);
@@ -66,25 +71,87 @@ TEST_CASE("fusion: a ray clears the voxels before the reading, marks the reading
 }
 
 // verifies: SR-FUSE-002
-TEST_CASE("fusion: the evidence of every ray adds (independent opinion pool)") {
+TEST_CASE("fusion: a sensor gives each voxel one opinion per frame, however many of its rays reach it") {
     SmallGrid s;
     const SensorModelTable model;
     const Eigen::Vector3f pts[3] = {{0.0F, 0.0F, 1.55F}, {0.0F, 0.0F, 1.55F}, {0.0F, 0.0F, 1.55F}};
     const SensorReading r = looking_along_x(pts);
-    REQUIRE(fuse_sensor(s.grid, r, model).ok());
-    CHECK(s.at(10, 1, 1) == 3 * model.reading_evidence());
-    CHECK(s.at(3, 1, 1) == 3 * model.constant_free_evidence());
+    REQUIRE(fuse_sensor(s.grid, r, model, s.scratch).value().voxel_updates == 33U);  // 3 rays x 11 voxels visited
+    CHECK(s.at(10, 1, 1) == model.reading_evidence());     // not 3 x
+    CHECK(s.at(3, 1, 1) == model.constant_free_evidence());
 }
 
 // verifies: SR-FUSE-002
-TEST_CASE("fusion: evidence saturates instead of wrapping when very many rays cross a voxel") {
+TEST_CASE("fusion: a voxel holding N readings stays occupied when M >> N other rays of the frame cross it") {
     SmallGrid s;
     const SensorModelTable model;
-    std::vector<Eigen::Vector3f> pts(2000, Eigen::Vector3f(0.0F, 0.0F, 1.55F));
+    // N = 3 readings in voxel x = 10; M = 2000 rays along the same line to
+    // voxel x = 15, each crossing voxel 10 with full free evidence.
+    std::vector<Eigen::Vector3f> pts(2000, Eigen::Vector3f(0.0F, 0.0F, 2.05F));
+    pts.insert(pts.begin() + 700, 3, Eigen::Vector3f(0.0F, 0.0F, 1.55F));
     const SensorReading r = looking_along_x(Span<const Eigen::Vector3f>(pts.data(), pts.size()));
-    REQUIRE(fuse_sensor(s.grid, r, model).ok());
-    CHECK(s.at(3, 1, 1) == kLogOddsMin);  // 2000 * -61 would wrap an int16
-    CHECK(s.at(10, 1, 1) == kLogOddsMax);
+    REQUIRE(fuse_sensor(s.grid, r, model, s.scratch).ok());
+    CHECK(s.at(10, 1, 1) == model.reading_evidence());  // the per-ray sum of the old model: 3 x 62 - 2000 x 61, saturated free
+    CHECK(s.at(15, 1, 1) == model.reading_evidence());
+    CHECK(s.at(3, 1, 1) == model.constant_free_evidence());  // 2003 crossing rays: one opinion, no saturation
+    CHECK(probability_from_log_odds(s.at(10, 1, 1)) == doctest::Approx(model.params().p_hit).epsilon(0.001));
+}
+
+// verifies: SR-FUSE-002
+TEST_CASE("fusion: of a sensor's free opinions of a voxel the weakest wins: a ray whose reading is near keeps it") {
+    SmallGrid s;
+    const SensorModelTable model;
+    // Both rays cross voxel 9 (x 0.9 .. 1.0): one ends at x = 1.5 (0.5 m on), the
+    // other at x = 1.0625 (6.25 cm on, on its ramp); either order gives the ramp value.
+    const Eigen::Vector3f far_then_near[2] = {{0.0F, 0.0F, 2.0F}, {0.0F, 0.0F, 1.5625F}};
+    const Eigen::Vector3f near_then_far[2] = {{0.0F, 0.0F, 1.5625F}, {0.0F, 0.0F, 2.0F}};
+    REQUIRE(fuse_sensor(s.grid, looking_along_x(far_then_near), model, s.scratch).ok());
+    CHECK(s.at(9, 1, 1) == model.free_evidence(0.0625));
+    CHECK(s.at(10, 1, 1) == model.reading_evidence());  // the near ray's reading: crossed by the far ray, still a hit
+    SmallGrid t;
+    REQUIRE(fuse_sensor(t.grid, looking_along_x(near_then_far), model, t.scratch).ok());
+    CHECK(std::equal(s.lo, s.lo + SmallGrid::kN, t.lo));
+}
+
+// verifies: SR-FUSE-002
+TEST_CASE("fusion: across the sensors of a frame occupied wins, hits add, frees add, all clamped, in any order") {
+    const SensorModelTable model;
+    const Eigen::Vector3f hit_at_10(0.0F, 0.0F, 1.55F);   // voxel x = 10
+    const Eigen::Vector3f hit_at_15(0.0F, 0.0F, 2.05F);   // crosses voxel 10
+    SensorReading a = looking_along_x(Span<const Eigen::Vector3f>(&hit_at_10, 1));
+    SensorReading b = looking_along_x(Span<const Eigen::Vector3f>(&hit_at_15, 1));
+    const auto fused = [&](std::initializer_list<SensorReading> sensors) {
+        auto s = std::make_unique<SmallGrid>();
+        const std::vector<SensorReading> v(sensors);
+        REQUIRE(fuse_frame(s->grid, Span<const SensorReading>(v.data(), v.size()), model, s->scratch).ok());
+        return s;
+    };
+    const auto ab = fused({a, b});
+    const auto ba = fused({b, a});
+    CHECK(ab->at(10, 1, 1) == model.reading_evidence());  // b's free opinion does not lower a's hit
+    CHECK(ab->at(15, 1, 1) == model.reading_evidence());
+    CHECK(std::equal(ab->lo, ab->lo + SmallGrid::kN, ba->lo));
+    CHECK(std::equal(ab->ob, ab->ob + SmallGrid::kN, ba->ob));
+    // Two sensors hit the voxel: their hits add, clamped to p_clamp_max; two free opinions add, clamped to p_clamp_min.
+    const auto aa = fused({a, a});
+    CHECK(aa->at(10, 1, 1) == std::min<std::int32_t>(2 * model.reading_evidence(), model.pooled_max()));
+    CHECK(aa->at(3, 1, 1) == std::max<std::int32_t>(2 * model.constant_free_evidence(), model.pooled_min()));
+    const auto eight = fused({a, a, a, a, a, a, a, a});
+    CHECK(eight->at(10, 1, 1) == model.pooled_max());
+    CHECK(eight->at(3, 1, 1) == model.pooled_min());
+}
+
+// verifies: SR-FUSE-004
+TEST_CASE("fusion: a scratch shorter than the grid is refused and the grid stays untouched") {
+    SmallGrid s;
+    const SensorModelTable model;
+    const Eigen::Vector3f p(0.0F, 0.0F, 1.55F);
+    const SensorReading r = looking_along_x(Span<const Eigen::Vector3f>(&p, 1));
+    CHECK(fuse_sensor(s.grid, r, model, s.scratch.subspan(0U, SmallGrid::kN - 1U)).error() ==
+          ErrorCode::kStorageTooSmall);
+    CHECK(fuse_frame(s.grid, Span<const SensorReading>(&r, 1U), model, Span<std::int16_t>()).error() ==
+          ErrorCode::kStorageTooSmall);
+    CHECK(s.grid.observed_count() == 0U);
 }
 
 // verifies: SR-FUSE-003
@@ -100,7 +167,7 @@ TEST_CASE("fusion: NaN, infinite, zero, behind-the-sensor and out-of-range readi
     };
     SensorReading r = looking_along_x(pts);
     r.min_range = 0.1F;
-    const FusionStats st = fuse_sensor(s.grid, r, model).value();
+    const FusionStats st = fuse_sensor(s.grid, r, model, s.scratch).value();
     CHECK(st.skipped_nan == 1U);
     CHECK(st.skipped_infinite == 1U);
     CHECK(st.skipped_zero == 1U);
@@ -122,7 +189,7 @@ TEST_CASE("fusion: a depth image's invalid pixels are skipped and counted by kin
     r.kind = SensorDataKind::kDepthImage;
     r.depth = depth;
     r.intrinsics = PinholeIntrinsics{100.0, 100.0, 1.0, 0.5, 3, 2};
-    const FusionStats st = fuse_sensor(s.grid, r, model).value();
+    const FusionStats st = fuse_sensor(s.grid, r, model, s.scratch).value();
     CHECK(st.rays_fused == 2U);
     CHECK(st.skipped_zero == 1U);
     CHECK(st.skipped_nan == 1U);
@@ -141,7 +208,7 @@ TEST_CASE("fusion: a depth pixel is fused along its own ray through the pinhole"
     r.kind = SensorDataKind::kDepthImage;
     r.depth = depth;
     r.intrinsics = PinholeIntrinsics{10.0, 10.0, 10.0, 0.0, 1, 1};
-    REQUIRE(fuse_sensor(s.grid, r, model).value().readings_in_grid == 1U);
+    REQUIRE(fuse_sensor(s.grid, r, model, s.scratch).value().readings_in_grid == 1U);
     // Sensor x maps to world y: the reading is at world (0.45, 0.35, 0.15).
     CHECK(s.at(4, 3, 1) == model.reading_evidence());
 }
@@ -155,26 +222,26 @@ TEST_CASE("fusion: an invalid sensor description is refused and the grid stays u
     SensorReading skewed = good;
     skewed.pose.linear()(0, 0) = 0.5;  // not a rotation
     const SensorReading two[2] = {good, skewed};
-    CHECK(fuse_frame(s.grid, two, model).error() == ErrorCode::kInvalidArgument);
+    CHECK(fuse_frame(s.grid, Span<const SensorReading>(two), model, s.scratch).error() == ErrorCode::kInvalidArgument);
     CHECK(s.grid.observed_count() == 0U);  // the good sensor was not fused either
 
     SensorReading bad_range = good;
     bad_range.max_range = 0.0F;
-    CHECK(fuse_sensor(s.grid, bad_range, model).error() == ErrorCode::kInvalidArgument);
+    CHECK(fuse_sensor(s.grid, bad_range, model, s.scratch).error() == ErrorCode::kInvalidArgument);
     SensorReading nan_pose = good;
     nan_pose.pose.translation().x() = std::nan("");
-    CHECK(fuse_sensor(s.grid, nan_pose, model).error() == ErrorCode::kNonFiniteValue);
+    CHECK(fuse_sensor(s.grid, nan_pose, model, s.scratch).error() == ErrorCode::kNonFiniteValue);
     SensorReading bad_image = good;
     bad_image.kind = SensorDataKind::kDepthImage;
     bad_image.intrinsics = PinholeIntrinsics{100.0, 100.0, 1.0, 1.0, 3, 2};
     const float five[5] = {};
     bad_image.depth = five;
-    CHECK(fuse_sensor(s.grid, bad_image, model).error() == ErrorCode::kMalformedInput);
+    CHECK(fuse_sensor(s.grid, bad_image, model, s.scratch).error() == ErrorCode::kMalformedInput);
     bad_image.intrinsics.fx = 0.0;
-    CHECK(fuse_sensor(s.grid, bad_image, model).error() == ErrorCode::kInvalidArgument);
+    CHECK(fuse_sensor(s.grid, bad_image, model, s.scratch).error() == ErrorCode::kInvalidArgument);
     SensorReading many[kMaxSensors + 1];
     for (auto& m : many) m = good;
-    CHECK(fuse_frame(s.grid, many, model).error() == ErrorCode::kCapacityExceeded);
+    CHECK(fuse_frame(s.grid, Span<const SensorReading>(many), model, s.scratch).error() == ErrorCode::kCapacityExceeded);
     CHECK(s.grid.observed_count() == 0U);
 }
 
@@ -188,9 +255,10 @@ TEST_CASE("fusion: fusing the simulated four-sensor frame allocates no memory") 
                                            Span<std::uint8_t>(ob.data(), ob.size())).value();
     const SensorModelTable model;
     const Span<const SensorReading> readings(frame.readings.data(), frame.readings.size());
+    std::vector<std::int16_t> scratch(g.voxel_count());
     const test::AllocationScope scope;
     grid.clear();
-    const Result<FusionStats> st = fuse_frame(grid, readings, model);
+    const Result<FusionStats> st = fuse_frame(grid, readings, model, {scratch.data(), scratch.size()});
     const std::size_t allocations = scope.allocations();
     REQUIRE(st.ok());
     CHECK(allocations == 0U);
@@ -211,10 +279,12 @@ TEST_CASE("fusion: the exact traversal and the paper's Bresenham option both fus
                                            Span<std::uint8_t>(ob.data(), ob.size())).value();
     const SensorModelTable model;
     const Span<const SensorReading> readings(frame.readings.data(), frame.readings.size());
+    std::vector<std::int16_t> scratch(g.voxel_count());
     grid.clear();
-    const FusionStats exact = fuse_frame(grid, readings, model, Rasterization::kExact).value();
+    const FusionStats exact = fuse_frame(grid, readings, model, {scratch.data(), scratch.size()}, Rasterization::kExact).value();
     grid.clear();
-    const FusionStats bres = fuse_frame(grid, readings, model, Rasterization::kBresenham3d).value();
+    const FusionStats bres =
+        fuse_frame(grid, readings, model, {scratch.data(), scratch.size()}, Rasterization::kBresenham3d).value();
     CHECK(exact.rays_fused == bres.rays_fused);
     CHECK(bres.voxel_updates < exact.voxel_updates);  // Bresenham misses voxels
     CHECK(bres.voxel_updates > exact.voxel_updates / 3U);  // one voxel per dominant-axis step

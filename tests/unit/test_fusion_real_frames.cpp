@@ -36,8 +36,9 @@ TEST_CASE("fusion: a real Kinect frame with NaN pixels fuses, skipping and count
     r.points = Span<const Eigen::Vector3f>(points.data(), points.size());
     r.max_range = 8.0F;
     const SensorModelTable model;
+    std::vector<std::int16_t> scratch(g.voxel_count());
     const test::AllocationScope scope;
-    const FusionStats s = fuse_sensor(grid, r, model).value();
+    const FusionStats s = fuse_sensor(grid, r, model, {scratch.data(), scratch.size()}).value();
     CHECK(scope.allocations() == 0U);
     CHECK(s.skipped_nan == info.nonfinite_points);  // 35,625 NaN pixels in this frame
     CHECK(s.skipped_nan == 35625U);

@@ -61,7 +61,9 @@ std::uint32_t faults_of_one_cycle(const SensorReading& reading) {
     FixedClock clock;
     ControllerConfig cc;
     cc.sensor_count = 1U;
-    SafetyController controller(cc, grid, {prior.data(), prior.size()}, zones, model, clock, nullptr);
+    std::vector<std::int16_t> scratch(g.voxel_count());
+    SafetyController controller(cc, grid, {scratch.data(), scratch.size()}, {prior.data(), prior.size()}, zones, model,
+                                clock, nullptr);
     SensorInput in;
     in.reading = reading;
     in.present = true;
@@ -164,7 +166,8 @@ TEST_CASE("pcd input: the fuzz corpus's PCD files and a real Kinect frame") {
     std::vector<std::uint8_t> ob(g.voxel_count());
     EvidenceGrid grid = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
     grid.clear();
-    const Result<FusionStats> f = fuse_sensor(grid, r, SensorModelTable{});
+    std::vector<std::int16_t> scratch(g.voxel_count());
+    const Result<FusionStats> f = fuse_sensor(grid, r, SensorModelTable{}, {scratch.data(), scratch.size()});
     REQUIRE(f.ok());
     CHECK(f.value().rays_fused + f.value().skipped() == k.points);
     CHECK(f.value().voxel_updates > 0U);

@@ -106,9 +106,11 @@ void simulated_background(BackgroundGrid& bg, int frames) {
     EvidenceGrid frame = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
     const sim::SimulatedFrame empty = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const SensorModelTable model;
+    std::vector<std::int16_t> scratch(g.voxel_count());
     for (int i = 0; i < frames; ++i) {
         frame.clear();
-        REQUIRE(fuse_frame(frame, {empty.readings.data(), empty.readings.size()}, model).ok());
+        REQUIRE(fuse_frame(frame, {empty.readings.data(), empty.readings.size()}, model, {scratch.data(), scratch.size()})
+                    .ok());
         REQUIRE(accumulate_background(bg.grid, frame).ok());
     }
 }

@@ -32,30 +32,30 @@ OwnedTable make_table(const GridGeometry& g, const SensorReading& r) { return Ow
 struct OwnedGrid {
     std::vector<std::int16_t> lo;
     std::vector<std::uint8_t> ob;
+    std::vector<std::int16_t> scratch;
     EvidenceGrid grid;
-    explicit OwnedGrid(const GridGeometry& g) : lo(g.voxel_count()), ob(g.voxel_count()) {
+    Span<std::int16_t> fusion_scratch() { return {scratch.data(), scratch.size()}; }
+    explicit OwnedGrid(const GridGeometry& g) : lo(g.voxel_count()), ob(g.voxel_count()), scratch(g.voxel_count()) {
         grid = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
         grid.clear();
     }
 };
 
 
-/// The table's evidence as the plain per-ray walk, summed exactly: for each
+/// The sensor model applied ray by ray to the table's entries: for each
 /// pixel, every entry the ray leaves before the reading gets the profile's
-/// evidence (constant, then the ramp), the reading's entry the peak.
-struct ExactSums {
-    std::vector<std::int64_t> sum;
-    std::vector<std::uint8_t> crossed;
+/// free opinion (constant, then the ramp), the reading's entry the hit; each
+/// voxel keeps the largest opinion (fusion.hpp), kNoOpinion where no ray
+/// reached it.
+struct ExactOpinions {
+    std::vector<std::int16_t> opinion;
 };
 
-ExactSums walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, const SensorModelTable& model,
-                       std::size_t voxel_count) {
-    ExactSums out{std::vector<std::int64_t>(voxel_count, 0), std::vector<std::uint8_t>(voxel_count, 0U)};
+ExactOpinions walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, const SensorModelTable& model,
+                           std::size_t voxel_count) {
+    ExactOpinions out{std::vector<std::int16_t>(voxel_count, kNoOpinion)};
     const auto ramp = static_cast<float>(model.ramp_length());
-    const auto add = [&](std::uint32_t v, std::int16_t e) {
-        out.sum[v] += e;
-        out.crossed[v] = 1U;
-    };
+    const auto add = [&](std::uint32_t v, std::int16_t e) { out.opinion[v] = std::max(out.opinion[v], e); };
     for (std::size_t i = 0; i < r.depth.size(); ++i) {
         const float d = r.depth[i];
         if (!std::isfinite(d) || d <= 0.0F) {
@@ -80,12 +80,14 @@ ExactSums walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, con
     return out;
 }
 
-/// Voxels where the fused grid is not the exact sums saturated once.
-std::size_t differs_from_exact(const OwnedGrid& fused, const ExactSums& exact) {
+/// Voxels where the fused grid (one sensor into a cleared grid) is not the
+/// exact opinions pooled.
+std::size_t differs_from_exact(const OwnedGrid& fused, const ExactOpinions& exact, const SensorModelTable& model) {
     std::size_t differ = 0;
-    for (std::size_t v = 0; v < exact.sum.size(); ++v) {
-        const std::int64_t clamped = std::clamp<std::int64_t>(exact.sum[v], kLogOddsMin, kLogOddsMax);
-        differ += (fused.lo[v] != clamped || fused.ob[v] != exact.crossed[v]) ? 1U : 0U;
+    for (std::size_t v = 0; v < exact.opinion.size(); ++v) {
+        const bool reached = exact.opinion[v] != kNoOpinion;
+        const std::int16_t want = reached ? model.pool(0, exact.opinion[v]) : std::int16_t{0};
+        differ += (fused.lo[v] != want || (fused.ob[v] != 0U) != reached) ? 1U : 0U;
     }
     return differ;
 }
@@ -114,7 +116,7 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
     FusionStats direct_stats;
     FusionStats table_stats;
     for (const SensorReading& r : frame.readings) {
-        direct_stats.add(fuse_sensor(direct.grid, r, model).value());
+        direct_stats.add(fuse_sensor(direct.grid, r, model, direct.fusion_scratch()).value());
         const OwnedTable t = make_table(g, r);
         table_stats.add(t.table.fuse(tabled.grid, r.depth, model).value());
     }
@@ -137,7 +139,7 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
 }
 
 // verifies: SR-FUSE-006
-TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evidence") {
+TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of the per-ray walk") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     // The paper's grid (compact entries) and the same cell in 2.5 cm voxels
     // (244,800 voxels: wide entries).
@@ -185,17 +187,17 @@ TEST_CASE("ray table: each crossed voxel gets the exact sum of the per-ray evide
                 r.depth = Span<const float>(cases[c].data(), cases[c].size());
                 OwnedGrid fused(g);
                 const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
-                const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
+                const ExactOpinions exact = walk_per_ray(t, r, model, g.voxel_count());
                 CHECK(st.voxel_updates > 0U);
                 MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
-                CHECK(differs_from_exact(fused, exact) == 0U);
+                CHECK(differs_from_exact(fused, exact, model) == 0U);
             }
         }
     }
 }
 
 // verifies: SR-FUSE-006
-TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, give the exact sums for rays of every length") {
+TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, give the exact opinions for rays of every length") {
     // The search for the end of the constant part compares keys with a
     // limit. A search that ends one entry late gives a ramp voxel only the
     // constant, and readings on a boundary are where that shows (tried: it
@@ -241,69 +243,12 @@ TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, 
             r.depth = Span<const float>(cases[c].data(), cases[c].size());
             OwnedGrid fused(g);
             REQUIRE(t.table().fuse(fused.grid, r.depth, model).ok());
-            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g.voxel_count())) == 0U);
+            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g.voxel_count()), model) == 0U);
         }
     }
     MESSAGE("rays of " << shortest << " to " << longest << " entries");
     CHECK(shortest < 32U);
     CHECK(longest > 32U);
-}
-
-// verifies: SR-FUSE-006, SR-FUSE-002
-TEST_CASE("ray table: evidence beyond the saturation bound is the exact sum clamped once, never wrapped") {
-    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    const GridGeometry g = paper_grid_geometry();
-    // Strong free evidence: two rays through one voxel pass -32767.
-    const SensorModelTable model = SensorModelTable::make(SensorModelParams{1e-30, 0.56, 0.10}).value();
-    REQUIRE(model.constant_free_evidence() < -16384);
-    for (const SensorReading& sensor : frame.readings) {
-        host::OwnedRayTable t;
-        REQUIRE(t.build(g, sensor).ok());
-        // Readings 1 mm before the grid exit: every crossed voxel but the
-        // last of each ray saturates, and the peaks of rays ending in a
-        // voxel that other rays cross must not lift it above the bound.
-        const std::vector<float> depth = depths_at(t, sensor.depth.size(), [&](std::size_t i) {
-            const std::uint32_t b = t.table().pixel_begin(i);
-            const std::uint32_t e = t.table().pixel_begin(i + 1U);
-            return e > b ? t.table().entry_exit(i, e - 1U) - 0.001F : sensor.max_range * 0.5F;
-        });
-        SensorReading r = sensor;
-        r.depth = Span<const float>(depth.data(), depth.size());
-        OwnedGrid fused(g);
-        REQUIRE(t.table().fuse(fused.grid, r.depth, model).ok());
-        const ExactSums exact = walk_per_ray(t, r, model, g.voxel_count());
-        std::size_t at_bound = 0;
-        for (std::size_t v = 0; v < g.voxel_count(); ++v) {
-            at_bound += fused.lo[v] == kLogOddsMin ? 1U : 0U;
-        }
-        MESSAGE("voxels at the bound: " << at_bound);
-        CHECK(at_bound > 0U);
-        CHECK(differs_from_exact(fused, exact) == 0U);
-    }
-}
-
-// verifies: SR-FUSE-006
-TEST_CASE("ray table: a model whose corrections could overflow 32 bits is refused, the grid untouched") {
-    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    const GridGeometry g = paper_grid_geometry();
-    // Constant -32767: peak - constant = 32829; x 76,800 camera pixels > 2^31,
-    // x 25,344 lidar pixels < 2^31.
-    const SensorModelTable model = SensorModelTable::make(SensorModelParams{1e-60, 0.56, 0.10}).value();
-    REQUIRE(model.constant_free_evidence() == kLogOddsMin);
-    for (const SensorReading& sensor : frame.readings) {
-        CAPTURE(sensor.depth.size());
-        host::OwnedRayTable t;
-        REQUIRE(t.build(g, sensor).ok());
-        OwnedGrid fused(g);
-        const Result<FusionStats> st = t.table().fuse(fused.grid, sensor.depth, model);
-        const bool fits = static_cast<std::uint64_t>(sensor.depth.size()) * 32829U < (1ULL << 31U);
-        CHECK(st.ok() == fits);
-        if (!fits) {
-            CHECK(st.error() == ErrorCode::kInvalidArgument);
-            CHECK(std::all_of(fused.lo.begin(), fused.lo.end(), [](std::int16_t v) { return v == 0; }));
-            CHECK(std::all_of(fused.ob.begin(), fused.ob.end(), [](std::uint8_t v) { return v == 0U; }));
-        }
-    }
 }
 
 // verifies: SR-GEN-002
@@ -356,7 +301,7 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
             case 7: s.full_hits = s.full_hits.subspan(0, v.full_hits.size() - 1U); break;
             case 8: s.pixel_walked = s.pixel_walked.subspan(0, px - 1U); break;
             case 9: s.crossed_voxels = s.crossed_voxels.subspan(0, v.crossed.size() - 1U); break;
-            default: s.hit_correction = s.hit_correction.subspan(0, v.corrections.size() - 1U); break;
+            default: s.sensor_opinion = s.sensor_opinion.subspan(0, v.opinions.size() - 1U); break;
         }
         CHECK(RayTable::build(g, r, s).error() == ErrorCode::kStorageTooSmall);
     }
@@ -382,7 +327,7 @@ TEST_CASE("ray table: invalid depth values are skipped and counted like on-the-f
     OwnedGrid a(g);
     OwnedGrid b(g);
     const FusionStats st = t.table.fuse(a.grid, r.depth, model).value();
-    const FusionStats sd = fuse_sensor(b.grid, r, model).value();
+    const FusionStats sd = fuse_sensor(b.grid, r, model, b.fusion_scratch()).value();
     CHECK(st.skipped_nan == 1U);
     CHECK(st.skipped_infinite == 1U);
     CHECK(st.skipped_zero == sd.skipped_zero);
@@ -431,7 +376,7 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     // Working memory is not checked: fuse() writes it.
     v.walked[7] ^= 1U;
     v.hits[7] ^= 1U;
-    v.corrections[7] ^= 1;
+    v.opinions[7] ^= 1;
     CHECK(run_pass(check).first);
 
     std::uint8_t* const parts[] = {reinterpret_cast<std::uint8_t*>(v.voxels.data()),  // NOLINT: bit flips for the test

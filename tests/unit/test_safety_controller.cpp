@@ -44,7 +44,7 @@ public:
 struct Workcell {
     GridGeometry g = paper_grid_geometry();
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
-    std::vector<std::int16_t> frame_lo, bg_lo, prior;
+    std::vector<std::int16_t> frame_lo, bg_lo, prior, scratch;
     std::vector<std::uint8_t> frame_ob, bg_ob;
     std::vector<std::uint32_t> mask;
     EvidenceGrid frame_grid;
@@ -52,16 +52,16 @@ struct Workcell {
     SensorModelTable model;
 
     Workcell()
-        : frame_lo(g.voxel_count()), bg_lo(g.voxel_count()), prior(g.voxel_count()), frame_ob(g.voxel_count()),
-          bg_ob(g.voxel_count()), mask(g.voxel_count()) {
+        : frame_lo(g.voxel_count()), bg_lo(g.voxel_count()), prior(g.voxel_count()), scratch(g.voxel_count()),
+          frame_ob(g.voxel_count()), bg_ob(g.voxel_count()), mask(g.voxel_count()) {
         frame_grid = EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
         EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
         bg.clear();
         const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
         for (int i = 0; i < 8; ++i) {
-            frame_grid.clear();
-            REQUIRE(fuse_frame(frame_grid, {empty.readings.data(), empty.readings.size()}, model).ok());
-            REQUIRE(accumulate_background(bg, frame_grid).ok());
+            REQUIRE(fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
+                                          fusion_scratch())
+                        .ok());
         }
         AccessibilityParams params;
         const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
@@ -82,8 +82,9 @@ struct Workcell {
 
     // A controller over this cell's grid, prior, zones and model.
     SafetyController controller(const ControllerConfig& c, MonotonicClock& clock, CycleOutput* out = nullptr) {
-        return SafetyController(c, frame_grid, {prior.data(), prior.size()}, zones, model, clock, out);
+        return SafetyController(c, frame_grid, fusion_scratch(), {prior.data(), prior.size()}, zones, model, clock, out);
     }
+    Span<std::int16_t> fusion_scratch() { return {scratch.data(), scratch.size()}; }
     SafetyController controller(MonotonicClock& clock, CycleOutput* out = nullptr) { return controller(config(), clock, out); }
 };
 
@@ -388,7 +389,8 @@ TEST_CASE("controller: with commissioned background views, a bumped or covered s
 TEST_CASE("controller: a prior of the wrong size is refused for good") {
     Workcell w;
     TestClock clock;
-    SafetyController c(w.config(), w.frame_grid, {w.prior.data(), w.prior.size() - 1U}, w.zones, w.model, clock, nullptr);
+    SafetyController c(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size() - 1U}, w.zones,
+                       w.model, clock, nullptr);
     const Frame f(w, sim::reference_scene(), clock.t);
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
@@ -409,7 +411,8 @@ TEST_CASE("controller: zones of another grid, or no sensors or more than eight, 
     inside.box_max += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
     const CompiledZones other_zones =
         CompiledZones::compile(shifted, {&inside, 1U}, {other_mask.data(), other_mask.size()}, nullptr).value();
-    SafetyController wrong_grid(w.config(), w.frame_grid, {w.prior.data(), w.prior.size()}, other_zones, w.model, clock,
+    SafetyController wrong_grid(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size()}, other_zones,
+                                w.model, clock,
                                 nullptr);
     ControllerConfig none = w.config();
     none.sensor_count = 0U;

@@ -23,7 +23,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     crossed_voxels_.resize(grid.voxel_count());
     pixel_walked_.resize(pixels);
     hit_count_.resize(grid.voxel_count());
-    hit_correction_.resize(grid.voxel_count());
+    sensor_opinion_.resize(grid.voxel_count());
     const Result<RayTable> built = RayTable::build(
         grid, sensor,
         RayTableStorage{{compact_voxels_.data(), compact_voxels_.size()},
@@ -38,7 +38,7 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
                         {crossed_voxels_.data(), crossed_voxels_.size()},
                         {pixel_walked_.data(), pixel_walked_.size()},
                         {hit_count_.data(), hit_count_.size()},
-                        {hit_correction_.data(), hit_correction_.size()}},
+                        {sensor_opinion_.data(), sensor_opinion_.size()}},
         rasterization);
     if (!built.ok()) {
         return built.error();
@@ -53,7 +53,7 @@ std::size_t OwnedRayTable::storage_bytes() const noexcept {
            (pixel_begin_.size() + full_hits_.size() + crossed_voxels_.size() + pixel_walked_.size() + hit_count_.size()) *
                sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
-           hit_correction_.size() * sizeof(std::int32_t);
+           sensor_opinion_.size() * sizeof(std::int16_t);
 }
 
 }  // namespace cellguard::host

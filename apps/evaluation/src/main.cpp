@@ -346,8 +346,9 @@ int main(int argc, char** argv) {
     md << "# cellguard-eval results\n\n"
        << "Written by `cellguard-eval` (apps/evaluation). Grid: the paper's 34 x 30 x 30 voxels of 5 cm; r = 10 cm "
           "(2 voxels), t_B = "
-       << cfg.params.t_b << ", t_E = " << cfg.params.t_e << ", sensor profile " << cfg.sensor_model.p_origin << " / "
-       << cfg.sensor_model.p_reading << "; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
+       << cfg.params.t_b << ", t_E = " << cfg.params.t_e << ", sensor model: per sensor and frame p_miss "
+       << cfg.sensor_model.p_miss << ", p_hit " << cfg.sensor_model.p_hit << ", pooled frame evidence clamped to ["
+       << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
        << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham") << "; one G_B (background.toml) from "
        << cfg.background_frames << " empty frames; scores summed over " << cfg.foreground_frames
        << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "

@@ -1,16 +1,18 @@
 // cellguard-firmware-gen: renders the firmware's canned inputs on the host.
-// Usage: cellguard-firmware-gen <output dir>
+// Usage: cellguard-firmware-gen OUTPUT_DIR (and --help, --version)
 // Writes firmware_prior.hpp (write_prior_source_file), prior_values.hpp (the
 // same prior as an int16 array) and canned_frames.hpp (four depth sensors at
 // half the paper's resolution, three scenes). Every double and float
 // is written as a hexadecimal literal, so the targets read the exact bits.
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "cellguard/accessibility.hpp"
 #include "cellguard/evidence_grid.hpp"
 #include "cellguard/fusion.hpp"
+#include "cellguard/host/cli.hpp"
 #include "cellguard/linux/prior_files.hpp"
 #include "cellguard/prior_image.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -53,14 +55,55 @@ std::string hex_float(float v) {
     return b;
 }
 
+constexpr const char* kProgram = "cellguard-firmware-gen";
+
+constexpr const char* kUsage =
+    "usage: cellguard-firmware-gen OUTPUT_DIR\n"
+    "\n"
+    "Renders the firmware's canned inputs on the host into the existing folder\n"
+    "OUTPUT_DIR: firmware_prior.hpp (the prior image as flash source),\n"
+    "prior_values.hpp (the same prior as an int16 array) and canned_frames.hpp\n"
+    "(four depth sensors at half the paper's resolution, three scenes), every\n"
+    "double and float as a hexadecimal literal. The checked-in copies are in\n"
+    "apps/firmware/generated.\n"
+    "\n"
+    "  --help     this text\n"
+    "  --version  print the version and exit\n"
+    "\n"
+    "Exit status: 0 written, 1 a computation or a write failed, 2 bad command line.\n";
+
+/// Reads the command line: the output folder into @p dir and -1 to run, else
+/// the exit status (0 after --help or --version, 2 after a usage error).
+int parse_args(int argc, char** argv, std::string& dir) {
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+            std::fputs(kUsage, stdout);
+            return 0;
+        }
+        if (std::strcmp(argv[i], "--version") == 0) {
+            host::print_version(kProgram);
+            return 0;
+        }
+        if (std::strncmp(argv[i], "--", 2U) == 0) {
+            return host::usage_error(kProgram, (std::string("unknown option '") + argv[i] + "'").c_str());
+        }
+    }
+    if (argc != 2) {
+        return host::usage_error(kProgram, argc < 2 ? "needs one argument, the output folder OUTPUT_DIR"
+                                                    : "expects one argument, the output folder OUTPUT_DIR");
+    }
+    dir = argv[1];
+    return -1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: %s <output dir>\n", argv[0]);
-        return 2;
+    std::string dir;
+    const int parse_status = parse_args(argc, argv, dir);
+    if (parse_status >= 0) {
+        return parse_status;
     }
-    const std::string dir = argv[1];
     const GridGeometry g = paper_grid_geometry();
     const std::vector<sim::SensorSpec> sensors = firmware_sensors();
     const SensorModelTable model;
@@ -72,10 +115,11 @@ int main(int argc, char** argv) {
     EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
     bg.clear();
     const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
+    std::vector<std::int16_t> scratch(g.voxel_count());
     for (int i = 0; i < 8; ++i) {
-        frame.clear();
-        if (!fuse_frame(frame, {empty.readings.data(), empty.readings.size()}, model).ok() ||
-            !accumulate_background(bg, frame).ok()) {
+        if (!fuse_background_frame(bg, frame, {empty.readings.data(), empty.readings.size()}, model,
+                                   {scratch.data(), scratch.size()})
+                 .ok()) {
             std::fprintf(stderr, "fusion of the background failed\n");
             return 1;
         }

@@ -24,6 +24,7 @@ using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_
 
 // The frame grid and the zone membership mask: static storage (.bss).
 GridStorage g_grid;                              // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the frame grid's storage, in .bss by design
+std::int16_t g_fusion_scratch[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): fusion's per-sensor working memory, in .bss by design
 std::uint32_t g_zone_mask[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
 
 static_assert(prior::kVoxelCount == GridStorage::kVoxels, "the prior was generated for another grid");
@@ -265,7 +266,7 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     const ControllerConfig config = scenario_controller_config(canned::kSensorCount);
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of g_grid
-    SafetyController controller(config, frame_grid,
+    SafetyController controller(config, frame_grid, Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels),
                                 Span<const std::int16_t>(prior::kValues, GridStorage::kVoxels), zones.value(),
                                 model, clock, &output);
     summary.prior_crc = controller.prior_crc();

@@ -346,6 +346,7 @@ int main(int argc, char** argv) {
     SensorModelTable model;
     std::vector<std::int16_t> frame_lo(g.voxel_count()), prior(g.voxel_count());
     std::vector<std::uint8_t> frame_ob(g.voxel_count());
+    std::vector<std::int16_t> fusion_scratch(g.voxel_count());  // fuse_sensor's per-sensor opinions
     EvidenceGrid frame_grid =
         EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
     if (cfg.prior.source == PriorSource::kFile) {
@@ -368,9 +369,9 @@ int main(int argc, char** argv) {
         bg.clear();
         const sim::SimulatedFrame empty = sim::render_frame(specs, sim::reference_scene());
         for (int i = 0; i < cfg.prior.background_frames; ++i) {
-            frame_grid.clear();
-            if (!fuse_frame(frame_grid, {empty.readings.data(), empty.readings.size()}, model).ok() ||
-                !accumulate_background(bg, frame_grid).ok()) {
+            if (!fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
+                                       {fusion_scratch.data(), fusion_scratch.size()})
+                     .ok()) {
                 std::fprintf(stderr, "cellguard-monitor: background: fusing the empty frames failed\n");
                 return 1;
             }
@@ -463,7 +464,8 @@ int main(int argc, char** argv) {
         bool publish(const CycleReport& r) noexcept override { return target != nullptr && target->publish(r); }
         CanSafetyOutput* target = nullptr;
     } forward;
-    SafetyController controller(cc, frame_grid, {prior.data(), prior.size()}, zones, model, clock, &forward);
+    SafetyController controller(cc, frame_grid, {fusion_scratch.data(), fusion_scratch.size()},
+                                {prior.data(), prior.size()}, zones, model, clock, &forward);
     SafetyOutputConfig oc;
     oc.channel = cfg.can.channel;
     oc.zone_count = static_cast<std::uint8_t>(zones.size());

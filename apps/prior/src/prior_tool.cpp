@@ -413,21 +413,19 @@ IoStatus accumulate_frames(FrameSource& frames, BackgroundGrid& background, cons
     }
     const SensorModelTable model;
     std::vector<SensorReading> readings;
+    std::vector<std::int16_t> scratch(g.voxel_count());
     const std::size_t total = frames.frame_count();
     for (std::size_t k = 0U; k < total; ++k) {
         st = frames.frame(k, readings);
         if (!st.ok()) {
             return st;
         }
-        frame.grid.clear();
-        const Result<FusionStats> fused = fuse_frame(frame.grid, {readings.data(), readings.size()}, model);
+        const Result<FusionStats> fused = fuse_background_frame(background.grid, frame.grid,
+                                                                {readings.data(), readings.size()}, model,
+                                                                {scratch.data(), scratch.size()});
         if (!fused.ok()) {
-            return IoStatus::failure(fused.error(), "frame %zu: fusion refused it: %s", k, to_string(fused.error()));
-        }
-        const Status acc = accumulate_background(background.grid, frame.grid);
-        if (!acc.ok()) {
-            return IoStatus::failure(acc.error(), "frame %zu: accumulating the background: %s", k,
-                                     to_string(acc.error()));
+            return IoStatus::failure(fused.error(), "frame %zu: fusing it into the background failed: %s", k,
+                                     to_string(fused.error()));
         }
         if (progress) {
             progress(k + 1U, total);

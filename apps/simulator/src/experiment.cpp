@@ -30,7 +30,8 @@ SimulatedFrame render(const SceneFile& file, const ExperimentConfig& cfg, const 
 }
 }  // namespace
 
-OwnedGrid::OwnedGrid(const GridGeometry& g) : log_odds(g.voxel_count(), 0), observed(g.voxel_count(), 0U) {
+OwnedGrid::OwnedGrid(const GridGeometry& g)
+    : log_odds(g.voxel_count(), 0), observed(g.voxel_count(), 0U), scratch(g.voxel_count(), 0) {
     Result<EvidenceGrid> r = EvidenceGrid::make(g, Span<std::int16_t>(log_odds.data(), log_odds.size()),
                                                 Span<std::uint8_t>(observed.data(), observed.size()));
     if (!r.ok()) {
@@ -156,16 +157,15 @@ bool build_background(const SceneFile& file, const ExperimentConfig& cfg, Eviden
         const Clock::time_point t0 = Clock::now();
         const SimulatedFrame f = render(file, cfg, bg, file.seed * kSeedStride + static_cast<std::uint64_t>(i));
         const Clock::time_point t1 = Clock::now();
-        frame.grid.clear();
-        const Result<FusionStats> r =
-            fuse_frame(frame.grid, {f.readings.data(), f.readings.size()}, model.value(), cfg.rasterization);
+        const Result<FusionStats> r = fuse_background_frame(background, frame.grid, {f.readings.data(), f.readings.size()},
+                                                            model.value(), frame.fusion_scratch(), cfg.rasterization);
         if (fuse_ms_total != nullptr) {
             *fuse_ms_total += ms_since(t1);
         }
         if (render_ms_total != nullptr) {
             *render_ms_total += std::chrono::duration<double, std::milli>(t1 - t0).count();
         }
-        if (!r.ok() || !accumulate_background(background, frame.grid).ok()) {
+        if (!r.ok()) {
             return false;
         }
     }
@@ -239,7 +239,8 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
         const Clock::time_point t1 = Clock::now();
         render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
         out.last_frame.grid.clear();
-        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model.value(), cfg.rasterization)
+        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
+                        out.last_frame.fusion_scratch(), cfg.rasterization)
                  .ok()) {
             error = "fusing a foreground frame failed";
             return false;

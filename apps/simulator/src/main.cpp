@@ -59,20 +59,18 @@ int main(int argc, char** argv) {
     const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
     double fuse_ms = 0.0;
     FusionStats stats;
+    std::vector<std::int16_t> scratch(g.voxel_count());
     for (int f = 0; f < frames; ++f) {
-        frame_grid.clear();
         const auto t0 = std::chrono::steady_clock::now();
-        const Result<FusionStats> r = fuse_frame(frame_grid, {empty.readings.data(), empty.readings.size()}, model, raster);
+        const Result<FusionStats> r = fuse_background_frame(background, frame_grid,
+                                                            {empty.readings.data(), empty.readings.size()}, model,
+                                                            {scratch.data(), scratch.size()}, raster);
         fuse_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (!r.ok()) {
-            std::fprintf(stderr, "cellguard-sim: fusion failed: %s\n", to_string(r.error()));
+            std::fprintf(stderr, "cellguard-sim: fusing the background failed: %s\n", to_string(r.error()));
             return 1;
         }
         stats = r.value();
-        if (!accumulate_background(background, frame_grid).ok()) {
-            std::fprintf(stderr, "cellguard-sim: background accumulation failed\n");
-            return 1;
-        }
     }
     std::printf("background: %d frames, %u rays/frame (%u skipped), %.2f M voxel updates/frame, %.2f ms/frame mean\n",
                 frames, stats.rays_fused, stats.skipped(), static_cast<double>(stats.voxel_updates) / 1e6, fuse_ms / frames);
@@ -89,7 +87,9 @@ int main(int argc, char** argv) {
     with_person.boxes.push_back(sim::Box{{0.3, 0.45, 0.85}, {0.3, 0.3, 1.7}, 0.0, false});
     const sim::SimulatedFrame person = sim::render_frame(sensors, with_person);
     frame_grid.clear();
-    const FusionStats ps = fuse_frame(frame_grid, {person.readings.data(), person.readings.size()}, model, raster).value();
+    const FusionStats ps = fuse_frame(frame_grid, {person.readings.data(), person.readings.size()}, model,
+                                       {scratch.data(), scratch.size()}, raster)
+                                .value();
     std::size_t new_occupied = 0;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
         new_occupied += (fr_ob[i] != 0U && fr_lo[i] > 0 && bg_lo[i] <= 0) ? 1U : 0U;

@@ -93,6 +93,7 @@
 #include "cellguard/evidence_grid.hpp"
 #include "cellguard/grid.hpp"
 #include "cellguard/result.hpp"
+#include "cellguard/sensor_model.hpp"
 #include "cellguard/span.hpp"
 
 namespace cellguard {
@@ -202,6 +203,18 @@ constexpr AccessibilityScratchSize accessibility_scratch_size_any(GridDims dims)
 /// The relative bound eps on the fixed-point error of G_AR for @p t_e
 /// (see above): 1 / (2 * kAccessibilityCostUnitsPerNat * -ln(1 - t_e)).
 [[nodiscard]] double accessibility_cost_error_bound(double t_e) noexcept;
+
+/// Fewest background frames G_B needs for @p params.method with @p model:
+/// the smallest N >= 1 such that a voxel one sensor sees free (the constant
+/// free evidence) in each of N frames, summed and clamped as
+/// accumulate_background sums it, counts as empty: below t_E for the
+/// probabilistic method and its baseline, below t_B for the thresholded ones.
+/// Fewer frames leave seen-free space costly, and the probabilistic prior
+/// then marks most of the cell inaccessible (nothing there could be
+/// detected). 0 when no number of frames reaches it (clamp.min at or above
+/// the threshold). The commissioning tool and the monitor refuse fewer.
+[[nodiscard]] std::uint32_t min_background_frames(const AccessibilityParams& params, const SensorModelTable& model,
+                                                  BackgroundClamp clamp = BackgroundClamp{}) noexcept;
 
 }  // namespace cellguard
 

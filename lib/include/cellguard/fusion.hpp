@@ -1,22 +1,29 @@
 /// @file fusion.hpp
-/// Multi-sensor ray fusion into a frame evidence grid: the independent
-/// opinion pool, in integer log-odds.
+/// Multi-sensor fusion into a frame evidence grid, in integer log-odds, with
+/// the sensor model of sensor_model.hpp: one opinion per sensor, voxel and
+/// frame, pooled across the sensors with "occupied wins".
 ///
-/// Every valid reading is a ray from the sensor origin to the reading. The
-/// ray walks the grid (ray_traversal.hpp) and adds the sensor model's
-/// evidence (sensor_model.hpp) to every voxel it passes, saturating
-/// (add_finite_saturating), and sets the voxel's observed flag. The evidence
-/// of every ray adds: a voxel crossed by n rays gets the sum of n opinions.
+/// Every valid reading is a ray from the sensor origin to the reading. For
+/// one sensor, the rays walk the grid (ray_traversal.hpp) and write the
+/// sensor's opinion of each voxel they reach into caller scratch memory, one
+/// int16 per voxel: the maximum of what the rays say (a hit is above every
+/// free value, and of two free values the weaker one, nearer 0.5, is
+/// larger). Then every voxel the sensor has an opinion of is pooled into the
+/// grid (SensorModelTable::pool) and its observed flag is set. A voxel that
+/// holds a reading is therefore occupied in that frame however many rays
+/// cross it, its evidence does not grow with the number of rays, and the
+/// grid does not depend on the order of the rays or of the sensors.
 ///
 /// Readings that are NaN, infinite, zero, behind the sensor (z < 0 in the
 /// sensor frame), nearer than min_range or beyond max_range are skipped and
 /// counted, never fused. A reading beyond the grid still clears the voxels
-/// its ray crosses inside the grid, but adds no peak (the reading's voxel is
+/// its ray crosses inside the grid, but adds no hit (the reading's voxel is
 /// not in the grid).
 ///
-/// fuse_frame adds to the grid; clear the grid first for a fresh frame grid.
-/// It allocates nothing and its work is bounded by the sum over readings of
-/// the voxels each ray crosses (at most nx + ny + nz per ray).
+/// The grid must hold the pooled opinions of one frame only: clear it
+/// before the frame's first sensor. Fusion allocates nothing; its work is
+/// bounded by the sum over readings of the voxels each ray crosses (at most
+/// nx + ny + nz per ray) plus two passes over the scratch per sensor.
 #ifndef CELLGUARD_FUSION_HPP
 #define CELLGUARD_FUSION_HPP
 
@@ -38,7 +45,7 @@ struct FusionStats {
     std::uint32_t skipped_zero = 0;          ///< depth 0 or a point at the sensor origin
     std::uint32_t skipped_behind = 0;        ///< readings behind the sensor (z < 0)
     std::uint32_t skipped_out_of_range = 0;  ///< nearer than min_range or beyond max_range
-    std::uint64_t voxel_updates = 0;         ///< voxel evidence additions
+    std::uint64_t voxel_updates = 0;         ///< (voxel, ray) visits: the rays' work, not the number of opinions
     /// All skipped readings.
     [[nodiscard]] std::uint32_t skipped() const noexcept {
         return skipped_nan + skipped_infinite + skipped_zero + skipped_behind + skipped_out_of_range;
@@ -48,25 +55,52 @@ struct FusionStats {
     void add(const FusionStats& other) noexcept;
 };
 
-/// Fuses one sensor's reading into @p grid. The description is checked
-/// first (validate_sensor_reading); on error the grid is untouched.
+/// One frame of the empty cell into the background grid G_B: clears
+/// @p frame, fuses @p sensors into it (fuse_frame, through @p scratch) and
+/// accumulates it into @p background (accumulate_background with @p clamp).
+/// The one path by which the commissioning tool, the monitor and the
+/// simulator build G_B. Errors: those of fuse_frame and
+/// accumulate_background; on a fusion error the background is untouched.
+[[nodiscard]] Result<FusionStats> fuse_background_frame(EvidenceGrid& background, EvidenceGrid& frame,
+                                                        Span<const SensorReading> sensors,
+                                                        const SensorModelTable& model, Span<std::int16_t> scratch,
+                                                        Rasterization rasterization = Rasterization::kExact,
+                                                        BackgroundClamp clamp = BackgroundClamp{}) noexcept;
+
+/// The scratch value of a voxel the sensor has no opinion of (below every opinion).
+constexpr std::int16_t kNoOpinion = -32768;
+
+/// Fuses one sensor's reading into @p grid, using @p scratch (at least
+/// grid.voxel_count() elements; overwritten) for the sensor's opinions. The
+/// description is checked first (validate_sensor_reading). Errors: those of
+/// validate_sensor_reading, kStorageTooSmall for a short scratch; on error
+/// the grid is untouched.
 [[nodiscard]] Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading,
-                                              const SensorModelTable& model,
+                                              const SensorModelTable& model, Span<std::int16_t> scratch,
                                               Rasterization rasterization = Rasterization::kExact) noexcept;
 
-/// Fuses every sensor of one frame into @p grid. All descriptions are
-/// checked before any evidence is added: on error (kCapacityExceeded for
-/// more than kMaxSensors sensors, or a sensor's own error) the grid is
-/// untouched.
+/// Fuses every sensor of one frame into @p grid, one after another through
+/// @p scratch (as fuse_sensor). All descriptions are checked before any
+/// evidence is added: on error (kCapacityExceeded for more than kMaxSensors
+/// sensors, kStorageTooSmall, or a sensor's own error) the grid is untouched.
 [[nodiscard]] Result<FusionStats> fuse_frame(EvidenceGrid& grid, Span<const SensorReading> sensors,
-                                             const SensorModelTable& model,
+                                             const SensorModelTable& model, Span<std::int16_t> scratch,
                                              Rasterization rasterization = Rasterization::kExact) noexcept;
 
-/// Fuses one ray from @p origin to @p reading (workcell frame, metres) with
-/// the sensor model; returns the number of voxel updates. The building block
-/// of fuse_sensor, public for tests and tools. Non-finite input adds nothing.
-std::uint32_t fuse_ray(EvidenceGrid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& reading,
-                       const SensorModelTable& model, Rasterization rasterization, bool* reading_in_grid) noexcept;
+/// Writes one ray's opinions, from @p origin to @p reading (workcell frame,
+/// metres), into a sensor's @p opinions over the voxels of @p grid (each
+/// voxel keeps the maximum of its opinions, see the file comment); returns
+/// the number of voxels the ray reaches. The building block of fuse_sensor,
+/// public for tests and tools. Non-finite input writes nothing.
+std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry& grid, const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& reading, const SensorModelTable& model,
+                                 Rasterization rasterization, bool* reading_in_grid) noexcept;
+
+/// Pools a sensor's @p opinions (kNoOpinion: none) into @p grid and sets the
+/// observed flag of every voxel with an opinion; shared by fuse_sensor and
+/// tools that gather opinions themselves. The spans must hold at least
+/// grid.voxel_count() elements (checked by the caller).
+void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const SensorModelTable& model) noexcept;
 
 }  // namespace cellguard
 

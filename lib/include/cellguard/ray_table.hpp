@@ -12,9 +12,10 @@
 /// How a frame is fused (RayTable::fuse):
 /// - Pass 1, per pixel: a ray's voxels up to its reading are a prefix of its
 ///   pixel's list; the pass finds where the prefix ends (`pixel_walked`).
-///   Every walked voxel counts as if it got the sensor model's constant
-///   evidence; a ramp voxel or the reading's voxel adds its difference to
-///   the constant to `hit_correction`. Finding where the constant part ends
+///   A walked voxel's opinion (`sensor_opinion`, set to the model's constant
+///   free evidence first) is raised to a ramp value or to the hit when a
+///   ray's ramp or reading lies in it: the largest opinion wins, as in
+///   fuse_sensor (fusion.hpp). Finding where the constant part ends
 ///   costs nothing when the reading lies at least one ramp beyond where the
 ///   ray leaves the grid; otherwise it is a search of the pixel's entries.
 ///   In a compact table the search compares integer exit steps: a
@@ -24,7 +25,7 @@
 ///   window; elsewhere, and for wide tables, a branch-free binary search
 ///   runs a step at a time over 16 pixels together so that their chains of
 ///   dependent loads overlap.
-/// - Pass 2 counts the hits per voxel (`hit_count`): it counts the walked
+/// - Pass 2 counts the walks per voxel (`hit_count`): it counts the walked
 ///   entries, or, when more than half of the table was walked, starts from
 ///   the table's full counts (`full_hits`, made by build()) and takes off
 ///   the entries not walked. The entries of successive pixels are walked as
@@ -34,26 +35,19 @@
 /// - The working memory is set, and pass 3 visits, only the voxels some ray
 ///   of the table crosses (`crossed_voxels`, listed by build()): in a grid
 ///   much larger than the sensor's view the passes do not scale with it.
-/// - Pass 3 adds each crossed voxel's exact sum, hits x constant +
-///   correction (64-bit), with one saturation, and sets its observed flag.
-///   fuse() refuses a model whose corrections could overflow 32 bits
-///   (pixels x (peak - constant) >= 2^31; the paper's model is far below:
-///   76,800 x 124).
+/// - Pass 3 pools the opinion of each voxel that some walk reached into the
+///   grid (SensorModelTable::pool) and sets its observed flag: one opinion
+///   per voxel and frame, whatever the number of rays.
 ///
 /// Equivalence with fuse_sensor (fusion.hpp): the same voxels get the same
-/// evidence, except where a reading lies within float rounding of a voxel
+/// opinion, except where a reading lies within float rounding of a voxel
 /// face (the table puts a reading exactly on a face in the voxel the ray
 /// enters next; fuse_sensor uses the half-open rule of grid.hpp) or where a
 /// ray grazes a voxel edge (the table's ray is the pixel's exact direction,
 /// fuse_sensor's ray ends at the float reading; a compact table rounds exit
-/// distances to its exit step, 0.12 mm in the paper's cell). fuse_sensor saturates after
-/// every addition, the table once per voxel and frame, so the two also
-/// differ where one of fuse_sensor's partial sums reaches a saturation bound
-/// (+-32767, about +-128 nats): there the table's result is the exact sum,
-/// saturated, and does not depend on the order of the pixels. The unit tests
-/// bound how many voxels differ from fuse_sensor on the simulated workcell
-/// and check that every voxel equals the exact per-ray sum, saturated once,
-/// with and without saturation.
+/// distances to its exit step, 0.12 mm in the paper's cell). Neither path
+/// depends on the order of the pixels. The unit tests bound how many voxels
+/// differ from fuse_sensor on the simulated workcell and on the real frames.
 ///
 /// Storage is the caller's: `count_ray_steps` sizes it, `RayTable::build`
 /// fills it. The table is valid only for the pose, intrinsics, grid and
@@ -105,7 +99,7 @@ constexpr double kCompactStepsPerVoxelEdge = 256.0;
 /// per voxel how many rays cross it, and the working memory of fuse().
 /// Either the two `compact_` spans or the two `wide_` spans are used (see
 /// ray_table_is_compact); the others may be empty. The working memory
-/// (`pixel_walked`, `hit_count`, `hit_correction`) may be shared by tables
+/// (`pixel_walked`, `hit_count`, `sensor_opinion`) may be shared by tables
 /// that are fused one after another: fuse() sets it first.
 struct RayTableStorage {
     Span<std::uint16_t> compact_voxels{};      ///< count_ray_steps(...) entries if compact: voxel indices
@@ -120,7 +114,7 @@ struct RayTableStorage {
     Span<std::uint32_t> crossed_voxels{};  ///< grid.voxel_count() entries: build lists the voxels any ray crosses
     Span<std::uint32_t> pixel_walked{}; ///< width * height entries: working memory, where each pixel's walk ends
     Span<std::uint32_t> hit_count{};    ///< grid.voxel_count() entries: working memory, rays per voxel
-    Span<std::int32_t> hit_correction{};  ///< grid.voxel_count() entries: working memory, ramp and peak corrections
+    Span<std::int16_t> sensor_opinion{};  ///< grid.voxel_count() entries: working memory, the sensor's opinion per voxel
 };
 
 /// Number of entries (the length of each entry span) the table of this sensor
@@ -167,10 +161,10 @@ public:
 
     /// Fuses one depth image of this sensor into @p grid (same geometry as
     /// built for). Readings are classified and counted as by fuse_sensor;
-    /// `voxel_updates` counts the same (voxel, ray) additions as fuse_sensor.
+    /// `voxel_updates` counts the same (voxel, ray) visits as fuse_sensor.
     /// Errors: kGeometryMismatch, kMalformedInput when the image size
-    /// differs, kInvalidArgument for an empty table or a model whose
-    /// corrections could overflow (see above). On error the grid is untouched.
+    /// differs, kInvalidArgument for an empty table. On error the grid is
+    /// untouched.
     [[nodiscard]] Result<FusionStats> fuse(EvidenceGrid& grid, Span<const float> depth,
                                            const SensorModelTable& model) const noexcept;
 

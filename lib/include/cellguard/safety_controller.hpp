@@ -123,8 +123,13 @@ public:
     /// zones compiled for another grid, latch kPriorCheckFailed or
     /// kInternalCheck: the controller then stays in the safe state. The
     /// prior's and the zone mask's bytes and the zones' settings are CRC'd
-    /// now; the periodic checks compare against these.
-    SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<const std::int16_t> prior,
+    /// now; the periodic checks compare against these. @p fusion_scratch is
+    /// fuse_sensor's working memory for sensors without a ray table (at least
+    /// frame_grid.voxel_count() elements; may be empty when every sensor has
+    /// a table): a sensor that needs it and finds it too small is refused
+    /// every cycle (kFrameInconsistent), so the safe state follows.
+    SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<std::int16_t> fusion_scratch,
+                     Span<const std::int16_t> prior,
                      const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
                      CycleOutput* output) noexcept;
 
@@ -156,6 +161,7 @@ private:
 
     ControllerConfig config_;
     EvidenceGrid* grid_;
+    Span<std::int16_t> scratch_;  ///< fuse_sensor's working memory
     Span<const std::int16_t> prior_;
     const CompiledZones* zones_;
     const SensorModelTable* model_;

@@ -25,6 +25,10 @@ public:
     template <std::size_t N>
     // cppcheck-suppress noExplicitConstructor ; implicit from arrays, like std::span
     constexpr Span(T (&array)[N]) noexcept : data_(array), size_(N) {}  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit from arrays, like std::span
+    /// A read-only view of a mutable span (Span<T> to Span<const T>).
+    template <typename U, typename = std::enable_if_t<std::is_same<const U, T>::value>>
+    // cppcheck-suppress noExplicitConstructor ; implicit from mutable to const, like std::span
+    constexpr Span(Span<U> other) noexcept : data_(other.data()), size_(other.size()) {}  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit from mutable to const, like std::span
 
     /// Number of elements.
     [[nodiscard]] constexpr std::size_t size() const noexcept { return size_; }

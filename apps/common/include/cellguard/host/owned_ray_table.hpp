@@ -48,7 +48,7 @@ private:
     std::vector<std::uint32_t> crossed_voxels_;
     std::vector<std::uint32_t> pixel_walked_;
     std::vector<std::uint32_t> hit_count_;
-    std::vector<std::int32_t> hit_correction_;
+    std::vector<std::int16_t> sensor_opinion_;
     RayTable table_;
 };
 

@@ -50,7 +50,10 @@ struct OwnedGrid {
     OwnedGrid& operator=(OwnedGrid&&) noexcept = default;
     std::vector<std::int16_t> log_odds;  ///< storage of the log-odds
     std::vector<std::uint8_t> observed;  ///< storage of the observed flags
+    std::vector<std::int16_t> scratch;   ///< fusion's per-sensor working memory (fuse_frame), one per voxel
     EvidenceGrid grid;                   ///< the grid over that storage
+    /// The scratch as fuse_frame takes it.
+    [[nodiscard]] Span<std::int16_t> fusion_scratch() { return {scratch.data(), scratch.size()}; }
 };
 
 /// The four methods in the order of every result array.
