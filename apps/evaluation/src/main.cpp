@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <vector>
 
+#include "cellguard/host/cli.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/sim/experiment.hpp"
 #include "cellguard/host/png.hpp"
@@ -60,7 +61,10 @@ void usage() {
         "  --scale                    also run the large scene on a 256 x 256 x 128 grid over the whole cell and\n"
         "                             print fusion, prior and subtraction times (scale.md)\n"
         "  --scale-only               only that\n"
-        "  --scale-background-frames N  G_B frames of the scale run (default 10)");
+        "  --scale-background-frames N  G_B frames of the scale run (default 10)\n"
+        "  --help                     this text\n"
+        "  --version                  print the version and exit\n"
+        "Exit status: 0 done, 1 an experiment or an output failed, 2 bad command line.");
 }
 
 bool parse_int(const char* s, int lo, int hi, int& out) {
@@ -284,35 +288,56 @@ int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostrings
     return 0;
 }
 
-}  // namespace
+constexpr const char* kProgram = "cellguard-eval";
 
-int main(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
+/// The integer value of option argv[@p i] (1 ..@p hi) into @p out; -1 when
+/// taken, else the exit status of the usage error it printed.
+int int_value(int argc, char** argv, int& i, int hi, int& out) {
+    const char* name = argv[i];
+    const char* v = host::take_value(argc, argv, i);
+    if (v == nullptr) {
+        return host::needs_value(kProgram, name);
+    }
+    if (!parse_int(v, 1, hi, out)) {
+        const std::string m = std::string(name) + " expects an integer 1.." + std::to_string(hi) + ", got";
+        return host::usage_error(kProgram, m.c_str(), v);
+    }
+    return -1;
+}
+
+/// The value of option argv[@p i] into @p out; -1 when taken, else the exit status of "needs a value".
+int text_value(int argc, char** argv, int& i, std::string& out) {
+    const char* name = argv[i];
+    const char* v = host::take_value(argc, argv, i);
+    if (v == nullptr) {
+        return host::needs_value(kProgram, name);
+    }
+    out = v;
+    return -1;
+}
+
+/// Reads the command line into @p o: -1 to run, else the exit status
+/// (0 after --help or --version, 2 after a usage error).
+int parse_args(int argc, char** argv, Options& o) {
+    int status = -1;
+    for (int i = 1; i < argc && status < 0; ++i) {
         const char* a = argv[i];
-        const bool has_value = i + 1 < argc;
         if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
             usage();
-            return 0;
-        } else if (std::strcmp(a, "--scenes") == 0 && has_value) {
-            o.scenes_dir = argv[++i];
-        } else if (std::strcmp(a, "--out") == 0 && has_value) {
-            o.out_dir = argv[++i];
-        } else if (std::strcmp(a, "--background-frames") == 0 && has_value) {
-            if (!parse_int(argv[++i], 1, 100000, o.background_frames)) {
-                std::fprintf(stderr, "cellguard-eval: --background-frames needs 1..100000\n");
-                return 2;
-            }
-        } else if (std::strcmp(a, "--foreground-frames") == 0 && has_value) {
-            if (!parse_int(argv[++i], 1, 10000, o.foreground_frames)) {
-                std::fprintf(stderr, "cellguard-eval: --foreground-frames needs 1..10000\n");
-                return 2;
-            }
-        } else if (std::strcmp(a, "--scale-background-frames") == 0 && has_value) {
-            if (!parse_int(argv[++i], 1, 10000, o.scale_background_frames)) {
-                std::fprintf(stderr, "cellguard-eval: --scale-background-frames needs 1..10000\n");
-                return 2;
-            }
+            status = 0;
+        } else if (std::strcmp(a, "--version") == 0) {
+            host::print_version(kProgram);
+            status = 0;
+        } else if (std::strcmp(a, "--scenes") == 0) {
+            status = text_value(argc, argv, i, o.scenes_dir);
+        } else if (std::strcmp(a, "--out") == 0) {
+            status = text_value(argc, argv, i, o.out_dir);
+        } else if (std::strcmp(a, "--background-frames") == 0) {
+            status = int_value(argc, argv, i, 100000, o.background_frames);
+        } else if (std::strcmp(a, "--foreground-frames") == 0) {
+            status = int_value(argc, argv, i, 10000, o.foreground_frames);
+        } else if (std::strcmp(a, "--scale-background-frames") == 0) {
+            status = int_value(argc, argv, i, 10000, o.scale_background_frames);
         } else if (std::strcmp(a, "--ideal") == 0) {
             o.ideal = true;
         } else if (std::strcmp(a, "--exact") == 0) {
@@ -325,9 +350,19 @@ int main(int argc, char** argv) {
             o.scale = true;
             o.paper_scenes = false;
         } else {
-            std::fprintf(stderr, "cellguard-eval: unknown argument '%s' (try --help)\n", a);
-            return 2;
+            status = host::usage_error(kProgram, "unknown argument", a);
         }
+    }
+    return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    const int parse_status = parse_args(argc, argv, o);
+    if (parse_status >= 0) {
+        return parse_status;
     }
     ::mkdir(o.out_dir.c_str(), 0777);
     struct stat st {};

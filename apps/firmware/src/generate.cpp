@@ -85,7 +85,7 @@ int parse_args(int argc, char** argv, std::string& dir) {
             return 0;
         }
         if (std::strncmp(argv[i], "--", 2U) == 0) {
-            return host::usage_error(kProgram, (std::string("unknown option '") + argv[i] + "'").c_str());
+            return host::usage_error(kProgram, "unknown option", argv[i]);
         }
     }
     if (argc != 2) {

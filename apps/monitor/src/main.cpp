@@ -18,6 +18,7 @@
 
 #include "cellguard/accessibility.hpp"
 #include "cellguard/crc32.hpp"
+#include "cellguard/host/cli.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/linux/monotonic_clock.hpp"
@@ -66,6 +67,7 @@ const char* kUsage =
     "                      (top view and one sensor's view) and exit\n"
     "  --picture-sensor S  the sensor of that view, by name or number from 1 (default 1)\n"
     "  --help              this text\n"
+    "  --version           print the version and exit\n"
     "\n"
     "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
     "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
@@ -99,7 +101,7 @@ Options parse_args(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&](const char* name) -> std::string {
-            if (i + 1 >= argc) {
+            if (i + 1 >= argc || !host::is_option_value(argv[i + 1])) {
                 usage_error(std::string(name) + " needs a value");
             }
             return argv[++i];
@@ -118,6 +120,9 @@ Options parse_args(int argc, char** argv) {
         };
         if (a == "--help" || a == "-h") {
             std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (a == "--version") {
+            host::print_version("cellguard-monitor");
             std::exit(0);
         } else if (a == "--demo") {
             o.demo = true;

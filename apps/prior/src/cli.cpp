@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cellguard/accessibility.hpp"
+#include "cellguard/host/cli.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 
@@ -86,6 +87,7 @@ constexpr const char* kUsage =
     "  --progress              progress bar on stderr (default: on a terminal, for\n"
     "  --no-progress             frames and grids of 2^20 voxels or more)\n"
     "  --help                  this text\n"
+    "  --version               print the version and exit\n"
     "\n"
     "Exit status: 0 written and verified, 1 an output could not be written or\n"
     "failed verification, 2 bad command line or bad input.\n";
@@ -164,6 +166,7 @@ struct Options {
     std::string config_header;
     ProgressMode progress = ProgressMode::kAuto;
     bool help = false;
+    bool version = false;
 };
 
 /// Parses @p raw into @p o; false with @p f set on a bad command line.
@@ -196,7 +199,7 @@ bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
         const std::string& a = args[i];
         std::string v;
         auto value = [&](const char* name) {
-            if (i + 1U >= args.size()) {
+            if (i + 1U >= args.size() || !host::is_option_value(args[i + 1U].c_str())) {
                 return fail(std::string(name) + " needs a value");
             }
             v = args[++i];
@@ -204,6 +207,9 @@ bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
         };
         if (a == "--help" || a == "-h") {
             o.help = true;
+            return true;
+        } else if (a == "--version") {
+            o.version = true;
             return true;
         } else if (a == "--simulated") {
             if (!set_input(InputKind::kSimulated, "--simulated")) return false;
@@ -415,6 +421,10 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     if (o.help) {
         out << kUsage;
+        return kExitOk;
+    }
+    if (o.version) {
+        out << kToolName << " " << host::kVersion << "\n";
         return kExitOk;
     }
 
