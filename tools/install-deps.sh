@@ -7,8 +7,10 @@
 # --vcan also installs what tools/vcan-integration.sh needs: qemu-system-x86,
 # Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
 set -euo pipefail
+# gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
-      libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3)
+      libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
+      gnuplot-nox)
 for arg in "$@"; do
   case "$arg" in
     --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
