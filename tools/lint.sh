@@ -4,6 +4,22 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
+
+# ../shared (the development machine's notes, papers and data, beside the
+# checkout) is not in a clone: a tracked file that reads it works here and
+# fails on a fresh machine. Markdown may mention it; nothing else may use it
+# (this file names it only to look for it).
+echo "== no references to ../shared or /shared/data outside Markdown"
+if git rev-parse --git-dir >/dev/null 2>&1; then
+  if git grep -nE '\.\./shared|/shared/data' -- ':!*.md' ':!tools/lint.sh'; then
+    echo "lint: the tracked files above refer to ../shared or /shared/data, which a clone does not have;" \
+         "commit what they need into the repository (e.g. tests/data) and refer to it there" >&2
+    exit 1
+  fi
+else
+  echo "lint: not a git checkout, the ../shared check is skipped"
+fi
+
 [ -f "$build/compile_commands.json" ] || { echo "lint: no $build/compile_commands.json; configure first" >&2; exit 2; }
 mapfile -t sources < <(find lib/src port -name '*.cpp' | sort)
 
