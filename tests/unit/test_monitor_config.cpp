@@ -124,6 +124,8 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "polygon = [[-0.8"), "zones[1].polygon");
     t = edited("max_unseen_voxels = 20", "max_unseen_voxels = -1");
     check_refused(t, line_of(t, "max_unseen_voxels = -1"), "zones[0].max_unseen_voxels: expected an integer in 0..");
+    t = edited("background_frames = 8", "background_frames = 2");
+    check_refused(t, line_of(t, "background_frames"), "prior.background_frames: at least 3 frames for the probabilistic prior");
     t = edited("data_id_mode = \"both\"", "data_id_mode = \"all\"");
     check_refused(t, line_of(t, "data_id_mode"), "can.data_id_mode");
     t = edited("safety_id = 0x101", "safety_id = 0x900");

@@ -1,13 +1,15 @@
 // The paper's claims (section V) as tests that can fail, on the simulated
 // workcell of apps/evaluation: the scene files apps/evaluation/scenes/*.toml
 // (the paper's four sensors with noise, a 6 m room around the frame), the
-// paper's parameters (r = 10 cm, t_B = 0.51, t_E = 0.1, profile 0.44 / 0.56,
-// 3D Bresenham), the ideal 0-1 ground truth (sim/ground_truth.hpp).
+// paper's parameters (r = 10 cm, t_B = 0.51, t_E = 0.1, 3D Bresenham) with
+// cellguard's sensor model (one opinion per sensor, voxel and frame: p_hit
+// 0.90, p_miss 0.30, pooled within [0.12, 0.97]; sensor_model.hpp), the
+// ideal 0-1 ground truth (sim/ground_truth.hpp).
 //
 // Fewer frames than the evaluation, to keep each test case at a few seconds:
 // G_B from 20 empty frames (cellguard-eval: 100) and one frame with the
 // foreground (cellguard-eval: 5). Every threshold below was set from what
-// these tests measure (values in the comments, 2026-11-23) with a margin;
+// these tests measure (values in the comments, 2026-11-25) with a margin;
 // cellguard-eval's fuller run gives the README's table.
 #include <doctest/doctest.h>
 
@@ -121,12 +123,14 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
     MESSAGE("best F1: thresholded " << thr.summary.best_f1 << ", probabilistic " << pro.summary.best_f1
                                     << ", baselines " << thr_base.summary.best_f1 << " / " << pro_base.summary.best_f1);
 
-    // A high best F1 for both methods (measured 0.817 and 0.816).
-    CHECK(thr.summary.best_f1 >= 0.72);
-    CHECK(pro.summary.best_f1 >= 0.72);
+    // A high best F1 for both methods (measured 0.759 and 0.759; the per-ray
+    // model of before gave 0.817 and 0.816: one sensor's stray reading now
+    // makes its voxel occupied, so the simulated noise costs precision).
+    CHECK(thr.summary.best_f1 >= 0.70);
+    CHECK(pro.summary.best_f1 >= 0.70);
     // Above the baselines' interior thresholds the priors agree outside the
-    // boxes, so the best F1s (reached at t_f ~0.7) differ little (measured
-    // baselines 0.813 / 0.811): the methods must not be worse there.
+    // boxes, so the best F1s (reached at t_f ~0.9) differ little (measured
+    // baselines 0.759 / 0.759): the methods must not be worse there.
     CHECK(thr.summary.best_f1 >= thr_base.summary.best_f1 - 0.01);
     CHECK(pro.summary.best_f1 >= pro_base.summary.best_f1 - 0.01);
 
@@ -134,7 +138,9 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
     // for the thresholded baseline (prior 0.5 in E, and unobserved interiors
     // are in E), t_f < 0.25 for the probabilistic one (1 - P(occ) = 0.5 there,
     // so P(fore) = 0.25). Same t_f, same recall; precision measured
-    // 0.691 vs 0.218 at t_f 0.45 and 0.458 vs 0.181 at t_f 0.2.
+    // 0.518 vs 0.211 at t_f 0.45 and 0.216 vs 0.123 at t_f 0.2 (the per-ray
+    // model: 0.691 vs 0.218 and 0.458 vs 0.181; the noise voxels that both
+    // now keep make the ratio at t_f 0.2 smaller).
     const sim::PrPoint& t45 = at(thr, 0.45);
     const sim::PrPoint& b45 = at(thr_base, 0.45);
     MESSAGE("t_f 0.45: thresholded P " << t45.precision << " R " << t45.recall << "; baseline P " << b45.precision
@@ -147,8 +153,8 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
     MESSAGE("t_f 0.2: probabilistic P " << p20.precision << " R " << p20.recall << "; baseline P " << q20.precision
                                         << " R " << q20.recall);
     CHECK(p20.recall >= q20.recall - 1e-12);
-    CHECK(p20.precision >= 2.0 * q20.precision);
-    CHECK(p20.precision - q20.precision >= 0.15);
+    CHECK(p20.precision >= 1.5 * q20.precision);
+    CHECK(p20.precision - q20.precision >= 0.07);
 
     // The mechanism: below those thresholds the baselines call the interiors
     // of the background boxes foreground, the methods do not. "Interior" for
@@ -176,9 +182,9 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
                              << count_foreground(deep, pro_base, 0.2).foreground << " (t_f 0.2) foreground");
 }
 
-// verifies: SR-EVAL-002
-TEST_CASE("paper claim 2: on the small object the probabilistic method's precision is far above the thresholded "
-          "one's at high recall") {
+// verifies: SR-EVAL-002, SR-FUSE-002
+TEST_CASE("paper claim 2, changed by the per-sensor model: on the small object only the probabilistic method's "
+          "recall goes past the thresholded one's, and no longer at a useful precision") {
     sim::SceneResult r(config().geometry);
     run("small", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);
@@ -190,21 +196,34 @@ TEST_CASE("paper claim 2: on the small object the probabilistic method's precisi
     }
     // The 2x4 lies in voxels that hold the box top in G_B: the thresholded
     // prior removes them for good, so its recall stops early (measured
-    // 0.540) while the probabilistic one goes on (measured 0.952).
-    // This depends on the paper's 3D Bresenham: with the exact traversal the
-    // rays that graze the box top clear its voxel layer in G_B (P(occ) <
-    // t_B), the thresholded method keeps those voxels too, and both methods
-    // score alike (cellguard-eval --exact: best F1 0.738 and 0.737, max
-    // recall 0.797 for both).
+    // 0.349) while the probabilistic one goes on (measured 1.0).
     CHECK(thr.summary.max_recall <= 0.75);
     CHECK(pro.summary.max_recall >= 0.9);
     CHECK(pro.summary.max_recall - thr.summary.max_recall >= 0.2);
-    // Precision at high recall (0 where a curve never gets there): measured
-    // thresholded 0.031 / 0 / 0 and probabilistic 0.825 / 0.342 / 0.145 at
-    // recall 0.5 / 0.6 / 0.7.
-    CHECK(precision_at(pro, 0.5) - precision_at(thr, 0.5) >= 0.3);
-    CHECK(precision_at(pro, 0.6) - precision_at(thr, 0.6) >= 0.2);
-    CHECK(precision_at(pro, 0.7) > precision_at(thr, 0.7));
+    // The paper's finding (and this project's per-ray model: precision 0.825
+    // / 0.342 at recall 0.5 / 0.6) was that the probabilistic method sees
+    // those voxels at a useful precision: many rays ending in them summed to
+    // evidence above the prior's background term there (about -7.6 nats).
+    // One frame's pooled evidence is now at most logit(0.97) = 3.5 nats, by
+    // design (a frame of the background itself must not be foreground,
+    // SR-FUSE-002), so the probabilistic method reaches those voxels only
+    // where t_f <= 0.5 counts every unobserved accessible voxel: measured
+    // precision 0.002 at recall 0.5. This check documents the lost finding;
+    // it fails if the model's bound on a frame's evidence is lifted again.
+    CHECK(precision_at(pro, 0.5) < 0.05);
+}
+
+// verifies: SR-FUSE-008
+TEST_CASE("evaluation: fewer background frames than the probabilistic method needs are refused with a clear error") {
+    sim::ExperimentConfig cfg = config();
+    cfg.background_frames = 2;  // min_background_frames: 3 with the default sensor model
+    sim::SceneResult r(cfg.geometry);
+    const sim::SceneLoad load = sim::load_scene_file(scene_path("large"));
+    REQUIRE_MESSAGE(load.ok, load.error);
+    std::string error;
+    CHECK_FALSE(sim::run_scene(load.scene, cfg, r, error));
+    CHECK(error == "2 background frames are too few: the probabilistic method needs at least 3 for space seen free to "
+                   "fall below t_E (min_background_frames)");
 }
 
 // verifies: SR-EVAL-002

@@ -408,6 +408,8 @@ TEST_CASE("prior tool: bad option values exit 2 with one line naming the option"
         {{"--voxel-size", "-0.05"}, "--voxel-size expects a positive length"},
         {{"--dims", "0,30,30"}, "--dims expects NX,NY,NZ"},
         {{"--background-frames", "0"}, "--background-frames expects"},
+        {{"--simulated", "--background-frames", "2"},
+         "2 background frame(s) are too few for the probabilistic method: it needs at least 3"},
         {{"--namespace", "not a namespace"}, "--namespace 'not a namespace'"},
         {{"--bogus"}, "unknown argument '--bogus'"},
         {{"--simulated", "--background-npy", "x.npy"}, "excludes the other input"},
@@ -452,7 +454,7 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     TempDir dir;
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
     const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < 3; ++k) {  // the probabilistic method needs 3 (min_background_frames)
         for (std::size_t s = 0; s < sensors.size(); ++s) {
             const PinholeIntrinsics in = sensors[s].intrinsics();
             std::vector<PcdPoint> pts;
@@ -476,8 +478,8 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     const Run r = run_tool({"--frames", dir / "frames", "--config", config, "--out", dir / "rec"});
     INFO(r.err);
     REQUIRE(r.status == kExitOk);
-    CHECK(r.out.find("recorded frames (2;") != std::string::npos);
-    const Run s = run_tool({"--simulated", "--background-frames", "2", "--out", dir / "sim"});
+    CHECK(r.out.find("recorded frames (3;") != std::string::npos);
+    const Run s = run_tool({"--simulated", "--background-frames", "3", "--out", dir / "sim"});
     REQUIRE(s.status == kExitOk);
     const std::vector<std::int16_t> rec = image_values(dir / "rec/prior.cgprior", paper_grid_geometry());
     const std::vector<std::int16_t> simp = image_values(dir / "sim/prior.cgprior", paper_grid_geometry());
@@ -498,16 +500,17 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     PcdViewpoint vp;
     vp.tx = 1.0;
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
-    bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
+    bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("vp.pcd: VIEWPOINT (1.000, 0.000, 0.000) is not the pose of sensor 'lidar-a'") !=
           std::string::npos);
-    // The sensor's own pose as VIEWPOINT is accepted.
+    // The sensor's own pose as VIEWPOINT is accepted. (One frame each: the
+    // thresholded method, which needs one, so that the frame's checks run.)
     const Eigen::Isometry3d pose = sensors[0].pose();
     const Eigen::Quaterniond q(pose.linear());
     vp = PcdViewpoint{pose.translation().x(), pose.translation().y(), pose.translation().z(), q.w(), q.x(), q.y(), q.z()};
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
-    const Run good = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "vp"});
+    const Run good = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "vp"});
     INFO(good.err);
     CHECK(good.status == kExitOk);
     // More points than the sensor's image has pixels: not a frame of this sensor.
@@ -515,7 +518,7 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     REQUIRE(write_pcd((dir / "many.pcd").c_str(), {many.data(), many.size()}, static_cast<std::uint32_t>(many.size()), 1U,
                       PcdViewpoint{}, PcdDataKind::kBinary)
                 .ok());
-    bad = run_tool({"--frame", "lidar-a=" + (dir / "many.pcd"), "--config", config, "--out", dir / "bad"});
+    bad = run_tool({"--frame", "lidar-a=" + (dir / "many.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("many.pcd: 25345 points, more than sensor 'lidar-a' delivers (176 x 144)") != std::string::npos);
     bad = run_tool({"--frame", "lidar-z=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
@@ -559,11 +562,16 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
         }
     }
     REQUIRE(write_bytes(dir / "cell.toml", std::vector<std::uint8_t>(text.begin(), text.end())));
-    const Run a = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "a"});
+    // One recorded frame is too few for the probabilistic method (3), enough for the thresholded one.
+    const Run few = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "few"});
+    CHECK(few.status == kExitInputError);
+    CHECK(few.err.find("1 background frame(s) are too few for the probabilistic method") != std::string::npos);
+    const Run a = run_tool({"--config-frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out", dir / "a"});
     INFO(a.err);
     REQUIRE(a.status == kExitOk);
     CHECK(a.out.find("recorded frames (1;") != std::string::npos);
-    const Run b = run_tool({"--frames", dir / "frames", "--config", dir / "cell.toml", "--out", dir / "b"});
+    const Run b = run_tool({"--frames", dir / "frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out",
+                            dir / "b"});
     REQUIRE(b.status == kExitOk);
     CHECK(read_bytes(dir / "a/prior.cgprior") == read_bytes(dir / "b/prior.cgprior"));
     // The configuration without pcd_files has nothing to replay.

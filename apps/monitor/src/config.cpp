@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cellguard/accessibility.hpp"
 #include "cellguard/fusion.hpp"
 #include "cellguard/grid.hpp"
 #include "cellguard/host/toml_loader.hpp"
@@ -271,6 +272,13 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
         } else if (src == "simulated-background") {
             c.prior.source = PriorSource::kSimulatedBackground;
             c.prior.background_frames = static_cast<int>(L.integer_or(t, "prior", "background_frames", 1, 1000, 8));
+            // The monitor's prior is probabilistic: space seen free must fall below t_E (min_background_frames).
+            const std::uint32_t need = min_background_frames(AccessibilityParams{}, SensorModelTable{});
+            if (static_cast<std::uint32_t>(c.prior.background_frames) < need) {
+                L.fail(t.get("background_frames")->source(), "prior.background_frames",
+                       "at least " + std::to_string(need) + " frames for the probabilistic prior, got " +
+                           std::to_string(c.prior.background_frames));
+            }
         } else {
             L.fail(t.get("source")->source(), "prior.source",
                    "expected \"file\" or \"simulated-background\", got \"" + src + "\"");

@@ -26,6 +26,18 @@ namespace {
 
 constexpr const char* kToolName = "cellguard-prior";
 
+/// Why @p frames background frames are too few for @p params' method with the
+/// default sensor model (min_background_frames), or "" when they suffice.
+std::string too_few_frames(std::size_t frames, const AccessibilityParams& params) {
+    const std::uint32_t need = min_background_frames(params, SensorModelTable{});
+    if (frames >= need) {
+        return "";
+    }
+    return std::to_string(frames) + " background frame(s) are too few for the " + method_name(params.method) +
+           " method: it needs at least " + std::to_string(need) + ", so that space seen free in every frame counts "
+           "as empty (below t_E); record more frames of the empty cell, or give the same frame again for a static scene";
+}
+
 /// Voxels from which the progress bar is on by default (on a terminal).
 constexpr std::size_t kLargeGridVoxels = std::size_t{1} << 20U;
 
@@ -514,6 +526,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         const ProgressFn report = [&](std::size_t done, std::size_t total) { progress.bar("fusing frames", done, total); };
         if (o.input == InputKind::kSimulated) {
             const int frames = o.background_frames > 0 ? o.background_frames : config_frames;
+            if (const std::string why = too_few_frames(static_cast<std::size_t>(frames), o.params); !why.empty()) {
+                return error(kExitInputError, why);
+            }
             SimulatedFrameSource source(static_cast<std::size_t>(frames));
             st = accumulate_frames(source, background, report);
             background_text = "the simulated paper cell's empty background, " + std::to_string(source.sensor_count()) +
@@ -545,6 +560,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
             PcdFrameSource source(sensors);
             if (source.frame_count() == 0U) {
                 return error(kExitInputError, "no recorded frames: " + o.config + "'s sensors have no pcd_files");
+            }
+            if (const std::string why = too_few_frames(source.frame_count(), o.params); !why.empty()) {
+                return error(kExitInputError, why);
             }
             st = accumulate_frames(source, background, report);
             background_text = "recorded frames (" + std::to_string(source.frame_count()) + "; files per sensor: " +

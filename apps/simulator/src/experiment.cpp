@@ -199,6 +199,18 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
         std::copy(background->log_odds().begin(), background->log_odds().end(), out.background_grid.log_odds.begin());
         std::copy(background->observed().begin(), background->observed().end(), out.background_grid.observed.begin());
     } else {
+        const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+        std::uint32_t need = 1U;
+        for (const PriorMethod m : kAllMethods) {
+            AccessibilityParams p = cfg.params;
+            p.method = m;
+            need = std::max(need, model.ok() ? min_background_frames(p, model.value()) : 1U);
+        }
+        if (cfg.background_frames < 0 || static_cast<std::uint32_t>(cfg.background_frames) < need) {
+            error = std::to_string(cfg.background_frames) + " background frames are too few: the probabilistic method needs " +
+                    "at least " + std::to_string(need) + " for space seen free to fall below t_E (min_background_frames)";
+            return false;
+        }
         if (!build_background(file, cfg, out.background_grid.grid, &fuse_ms, &render_ms)) {
             error = "building the background grid failed";
             return false;

@@ -1,0 +1,261 @@
+// Requirements: the sensor model holds at a real camera's density. On the
+// three real Kinect frames (tests/data/kinect-frames, 640 x 480): every voxel
+// that holds readings is occupied in that frame; the grid does not depend on
+// the order of the readings; the ray table gives the grid of on-the-fly
+// fusion but for a few readings on voxel faces; and both accessibility methods call a frame replayed against a
+// prior commissioned from itself CLEAR, and the same frame with a
+// person-sized block of readings INTRUDED.
+//
+// The set-up of issue 24's independent reference: one camera at the origin
+// looking along +x (target (3, 0, 0), fields of view 57 x 43 degrees,
+// max_range 5 m), a 64 x 64 x 48 grid of 5 cm voxels from (0.4, -1.6, -0.6).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cellguard/accessibility.hpp"
+#include "cellguard/fusion.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
+#include "cellguard/linux/pcd.hpp"
+#include "cellguard/sim/workcell.hpp"
+#include "cellguard/zone_evaluation.hpp"
+#include "cellguard/zones.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+const char* const kFrames[] = {
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd",
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142256.068683.pcd",
+    CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142256.332395.pcd",
+};
+
+/// The camera of issue 24's reference.
+sim::SensorSpec camera() { return sim::SensorSpec{"kinect", {0.0, 0.0, 0.0}, {3.0, 0.0, 0.0}, 640, 480, 57.0, 43.0, 5.0F}; }
+
+GridGeometry grid_geometry() {
+    return GridGeometry::make(Eigen::Vector3d(0.4, -1.6, -0.6), 0.05, GridDims{64, 64, 48}).value();
+}
+
+/// A frame's organised cloud (camera frame, NaN kept), 640 x 480.
+std::vector<Eigen::Vector3f> read_frame(const char* path) {
+    std::vector<PcdPoint> raw(640U * 480U);
+    PcdCloudInfo info;
+    PcdReadOptions keep;
+    keep.keep_nonfinite = true;
+    const IoStatus st = read_pcd(path, {raw.data(), raw.size()}, info, keep);
+    REQUIRE_MESSAGE(st.ok(), st.message());
+    REQUIRE(info.written == raw.size());
+    std::vector<Eigen::Vector3f> points(raw.size());
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+        points[i] = Eigen::Vector3f(raw[i].x, raw[i].y, raw[i].z);
+    }
+    return points;
+}
+
+SensorReading point_reading(const std::vector<Eigen::Vector3f>& points) {
+    const sim::SensorSpec c = camera();
+    SensorReading r;
+    r.kind = SensorDataKind::kPointSet;
+    r.pose = c.pose();
+    r.points = Span<const Eigen::Vector3f>(points.data(), points.size());
+    r.max_range = c.max_range;
+    return r;
+}
+
+/// A grid with its storage and fusion scratch.
+struct Grid {
+    std::vector<std::int16_t> lo, scratch;
+    std::vector<std::uint8_t> ob;
+    EvidenceGrid grid;
+    explicit Grid(const GridGeometry& g) : lo(g.voxel_count()), scratch(g.voxel_count()), ob(g.voxel_count()) {
+        grid = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
+        grid.clear();
+    }
+    Span<std::int16_t> fusion_scratch() { return {scratch.data(), scratch.size()}; }
+};
+
+/// The voxels that hold at least one valid reading (computed here, not by fusion).
+std::set<std::size_t> voxels_holding_readings(const GridGeometry& g, const SensorReading& r) {
+    std::set<std::size_t> out;
+    for (const Eigen::Vector3f& p : r.points) {
+        const float range = p.norm();
+        if (!p.allFinite() || p.z() <= 0.0F || range < r.min_range || range > r.max_range) {
+            continue;
+        }
+        const VoxelCoord v = g.world_to_voxel_unchecked(r.pose * p.cast<double>());
+        if (g.contains(v)) {
+            out.insert(g.index_of(v));
+        }
+    }
+    return out;
+}
+
+/// The frame with a person-sized block of readings 1.5 m in front of the
+/// camera: every valid reading of pixels u 240..399, v 80..399 (about 0.45 m x
+/// 0.9 m at 1.5 m) moved along its ray to depth 1.5 m; NaN pixels stay NaN.
+std::vector<Eigen::Vector3f> with_person(std::vector<Eigen::Vector3f> points) {
+    for (int v = 80; v < 400; ++v) {
+        for (int u = 240; u < 400; ++u) {
+            Eigen::Vector3f& p = points[static_cast<std::size_t>(v) * 640U + static_cast<std::size_t>(u)];
+            if (p.allFinite() && p.z() > 0.0F) {
+                p *= 1.5F / p.z();
+            }
+        }
+    }
+    return points;
+}
+
+/// The zone of issue 24's trial: one protective box over the whole view.
+struct WholeViewZone {
+    std::vector<std::uint32_t> mask;
+    CompiledZones zones;
+    explicit WholeViewZone(const GridGeometry& g) : mask(g.voxel_count()) {
+        ZoneConfig z;
+        z.box_min = Eigen::Vector3d(0.45, -1.5, -0.5);
+        z.box_max = Eigen::Vector3d(3.5, 1.5, 1.5);
+        z.max_unseen_voxels = 1000000U;
+        zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}, nullptr).value();
+    }
+};
+
+/// The prior commissioned from @p frame alone, given as many times as
+/// min_background_frames asks for @p method.
+std::vector<std::int16_t> prior_from(const GridGeometry& g, const SensorReading& frame, PriorMethod method) {
+    AccessibilityParams params;
+    params.method = method;
+    const SensorModelTable model;
+    const std::uint32_t frames = min_background_frames(params, model);
+    REQUIRE(frames >= 1U);
+    Grid background(g);
+    Grid scratch_frame(g);
+    for (std::uint32_t k = 0; k < frames; ++k) {
+        REQUIRE(fuse_background_frame(background.grid, scratch_frame.grid, {&frame, 1U}, model,
+                                      scratch_frame.fusion_scratch())
+                    .ok());
+    }
+    const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
+    std::vector<std::uint32_t> words(size.words);
+    std::vector<std::uint8_t> bytes(size.bytes);
+    std::vector<std::int16_t> prior(g.voxel_count());
+    REQUIRE(compute_accessibility_prior(background.grid, params,
+                                        AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+                                        {prior.data(), prior.size()}, {})
+                .ok());
+    return prior;
+}
+
+/// The zone's report for @p frame fused alone against @p prior.
+ZoneReport replay(const GridGeometry& g, const SensorReading& frame, const std::vector<std::int16_t>& prior,
+                  const WholeViewZone& zone) {
+    Grid fused(g);
+    REQUIRE(fuse_frame(fused.grid, {&frame, 1U}, SensorModelTable{}, fused.fusion_scratch()).ok());
+    ZoneEvaluation eval;
+    REQUIRE(evaluate_zones(fused.grid, {prior.data(), prior.size()}, zone.zones, ZoneEvaluationParams{}, eval).ok());
+    return eval.zones[0];
+}
+
+}  // namespace
+
+// verifies: SR-FUSE-002
+TEST_CASE("real frames: every voxel that holds readings is occupied, though hundreds of rays of the frame cross it") {
+    const GridGeometry g = grid_geometry();
+    for (const char* path : kFrames) {
+        CAPTURE(std::string(path));
+        const std::vector<Eigen::Vector3f> points = read_frame(path);
+        const SensorReading r = point_reading(points);
+        Grid fused(g);
+        REQUIRE(fuse_sensor(fused.grid, r, SensorModelTable{}, fused.fusion_scratch()).ok());
+        const std::set<std::size_t> holding = voxels_holding_readings(g, r);
+        std::size_t not_occupied = 0;
+        for (const std::size_t v : holding) {
+            not_occupied += fused.lo[v] <= 0 ? 1U : 0U;
+        }
+        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << ": " << holding.size() << " voxels hold readings, " << not_occupied << " of them not occupied");
+        CHECK(holding.size() > 800U);  // the per-ray model lost 221 to 259 of about 900 (issue 24)
+        CHECK(not_occupied == 0U);
+    }
+}
+
+// verifies: SR-FUSE-002
+TEST_CASE("real frames: shuffled readings give the identical grid") {
+    const GridGeometry g = grid_geometry();
+    for (const char* path : kFrames) {
+        CAPTURE(std::string(path));
+        std::vector<Eigen::Vector3f> points = read_frame(path);
+        Grid in_order(g);
+        REQUIRE(fuse_sensor(in_order.grid, point_reading(points), SensorModelTable{}, in_order.fusion_scratch()).ok());
+        std::mt19937 rng(20261125U);
+        std::shuffle(points.begin(), points.end(), rng);
+        Grid shuffled(g);
+        REQUIRE(fuse_sensor(shuffled.grid, point_reading(points), SensorModelTable{}, shuffled.fusion_scratch()).ok());
+        CHECK(in_order.lo == shuffled.lo);
+        CHECK(in_order.ob == shuffled.ob);
+    }
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion but for readings on a voxel face") {
+    const GridGeometry g = grid_geometry();
+    const sim::SensorSpec c = camera();
+    for (const char* path : kFrames) {
+        CAPTURE(std::string(path));
+        const std::vector<Eigen::Vector3f> points = read_frame(path);
+        std::vector<float> depth(points.size());
+        std::transform(points.begin(), points.end(), depth.begin(), [](const Eigen::Vector3f& p) { return p.z(); });
+        SensorReading r;
+        r.kind = SensorDataKind::kDepthImage;
+        r.pose = c.pose();
+        r.intrinsics = c.intrinsics();
+        r.depth = Span<const float>(depth.data(), depth.size());
+        r.max_range = c.max_range;
+        host::OwnedRayTable table;
+        REQUIRE(table.build(g, r).ok());
+        Grid direct(g);
+        Grid tabled(g);
+        REQUIRE(fuse_sensor(direct.grid, r, SensorModelTable{}, direct.fusion_scratch()).ok());
+        REQUIRE(table.table().fuse(tabled.grid, r.depth, SensorModelTable{}).ok());
+        std::size_t differ = 0;
+        std::size_t occupied_differ = 0;
+        for (std::size_t v = 0; v < g.voxel_count(); ++v) {
+            differ += (direct.lo[v] != tabled.lo[v] || direct.ob[v] != tabled.ob[v]) ? 1U : 0U;
+            occupied_differ += ((direct.lo[v] > 0) != (tabled.lo[v] > 0)) ? 1U : 0U;
+        }
+        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << ": " << differ << " voxels differ, " << occupied_differ << " in occupied or not");
+        // Not yet voxel for voxel: measured 2, 4 and 3 voxels (the per-ray
+        // model: 169, 169 and 189), each a reading within float rounding of a
+        // voxel face, which the table places by its exit distances and
+        // fuse_sensor by the half-open rule of grid.hpp (ray_table.hpp).
+        CHECK(differ <= 8U);
+        CHECK(differ == occupied_differ);  // never a difference in free evidence
+    }
+}
+
+// verifies: SR-FUSE-002, SR-EVAL-003
+TEST_CASE("real frames: replayed against a prior commissioned from itself a frame is CLEAR, and with a person INTRUDED, "
+          "with both methods") {
+    const GridGeometry g = grid_geometry();
+    const WholeViewZone zone(g);
+    for (const char* path : kFrames) {
+        const std::vector<Eigen::Vector3f> points = read_frame(path);
+        const std::vector<Eigen::Vector3f> person = with_person(points);
+        for (const PriorMethod method : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
+            CAPTURE(std::string(path));
+            CAPTURE(static_cast<int>(method));
+            const std::vector<std::int16_t> prior = prior_from(g, point_reading(points), method);
+            const ZoneReport empty = replay(g, point_reading(points), prior, zone);
+            const ZoneReport intruded = replay(g, point_reading(person), prior, zone);
+            MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << " method " << static_cast<int>(method) << ": background " << empty.foreground
+                         << " foreground voxels, with the person " << intruded.foreground);
+            CHECK(empty.state == ZoneState::kClear);
+            CHECK(empty.foreground == 0U);
+            CHECK(intruded.state == ZoneState::kIntruded);
+            CHECK(intruded.foreground > 50U);
+        }
+    }
+}
