@@ -1,129 +1,90 @@
 // cellguard-monitor-check-log: checks a candump log written by
-// `cellguard-monitor --demo` with the PLC-side receiver: every frame decodes,
-// every inverted copy matches, the receiver accepts every pair once recovered,
-// and the stop request appears in the cycle in which the scripted person
-// enters the protective zone (and not in the cycle before).
+// `cellguard-monitor --demo` as the robot's PLC would receive it: the PLC-side
+// receiver gets every frame at its time stamp and is polled on the log's clock
+// up to the end of the run; every frame decodes, every inverted copy matches,
+// the receiver never enters the safe state once recovered, and the stop
+// request appears in the cycle in which the scripted person enters the
+// protective zone (and not in the cycle before). The checks themselves are
+// check_demo_log (demo_log_check.hpp).
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
+#include <cstdlib>
+#include <cstring>
 #include <string>
-#include <vector>
 
-#include "cellguard/linux/candump_log.hpp"
+#include "cellguard/host/cli.hpp"
 #include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/scenario.hpp"
-#include "cellguard/plc_receiver.hpp"
+#include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;
 using namespace cellguard::monitor;
 
 namespace {
 
-int failures = 0;
+constexpr const char* kProgram = "cellguard-monitor-check-log";
 
-void expect(bool ok, const std::string& what) {
-    if (!ok) {
-        ++failures;
-        std::fprintf(stderr, "FAIL: %s\n", what.c_str());
+constexpr const char* kUsage =
+    "usage: cellguard-monitor-check-log LOG CYCLES\n"
+    "\n"
+    "Checks the candump log LOG of `cellguard-monitor --demo --cycles CYCLES` as the\n"
+    "robot's PLC would receive it: each frame goes to the PLC-side receiver at its time\n"
+    "stamp, and the receiver is polled every 1 ms of log time up to the end of the run\n"
+    "(the first frame's time plus CYCLES periods), with SRVT half a period and SCT three\n"
+    "periods. Fails on a malformed line, a counter out of sequence, a mismatching copy,\n"
+    "any receiver fault (frames that stop early, a frame late past the SRVT, a pair\n"
+    "split by more than the SRVT), a wrong line count, or a stop request that is not\n"
+    "in the cycle in which the scripted person enters the protective zone.\n"
+    "\n"
+    "  --help     this text\n"
+    "  --version  print the version and exit\n"
+    "\n"
+    "Exit status: 0 the log passes, 1 it fails (one FAIL line each on stderr),\n"
+    "2 bad command line or unreadable log.\n";
+
+static_assert(kDemoLogMaxCycles == 1000000, "the usage error below states the limit");
+
+/// CYCLES as an integer 1..kDemoLogMaxCycles; false for anything else.
+bool parse_cycles(const char* text, int& cycles) {
+    char* end = nullptr;
+    errno = 0;
+    const long n = std::strtol(text, &end, 10);
+    if (errno != 0 || end == text || *end != '\0' || n < 1 || n > kDemoLogMaxCycles) {
+        return false;
     }
+    cycles = static_cast<int>(n);
+    return true;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+            std::fputs(kUsage, stdout);
+            return 0;
+        }
+        if (std::strcmp(argv[i], "--version") == 0) {
+            host::print_version(kProgram);
+            return 0;
+        }
+        if (std::strncmp(argv[i], "--", 2U) == 0) {
+            return host::usage_error(kProgram, "unknown option", argv[i]);
+        }
+    }
     if (argc != 3) {
-        std::fprintf(stderr, "usage: cellguard-monitor-check-log LOG CYCLES\n");
-        return 2;
+        return host::usage_error(kProgram, "expects two arguments, LOG and CYCLES");
     }
-    const int cycles = std::atoi(argv[2]);
-    const MonitorConfig cfg = demo_config();
-    const SafetyChannelConfig& ch = cfg.can.channel;
-    PlcReceiverConfig rc;
-    rc.channel = ch;
-    rc.srvt_us = cfg.period_us / 2U;
-    rc.sct_us = 3U * cfg.period_us;
-    rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());
-    if (!PlcReceiver::check_config(rc).ok()) {
-        std::fprintf(stderr, "receiver config invalid\n");
-        return 2;
+    int cycles = 0;
+    if (!parse_cycles(argv[2], cycles)) {
+        return host::usage_error(kProgram, "CYCLES expects an integer 1..1000000, got", argv[2]);
     }
-    PlcReceiver plc(rc);
-
-    std::ifstream in(argv[1]);
-    if (!in) {
-        std::fprintf(stderr, "cannot open %s\n", argv[1]);
-        return 2;
+    const DemoLogCheck r = check_demo_log_file(argv[1], cycles, demo_config());
+    for (const std::string& f : r.failures) {
+        std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str());
     }
-    std::vector<bool> stop;
-    int lines = 0, diagnostics = 0, valid_pairs = 0;
-    CanFrame last_safety{};
-    bool have_safety = false;
-    for (std::string line; std::getline(in, line);) {
-        ++lines;
-        linux_port::CandumpRecord rec;
-        const IoStatus st = linux_port::parse_candump_line(line.c_str(), rec);
-        expect(st.ok(), "line " + std::to_string(lines) + ": " + st.message());
-        if (!st.ok()) {
-            continue;
-        }
-        const CanFrame& f = rec.frame;
-        const ReceiverStatus rs = plc.on_frame(f, rec.timestamp_us);
-        if (f.id == ch.safety_can_id) {
-            const Result<SafetyFrameContent> c = decode_safety_frame(f, ch);
-            expect(c.ok(), "line " + std::to_string(lines) + ": safety frame does not decode");
-            expect(!c.ok() || c.value().counter == stop.size() % 15U,
-                   "line " + std::to_string(lines) + ": safety counter out of sequence");
-            stop.push_back(c.ok() ? c.value().message.protective_stop : true);
-            last_safety = f;
-            have_safety = true;
-        } else if (f.id == inverted_can_id(ch)) {
-            const CanFrame want = inverted_copy(last_safety);
-            bool same = have_safety && f.dlc == want.dlc;
-            for (int k = 0; same && k < 8; ++k) {
-                same = f.data[k] == want.data[k];
-            }
-            expect(same, "line " + std::to_string(lines) + ": inverted copy does not match its safety frame");
-            if (stop.size() >= 3U) {  // the reference pair and two recovery pairs
-                expect(rs.communication_valid, "line " + std::to_string(lines) + ": receiver not valid: " +
-                                                   to_string(rs.fault));
-                expect(rs.stop_requested == stop.back(),
-                       "line " + std::to_string(lines) + ": receiver stop differs from the frame");
-            }
-            valid_pairs += rs.communication_valid ? 1 : 0;
-            have_safety = false;
-        } else if (f.id == ch.diagnostics_can_id) {
-            const Result<DiagnosticsFrameContent> d = decode_diagnostics_frame(f, ch);
-            expect(d.ok(), "line " + std::to_string(lines) + ": diagnostics frame does not decode");
-            expect(!d.ok() || d.value().message.prior_crc_page == static_cast<std::uint8_t>(diagnostics % 4),
-                   "line " + std::to_string(lines) + ": prior CRC page out of sequence");
-            ++diagnostics;
-        } else {
-            expect(false, "line " + std::to_string(lines) + ": unexpected CAN ID");
-        }
+    if (!r.input_ok) {
+        return host::kExitUsage;
     }
-    expect(lines == 3 * cycles, "expected " + std::to_string(3 * cycles) + " lines, got " + std::to_string(lines));
-    expect(static_cast<int>(stop.size()) == cycles, "one safety frame per cycle");
-
-    int entry = -1;
-    for (const ZoneSettings& z : cfg.zones) {
-        if (z.zone.kind != ZoneKind::kProtective) {
-            continue;
-        }
-        for (int k = 0; k < cycles && entry < 0; ++k) {
-            if (person_overlaps(z.zone, demo_person(k))) {
-                entry = k;
-            }
-        }
-    }
-    expect(entry > 0 && entry < static_cast<int>(stop.size()), "the person enters the protective zone during the run");
-    if (entry > 0 && entry < static_cast<int>(stop.size())) {
-        expect(!stop[static_cast<std::size_t>(entry - 1)], "no stop in the cycle before the entry (cycle " +
-                                                               std::to_string(entry - 1) + ")");
-        expect(stop[static_cast<std::size_t>(entry)], "stop in the entry cycle " + std::to_string(entry));
-    }
-    std::printf("%d lines, %zu safety pairs (%d accepted by the PLC receiver), %d diagnostics frames; "
-                "person enters the protective zone in cycle %d, stop bit there: %s; %d failures\n",
-                lines, stop.size(), valid_pairs, diagnostics, entry,
-                entry >= 0 && entry < static_cast<int>(stop.size()) && stop[static_cast<std::size_t>(entry)] ? "1" : "0",
-                failures);
-    return failures == 0 ? 0 : 1;
+    std::printf("%s\n", r.summary.c_str());
+    return r.passed() ? 0 : 1;
 }

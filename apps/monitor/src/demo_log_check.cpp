@@ -1,0 +1,280 @@
+// The check of a demo run's candump log with the PLC receiver, polled on the
+// log's clock. See demo_log_check.hpp.
+#include "cellguard/monitor/demo_log_check.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "cellguard/linux/candump_log.hpp"
+#include "cellguard/monitor/scenario.hpp"
+
+namespace cellguard::monitor {
+namespace {
+
+/// @p us as seconds with six decimals, as candump writes time stamps.
+std::string seconds_text(std::uint64_t us) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%" PRIu64 ".%06" PRIu64, us / 1000000U, us % 1000000U);
+    return text;
+}
+
+/// @p us as milliseconds ("50 ms", "0.5 ms").
+std::string ms_text(std::uint64_t us) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g ms", static_cast<double>(us) / 1000.0);
+    return text;
+}
+
+/// The receiver's fault name, with the time limit it refers to.
+std::string fault_text(ReceiverFault fault, const PlcReceiverConfig& rc) {
+    std::string text = to_string(fault);
+    if (fault == ReceiverFault::kSctExpired) {
+        text += " (SCT " + ms_text(rc.sct_us) + ")";
+    } else if (fault == ReceiverFault::kInvertedCopyMissing || fault == ReceiverFault::kInvertedCopyLate) {
+        text += " (SRVT " + ms_text(rc.srvt_us) + ")";
+    }
+    return text;
+}
+
+/// One log, line by line: see the file comment of demo_log_check.hpp.
+class LogChecker {
+public:
+    LogChecker(const MonitorConfig& cfg, const PlcReceiverConfig& rc, int cycles, DemoLogCheck& out)
+        : cfg_(cfg), rc_(rc), plc_(rc), step_us_(demo_log_poll_interval_us(rc)), cycles_(cycles), out_(out) {}
+
+    void line(const std::string& text);
+    void finish();
+
+private:
+    void fail(const std::string& what) { out_.failures.push_back(what); }
+    void poll_until(std::uint64_t t_us);
+    void observe(const ReceiverStatus& rs, const std::string& where);
+    void on_safety_frame(const CanFrame& f, const std::string& where);
+    void on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, const std::string& where);
+    void on_diagnostics_frame(const CanFrame& f, const std::string& where);
+    int check_entry_cycle();
+
+    const MonitorConfig& cfg_;
+    PlcReceiverConfig rc_;
+    PlcReceiver plc_;
+    std::uint64_t step_us_;
+    int cycles_;
+    DemoLogCheck& out_;
+    int lines_ = 0;
+    int diagnostics_ = 0;
+    int valid_pairs_ = 0;
+    std::vector<bool> stop_;       // the stop bit of each safety frame
+    CanFrame last_safety_{};
+    bool have_safety_ = false;     // a safety frame waits for its copy
+    bool have_time_ = false;
+    std::uint64_t start_us_ = 0U;  // the first frame's time stamp
+    std::uint64_t last_us_ = 0U;   // the latest time stamp so far
+    std::uint64_t next_poll_us_ = 0U;
+    std::uint32_t faults_seen_ = 0U;
+};
+
+void LogChecker::line(const std::string& text) {
+    ++lines_;
+    const std::string where = "line " + std::to_string(lines_);
+    linux_port::CandumpRecord rec;
+    const IoStatus st = linux_port::parse_candump_line(text.c_str(), rec);
+    if (!st.ok()) {
+        fail(where + ": " + st.message());
+        return;
+    }
+    const std::uint64_t t = rec.timestamp_us;
+    if (!have_time_) {
+        have_time_ = true;
+        start_us_ = t;
+        last_us_ = t;
+        next_poll_us_ = t + step_us_;
+    }
+    poll_until(t);
+    last_us_ = std::max(last_us_, t);
+    // on_frame applies the time checks (SRVT, SCT) at the frame's own time stamp.
+    const ReceiverStatus rs = plc_.on_frame(rec.frame, t);
+    observe(rs, where + " (t = " + seconds_text(t) + " s)");
+    const CanFrame& f = rec.frame;
+    if (f.id == cfg_.can.channel.safety_can_id) {
+        on_safety_frame(f, where);
+    } else if (f.id == inverted_can_id(cfg_.can.channel)) {
+        on_inverted_copy(f, rs, where);
+    } else if (f.id == cfg_.can.channel.diagnostics_can_id) {
+        on_diagnostics_frame(f, where);
+    } else {
+        fail(where + ": unexpected CAN ID");
+    }
+}
+
+// Polls at every grid point before t_us. Once the receiver has gone longer
+// than SCT + SRVT without a frame no further poll can find anything new, so a
+// long gap (or a corrupt time stamp far ahead) skips to the grid point before t_us.
+void LogChecker::poll_until(std::uint64_t t_us) {
+    const std::uint64_t quiet_end = last_us_ + rc_.sct_us + rc_.srvt_us + 2U * step_us_;
+    while (next_poll_us_ < t_us) {
+        if (next_poll_us_ > quiet_end) {
+            next_poll_us_ += (t_us - next_poll_us_ - 1U) / step_us_ * step_us_;
+        }
+        observe(plc_.poll(next_poll_us_), "PLC poll at t = " + seconds_text(next_poll_us_) + " s");
+        next_poll_us_ += step_us_;
+    }
+}
+
+void LogChecker::observe(const ReceiverStatus& rs, const std::string& where) {
+    if (rs.fault_events > faults_seen_) {
+        faults_seen_ = rs.fault_events;
+        fail(where + ": the PLC receiver enters the safe state: " + fault_text(rs.fault, rc_));
+    }
+}
+
+void LogChecker::on_safety_frame(const CanFrame& f, const std::string& where) {
+    const Result<SafetyFrameContent> c = decode_safety_frame(f, cfg_.can.channel);
+    if (!c.ok()) {
+        fail(where + ": safety frame does not decode");
+    } else if (c.value().counter != stop_.size() % 15U) {
+        fail(where + ": safety counter out of sequence");
+    }
+    stop_.push_back(c.ok() ? c.value().message.protective_stop : true);
+    last_safety_ = f;
+    have_safety_ = true;
+}
+
+void LogChecker::on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, const std::string& where) {
+    const CanFrame want = inverted_copy(last_safety_);
+    bool same = have_safety_ && f.dlc == want.dlc;
+    for (int k = 0; same && k < 8; ++k) {
+        same = f.data[k] == want.data[k];
+    }
+    if (!same) {
+        fail(where + ": inverted copy does not match its safety frame");
+    }
+    // From the third pair on (the reference pair and two recovery pairs); after a
+    // reported fault the receiver is not valid until it recovers, which says nothing new.
+    if (stop_.size() >= 3U && faults_seen_ == 0U && !rs.communication_valid) {
+        fail(where + ": PLC receiver not valid: " + to_string(rs.fault));
+    }
+    if (rs.communication_valid && rs.stop_requested != stop_.back()) {
+        fail(where + ": PLC receiver's stop decision differs from the frame's stop bit");
+    }
+    valid_pairs_ += rs.communication_valid ? 1 : 0;
+    have_safety_ = false;
+}
+
+void LogChecker::on_diagnostics_frame(const CanFrame& f, const std::string& where) {
+    const Result<DiagnosticsFrameContent> d = decode_diagnostics_frame(f, cfg_.can.channel);
+    if (!d.ok()) {
+        fail(where + ": diagnostics frame does not decode");
+    } else if (d.value().message.prior_crc_page != static_cast<std::uint8_t>(diagnostics_ % 4)) {
+        fail(where + ": prior CRC page out of sequence");
+    }
+    ++diagnostics_;
+}
+
+/// The cycle in which the scripted person first overlaps a protective zone
+/// (-1: never); checks the stop bits there and in the cycle before.
+int LogChecker::check_entry_cycle() {
+    int entry = -1;
+    for (const ZoneSettings& z : cfg_.zones) {
+        for (int k = 0; z.zone.kind == ZoneKind::kProtective && k < cycles_ && entry < 0; ++k) {
+            entry = person_overlaps(z.zone, demo_person(k)) ? k : -1;
+        }
+    }
+    const bool inside = entry > 0 && entry < static_cast<int>(stop_.size());
+    if (!inside) {
+        fail("the person does not enter the protective zone during the logged run (entry cycle " +
+             std::to_string(entry) + ", " + std::to_string(stop_.size()) + " safety frames)");
+        return entry;
+    }
+    if (stop_[static_cast<std::size_t>(entry - 1)]) {
+        fail("stop in the cycle before the entry (cycle " + std::to_string(entry - 1) + ")");
+    }
+    if (!stop_[static_cast<std::size_t>(entry)]) {
+        fail("no stop in the entry cycle " + std::to_string(entry));
+    }
+    return entry;
+}
+
+void LogChecker::finish() {
+    std::string polled = "never polled (no frame)";
+    if (!have_time_) {
+        fail("the log holds no frame");
+    } else {
+        // The end of the expected run (or the last frame, if later): the PLC has
+        // been polling all along and still expects a pair within the SCT.
+        const std::uint64_t t = std::max(start_us_ + static_cast<std::uint64_t>(cycles_) * cfg_.period_us, last_us_);
+        poll_until(t);
+        observe(plc_.poll(t), "PLC poll at the end of the run, t = " + seconds_text(t) + " s");
+        polled = "polled every " + ms_text(step_us_) + " of log time up to t = " + seconds_text(t) + " s";
+    }
+    if (lines_ != 3 * cycles_) {
+        fail("expected " + std::to_string(3 * cycles_) + " lines, got " + std::to_string(lines_));
+    }
+    if (static_cast<int>(stop_.size()) != cycles_) {
+        fail("expected one safety frame per cycle, " + std::to_string(cycles_) + ", got " +
+             std::to_string(stop_.size()));
+    }
+    const int entry = check_entry_cycle();
+    const bool stop_there = entry >= 0 && entry < static_cast<int>(stop_.size()) && stop_[static_cast<std::size_t>(entry)];
+    out_.summary = std::to_string(lines_) + " lines, " + std::to_string(stop_.size()) + " safety pairs (" +
+                   std::to_string(valid_pairs_) + " accepted by the PLC receiver), " + std::to_string(diagnostics_) +
+                   " diagnostics frames; PLC receiver " + polled + ", " + std::to_string(faults_seen_) +
+                   " faults; person enters the protective zone in cycle " + std::to_string(entry) +
+                   ", stop bit there: " + (stop_there ? "1" : "0") + "; " + std::to_string(out_.failures.size()) +
+                   " failures";
+}
+
+}  // namespace
+
+PlcReceiverConfig demo_log_receiver_config(const MonitorConfig& config) {
+    PlcReceiverConfig rc;
+    rc.channel = config.can.channel;
+    rc.srvt_us = config.period_us / 2U;
+    rc.sct_us = 3U * config.period_us;
+    rc.expected_zone_count = static_cast<std::uint8_t>(std::min<std::size_t>(config.zones.size(), 255U));
+    return rc;
+}
+
+std::uint64_t demo_log_poll_interval_us(const PlcReceiverConfig& receiver) noexcept {
+    return std::max<std::uint64_t>(1U, std::min<std::uint64_t>(1000U, receiver.srvt_us / 10U));
+}
+
+DemoLogCheck check_demo_log(std::istream& log, int cycles, const MonitorConfig& config) {
+    DemoLogCheck out;
+    const PlcReceiverConfig rc = demo_log_receiver_config(config);
+    if (cycles < 1 || cycles > kDemoLogMaxCycles) {
+        out.input_ok = false;
+        out.failures.push_back("CYCLES must be 1.." + std::to_string(kDemoLogMaxCycles) + ", got " +
+                               std::to_string(cycles));
+        return out;
+    }
+    if (!PlcReceiver::check_config(rc).ok()) {
+        out.input_ok = false;
+        out.failures.push_back("no valid PLC receiver configuration for this monitor configuration (period " +
+                               ms_text(config.period_us) + ", " + std::to_string(config.zones.size()) + " zones)");
+        return out;
+    }
+    LogChecker checker(config, rc, cycles, out);
+    for (std::string line; std::getline(log, line);) {
+        checker.line(line);
+    }
+    checker.finish();
+    return out;
+}
+
+DemoLogCheck check_demo_log_file(const std::string& path, int cycles, const MonitorConfig& config) {
+    errno = 0;
+    std::ifstream in(path);
+    if (!in) {
+        DemoLogCheck out;
+        out.input_ok = false;
+        out.failures.push_back(path + ": cannot open: " + (errno != 0 ? std::strerror(errno) : "unknown error"));
+        return out;
+    }
+    return check_demo_log(in, cycles, config);
+}
+
+}  // namespace cellguard::monitor

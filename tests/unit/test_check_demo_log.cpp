@@ -1,0 +1,237 @@
+// Requirements: cellguard-monitor-check-log reads a demo run's CAN log as the PLC would: the PLC receiver gets each frame at its time stamp and is polled on the log's clock, so frames that stop early, a frame delayed past the SRVT and a pair split by more than the SRVT fail; bad input is refused with a message.
+//
+// The tests named "cellguard-monitor-check-log on the demo log: ..." need a
+// real demo log: `cellguard-monitor --demo --quiet --cycles 60 --budget-ms
+// 60000 --log FILE`, which the ctest monitor_demo_runs_its_cycles_and_exits_0
+// writes (fixture monitor_demo_log). They are marked skip, so a plain run of
+// the unit test binary (as the coverage run does) leaves them out; the ctest
+// monitor_check_log_unit_tests_on_a_real_demo_log runs them with --no-skip and
+// CELLGUARD_DEMO_LOG set to that log (apps/monitor/CMakeLists.txt). By hand:
+//   CELLGUARD_DEMO_LOG=FILE cellguard_unit_tests --no-skip -tc='cellguard-monitor-check-log*'
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cellguard/linux/candump_log.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/demo_log_check.hpp"
+
+using namespace cellguard;
+using namespace cellguard::monitor;
+
+namespace {
+
+constexpr int kCycles = 60;  // the fixture's --cycles
+constexpr std::size_t kLinesPerCycle = 3U;  // safety frame, inverted copy, diagnostics frame
+
+/// The lines of the fixture's demo log (3 per cycle, in time order).
+std::vector<std::string> demo_log_lines() {
+    const char* path = std::getenv("CELLGUARD_DEMO_LOG");
+    INFO("CELLGUARD_DEMO_LOG names the log of `cellguard-monitor --demo --cycles 60` "
+         "(ctest monitor_check_log_unit_tests_on_a_real_demo_log sets it)");
+    REQUIRE(path != nullptr);
+    std::ifstream in(path);
+    INFO("log: " << path);
+    REQUIRE(in.good());
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) {
+        lines.push_back(line);
+    }
+    REQUIRE(lines.size() == kLinesPerCycle * kCycles);
+    return lines;
+}
+
+linux_port::CandumpRecord record_of(const std::string& line) {
+    linux_port::CandumpRecord r;
+    REQUIRE(linux_port::parse_candump_line(line.c_str(), r).ok());
+    return r;
+}
+
+/// @p lines with line @p index given the time stamp @p t_us, then sorted by
+/// time stamp (stable), so the log stays in time order as a recording would.
+std::vector<std::string> retimed(const std::vector<std::string>& lines, std::size_t index, std::uint64_t t_us) {
+    std::vector<std::pair<std::uint64_t, std::string>> timed;
+    for (const std::string& l : lines) {
+        timed.emplace_back(record_of(l).timestamp_us, l);
+    }
+    const linux_port::CandumpRecord r = record_of(lines.at(index));
+    char text[linux_port::kCandumpLineCapacity];
+    const std::size_t n = linux_port::format_candump_line(text, sizeof(text), t_us, r.interface_name, r.frame);
+    REQUIRE(n > 0U);
+    timed[index] = {t_us, std::string(text, n)};
+    std::stable_sort(timed.begin(), timed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (const auto& tl : timed) {
+        out.push_back(tl.second);
+    }
+    return out;
+}
+
+DemoLogCheck check_text(const std::string& text, int cycles) {
+    std::istringstream in(text);
+    return check_demo_log(in, cycles, demo_config());
+}
+
+DemoLogCheck check_lines(const std::vector<std::string>& lines) {
+    std::string text;
+    for (const std::string& l : lines) {
+        text += l + "\n";
+    }
+    return check_text(text, kCycles);
+}
+
+/// True when a failure message holds both @p a and @p b.
+bool has_failure(const DemoLogCheck& r, const std::string& a, const std::string& b = "") {
+    return std::any_of(r.failures.begin(), r.failures.end(), [&](const std::string& f) {
+        return f.find(a) != std::string::npos && f.find(b) != std::string::npos;
+    });
+}
+
+std::string all_failures(const DemoLogCheck& r) {
+    std::string text;
+    for (const std::string& f : r.failures) {
+        text += f + "\n";
+    }
+    return text;
+}
+
+/// The time stamp of cycle @p cycle's safety frame (line 3 * cycle), checked to be one.
+std::uint64_t safety_frame_time(const std::vector<std::string>& lines, int cycle) {
+    const linux_port::CandumpRecord r = record_of(lines.at(kLinesPerCycle * static_cast<std::size_t>(cycle)));
+    REQUIRE(r.frame.id == demo_config().can.channel.safety_can_id);
+    return r.timestamp_us;
+}
+
+}  // namespace
+
+// verifies: SR-SYS-006, SR-SYS-001
+TEST_CASE("cellguard-monitor-check-log on the demo log: the unmodified log passes, polled up to the end of the run" *
+          doctest::skip()) {
+    const DemoLogCheck r = check_lines(demo_log_lines());
+    CAPTURE(all_failures(r));
+    CHECK(r.input_ok);
+    CHECK(r.failures.empty());
+    CHECK(r.passed());
+    CHECK(r.summary.find("180 lines, 60 safety pairs (58 accepted by the PLC receiver)") == 0U);
+    CHECK(r.summary.find("polled every 1 ms of log time") != std::string::npos);
+    CHECK(r.summary.find(", 0 faults;") != std::string::npos);
+}
+
+// verifies: SR-SYS-006, SR-CAN-008
+TEST_CASE("cellguard-monitor-check-log on the demo log: frames that stop early fail, the SCT expires at a poll" *
+          doctest::skip()) {
+    // The last 12 lines dropped: the safety frame, inverted copy and diagnostics
+    // frame of cycles 56 to 59. The last pair (cycle 55's) completes about 0.5 s
+    // before the end of the run (the first frame's time + 60 periods of 100 ms),
+    // more than the SCT of 300 ms, so the PLC's polls find it expired.
+    std::vector<std::string> lines = demo_log_lines();
+    lines.resize(lines.size() - 12U);
+    const DemoLogCheck r = check_lines(lines);
+    CAPTURE(all_failures(r));
+    CHECK(r.input_ok);
+    CHECK_FALSE(r.passed());
+    CHECK(has_failure(r, "PLC poll at ", "safe state: safeguard cycle time expired (SCT 300 ms)"));
+    CHECK(has_failure(r, "expected 180 lines, got 168"));
+}
+
+// verifies: SR-SYS-006, SR-CAN-008
+TEST_CASE("cellguard-monitor-check-log on the demo log: one safety frame delayed past the SRVT fails" *
+          doctest::skip()) {
+    // Cycle 30's safety frame (line 91) moved to 20 ms before cycle 31's safety
+    // frame, about 80 ms after its own time, so past the SRVT (50 ms) after its
+    // inverted copy; re-sorted by time it follows that copy and its cycle's
+    // diagnostics frame, as line 93. The copy (now line 91) comes with no frame
+    // waiting; the late frame waits in vain for a copy until cycle 31's safety
+    // frame (line 94) arrives 20 ms later, within the SRVT, so that line finds
+    // the copy missing.
+    const std::vector<std::string> lines = demo_log_lines();
+    const std::uint64_t t31 = safety_frame_time(lines, 31);
+    const linux_port::CandumpRecord copy30 = record_of(lines.at(91U));
+    REQUIRE(copy30.frame.id == inverted_can_id(demo_config().can.channel));
+    REQUIRE(t31 - 20000U > copy30.timestamp_us + 50000U);  // the delayed frame is past the SRVT after its copy
+    const DemoLogCheck r = check_lines(retimed(lines, 90U, t31 - 20000U));
+    CAPTURE(all_failures(r));
+    CHECK_FALSE(r.passed());
+    CHECK(has_failure(r, "line 91 ", "safe state: unexpected inverted copy"));
+    CHECK(has_failure(r, "line 91: inverted copy does not match its safety frame"));
+    CHECK(has_failure(r, "line 94 ", "safe state: inverted copy missing (SRVT 50 ms)"));
+}
+
+// verifies: SR-SYS-006, SR-CAN-008
+TEST_CASE("cellguard-monitor-check-log on the demo log: a pair split by more than the SRVT fails, by exactly the SRVT passes" *
+          doctest::skip()) {
+    // Cycle 30's inverted copy (line 92) moved to its safety frame's time + d;
+    // re-sorted by time it follows its cycle's diagnostics frame, as line 93.
+    const std::vector<std::string> lines = demo_log_lines();
+    const std::uint64_t t = safety_frame_time(lines, 30);
+    SUBCASE("d = SRVT + 2 ms = 52 ms: a poll (every 1 ms) before the copy arrives finds the SRVT expired") {
+        const DemoLogCheck r = check_lines(retimed(lines, 91U, t + 52000U));
+        CAPTURE(all_failures(r));
+        CHECK_FALSE(r.passed());
+        CHECK(has_failure(r, "PLC poll at t = ", "safe state: inverted copy missing (SRVT 50 ms)"));
+        CHECK(has_failure(r, "line 93 ", "safe state: unexpected inverted copy"));
+    }
+    SUBCASE("d = SRVT + 1 us: the copy itself is late") {
+        const DemoLogCheck r = check_lines(retimed(lines, 91U, t + 50001U));
+        CAPTURE(all_failures(r));
+        CHECK_FALSE(r.passed());
+        CHECK(has_failure(r, "line 93 ", "safe state: inverted copy late (SRVT 50 ms)"));
+    }
+    SUBCASE("d = SRVT = 50 ms: accepted, as by the receiver") {
+        const DemoLogCheck r = check_lines(retimed(lines, 91U, t + 50000U));
+        CAPTURE(all_failures(r));
+        CHECK(r.passed());
+    }
+}
+
+// verifies: SR-SYS-006
+TEST_CASE("cellguard-monitor-check-log: an unreadable log or a bad cycle count is refused with a message") {
+    const DemoLogCheck missing = check_demo_log_file("/nonexistent/monitor-demo.log", kCycles, demo_config());
+    CHECK_FALSE(missing.input_ok);
+    REQUIRE(missing.failures.size() == 1U);
+    CHECK(missing.failures[0] == "/nonexistent/monitor-demo.log: cannot open: No such file or directory");
+    for (const int cycles : {0, -1, kDemoLogMaxCycles + 1}) {
+        CAPTURE(cycles);
+        const DemoLogCheck r = check_text("", cycles);
+        CHECK_FALSE(r.input_ok);
+        CHECK(has_failure(r, "CYCLES must be 1..1000000, got " + std::to_string(cycles)));
+    }
+    MonitorConfig one_us = demo_config();
+    one_us.period_us = 1U;  // SRVT would be 0
+    const DemoLogCheck r = [&] {
+        std::istringstream in("");
+        return check_demo_log(in, kCycles, one_us);
+    }();
+    CHECK_FALSE(r.input_ok);
+    CHECK(has_failure(r, "no valid PLC receiver configuration"));
+}
+
+// verifies: SR-SYS-006
+TEST_CASE("cellguard-monitor-check-log: an empty log, foreign or malformed lines, and time stamps far apart fail without hanging") {
+    const DemoLogCheck empty = check_text("", kCycles);
+    CHECK(empty.input_ok);
+    CHECK(has_failure(empty, "the log holds no frame"));
+    CHECK(has_failure(empty, "expected 180 lines, got 0"));
+    // A foreign CAN ID, a malformed line, then a time stamp about 317,000 years
+    // later and one that goes back: the polls between them are skipped once
+    // nothing can change, so the check ends at once.
+    const DemoLogCheck r = check_text("(1.000000) vcan0 7FF#\n"
+                                      "(1.5) vcan0 101#00\n"
+                                      "(9999999999999.000000) vcan0 7FF#\n"
+                                      "(2.000000) vcan0 7FF#\n",
+                                      kCycles);
+    CAPTURE(all_failures(r));
+    CHECK(r.input_ok);
+    CHECK(has_failure(r, "line 1: unexpected CAN ID"));
+    CHECK(has_failure(r, "line 2: candump line: timestamp needs six decimals"));
+    CHECK(has_failure(r, "line 4 (t = 2.000000 s)", "safe state: time went backwards"));
+    CHECK(has_failure(r, "expected 180 lines, got 4"));
+    CHECK(r.summary.find("up to t = 9999999999999.000000 s") != std::string::npos);
+}
