@@ -41,6 +41,7 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
     return visits;
 }
 
+// cppcheck-suppress constParameter ; the grid is written through its views: const would hide that
 void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const SensorModelTable& model) noexcept {
     std::int16_t* const lo = grid.log_odds().data();
     std::uint8_t* const obs = grid.observed().data();
