@@ -393,7 +393,10 @@ int main(int argc, char** argv) {
 
     const bool plots = o.plots && have_gnuplot();
     if (o.plots && !plots) {
-        std::printf("gnuplot not found: precision-recall plots skipped (CSV and tables are written)\n");
+        std::fprintf(stderr,
+                     "cellguard-eval: gnuplot not found: the precision-recall plots (pr-<scene>.png) are NOT drawn; "
+                     "the CSVs, tables and renders are written. Install gnuplot-nox (tools/install-deps.sh does) "
+                     "or pass --no-plots.\n");
     }
     int status = 0;
     sim::OwnedGrid background(cfg.geometry);
