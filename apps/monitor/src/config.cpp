@@ -16,6 +16,7 @@
 #include "cellguard/fusion.hpp"
 #include "cellguard/grid.hpp"
 #include "cellguard/host/toml_loader.hpp"
+#include "cellguard/sim/workcell.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -426,6 +427,19 @@ MonitorConfig demo_config() {
         std::abort();
     }
     return l.config;
+}
+
+Eigen::Isometry3d sensor_pose(const SensorSettings& s) {
+    if (s.has_target) {
+        sim::SensorSpec spec;
+        spec.position = s.position;
+        spec.target = s.target;
+        return spec.pose();
+    }
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = s.rotation.normalized().toRotationMatrix();
+    pose.translation() = s.position;
+    return pose;
 }
 
 }  // namespace cellguard::monitor

@@ -240,7 +240,8 @@ sim::SensorSpec to_spec(const SensorSettings& s, std::string& error) {
     } else {
         const Eigen::Matrix3d r = s.rotation.toRotationMatrix();
         spec.target = s.position + r.col(2);
-        if (!spec.pose().linear().isApprox(r, 1e-6)) {
+        // Only the simulator derives the roll; a recorded sensor takes its pose as given (sensor_pose).
+        if (s.pcd_files.empty() && !spec.pose().linear().isApprox(r, 1e-6)) {
             error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
                     "': the simulator supports only rotations without roll (x axis horizontal)";
         }
@@ -486,9 +487,12 @@ int main(int argc, char** argv) {
 
     // Recorded frames (PCD files) for the sensors that have them.
     std::vector<std::unique_ptr<PcdFrameSource>> recorded(specs.size());
+    const bool all_recorded = std::all_of(cfg.sensors.begin(), cfg.sensors.end(),
+                                          [](const SensorSettings& s) { return !s.pcd_files.empty(); });
     for (std::size_t s = 0U; s < specs.size(); ++s) {
         if (!cfg.sensors[s].pcd_files.empty()) {
-            recorded[s] = std::make_unique<PcdFrameSource>(specs[s].name, cfg.sensors[s].pcd_files, specs[s].pose(),
+            recorded[s] = std::make_unique<PcdFrameSource>(specs[s].name, cfg.sensors[s].pcd_files,
+                                                           sensor_pose(cfg.sensors[s]),
                                                            specs[s].width, specs[s].height, specs[s].max_range);
             std::printf("input: sensor '%s' from %zu recorded PCD frames\n", specs[s].name.c_str(),
                         cfg.sensors[s].pcd_files.size());
@@ -581,9 +585,16 @@ int main(int argc, char** argv) {
             for (std::size_t z = 0U; z < zones.size(); ++z) {
                 zs += " " + cfg.zones[z].name + ":" + to_string(r.zones.zones[z].state);
             }
-            std::printf("t=%7.3fs cycle %3d person (%5.2f,%5.2f) %-17s|%s | %-4s %-4s | faults %s | cycle %.2f ms\n",
-                        static_cast<double>(clock.base() - sim_start_us) / 1e6, k, person.x, person.y, demo_phase(k),
-                        zs.c_str(), r.safety.stop_requested ? "STOP" : "run", r.safety.warning ? "WARN" : "-",
+            // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
+            char scene_text[64];
+            if (all_recorded) {
+                std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", "");
+            } else {
+                std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
+                              demo_phase(k));
+            }
+            std::printf("t=%7.3fs cycle %3d %s|%s | %-4s %-4s | faults %s | cycle %.2f ms\n",
+                        static_cast<double>(clock.base() - sim_start_us) / 1e6, k, scene_text, zs.c_str(), r.safety.stop_requested ? "STOP" : "run", r.safety.warning ? "WARN" : "-",
                         fault_names(r.safety.latched_faults).c_str(), static_cast<double>(cycle_us) / 1000.0);
             std::fflush(stdout);
         }

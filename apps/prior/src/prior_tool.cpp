@@ -335,15 +335,8 @@ IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files
                                          "its x axis undefined; give `rotation`",
                                          config_path.c_str(), s.line, s.name.c_str());
             }
-            sim::SensorSpec spec;
-            spec.position = s.position;
-            spec.target = s.target;
-            r.pose = spec.pose();
-        } else {
-            r.pose = Eigen::Isometry3d::Identity();
-            r.pose.linear() = s.rotation.normalized().toRotationMatrix();
-            r.pose.translation() = s.position;
         }
+        r.pose = monitor::sensor_pose(s);
         sensors.push_back(std::move(r));
     }
     return IoStatus{};

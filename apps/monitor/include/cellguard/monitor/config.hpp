@@ -109,6 +109,13 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
                                 const std::string& base_dir = ".");
 /// Reads and parses the file at @p path.
 ConfigLoad load_monitor_config(const std::string& path);
+
+/// The sensor -> cell pose of @p s as configured: from position and target
+/// by the simulator's convention (x axis horizontal; undefined for a target
+/// straight above or below), or from position and rotation exactly, whatever
+/// the roll. The monitor and the commissioning tool both take recorded
+/// sensors' poses from here.
+Eigen::Isometry3d sensor_pose(const SensorSettings& s);
 /// The built-in demo configuration (paper-cell.toml's content).
 MonitorConfig demo_config();
 /// The TOML text of the demo configuration.
