@@ -222,7 +222,7 @@ std::string fault_names(std::uint32_t mask) {
     return s;
 }
 
-sim::SensorSpec to_spec(const SensorSettings& s, std::string& error) {
+sim::SensorSpec to_spec(const SensorSettings& s, bool simulated_background, std::string& error) {
     sim::SensorSpec spec;
     spec.name = s.name;
     spec.position = s.position;
@@ -240,10 +240,14 @@ sim::SensorSpec to_spec(const SensorSettings& s, std::string& error) {
     } else {
         const Eigen::Matrix3d r = s.rotation.toRotationMatrix();
         spec.target = s.position + r.col(2);
-        // Only the simulator derives the roll; a recorded sensor takes its pose as given (sensor_pose).
-        if (s.pcd_files.empty() && !spec.pose().linear().isApprox(r, 1e-6)) {
+        // Only the simulator derives the roll; a recorded sensor takes its pose as given (sensor_pose),
+        // unless the simulator must render its view of the empty cell for the prior.
+        if ((s.pcd_files.empty() || simulated_background) && !spec.pose().linear().isApprox(r, 1e-6)) {
             error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
-                    "': the simulator supports only rotations without roll (x axis horizontal)";
+                    "': the simulator supports only rotations without roll (x axis horizontal)" +
+                    (s.pcd_files.empty() ? std::string()
+                                         : std::string("; it renders this recorded sensor's view for "
+                                                       "prior.source = \"simulated-background\": use a prior file"));
         }
     }
     return spec;
@@ -297,7 +301,7 @@ int main(int argc, char** argv) {
     std::vector<sim::SensorSpec> specs;
     for (const SensorSettings& s : cfg.sensors) {
         std::string error;
-        specs.push_back(to_spec(s, error));
+        specs.push_back(to_spec(s, cfg.prior.source == PriorSource::kSimulatedBackground, error));
         if (!error.empty()) {
             std::fprintf(stderr, "cellguard-monitor: configuration error: %s\n", error.c_str());
             return 2;
