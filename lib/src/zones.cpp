@@ -124,23 +124,18 @@ bool zone_contains(const ZoneConfig& zone, const Eigen::Vector3d& p) noexcept {
     return !(has_pos && has_neg);
 }
 
-Result<CompiledZones> CompiledZones::compile(const GridGeometry& grid, Span<const ZoneConfig> zones,
-                                             Span<std::uint32_t> membership, ZoneError* error) noexcept {
-    ZoneError local{};
-    ZoneError& err = (error != nullptr) ? *error : local;
-    err = ZoneError{};
+Result<CompiledZones, ZoneError> CompiledZones::compile(const GridGeometry& grid, Span<const ZoneConfig> zones,
+                                                        Span<std::uint32_t> membership) noexcept {
     if (zones.size() > kMaxZones) {
-        err = ZoneError{ErrorCode::kCapacityExceeded, 0U, "more zones than kMaxZones (32)"};
-        return err.code;
+        return ZoneError{ErrorCode::kCapacityExceeded, 0U, "more zones than kMaxZones (32)"};
     }
     if (grid.voxel_count() == 0U || membership.size() < grid.voxel_count()) {
-        err = ZoneError{ErrorCode::kStorageTooSmall, 0U, "membership storage smaller than the grid"};
-        return err.code;
+        return ZoneError{ErrorCode::kStorageTooSmall, 0U, "membership storage smaller than the grid"};
     }
     for (std::size_t z = 0U; z < zones.size(); ++z) {
-        err = validate(grid, zones[z], z);
+        const ZoneError err = validate(grid, zones[z], z);
         if (err.code != ErrorCode::kOk) {
-            return err.code;
+            return err;
         }
     }
     CompiledZones c;
@@ -163,8 +158,7 @@ Result<CompiledZones> CompiledZones::compile(const GridGeometry& grid, Span<cons
     }
     for (std::size_t z = 0U; z < c.count_; ++z) {
         if (c.voxels_[z] == 0U) {
-            err = ZoneError{ErrorCode::kInvalidArgument, z, "zone holds no voxel centre"};
-            return err.code;
+            return ZoneError{ErrorCode::kInvalidArgument, z, "zone holds no voxel centre"};
         }
         c.total_ += c.voxels_[z];
     }

@@ -288,12 +288,10 @@ int main(int argc, char** argv) {
     // 32 zones covering the grid.
     const std::vector<ZoneConfig> zone_configs = worst_case_zones(g);
     std::vector<std::uint32_t> membership(g.voxel_count());
-    ZoneError zone_error;
-    const Result<CompiledZones> compiled =
-        CompiledZones::compile(g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()},
-                               &zone_error);
+    const Result<CompiledZones, ZoneError> compiled =
+        CompiledZones::compile(g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()});
     if (!compiled.ok()) {
-        std::fprintf(stderr, "bench_cycle: zone %zu: %s\n", zone_error.zone, zone_error.reason);
+        std::fprintf(stderr, "bench_cycle: zone %zu: %s\n", compiled.error().zone, compiled.error().reason);
         return 2;
     }
     const CompiledZones zones = compiled.value();

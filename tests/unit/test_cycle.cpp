@@ -65,7 +65,7 @@ TEST_CASE("cycle: the work bound follows from sensors, grid and zones") {
     z.box_min = Eigen::Vector3d(-0.5, -0.5, 0.0);
     z.box_max = Eigen::Vector3d(0.5, 0.5, 1.0);
     const ZoneConfig zs[] = {z, z};
-    const CompiledZones zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+    const CompiledZones zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}).value();
     SensorReading cam;
     cam.kind = SensorDataKind::kDepthImage;
     cam.intrinsics.width = 320;

@@ -50,7 +50,7 @@ TEST_CASE("monitor clock: paced, a stuck CLOCK_MONOTONIC latches the controller'
     config.restart_delay_us = 0U;
     std::uint32_t mask[8] = {};
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.5, GridDims{2, 2, 2}).value();
-    const CompiledZones zones = CompiledZones::compile(g, {}, {mask, 8U}, nullptr).value();
+    const CompiledZones zones = CompiledZones::compile(g, {}, {mask, 8U}).value();
     SafetyLogic logic(config, zones);
     ZoneEvaluation none;
     SafetyInputs in;

@@ -56,7 +56,7 @@ std::uint32_t faults_of_one_cycle(const SensorReading& reading) {
     z.box_max = Eigen::Vector3d(0.2, 0.2, 0.2);
     z.max_unseen_voxels = 1000U;
     std::vector<std::uint32_t> mask(g.voxel_count());
-    const CompiledZones zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}, nullptr).value();
+    const CompiledZones zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}).value();
     const SensorModelTable model;
     FixedClock clock;
     ControllerConfig cc;

@@ -304,7 +304,7 @@ TEST_CASE("picture: zones and background are drawn where they are, from above an
     std::vector<std::uint32_t> mask(g.voxel_count());
     ZoneError err;
     const CompiledZones zones =
-        CompiledZones::compile(g, {zc.data(), zc.size()}, {mask.data(), mask.size()}, &err).value();
+        CompiledZones::compile(g, {zc.data(), zc.size()}, {mask.data(), mask.size()}).value();
     std::vector<std::int16_t> prior(g.voxel_count(), -200);
     for (int z = 0; z < 5; ++z) {
         for (int y = 12; y < 16; ++y) {

@@ -120,7 +120,7 @@ struct WholeViewZone {
         z.box_min = Eigen::Vector3d(0.45, -1.5, -0.5);
         z.box_max = Eigen::Vector3d(3.5, 1.5, 1.5);
         z.max_unseen_voxels = 1000000U;
-        zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}, nullptr).value();
+        zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}).value();
     }
 };
 

@@ -4,8 +4,12 @@
 
 #include <cstdint>
 #include <cstring>
+#include <string>
+#include <type_traits>
+#include <utility>
 
 #include "cellguard/result.hpp"
+#include "cellguard/zones.hpp"
 #include "contract_capture.hpp"
 #include "enum_names.hpp"
 
@@ -57,4 +61,58 @@ TEST_CASE("result: a default Status is success and a Status from a code other th
     CHECK_FALSE(static_cast<bool>(failed));
     CHECK(failed.error() == ErrorCode::kOutOfGrid);
     CHECK(Status(ErrorCode::kOk).ok());
+}
+
+namespace {
+
+/// A value type with no default constructor that counts its live objects.
+struct Counted {
+    explicit Counted(int v) : value(v) { ++live; }
+    Counted(const Counted& o) : value(o.value) { ++live; }
+    Counted(Counted&& o) noexcept : value(o.value) { ++live; }
+    Counted& operator=(const Counted&) = default;
+    Counted& operator=(Counted&&) = default;
+    ~Counted() { --live; }
+    int value;
+    static int live;
+};
+int Counted::live = 0;
+
+}  // namespace
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a Result needs no default-constructed value and destroys exactly what it built") {
+    static_assert(!std::is_default_constructible<Counted>::value, "the test type must have no default constructor");
+    {
+        const Result<Counted> failed = ErrorCode::kMalformedInput;
+        CHECK(Counted::live == 0);  // no value was built for the failure
+        CHECK(failed.error() == ErrorCode::kMalformedInput);
+        Result<Counted> good = Counted(7);
+        CHECK(Counted::live == 1);
+        Result<Counted> copy = good;
+        CHECK(Counted::live == 2);
+        CHECK(copy.value().value == 7);
+        copy = failed;  // the value is destroyed, the error taken
+        CHECK(Counted::live == 1);
+        CHECK(copy.error() == ErrorCode::kMalformedInput);
+        copy = std::move(good);
+        CHECK(Counted::live == 2);  // the moved-from Result keeps its (moved-from) value until it ends
+        CHECK(copy.value().value == 7);
+        CHECK(copy.value_or(Counted(1)).value == 7);
+        CHECK(failed.value_or(Counted(3)).value == 3);
+    }
+    CHECK(Counted::live == 0);
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a Result carries a richer error type, and its success reports that type's no-error value") {
+    const Result<int, ZoneError> bad = ZoneError{ErrorCode::kOutOfGrid, 3U, "outside"};
+    CHECK_FALSE(bad.ok());
+    CHECK(bad.error().code == ErrorCode::kOutOfGrid);
+    CHECK(bad.error().zone == 3U);
+    CHECK(std::string(bad.error().reason) == "outside");
+    const Result<int, ZoneError> good = 5;
+    CHECK(good.ok());
+    CHECK(good.value() == 5);
+    CHECK(is_no_error(good.error()));
 }

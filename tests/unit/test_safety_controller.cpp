@@ -73,7 +73,7 @@ struct Workcell {
         // The firmware scenario's zones: zone 0 protective, on the floor in
         // front of box B; zone 1 a warning zone across it.
         const auto zs = firmware::scenario_zone_configs();
-        zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}, nullptr).value();
+        zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}).value();
     }
 
     // The firmware scenario's configuration: no restart delay, recovery
@@ -338,7 +338,7 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
     CHECK_FALSE(d.run_cycle(Frame(v, sim::reference_scene(), clock.t).span(), false).safety.stop_requested);
     auto zs = firmware::scenario_zone_configs();
     zs[0].kind = ZoneKind::kWarning;
-    v.zones = CompiledZones::compile(v.g, {zs.data(), zs.size()}, {v.mask.data(), v.mask.size()}, nullptr).value();
+    v.zones = CompiledZones::compile(v.g, {zs.data(), zs.size()}, {v.mask.data(), v.mask.size()}).value();
     const CycleReport& r = d.run_cycle(Frame(v, sim::reference_scene(), clock.t).span(), false);
     CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) != 0U);
     CHECK(r.safety.stop_requested);
@@ -410,7 +410,7 @@ TEST_CASE("controller: zones of another grid, or no sensors or more than eight, 
     inside.box_min += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
     inside.box_max += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
     const CompiledZones other_zones =
-        CompiledZones::compile(shifted, {&inside, 1U}, {other_mask.data(), other_mask.size()}, nullptr).value();
+        CompiledZones::compile(shifted, {&inside, 1U}, {other_mask.data(), other_mask.size()}).value();
     SafetyController wrong_grid(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size()}, other_zones,
                                 w.model, clock,
                                 nullptr);

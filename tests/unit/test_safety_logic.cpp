@@ -23,7 +23,7 @@ struct Cell {
         warning.kind = ZoneKind::kWarning;
         warning.box_max = Eigen::Vector3d(0.4, 0.4, 0.4);
         const ZoneConfig zs[] = {protective, warning};
-        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}).value();
         set(ZoneState::kClear, ZoneState::kClear);
     }
     void set(ZoneState protective, ZoneState warning) {

@@ -27,7 +27,7 @@ struct Fixture {
         warning.kind = ZoneKind::kWarning;
         warning.box_max = Eigen::Vector3d(1.0, 1.0, 1.0);
         const ZoneConfig zs[] = {protective, warning};
-        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}, nullptr).value();
+        zones = CompiledZones::compile(g, zs, {mask.data(), mask.size()}).value();
     }
     std::size_t at(int x, int y, int z) const { return g.index_of(VoxelCoord{x, y, z}); }
     ZoneEvaluation run() {
@@ -145,7 +145,7 @@ TEST_CASE("zone evaluation: counts per run of equal zone masks equal counting vo
         zs[z].max_unseen_voxels = 1000U;
     }
     std::vector<std::uint32_t> mask(g.voxel_count());
-    const CompiledZones zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}, nullptr).value();
+    const CompiledZones zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}).value();
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
     std::vector<std::int16_t> prior(g.voxel_count());

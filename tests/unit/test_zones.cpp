@@ -33,8 +33,7 @@ ZoneConfig prism(std::initializer_list<PolygonVertex> pts, double z0, double z1)
 TEST_CASE("zones: a box holds exactly the voxels whose centres it contains") {
     std::vector<std::uint32_t> mask(1000);
     const ZoneConfig zs[] = {box(0.0, 0.0, 0.0, 0.3, 0.2, 0.1)};
-    ZoneError err;
-    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err).value();
+    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}).value();
     CHECK(c.size() == 1U);
     CHECK(c.voxel_count(0) == 3U * 2U * 1U);
     CHECK(mask[0] == 1U);
@@ -50,7 +49,7 @@ TEST_CASE("zones: a prism over a convex polygon is compiled in either winding, o
         prism({{0.0, 0.0}, {0.0, 0.99}, {0.99, 0.0}}, 0.0, 0.5),  // the same, clockwise
         box(0.5, 0.5, 0.5, 1.0, 1.0, 1.0),
     };
-    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, nullptr).value();
+    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}).value();
     CHECK(c.voxel_count(0) == c.voxel_count(1));
     // centres (x+0.5)/10 + (y+0.5)/10 <= 0.99: x + y <= 8 gives 45 columns (no centre on the edge), 5 layers.
     CHECK(c.voxel_count(0) == 45U * 5U);
@@ -66,11 +65,10 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
     std::vector<std::uint32_t> mask(1000);
     const auto rejected = [&](const ZoneConfig& bad, ErrorCode code) {
         const ZoneConfig zs[] = {box(0, 0, 0, 0.5, 0.5, 0.5), bad};
-        ZoneError err;
-        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err);
-        CHECK(r.error() == code);
-        CHECK(err.zone == 1U);
-        CHECK(err.reason[0] != '\0');
+        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()});
+        CHECK(r.error().code == code);
+        CHECK(r.error().zone == 1U);
+        CHECK(r.error().reason[0] != '\0');
         return !r.ok();
     };
     CHECK(rejected(box(0, 0, 0, 0.5, 0.5, 1.5), ErrorCode::kOutOfGrid));
@@ -96,11 +94,10 @@ TEST_CASE("zones: every coordinate of a zone is checked on its own: non-finite, 
     std::vector<std::uint32_t> mask(1000);
     const auto refused = [&](const ZoneConfig& bad, ErrorCode code) {
         const ZoneConfig zs[] = {bad};
-        ZoneError err;
-        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, &err);
-        CHECK(err.zone == 0U);
-        CHECK(err.reason[0] != '\0');
-        return r.error() == code;
+        const auto r = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()});
+        CHECK(r.error().zone == 0U);
+        CHECK(r.error().reason[0] != '\0');
+        return r.error().code == code;
     };
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -140,11 +137,10 @@ TEST_CASE("zones: every coordinate of a zone is checked on its own: non-finite, 
 TEST_CASE("zones: more than 32 zones or too little storage is refused") {
     std::vector<std::uint32_t> mask(1000);
     std::vector<ZoneConfig> many(kMaxZones + 1U, box(0, 0, 0, 0.5, 0.5, 0.5));
-    ZoneError err;
-    CHECK(CompiledZones::compile(grid10(), {many.data(), many.size()}, {mask.data(), mask.size()}, &err).error() ==
+    CHECK(CompiledZones::compile(grid10(), {many.data(), many.size()}, {mask.data(), mask.size()}).error().code ==
           ErrorCode::kCapacityExceeded);
-    CHECK(CompiledZones::compile(grid10(), {many.data(), kMaxZones}, {mask.data(), mask.size()}, &err).ok());
-    CHECK(CompiledZones::compile(grid10(), {many.data(), 1U}, {mask.data(), 999U}, &err).error() ==
+    CHECK(CompiledZones::compile(grid10(), {many.data(), kMaxZones}, {mask.data(), mask.size()}).ok());
+    CHECK(CompiledZones::compile(grid10(), {many.data(), 1U}, {mask.data(), 999U}).error().code ==
           ErrorCode::kStorageTooSmall);
 }
 
@@ -153,11 +149,11 @@ TEST_CASE("zones: the settings CRC changes with a zone's kind, thresholds or cou
     std::vector<std::uint32_t> mask(1000);
     ZoneConfig a = box(0, 0, 0, 0.5, 0.5, 0.5);
     const ZoneConfig one[] = {a};
-    const std::uint32_t base = CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}, nullptr).value().settings_crc();
-    CHECK(CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}, nullptr).value().settings_crc() == base);
+    const std::uint32_t base = CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}).value().settings_crc();
+    CHECK(CompiledZones::compile(grid10(), one, {mask.data(), mask.size()}).value().settings_crc() == base);
     const auto crc_with = [&](const ZoneConfig& z) {
         const ZoneConfig zs[] = {z};
-        return CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}, nullptr).value().settings_crc();
+        return CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}).value().settings_crc();
     };
     ZoneConfig warning = a;
     warning.kind = ZoneKind::kWarning;
@@ -172,5 +168,5 @@ TEST_CASE("zones: the settings CRC changes with a zone's kind, thresholds or cou
     // The same voxels from a slightly different box: the same settings (the mask is checked on its own).
     CHECK(crc_with(box(0, 0, 0, 0.5, 0.5, 0.49)) == base);
     const ZoneConfig two[] = {a, a};
-    CHECK(CompiledZones::compile(grid10(), two, {mask.data(), mask.size()}, nullptr).value().settings_crc() != base);
+    CHECK(CompiledZones::compile(grid10(), two, {mask.data(), mask.size()}).value().settings_crc() != base);
 }

@@ -248,9 +248,9 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
         EvidenceGrid::make(geometry, Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
                            Span<std::uint8_t>(g_grid.observed, GridStorage::kVoxels));
     const std::array<ZoneConfig, kScenarioZones> zone_configs = scenario_zone_configs();
-    const Result<CompiledZones> zones =
+    const Result<CompiledZones, ZoneError> zones =
         CompiledZones::compile(geometry, Span<const ZoneConfig>(zone_configs.data(), zone_configs.size()),
-                               Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels), nullptr);
+                               Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels));
     if (!grid.ok() || !zones.ok()) {
         text.write("error: grid or zones refused\n");
         return summary;

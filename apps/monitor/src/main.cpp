@@ -312,13 +312,13 @@ int main(int argc, char** argv) {
         zone_configs.push_back(z.zone);
     }
     std::vector<std::uint32_t> zone_mask(g.voxel_count());
-    ZoneError zone_error;
-    const Result<CompiledZones> compiled = CompiledZones::compile(
-        g, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()}, &zone_error);
+    const Result<CompiledZones, ZoneError> compiled = CompiledZones::compile(
+        g, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()});
     if (!compiled.ok()) {
+        const ZoneError zone_error = compiled.error();
         const ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
         std::fprintf(stderr, "cellguard-monitor: configuration error: line %d: zone '%s': %s (%s)\n", z.line,
-                     z.name.c_str(), zone_error.reason, to_string(compiled.error()));
+                     z.name.c_str(), zone_error.reason, to_string(zone_error.code));
         return 2;
     }
     const CompiledZones zones = compiled.value();

@@ -69,6 +69,9 @@ struct ZoneError {
     const char* reason = "";          ///< static text: what is wrong
 };
 
+/// True when @p e means "no error" (its code is kOk): what Result<T, ZoneError> checks.
+constexpr bool is_no_error(const ZoneError& e) noexcept { return e.code == ErrorCode::kOk; }
+
 /// The compiled zones: configuration copy, per-zone voxel counts, and the
 /// membership mask view (bit z of mask[i] set when voxel i is in zone z).
 class CompiledZones {
@@ -77,15 +80,15 @@ public:
     CompiledZones() noexcept = default;
 
     /// Validates @p zones against @p grid and compiles them into
-    /// @p membership (one uint32 per voxel, overwritten). On error, @p error
-    /// says which zone and why, and the result holds the error code.
+    /// @p membership (one uint32 per voxel, overwritten). On error the
+    /// result's ZoneError says which zone, the code and why.
     /// Rejected: more than kMaxZones zones; non-finite coordinates; an
     /// empty or inverted box or height range; a polygon with fewer than 3
     /// or more than kMaxPolygonVertices vertices, not convex, or of zero
     /// area; a zone reaching outside the grid; a zone that holds no voxel
     /// centre; min_foreground_voxels of 0; storage smaller than the grid.
-    static Result<CompiledZones> compile(const GridGeometry& grid, Span<const ZoneConfig> zones,
-                                         Span<std::uint32_t> membership, ZoneError* error) noexcept;
+    static Result<CompiledZones, ZoneError> compile(const GridGeometry& grid, Span<const ZoneConfig> zones,
+                                                    Span<std::uint32_t> membership) noexcept;
 
     /// Number of zones.
     [[nodiscard]] std::size_t size() const noexcept { return count_; }
