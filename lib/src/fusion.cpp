@@ -41,6 +41,17 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
     return visits;
 }
 
+Eigen::Vector3f depth_pixel_point(const PinholeIntrinsics& k, double inv_fx, double inv_fy, std::int32_t u,
+                                  std::int32_t v, float d) noexcept {
+    const double rx = (static_cast<double>(u) - k.cx) * inv_fx;
+    const double ry = (static_cast<double>(v) - k.cy) * inv_fy;
+    return {static_cast<float>(rx * static_cast<double>(d)), static_cast<float>(ry * static_cast<double>(d)), d};
+}
+
+Eigen::Vector3d reading_in_cell(const Eigen::Isometry3d& pose, const Eigen::Vector3f& p) noexcept {
+    return pose * p.cast<double>();
+}
+
 // cppcheck-suppress constParameter ; the grid is written through its views: const would hide that
 void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const SensorModelTable& model) noexcept {
     std::int16_t* const lo = grid.log_odds().data();
@@ -99,7 +110,7 @@ void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const Sensor
     }
     bool in_grid = false;
     s.voxel_updates +=
-        trace_ray_opinions(opinions, g, r.pose.translation(), r.pose * p.cast<double>(), model, rasterization, &in_grid);
+        trace_ray_opinions(opinions, g, r.pose.translation(), reading_in_cell(r.pose, p), model, rasterization, &in_grid);
     ++s.rays_fused;
     s.readings_in_grid += in_grid ? 1U : 0U;
 }
@@ -119,7 +130,6 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
     const double inv_fy = 1.0 / k.fy;
     std::size_t i = 0U;
     for (std::int32_t v = 0; v < k.height; ++v) {
-        const double ry = (static_cast<double>(v) - k.cy) * inv_fy;
         for (std::int32_t u = 0; u < k.width; ++u, ++i) {
             const float d = reading.depth[i];
             // Classify the raw depth first: 0 * inf would hide an infinity as NaN.
@@ -132,10 +142,7 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
                 count(s, raw);
                 continue;
             }
-            const double rx = (static_cast<double>(u) - k.cx) * inv_fx;
-            const Eigen::Vector3f p(static_cast<float>(rx * static_cast<double>(d)),
-                                    static_cast<float>(ry * static_cast<double>(d)), d);
-            fuse_point(opinions, g, reading, p, model, rasterization, s);
+            fuse_point(opinions, g, reading, depth_pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);
         }
     }
     return s;
