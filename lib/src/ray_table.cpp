@@ -234,10 +234,10 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     table.exit_step_ = exit_step;
     table.steps_per_metre_ = compact ? 1.0F / exit_step : 0.0F;
     table.compact_ = compact;
-    const CheckHeader header = table.check_header();
+    table.header_words_ = table.check_header();
     std::uint32_t crc = kCrc32Init;
-    for (const Span<const std::uint8_t>& part : table.check_parts(header)) {
-        crc = crc32_update(crc, part);
+    for (const SignatureRegion& region : table.signature_regions()) {
+        crc = crc32_update(crc, region);
     }
     table.storage_crc_ = crc32_finish(crc);
     return table;
@@ -279,13 +279,13 @@ RayTable::CheckHeader RayTable::check_header() const noexcept {
                        size[0], size[1], ox[0], ox[1], oy[0], oy[1], oz[0], oz[1]};
 }
 
-RayTable::CheckParts RayTable::check_parts(const CheckHeader& header) const noexcept {
+RayTableSignatureRegions RayTable::signature_regions() const noexcept {
     if (pixels_ == 0U) {
-        return CheckParts{};
+        return RayTableSignatureRegions{};
     }
     const std::size_t voxels = geometry_.voxel_count();
-    return CheckParts{
-        as_bytes(Span<const std::uint32_t>(header.data(), header.size())),
+    return RayTableSignatureRegions{
+        as_bytes(Span<const std::uint32_t>(header_words_.data(), header_words_.size())),
         compact_ ? as_bytes(storage_.compact_voxels.subspan(0U, step_count_))
                  : as_bytes(storage_.wide_voxels.subspan(0U, step_count_)),
         compact_ ? as_bytes(storage_.compact_exit_steps.subspan(0U, step_count_))
@@ -300,44 +300,15 @@ RayTable::CheckParts RayTable::check_parts(const CheckHeader& header) const noex
 }
 
 std::size_t RayTable::checked_bytes() const noexcept {
-    static constexpr CheckHeader kSizesOnly{};  // the parts' sizes do not depend on the header's words
     std::size_t total = 0U;
-    for (const Span<const std::uint8_t>& part : check_parts(kSizesOnly)) {
-        total += part.size();
+    for (const SignatureRegion& region : signature_regions()) {
+        total += region.size();
     }
     return total;
 }
 
-bool RayTable::check_next_slice(RayTableCheck& check, std::size_t slice_bytes) const noexcept {
-    CG_ENFORCE(slice_bytes > 0U, "a check slice must read at least one byte");
-    if (check.table != this) {
-        check = RayTableCheck{this, 0U, kCrc32Init};
-    }
-    if (pixels_ == 0U) {
-        return true;  // an empty table has nothing to check
-    }
-    const CheckHeader header = check_header();
-    const CheckParts parts = check_parts(header);
-    std::size_t budget = slice_bytes;
-    std::size_t part_begin = 0U;
-    for (const Span<const std::uint8_t>& part : parts) {
-        const std::size_t part_end = part_begin + part.size();
-        if (budget > 0U && check.offset < part_end) {
-            const std::size_t from = check.offset - part_begin;
-            const std::size_t n = std::min(budget, part.size() - from);
-            check.crc_state = crc32_update(check.crc_state, part.subspan(from, n));
-            check.offset += n;
-            budget -= n;
-        }
-        part_begin = part_end;
-    }
-    if (check.offset < part_begin) {
-        return true;  // the pass goes on
-    }
-    const bool intact = crc32_finish(check.crc_state) == storage_crc_;
-    check.offset = 0U;
-    check.crc_state = kCrc32Init;
-    return intact;
+bool RayTable::limits_intact() const noexcept {
+    return pixels_ == 0U || check_header() == header_words_;
 }
 
 std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {

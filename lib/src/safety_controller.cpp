@@ -44,14 +44,27 @@ bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcep
         table_check_sensor_ = 0U;
     }
     if (table_check_sensor_ < sensors.size()) {
-        const RayTable* table = sensors[table_check_sensor_].table;
-        RayTableCheck& check = table_checks_[table_check_sensor_];  // < kMaxSensors: reset above
+        const std::size_t slot = table_check_sensor_;  // < kMaxSensors: reset above
         ++table_check_sensor_;
-        if (table != nullptr && !table->check_next_slice(check, config_.table_check_slice_bytes)) {
+        const RayTable* table = sensors[slot].table;
+        if (table != nullptr && step_one_table(table_checks_[slot], *table, config_.table_check_slice_bytes)) {
             table_failed_ = true;
         }
     }
     return table_failed_;
+}
+
+bool SafetyController::step_one_table(TableCheck& slot, const RayTable& table, std::size_t slice_bytes) noexcept {
+    // The table's regions and limits as they are now: a check that no longer
+    // reads them, or limits that no longer match the words the regions hold,
+    // mean the table object itself changed.
+    const RayTableSignatureRegions regions = table.signature_regions();
+    const Span<const SignatureRegion> now(regions.data(), regions.size());
+    if (slot.table != &table) {
+        slot = TableCheck{&table, SignatureCheck(now, table.storage_crc())};
+    }
+    const bool slice_failed = slot.check.step(slice_bytes);
+    return slice_failed || !slot.check.reads(now) || !table.limits_intact();
 }
 
 bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept {

@@ -352,22 +352,31 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     }
     // What a pass reads: the limits (19 words), both entry arrays, the four
     // per-pixel arrays, full_hits and the crossed voxels.
+    const RayTableSignatureRegions regions = table.signature_regions();
+    const Span<const SignatureRegion> list(regions.data(), regions.size());
     CHECK(table.checked_bytes() ==
           19U * 4U + 4U * n + 4U * (px + 1U) + 12U * px + 4U * g.voxel_count() + 4U * crossed_count);
+    CHECK(regions[0].size() == 19U * 4U);
+    CHECK(regions[1].data() == reinterpret_cast<const std::uint8_t*>(v.voxels.data()));  // NOLINT: the byte view of the entries
+    // build()'s CRC is the CRC of the regions read in order.
+    CHECK(SignatureCheck(list).reference() == table.storage_crc());
+    CHECK(table.limits_intact());
     constexpr std::size_t kSlice = 65536U;
-    const std::size_t calls_per_pass = (table.checked_bytes() + kSlice - 1U) / kSlice;
+    SignatureCheck check(list, table.storage_crc());
+    CHECK(check.total_bytes() == table.checked_bytes());
+    const std::size_t calls_per_pass = check.steps_per_pass(kSlice);
+    CHECK(calls_per_pass == (table.checked_bytes() + kSlice - 1U) / kSlice);
 
-    // Runs check passes until one ends; returns its verdict and how many calls it took.
-    const auto run_pass = [&](RayTableCheck& check) {
+    // Runs check steps until a pass ends; returns its verdict and how many calls it took.
+    const auto run_pass = [&](SignatureCheck& c) {
         std::size_t calls = 0U;
-        bool intact = true;
+        bool failed = false;
         do {
-            intact = table.check_next_slice(check, kSlice);
+            failed = c.step(kSlice);
             ++calls;
-        } while (intact && check.offset != 0U && calls <= 2U * calls_per_pass);
-        return std::make_pair(intact, calls);
+        } while (!failed && c.position() != 0U && calls <= 2U * calls_per_pass);
+        return std::make_pair(!failed, calls);
     };
-    RayTableCheck check;
     for (int pass = 0; pass < 2; ++pass) {
         const auto [intact, calls] = run_pass(check);
         CHECK(intact);
@@ -390,35 +399,46 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     for (std::size_t p = 0U; p < std::size(parts); ++p) {
         CAPTURE(p);
         // Mid-pass: the flip lands in a part the pass has not read yet or has.
-        RayTableCheck mid;
-        (void)table.check_next_slice(mid, kSlice);
+        SignatureCheck mid(list, table.storage_crc());
+        (void)mid.step(kSlice);
         parts[p][3] ^= 0x10U;
         // The pass under way may end intact (it read the byte before the
         // flip); the next must not.
-        bool found = false;
-        std::size_t calls = 0U;
-        while (!found && calls <= 2U * calls_per_pass + 1U) {
-            found = !table.check_next_slice(mid, kSlice);
+        std::size_t calls = 1U;
+        while (!mid.step(kSlice) && calls <= 2U * calls_per_pass + 1U) {
             ++calls;
         }
-        CHECK(found);
+        CHECK(mid.failed());
         CHECK(calls <= 2U * calls_per_pass);
         parts[p][3] ^= 0x10U;
-        CHECK(run_pass(mid).first);  // repaired: the next whole pass is intact again
+        // Latched; a new check over the repaired table passes a whole pass.
+        CHECK(mid.step(kSlice));
+        SignatureCheck fresh(list, table.storage_crc());
+        CHECK(run_pass(fresh).first);
     }
 
-    // A check handed another table starts a pass over it.
-    const RayTable other = RayTable::build(g, r, storage).value();
-    RayTableCheck moved;
-    (void)table.check_next_slice(moved, kSlice);
-    CHECK(moved.table == &table);
-    CHECK(other.check_next_slice(moved, kSlice));
-    CHECK(moved.table == &other);
-    CHECK(moved.offset == std::min(kSlice, other.checked_bytes()));
-    // An empty table reads nothing and passes.
-    RayTableCheck empty_check;
-    CHECK(RayTable{}.checked_bytes() == 0U);
-    CHECK(RayTable{}.check_next_slice(empty_check, kSlice));
+    // The limits' words are a region of the table object itself: a flip
+    // there is found by the signature, and limits_intact() sees that they
+    // no longer match the limits fuse() uses.
+    RayTable copy = table;
+    const RayTableSignatureRegions copy_regions = copy.signature_regions();
+    CHECK(copy_regions[0].data() != regions[0].data());  // a copy's regions view the copy's words
+    for (std::size_t k = 1U; k < copy_regions.size(); ++k) CHECK(copy_regions[k].data() == regions[k].data());
+    SignatureCheck of_copy(Span<const SignatureRegion>(copy_regions.data(), copy_regions.size()), copy.storage_crc());
+    std::uint8_t* const words = const_cast<std::uint8_t*>(copy_regions[0].data());  // NOLINT: bit flip for the test
+    words[5] ^= 0x02U;
+    CHECK_FALSE(copy.limits_intact());
+    CHECK_FALSE(run_pass(of_copy).first);
+    words[5] ^= 0x02U;
+    CHECK(copy.limits_intact());
+
+    // An empty table has no regions and nothing to fail.
+    const RayTable empty;
+    CHECK(empty.checked_bytes() == 0U);
+    CHECK(empty.limits_intact());
+    const RayTableSignatureRegions none = empty.signature_regions();
+    SignatureCheck empty_check(Span<const SignatureRegion>(none.data(), none.size()), empty.storage_crc());
+    CHECK_FALSE(empty_check.step(kSlice));
 }
 
 // verifies: SR-FUSE-006

@@ -254,20 +254,25 @@ TEST_CASE("controller: a frame delivered again with its old time stamp is not a 
 TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
     Workcell w;
     TestClock clock;
-    SafetyController c = w.controller(clock);
     const Frame f(w, sim::reference_scene(), clock.t);
-    CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
-    w.prior[12345] ^= 0x0100;  // a bit flips in RAM
     const std::size_t pass = (w.prior.size() * 2U + 4095U) / 4096U;
-    std::size_t cycles = 0U;
-    while (!c.run_cycle(f.span(), false).safety.stop_requested) {
-        ++cycles;
-        REQUIRE(cycles <= 2U * pass);
+    // The first, a middle and the last value: the check reads all of them.
+    for (const std::size_t at : {std::size_t{0}, std::size_t{12345}, w.prior.size() - 1U}) {
+        CAPTURE(at);
+        SafetyController c = w.controller(clock);
+        CHECK(c.prior_crc() == crc32(as_bytes(Span<const std::int16_t>(w.prior.data(), w.prior.size()))));
+        CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
+        w.prior[at] ^= 0x0100;  // a bit flips in RAM
+        std::size_t cycles = 0U;
+        while (!c.run_cycle(f.span(), false).safety.stop_requested) {
+            ++cycles;
+            REQUIRE(cycles <= 2U * pass);
+        }
+        CHECK(cycles <= 2U * pass);
+        CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
+        w.prior[at] ^= 0x0100;  // even repaired, the fault stays latched
+        for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     }
-    CHECK(cycles <= 2U * pass);
-    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
-    w.prior[12345] ^= 0x0100;  // even repaired, the fault stays latched
-    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 }
 
 // verifies: SR-CTRL-007, SR-LOGIC-006
@@ -307,6 +312,65 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
     storage[2].full_hits[storage[2].crossed[5]] ^= 0x4U;  // even repaired, the fault stays latched
     for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+}
+
+// verifies: SR-CTRL-007, SR-LOGIC-006
+TEST_CASE("controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or limits changed is caught at its next turn") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    config.table_check_slice_bytes = 1U << 20U;
+    Frame f(w, sim::reference_scene(), clock.t);
+    const SensorReading& r0 = f.inputs[0].reading;
+    test::RayTableVectors first(w.g, r0);
+    test::RayTableVectors second(w.g, r0);
+    test::RayTableVectors third(w.g, r0);
+    const RayTable a = RayTable::build(w.g, r0, first.storage()).value();
+    RayTable b = RayTable::build(w.g, r0, second.storage()).value();
+    const std::size_t pass = (a.checked_bytes() + config.table_check_slice_bytes - 1U) / config.table_check_slice_bytes;
+    REQUIRE(pass >= 2U);
+    const std::size_t round = f.inputs.size();  // cycles per turn of slot 0
+    SafetyController c = w.controller(config, clock);
+    f.inputs[0].table = &a;
+    for (std::size_t k = 0U; k < round * (pass / 2U + 1U); ++k) REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
+    // Mid-pass, slot 0 shows another table: its check is remade over that
+    // table, which passes pass after pass, and a flip in that table's RAM
+    // (not a's) is found.
+    f.inputs[0].table = &b;
+    for (std::size_t k = 0U; k < 3U * round * pass; ++k) REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
+    second.full_hits[second.crossed[5]] ^= 0x4U;
+    std::size_t cycles = 1U;
+    while ((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= 2U * round * pass);
+    }
+    CHECK(c.report().safety.stop_requested);
+    second.full_hits[second.crossed[5]] ^= 0x4U;
+
+    // The table object at the same address replaced by one over other
+    // storage: the check no longer reads the table's regions, at once.
+    SafetyController d = w.controller(config, clock);
+    for (std::size_t k = 0U; k < round; ++k) REQUIRE(d.run_cycle(f.span(), false).detected_faults == 0U);
+    b = RayTable::build(w.g, r0, third.storage()).value();
+    cycles = 1U;
+    while ((d.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= round);
+    }
+    CHECK((d.report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+
+    // The table's stored limits no longer match the ones fuse() uses: at
+    // the next turn, not only at the end of a pass.
+    SafetyController e = w.controller(config, clock);
+    for (std::size_t k = 0U; k < round; ++k) REQUIRE(e.run_cycle(f.span(), false).detected_faults == 0U);
+    std::uint8_t* const words = const_cast<std::uint8_t*>(b.signature_regions()[0].data());  // NOLINT: bit flip for the test
+    words[0] ^= 0x01U;
+    cycles = 1U;
+    while ((e.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= round);
+    }
+    words[0] ^= 0x01U;
 }
 
 // verifies: SR-CTRL-010, SR-LOGIC-006

@@ -60,6 +60,7 @@
 
 #include "cellguard/evidence_grid.hpp"
 #include "cellguard/fusion.hpp"
+#include "cellguard/ram_check.hpp"
 #include "cellguard/ray_traversal.hpp"
 #include "cellguard/sensor_frame.hpp"
 #include "cellguard/sensor_model.hpp"
@@ -125,28 +126,29 @@ struct RayTableStorage {
 [[nodiscard]] Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReading& sensor,
                                                   Rasterization rasterization = Rasterization::kExact) noexcept;
 
+/// Regions of a ray table's constant RAM, in the order a signature check
+/// reads them (RayTable::signature_regions).
+constexpr std::size_t kRayTableSignatureRegions = 9U;
+static_assert(kRayTableSignatureRegions <= kMaxSignatureRegions, "a SignatureCheck must hold a ray table's regions");
+
+/// A ray table's constant RAM as a SignatureCheck reads it: its limits as
+/// words, then its arrays (RayTable::signature_regions).
+using RayTableSignatureRegions = std::array<SignatureRegion, kRayTableSignatureRegions>;
+
 /// The precomputed rays of one depth sensor.
 ///
-class RayTable;
-
-/// Progress of the periodic integrity check of one table's constant RAM
-/// (RayTable::check_next_slice). Start from a default value; a check that
-/// is handed another table starts a new pass over it.
-struct RayTableCheck {
-    const RayTable* table = nullptr;  ///< the table the pass is over
-    std::size_t offset = 0U;          ///< bytes of the pass read so far
-    std::uint32_t crc_state = 0xFFFFFFFFU;  ///< CRC-32 register of the pass (kCrc32Init)
-};
-
 /// fuse() writes the table's working memory: a table (or tables sharing
 /// working memory) must not be fused from two threads at once (the cycle
 /// executive fuses one sensor at a time).
 ///
 /// Everything else of the table is constant after build(): the entries, the
 /// per-pixel arrays, full_hits, the crossed voxels and the table's own
-/// limits. build() takes their CRC-32 (storage_crc); check_next_slice
-/// re-reads them a slice at a time, so a bit that flips in that RAM is
-/// found within one pass (checked_bytes() / slice bytes calls).
+/// limits, which build() also stores as words. signature_regions() lists
+/// that RAM and build() takes its CRC-32 (storage_crc), so a SignatureCheck
+/// made from the two (ram_check.hpp) re-reads it a slice at a time and
+/// finds a bit that flips in it within one pass (ceil(checked_bytes() /
+/// slice bytes) steps) of the flip. limits_intact() covers the table object
+/// itself: the limits fuse() uses against the stored words.
 class RayTable {
 public:
     /// An empty table (placeholder only; fuse() refuses it).
@@ -184,26 +186,29 @@ public:
     /// compares it (for a compact table: the stored steps turned back).
     [[nodiscard]] float entry_exit(std::size_t pixel, std::size_t entry) const noexcept;
 
-    /// CRC-32 of the table's constant RAM (see the class comment), taken by build().
+    /// CRC-32 of the table's constant RAM (signature_regions(), read in
+    /// order), taken by build(): the reference of the table's SignatureCheck.
     [[nodiscard]] std::uint32_t storage_crc() const noexcept { return storage_crc_; }
-    /// Bytes one pass of check_next_slice reads (0 for an empty table).
+    /// The table's constant RAM in the order a check reads it: the limits'
+    /// words that build() stored (a view into this object: a copy's regions
+    /// view the copy's words), both entry
+    /// arrays, pixel_begin, pixel_enter, pixel_exit, pixel_norm, full_hits
+    /// and the crossed voxels, each as far as the table uses it. The working
+    /// memory is not included: fuse() writes it. All empty for an empty table.
+    [[nodiscard]] RayTableSignatureRegions signature_regions() const noexcept;
+    /// Bytes one pass over signature_regions() reads (0 for an empty table).
     [[nodiscard]] std::size_t checked_bytes() const noexcept;
-    /// Reads the next at most @p slice_bytes (> 0) bytes of the constant RAM
-    /// into @p check. At the end of a pass compares the CRC with
-    /// storage_crc() and starts the next pass. Returns false exactly when a
-    /// pass ended with a mismatch: the table's RAM changed since build().
-    /// An empty table passes.
-    [[nodiscard]] bool check_next_slice(RayTableCheck& check, std::size_t slice_bytes) const noexcept;
+    /// True while the limits fuse() uses (grid, counts, ranges, exit step,
+    /// kind) still equal the words build() stored: a change to the table
+    /// object that the signature of its regions would not see. Work: the
+    /// 19 words recomputed and compared. True for an empty table.
+    [[nodiscard]] bool limits_intact() const noexcept;
 
 private:
     static constexpr std::size_t kCheckHeaderWords = 19U;
-    static constexpr std::size_t kCheckParts = 9U;
     using CheckHeader = std::array<std::uint32_t, kCheckHeaderWords>;
-    using CheckParts = std::array<Span<const std::uint8_t>, kCheckParts>;
-    /// The table's geometry and limits as words: the first part of a pass.
+    /// The table's geometry and limits as words, from the members.
     [[nodiscard]] CheckHeader check_header() const noexcept;
-    /// The constant RAM in the order a pass reads it, @p header first.
-    [[nodiscard]] CheckParts check_parts(const CheckHeader& header) const noexcept;
 
     GridGeometry geometry_{};
     RayTableStorage storage_{};
@@ -215,6 +220,7 @@ private:
     float exit_step_ = 0.0F;       ///< metres per compact exit step (a power of two)
     float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
+    CheckHeader header_words_{};  ///< check_header() at build(): the first signature region
     std::uint32_t storage_crc_ = 0U;
 };
 

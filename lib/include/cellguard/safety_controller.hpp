@@ -20,7 +20,9 @@
 /// - a sensor's ray table no longer matching its CRC (kInternalCheck): at
 ///   the end of the pass of the periodic check that reads the changed byte
 ///   (table_check_slice_bytes of one sensor's table per cycle, the sensors
-///   in turn), latched for good;
+///   in turn; a SignatureCheck per sensor slot over the table's
+///   signature_regions() against its storage_crc()); a table object whose
+///   limits or regions changed: at its next turn; latched for good;
 /// - zone evaluation failing (kZoneEvaluation): this cycle;
 /// - the output failing (kCanError) and the cycle overrunning its budget
 ///   (kCycleOverrun): reported in the next cycle, since the current one has
@@ -159,6 +161,17 @@ private:
         std::uint32_t repeats = 0U;        ///< new frames in a row with the same data (saturating)
     };
 
+    /// A sensor slot's ray table check: made from the table's regions and
+    /// storage_crc() when the slot first shows that table, remade when the
+    /// slot's table pointer changes.
+    struct TableCheck {
+        const RayTable* table = nullptr;  ///< the table the check is of
+        SignatureCheck check{};           ///< its signature regions against its storage_crc()
+    };
+    /// The turn of @p table in @p slot: @p slice_bytes of its regions, and
+    /// whether the table object still has them. True when the check failed.
+    static bool step_one_table(TableCheck& slot, const RayTable& table, std::size_t slice_bytes) noexcept;
+
     ControllerConfig config_;
     EvidenceGrid* grid_;
     Span<std::int16_t> scratch_;  ///< fuse_sensor's working memory
@@ -172,11 +185,11 @@ private:
     CycleReport report_{};
     std::uint32_t pending_faults_ = 0U;
     std::uint32_t construction_faults_ = 0U;
-    BlockSignatureCheck prior_check_;  ///< the prior's bytes
-    BlockSignatureCheck zone_mask_check_;  ///< the zones' membership mask
+    SignatureCheck prior_check_;  ///< the prior's bytes, reference taken at construction
+    SignatureCheck zone_mask_check_;  ///< the zones' membership mask, reference taken at construction
     std::uint32_t zone_settings_crc_ = 0U;  ///< CompiledZones::settings_crc() at construction
     bool zone_settings_failed_ = false;
-    std::array<RayTableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the pass over its table
+    std::array<TableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the check of its table
     std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;
     std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
