@@ -9,7 +9,7 @@
 // - mode bit 1: check against the geometry the header itself states (when
 //   it is a valid geometry) instead of the fixed one below, so mutations get
 //   past the geometry checks.
-// - mode bits 2..7: slice size - 1 for the integrity monitor.
+// - mode bits 2..7: slice size - 1 for the signature check.
 // Seeds: tests/fuzz/corpus/fuzz_prior_image/ (valid images for both modes).
 #include <cstddef>
 #include <cstdint>
@@ -19,7 +19,7 @@
 
 #include "cellguard/crc32.hpp"
 #include "cellguard/prior_image.hpp"
-#include "cellguard/prior_integrity.hpp"
+#include "cellguard/ram_check.hpp"
 
 using namespace cellguard;
 namespace layout = cellguard::prior_image_layout;
@@ -101,11 +101,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     require(w.ok() && w.value() == img.size());
     require(std::memcmp(again.data(), img.data(), img.size()) == 0);
 
-    // The run-time check passes an intact accepted image in exactly ceil(size / slice) steps.
+    // A signature check of the image as two regions (header, payload) takes
+    // the image's CRC-32 as its reference and passes it, intact, in exactly
+    // ceil(size / slice) steps.
     const std::size_t slice = static_cast<std::size_t>(mode >> 2U) + 1U;
-    PriorIntegrityMonitor m = PriorIntegrityMonitor::make(view, slice).value();
-    require(m.steps_per_pass() == (img.size() + slice - 1U) / slice);
-    for (std::size_t i = 0; i < m.steps_per_pass(); ++i) require(m.step() == PriorIntegrityStatus::kOk);
-    require(m.passes_completed() == 1U);
+    const Span<const std::uint8_t> bytes = view.image();
+    const SignatureRegion parts[] = {bytes.subspan(0U, kPriorImageHeaderSize),
+                                     bytes.subspan(kPriorImageHeaderSize, bytes.size() - kPriorImageHeaderSize)};
+    SignatureCheck check{Span<const SignatureRegion>(parts)};
+    require(check.reference() == crc32(bytes));
+    require(check.steps_per_pass(slice) == (img.size() + slice - 1U) / slice);
+    for (std::size_t i = 0; i < check.steps_per_pass(slice); ++i) require(!check.step(slice));
+    require(check.position() == 0U && !check.failed());
     return 0;
 }

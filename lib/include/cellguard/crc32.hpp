@@ -13,7 +13,7 @@
 /// same CRC as one call over the whole message.
 ///
 /// Detection properties relied on by the prior image (prior_image.hpp) and
-/// its run-time check (prior_integrity.hpp): CRC-32 detects every error
+/// the run-time signature checks (ram_check.hpp): CRC-32 detects every error
 /// confined to one burst of at most 32 bits, hence every single-bit error,
 /// in a message of any length.
 #ifndef CELLGUARD_CRC32_HPP
