@@ -1,9 +1,15 @@
 // Recorded PCD frames as sensor input, each frame checked (pcd_input.hpp).
 #include "cellguard/monitor/pcd_input.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -37,12 +43,103 @@ PcdFrameSource::PcdFrameSource(std::string name, std::vector<std::string> files,
       width_(width),
       height_(height),
       max_range_(max_range),
-      buffer_(kMaxReadingsPerSensor) {
-    points_.reserve(kMaxReadingsPerSensor);
+      buffer_(std::min(static_cast<std::size_t>(width > 0 ? width : 0) * static_cast<std::size_t>(height > 0 ? height : 0),
+                       kMaxReadingsPerSensor)) {
+    points_.reserve(buffer_.size());
+    std::size_t largest = 0U;
+    for (const std::string& f : files_) {
+        struct stat st {};
+        if (::stat(f.c_str(), &st) == 0 && st.st_size > 0 &&
+            static_cast<std::uint64_t>(st.st_size) <= kPcdMaxFileBytes) {
+            largest = std::max(largest, static_cast<std::size_t>(st.st_size));
+        }
+    }
+    bytes_.resize(largest);
 }
 
 PcdFrameCheck PcdFrameSource::load(std::uint64_t cycle, SensorReading& reading) {
+    FrameStatus status;
+    (void)load_frame(cycle, reading, status);
     PcdFrameCheck c;
+    c.ok = status.ok;
+    c.file = status.file;
+    c.reason = status.reason;
+    c.points = status.points;
+    c.nonfinite = status.nonfinite;
+    return c;
+}
+
+IoStatus PcdFrameSource::read_file(const char* path, PcdCloudInfo& info) noexcept {
+    // read_pcd's steps and messages, into the buffer allocated at start-up
+    // (read_pcd allocates one per call).
+    info = PcdCloudInfo{};
+    const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path, std::strerror(errno));
+    }
+    struct stat st {};
+    IoStatus result;
+    if (::fstat(fd, &st) != 0) {
+        result = IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot stat: %s", path, std::strerror(errno));
+    } else if (static_cast<std::uint64_t>(st.st_size) > kPcdMaxFileBytes) {
+        result = IoStatus::failure(ErrorCode::kCapacityExceeded,
+                                   "%s: pcd: file of %llu bytes above the limit of %llu", path,
+                                   static_cast<unsigned long long>(st.st_size),
+                                   static_cast<unsigned long long>(kPcdMaxFileBytes));
+    } else if (static_cast<std::uint64_t>(st.st_size) > bytes_.size()) {
+        result = IoStatus::failure(ErrorCode::kCapacityExceeded,
+                                   "%s: pcd: file of %llu bytes, more than the %zu bytes this sensor's files had at start-up",
+                                   path, static_cast<unsigned long long>(st.st_size), bytes_.size());
+    } else {
+        const auto size = static_cast<std::size_t>(st.st_size);
+        std::size_t done = 0U;
+        while (done < size) {
+            const ssize_t n = ::read(fd, bytes_.data() + done, size - done);
+            if (n < 0 && errno == EINTR) {
+                continue;
+            }
+            if (n <= 0) {
+                result = IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read: %s", path,
+                                           n < 0 ? std::strerror(errno) : "the file ended early");
+                break;
+            }
+            done += static_cast<std::size_t>(n);
+        }
+        if (result.ok()) {
+            result = decode_pcd(bytes_.data(), size, {buffer_.data(), buffer_.size()}, info).prefixed(path);
+        }
+    }
+    (void)::close(fd);
+    return result;
+}
+
+bool PcdFrameSource::check_frame(const IoStatus& read, const PcdCloudInfo& info, FrameStatus& status) const noexcept {
+    const std::size_t capacity = buffer_.size();
+    char* const reason = status.reason;
+    const std::size_t size = sizeof status.reason;
+    if (info.points > capacity) {  // whether the read failed on it or not
+        std::snprintf(reason, size, "%llu points, more than sensor '%s' delivers (%d x %d)",
+                      static_cast<unsigned long long>(info.points), name_.c_str(), width_, height_);
+    } else if (!read.ok()) {
+        std::snprintf(reason, size, "%s", read.message());
+    } else if (info.height > 1U && (info.width != static_cast<std::uint32_t>(width_) ||
+                                    info.height != static_cast<std::uint32_t>(height_))) {
+        std::snprintf(reason, size, "organised cloud of %u x %u, but sensor '%s' has %d x %d pixels",
+                      static_cast<unsigned>(info.width), static_cast<unsigned>(info.height), name_.c_str(), width_,
+                      height_);
+    } else if (!is_unplaced_viewpoint(info.viewpoint) && !viewpoint_matches(info.viewpoint, pose_)) {
+        char buf[160];  // the message as it always was, at most 159 characters
+        std::snprintf(buf, sizeof buf, "VIEWPOINT (%.3f, %.3f, %.3f) is not the pose of sensor '%s'",
+                      info.viewpoint.tx, info.viewpoint.ty, info.viewpoint.tz, name_.c_str());
+        std::snprintf(reason, size, "%s", buf);
+    } else {
+        return true;
+    }
+    return false;
+}
+
+bool PcdFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept {
+    status = FrameStatus{};
     // Until the frame has passed every check, the description is one the
     // controller refuses (kFrameInconsistent): a non-finite pose, no points.
     reading = SensorReading{};
@@ -51,53 +148,37 @@ PcdFrameCheck PcdFrameSource::load(std::uint64_t cycle, SensorReading& reading) 
     reading.max_range = max_range_;
     points_.clear();
     if (files_.empty()) {
-        c.reason = "no recorded frames";
+        std::snprintf(status.reason, sizeof status.reason, "no recorded frames");
         ++refused_;
-        return c;
+        return false;
     }
-    c.file = files_[static_cast<std::size_t>(cycle % files_.size())];
-    const std::size_t capacity = std::min(
-        static_cast<std::size_t>(width_ > 0 ? width_ : 0) * static_cast<std::size_t>(height_ > 0 ? height_ : 0),
-        buffer_.size());
+    status.file = files_[static_cast<std::size_t>(cycle % files_.size())].c_str();
     PcdCloudInfo info;
-    const IoStatus st = read_pcd(c.file.c_str(), {buffer_.data(), capacity}, info);
-    c.nonfinite = info.nonfinite_points;
-    if (!st.ok() && info.points > capacity) {
-        c.reason = std::to_string(info.points) + " points, more than sensor '" + name_ + "' delivers (" +
-                   std::to_string(width_) + " x " + std::to_string(height_) + ")";
-    } else if (!st.ok()) {
-        c.reason = st.message();
-    } else if (info.points > capacity) {
-        c.reason = std::to_string(info.points) + " points, more than sensor '" + name_ + "' delivers (" +
-                   std::to_string(width_) + " x " + std::to_string(height_) + ")";
-    } else if (info.height > 1U && (info.width != static_cast<std::uint32_t>(width_) ||
-                                    info.height != static_cast<std::uint32_t>(height_))) {
-        c.reason = "organised cloud of " + std::to_string(info.width) + " x " + std::to_string(info.height) +
-                   ", but sensor '" + name_ + "' has " + std::to_string(width_) + " x " + std::to_string(height_) +
-                   " pixels";
-    } else if (!is_unplaced_viewpoint(info.viewpoint) && !viewpoint_matches(info.viewpoint, pose_)) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "VIEWPOINT (%.3f, %.3f, %.3f) is not the pose of sensor '%s'",
-                      info.viewpoint.tx, info.viewpoint.ty, info.viewpoint.tz, name_.c_str());
-        c.reason = buf;
-    } else {
-        for (std::uint64_t i = 0U; i < info.written; ++i) {
-            const PcdPoint& p = buffer_[static_cast<std::size_t>(i)];
-            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-                points_.emplace_back(p.x, p.y, p.z);
-            } else {
-                ++c.nonfinite;  // the reader writes finite points only; kept as a second check
-            }
-        }
-        reading.pose = pose_;
-        reading.points = Span<const Eigen::Vector3f>(points_.data(), points_.size());
-        c.points = points_.size();
-        c.ok = true;
-        ++used_;
-        return c;
+    const IoStatus st = read_file(status.file, info);
+    status.nonfinite = info.nonfinite_points;
+    if (!check_frame(st, info, status)) {
+        ++refused_;
+        return false;
     }
-    ++refused_;
-    return c;
+    for (std::uint64_t i = 0U; i < info.written; ++i) {
+        const PcdPoint& p = buffer_[static_cast<std::size_t>(i)];
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+            points_.emplace_back(p.x, p.y, p.z);  // within the capacity reserved: never reallocates
+        } else {
+            ++status.nonfinite;  // the reader writes finite points only; kept as a second check
+        }
+    }
+    reading.pose = pose_;
+    reading.points = Span<const Eigen::Vector3f>(points_.data(), points_.size());
+    status.points = points_.size();
+    status.ok = true;
+    ++used_;
+    return true;
+}
+
+void PcdFrameSource::write_summary(std::FILE* out) const noexcept {
+    std::fprintf(out, "summary: sensor '%s': %llu recorded frames used, %llu refused (frame inconsistent)\n",
+                 name_.c_str(), static_cast<unsigned long long>(used_), static_cast<unsigned long long>(refused_));
 }
 
 }  // namespace cellguard::monitor

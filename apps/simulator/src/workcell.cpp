@@ -1,5 +1,6 @@
 #include "cellguard/sim/workcell.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -8,6 +9,11 @@ namespace cellguard::sim {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 double deg2rad(double d) { return d * kPi / 180.0; }
+
+// Pixels of the sensor's image (the size render_depth gives its vector).
+std::size_t image_size(const SensorSpec& sensor) noexcept {
+    return static_cast<std::size_t>(sensor.width) * static_cast<std::size_t>(sensor.height);
+}
 
 // Slab test of a ray against a box rotated by yaw about its centre, the
 // inverse rotation given as a matrix.
@@ -51,6 +57,30 @@ PreparedScene::PreparedScene(const Scene& scene) : scene_(scene) {
     }
 }
 
+PreparedScene::PreparedScene(std::size_t max_boxes) {
+    scene_.boxes.reserve(max_boxes);
+    inverse_rotation_.reserve(max_boxes);
+}
+
+bool PreparedScene::assign(const Scene& scene) noexcept {
+    if (scene.boxes.size() > capacity()) {
+        return false;
+    }
+    // Within the reserved capacity clear() and push_back() never reallocate.
+    scene_.floor = scene.floor;
+    scene_.boxes.clear();
+    inverse_rotation_.clear();
+    for (const Box& b : scene.boxes) {
+        scene_.boxes.push_back(b);
+        inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+    }
+    return true;
+}
+
+std::size_t PreparedScene::capacity() const noexcept {
+    return std::min(scene_.boxes.capacity(), inverse_rotation_.capacity());
+}
+
 RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
     RayHit hit;
     hit.distance = std::numeric_limits<double>::infinity();
@@ -68,9 +98,17 @@ RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d&
 }
 
 void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vector<float>& depth) {
+    depth.assign(image_size(sensor), 0.0F);
+    (void)render_depth_into(sensor, scene, Span<float>(depth.data(), depth.size()));
+}
+
+bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept {
+    if (depth.size() != image_size(sensor)) {
+        return false;
+    }
     const PinholeIntrinsics k = sensor.intrinsics();
     const Eigen::Isometry3d pose = sensor.pose();
-    depth.assign(static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height), 0.0F);
+    std::fill(depth.begin(), depth.end(), 0.0F);
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
             const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
@@ -83,6 +121,7 @@ void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vec
             }
         }
     }
+    return true;
 }
 
 Eigen::Isometry3d SensorSpec::pose() const {
@@ -166,15 +205,20 @@ void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<floa
     render_depth(sensor, PreparedScene(scene), depth);
 }
 
+SensorReading depth_reading(const SensorSpec& sensor, Span<const float> depth) noexcept {
+    SensorReading r;
+    r.pose = sensor.pose();
+    r.kind = SensorDataKind::kDepthImage;
+    r.depth = depth;
+    r.intrinsics = sensor.intrinsics();
+    r.max_range = sensor.max_range;
+    return r;
+}
+
 void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame) {
     for (std::size_t i = 0; i < sensors.size(); ++i) {
-        SensorReading r;
-        r.pose = sensors[i].pose();
-        r.kind = SensorDataKind::kDepthImage;
-        r.depth = Span<const float>(frame.depth[i].data(), frame.depth[i].size());
-        r.intrinsics = sensors[i].intrinsics();
-        r.max_range = sensors[i].max_range;
-        frame.readings.push_back(r);
+        frame.readings.push_back(
+            depth_reading(sensors[i], Span<const float>(frame.depth[i].data(), frame.depth[i].size())));
     }
 }
 
@@ -186,6 +230,23 @@ SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene&
     }
     add_readings(sensors, f);
     return f;
+}
+
+bool render_frame_into(const std::vector<SensorSpec>& sensors, const PreparedScene& scene,
+                       Span<const Span<float>> depth, Span<SensorReading> readings) noexcept {
+    if (depth.size() != sensors.size() || readings.size() != sensors.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        if (depth[i].size() != image_size(sensors[i])) {
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        (void)render_depth_into(sensors[i], scene, depth[i]);
+        readings[i] = depth_reading(sensors[i], depth[i]);
+    }
+    return true;
 }
 
 }  // namespace cellguard::sim

@@ -21,6 +21,12 @@
 ///   sensor of the cell is refused;
 /// - only finite points are fused (NaN / infinite points, which depth
 ///   cameras deliver for pixels without a reading, are skipped and counted).
+///
+/// Its buffers are allocated when the source is made: the points (the
+/// sensor's width x height) and the file's bytes (the largest of its files
+/// at that time; a file that has grown beyond that since is refused). A
+/// frame then loads without allocating (load_frame), except that port/linux's
+/// decode_pcd allocates to decompress binary_compressed data.
 #ifndef CELLGUARD_MONITOR_PCD_INPUT_HPP
 #define CELLGUARD_MONITOR_PCD_INPUT_HPP
 
@@ -31,6 +37,7 @@
 #include <vector>
 
 #include "cellguard/linux/pcd.hpp"
+#include "cellguard/monitor/frame_source.hpp"
 #include "cellguard/sensor_frame.hpp"
 
 namespace cellguard::monitor {
@@ -45,7 +52,7 @@ struct PcdFrameCheck {
 };
 
 /// The recorded frames of one sensor.
-class PcdFrameSource {
+class PcdFrameSource final : public FrameSource {
 public:
     /// Frames from @p files (at least one) for the sensor named @p name at
     /// @p pose with a @p width x @p height image and @p max_range metres.
@@ -58,6 +65,12 @@ public:
     /// which the controller reports as kFrameInconsistent.
     PcdFrameCheck load(std::uint64_t cycle, SensorReading& reading);
 
+    /// load() without allocating: what it found goes to @p status
+    /// (status.file points into this source's file list).
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
+    /// "summary: sensor 'NAME': U recorded frames used, R refused (frame inconsistent)".
+    void write_summary(std::FILE* out) const noexcept override;
+
     /// The sensor's name.
     [[nodiscard]] const std::string& name() const { return name_; }
     /// Frames used (passed every check) so far.
@@ -66,13 +79,17 @@ public:
     [[nodiscard]] std::uint64_t refused() const { return refused_; }
 
 private:
+    bool check_frame(const IoStatus& read, const PcdCloudInfo& info, FrameStatus& status) const noexcept;
+    IoStatus read_file(const char* path, PcdCloudInfo& info) noexcept;
+
     std::string name_;
     std::vector<std::string> files_;
     Eigen::Isometry3d pose_;
     int width_;
     int height_;
     float max_range_;
-    std::vector<PcdPoint> buffer_;
+    std::vector<std::uint8_t> bytes_;  ///< a file's bytes, room for the largest file at start-up
+    std::vector<PcdPoint> buffer_;     ///< the decoded points, room for width x height
     std::vector<Eigen::Vector3f> points_;
     std::uint64_t used_ = 0U;
     std::uint64_t refused_ = 0U;

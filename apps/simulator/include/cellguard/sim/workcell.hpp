@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -81,6 +82,16 @@ class PreparedScene {
 public:
     /// Prepares @p scene (copied).
     explicit PreparedScene(const Scene& scene);
+    /// An empty scene (the floor, no boxes) with room for @p max_boxes boxes,
+    /// to be filled by assign() without allocating.
+    explicit PreparedScene(std::size_t max_boxes);
+    /// Prepares @p scene (copied) in place of the scene held, as the
+    /// constructor does (the same distances, bit for bit). Allocates nothing
+    /// when @p scene has at most capacity() boxes; with more it returns false
+    /// and keeps the scene it held.
+    bool assign(const Scene& scene) noexcept;
+    /// Boxes assign() takes without allocating.
+    [[nodiscard]] std::size_t capacity() const noexcept;
     /// The first surface along origin + t * dir (dir unit length), as cast_ray_hit.
     [[nodiscard]] RayHit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
     /// The scene.
@@ -93,6 +104,11 @@ private:
 
 /// render_depth with a prepared scene: the same image, faster.
 void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vector<float>& depth);
+
+/// render_depth into caller storage: @p depth must hold exactly width *
+/// height values (else false, nothing written). Allocates nothing; the same
+/// image, bit for bit (render_depth is this function on a vector).
+bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept;
 
 /// True when @p p lies inside or on @p box.
 bool box_contains(const Box& box, const Eigen::Vector3d& p);
@@ -110,6 +126,19 @@ void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame)
 
 /// Renders every sensor of @p sensors looking at @p scene.
 SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene);
+
+/// The depth-image reading of @p sensor over @p depth (its pose, intrinsics
+/// and max range), as add_readings and render_frame make it.
+SensorReading depth_reading(const SensorSpec& sensor, Span<const float> depth) noexcept;
+
+/// render_frame into caller storage, for a cycle that must not allocate:
+/// sensor i's image goes to @p depth[i] (exactly width * height values) and
+/// its reading, pointing into @p depth[i], to @p readings[i]. False, with
+/// nothing written, when @p depth or @p readings do not hold one entry per
+/// sensor or an image has the wrong size. Allocates nothing; the same images
+/// and readings as render_frame, bit for bit.
+bool render_frame_into(const std::vector<SensorSpec>& sensors, const PreparedScene& scene,
+                       Span<const Span<float>> depth, Span<SensorReading> readings) noexcept;
 
 }  // namespace cellguard::sim
 

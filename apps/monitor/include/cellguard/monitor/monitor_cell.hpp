@@ -1,0 +1,84 @@
+/// @file monitor_cell.hpp
+/// What the monitor's cycle works on, built once at start-up from its
+/// configuration: the sensors, the grid and its storage, the compiled zones,
+/// the prior (from a file or from simulated empty frames), the sensors' ray
+/// tables and their commissioned views of the empty cell. The steps run in
+/// the order of the monitor's start-up (configure, then the CAN output in
+/// main, then build_prior, then build_tables), print what the monitor has
+/// always printed, and say why they stop with the monitor's exit status.
+#ifndef CELLGUARD_MONITOR_MONITOR_CELL_HPP
+#define CELLGUARD_MONITOR_MONITOR_CELL_HPP
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cellguard/evidence_grid.hpp"
+#include "cellguard/grid.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/sensor_model.hpp"
+#include "cellguard/sim/workcell.hpp"
+#include "cellguard/zones.hpp"
+
+namespace cellguard::monitor {
+
+/// Why a start-up step stopped: the exit status (0: it did not) and the
+/// message, which the monitor prints after "cellguard-monitor: ".
+struct SetupError {
+    int exit_status = 0;  ///< 1: runtime error, 2: configuration error
+    std::string message;  ///< e.g. "configuration error: line 12: zone 'a': ..."
+    /// True when the step stopped.
+    [[nodiscard]] bool failed() const noexcept { return exit_status != 0; }
+};
+
+/// The simulator's view of configured sensor @p s (the recorded ones too:
+/// their layout, rays and work bound); @p error is set when the simulator
+/// cannot take its pose (@p simulated_background: it must also render a
+/// recorded sensor's view of the empty cell for the prior).
+sim::SensorSpec to_spec(const SensorSettings& s, bool simulated_background, std::string& error);
+
+/// The controller's configuration from @p cfg.
+ControllerConfig controller_config(const MonitorConfig& cfg);
+
+/// See the file comment. Not copyable or movable: the controller keeps
+/// references into it.
+class MonitorCell {
+public:
+    MonitorCell() = default;
+    MonitorCell(const MonitorCell&) = delete;
+    MonitorCell& operator=(const MonitorCell&) = delete;
+    MonitorCell(MonitorCell&&) = delete;
+    MonitorCell& operator=(MonitorCell&&) = delete;
+    ~MonitorCell() = default;
+
+    /// The sensors, the grid and its storage, the zones (exit status 2 for a
+    /// sensor or zone the configuration gets wrong).
+    SetupError configure(const MonitorConfig& cfg);
+    /// The prior, read from its file or computed from simulated empty frames;
+    /// prints "prior: ..." to @p out (nullptr: silent).
+    SetupError build_prior(const MonitorConfig& cfg, std::FILE* out);
+    /// The simulated sensors' ray tables and views of the empty cell; prints
+    /// the background check, the tables and the work bound to @p out.
+    SetupError build_tables(const MonitorConfig& cfg, std::FILE* out);
+
+    std::vector<sim::SensorSpec> specs;          ///< one per configured sensor
+    GridGeometry grid;                           ///< the grid
+    std::vector<std::uint32_t> zone_mask;        ///< the zones' membership mask
+    CompiledZones zones;                         ///< compiled into zone_mask
+    SensorModelTable model;                      ///< the sensor model
+    std::vector<std::int16_t> frame_log_odds;    ///< the frame grid's log-odds
+    std::vector<std::uint8_t> frame_observed;    ///< the frame grid's observed flags
+    EvidenceGrid frame_grid;                     ///< the cycle's evidence grid
+    std::vector<std::int16_t> fusion_scratch;    ///< fuse_sensor's per-sensor opinions
+    std::vector<std::int16_t> prior;             ///< one prior value per voxel
+    sim::SimulatedFrame layout;                  ///< every sensor's view of the empty (reference) cell
+    std::vector<host::OwnedRayTable> tables;     ///< per sensor; built for the simulated ones
+    std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
+};
+
+}  // namespace cellguard::monitor
+
+#endif  // CELLGUARD_MONITOR_MONITOR_CELL_HPP

@@ -1,0 +1,132 @@
+/// @file monitor_loop.hpp
+/// The monitor's cycle. A MonitorLoop takes the wiring (the configuration,
+/// the cell built at start-up, one frame source per sensor, the CAN port and
+/// the clock), builds the controller and the CAN safety output, and
+/// allocates at construction everything a cycle needs: the sensor inputs and
+/// the status-line buffer (the frame sources hold their own frame buffers).
+/// run_cycle(k) then does one cycle without the heap:
+///  1. each sensor's frame of cycle k, loaded once into its source's buffer
+///     (a refused recorded frame is reported on the status output);
+///  2. the clock starts the cycle at 1 s + k periods (cycle_clock.hpp); every
+///     frame is stamped with that time;
+///  3. a SocketCAN port's receive queue is drained and its detail faults go
+///     to the output (can_port.hpp);
+///  4. the controller runs and publishes through the CAN safety output;
+///  5. the run's counts are updated and the status line is formatted into the
+///     fixed buffer and written to the status output.
+/// run_cycles() runs a loop's cycles, as fast as possible or paced one per
+/// period on CLOCK_MONOTONIC.
+#ifndef CELLGUARD_MONITOR_MONITOR_LOOP_HPP
+#define CELLGUARD_MONITOR_MONITOR_LOOP_HPP
+
+#include <csignal>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/frame_source.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety_output.hpp"
+
+namespace cellguard::monitor {
+
+/// The simulated time of cycle 0's start, microseconds.
+constexpr std::uint64_t kSimStartUs = 1000000U;
+
+/// What the cycles of a run came to.
+struct MonitorStats {
+    int cycles_run = 0;                 ///< cycles run
+    int stop_cycles = 0;                ///< cycles with the stop requested
+    int warning_cycles = 0;             ///< cycles with the warning on
+    int first_stop_after_release = -1;  ///< the first cycle that stopped after one that did not (-1: none)
+    int send_failures = 0;              ///< log or sender: cycles that did not send their 3 frames
+    int can_fault_cycles = 0;           ///< cycles that ended with the CAN-error fault latched
+    std::uint32_t faults_seen = 0U;     ///< every fault latched in some cycle
+    std::uint64_t max_cycle_us = 0U;    ///< the longest cycle
+    bool released = false;              ///< some cycle did not request the stop
+};
+
+/// How run_cycles() ended.
+struct RunResult {
+    bool stopped_by_signal = false;     ///< the stop flag ended it early
+    bool paced = false;                 ///< one cycle per period on the real clock
+    std::uint64_t skipped_periods = 0U; ///< paced: periods skipped after a cycle that ran past its period
+};
+
+/// Writes the names of the faults in @p mask, comma-separated ("-" for none),
+/// into @p out (capacity @p capacity, cut to fit); returns @p out.
+const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capacity) noexcept;
+
+/// See the file comment. All references must outlive the loop.
+class MonitorLoop final : private CycleOutput {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+public:
+    /// Binds the wiring: @p sources holds one source per configured sensor,
+    /// in configuration order; @p status_out receives the status lines and
+    /// refused-frame reports (nullptr: quiet).
+    MonitorLoop(const MonitorConfig& cfg, MonitorCell& cell, const std::vector<FrameSource*>& sources, CanPort& can,
+                CycleClock& clock, std::FILE* status_out);
+    MonitorLoop(const MonitorLoop&) = delete;
+    MonitorLoop& operator=(const MonitorLoop&) = delete;
+    MonitorLoop(MonitorLoop&&) = delete;
+    MonitorLoop& operator=(MonitorLoop&&) = delete;
+    ~MonitorLoop() = default;
+
+    /// kOk, or why the loop cannot run: the CAN output refused its
+    /// configuration, or the sources do not match the sensors (kInvalidArgument).
+    [[nodiscard]] Status status() const noexcept;
+    /// Runs cycle @p k (from 0); see the file comment. Allocates nothing.
+    const CycleReport& run_cycle(int k) noexcept;
+
+    /// The run's counts so far.
+    [[nodiscard]] const MonitorStats& stats() const noexcept { return stats_; }
+    /// The last cycle's status line (with its newline; "" before the first cycle).
+    [[nodiscard]] const char* status_line() const noexcept { return line_.data(); }
+    /// The controller.
+    [[nodiscard]] const SafetyController& controller() const noexcept { return controller_; }
+
+    /// The run's summary lines (counts, faults, pacing, sources, CAN) to
+    /// @p out; @p log_ok: CanPort::close() succeeded.
+    void write_summary(std::FILE* out, const RunResult& run, bool log_ok) const noexcept;
+    /// The exit status of the run (0 done, 1 the CAN log failed, 3 the CAN
+    /// output failed in some cycle), after saying why on @p err.
+    int exit_status(std::FILE* err, bool log_ok) const noexcept;
+
+private:
+    bool publish(const CycleReport& report) noexcept override;
+    void load_frames(int k) noexcept;
+    void count(int k, const CycleReport& r) noexcept;
+    void format_status(int k, const CycleReport& r) noexcept;
+    void append(const char* format, ...) noexcept __attribute__((format(printf, 2, 3)));
+
+    const MonitorConfig* cfg_;
+    std::vector<FrameSource*> sources_;
+    CanPort* can_;
+    CycleClock* clock_;
+    std::FILE* out_;
+    bool sources_match_;
+    bool show_person_;                 ///< false: every sensor is recorded, no simulated person to show
+    std::size_t zone_count_;           ///< zones on the status line
+    std::vector<SensorInput> inputs_;  ///< one per sensor, made at construction
+    std::vector<char> line_;           ///< the status line, sized at construction for the longest one
+    std::size_t line_length_ = 0U;
+    FrameStatus frame_status_{};
+    SafetyController controller_;
+    CanSafetyOutput output_;           ///< made after the controller: it sends the controller's prior CRC
+    MonitorStats stats_{};
+};
+
+/// Runs cycles 0 .. @p cycles - 1 of @p loop; ends early when @p stop
+/// becomes non-zero (checked before each cycle). @p paced: each cycle starts
+/// at the next period of CLOCK_MONOTONIC (cfg.period_us apart); periods that
+/// are already over when a cycle ends are skipped, not run back to back.
+RunResult run_cycles(MonitorLoop& loop, int cycles, std::uint64_t period_us, bool paced,
+                     const volatile std::sig_atomic_t& stop) noexcept;
+
+}  // namespace cellguard::monitor
+
+#endif  // CELLGUARD_MONITOR_MONITOR_LOOP_HPP

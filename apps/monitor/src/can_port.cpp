@@ -1,0 +1,88 @@
+// The monitor's CAN port (can_port.hpp).
+#include "cellguard/monitor/can_port.hpp"
+
+namespace cellguard::monitor {
+
+linux_port::SocketCanStatus CanPort::open_interface(const std::string& name) {
+    (void)close();
+    kind_ = Kind::kNone;
+    const linux_port::SocketCanStatus st = socket_.open(name.c_str());
+    if (st.ok()) {
+        kind_ = Kind::kInterface;
+        target_ = name;
+    }
+    return st;
+}
+
+IoStatus CanPort::open_log(const std::string& path, const std::string& interface_name, MonotonicClock& clock) {
+    (void)close();
+    kind_ = Kind::kNone;
+    const IoStatus st = log_.open(path.c_str(), interface_name.c_str(), clock);
+    if (st.ok()) {
+        kind_ = Kind::kLog;
+        target_ = path;
+    }
+    return st;
+}
+
+void CanPort::use_sender(CanSender& sender) noexcept {
+    (void)close();
+    sender_ = &sender;
+    kind_ = Kind::kSender;
+}
+
+bool CanPort::send(const CanFrame& frame) noexcept {
+    bool sent = false;
+    switch (kind_) {
+        case Kind::kInterface:
+            sent = socket_.send(frame).ok();
+            break;
+        case Kind::kLog:
+            sent = log_.send(frame);
+            break;
+        case Kind::kSender:
+            sent = sender_->send(frame);
+            break;
+        case Kind::kNone:
+            break;
+    }
+    if (sent) {
+        ++sent_;
+    }
+    return sent;
+}
+
+std::uint16_t CanPort::poll_faults() noexcept {
+    if (kind_ != Kind::kInterface) {
+        return 0U;
+    }
+    CanFrame rx{};
+    int drained = 0;
+    while (socket_.receive(rx) != linux_port::SocketCan::ReceiveOutcome::kNothing && ++drained < 64) {
+    }
+    return socket_.active_faults();
+}
+
+bool CanPort::close() noexcept {
+    const bool ok = kind_ != Kind::kLog || log_.close();
+    socket_.close();
+    return ok;
+}
+
+void CanPort::write_summary(std::FILE* out, bool log_ok) const noexcept {
+    switch (kind_) {
+        case Kind::kInterface:
+            std::fprintf(out, "summary: CAN frames sent on %s\n", target_.c_str());
+            break;
+        case Kind::kLog:
+            std::fprintf(out, "summary: %zu CAN frames written to %s%s\n", log_.lines(), target_.c_str(),
+                         log_ok ? "" : " (WRITE ERROR)");
+            break;
+        case Kind::kSender:
+        case Kind::kNone:
+            std::fprintf(out, "summary: %zu CAN frames sent\n", sent_);
+            break;
+    }
+}
+
+}  // namespace cellguard::monitor

@@ -1,0 +1,263 @@
+// The monitor's cycle without the heap (monitor_loop.hpp).
+#include "cellguard/monitor/monitor_loop.hpp"
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstring>
+#include <ctime>
+
+#include "cellguard/monitor/scenario.hpp"
+
+namespace cellguard::monitor {
+namespace {
+
+// The CAN safety output's configuration for @p cfg, with the controller's prior CRC.
+SafetyOutputConfig output_config(const MonitorConfig& cfg, const MonitorCell& cell, std::uint32_t prior_crc) {
+    SafetyOutputConfig oc;
+    oc.channel = cfg.can.channel;
+    oc.zone_count = static_cast<std::uint8_t>(cell.zones.size());
+    oc.prior_crc = prior_crc;
+    return oc;
+}
+
+// Room for the longest status line of @p cfg: the fixed text and numbers,
+// every zone's name with the longest state, every fault's name.
+std::size_t status_line_capacity(const MonitorConfig& cfg) {
+    std::size_t longest_state = 0U;
+    for (const ZoneState s : {ZoneState::kClear, ZoneState::kIntruded, ZoneState::kUnseen, ZoneState::kFault}) {
+        longest_state = std::max(longest_state, std::strlen(to_string(s)));
+    }
+    std::size_t n = 256U;  // "t=... cycle ... " with the 63-character scene text, stop and warning, cycle time
+    for (const ZoneSettings& z : cfg.zones) {
+        n += z.name.size() + 2U + longest_state;
+    }
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        n += std::strlen(to_string(static_cast<Fault>(f))) + 1U;
+    }
+    return n;
+}
+
+// Sleeps until @p next, then moves it one period on, past every period that
+// is already over (counted in @p skipped).
+void wait_for_period(timespec& next, std::uint64_t period_us, std::uint64_t& skipped) noexcept {
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+    const auto advance = [&next, period_us] {
+        next.tv_nsec += static_cast<long>((period_us % 1000000U) * 1000U);
+        next.tv_sec += static_cast<time_t>(period_us / 1000000U) + next.tv_nsec / 1000000000L;
+        next.tv_nsec %= 1000000000L;
+    };
+    advance();
+    // After a cycle that ran past its period the next start is already
+    // over: skip the periods that are over instead of running their cycles
+    // back to back (a burst).
+    timespec now{};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    while (next.tv_sec < now.tv_sec || (next.tv_sec == now.tv_sec && next.tv_nsec <= now.tv_nsec)) {
+        advance();
+        ++skipped;
+    }
+}
+
+}  // namespace
+
+const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capacity) noexcept {
+    if (capacity == 0U) {
+        return out;
+    }
+    out[0] = '\0';
+    if (mask == 0U) {
+        std::snprintf(out, capacity, "-");
+        return out;
+    }
+    std::size_t length = 0U;
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        if ((mask & fault_bit(static_cast<Fault>(f))) != 0U && length + 1U < capacity) {
+            const int n = std::snprintf(out + length, capacity - length, "%s%s", length == 0U ? "" : ",",
+                                        to_string(static_cast<Fault>(f)));
+            length = std::min(length + static_cast<std::size_t>(n > 0 ? n : 0), capacity - 1U);
+        }
+    }
+    return out;
+}
+
+MonitorLoop::MonitorLoop(const MonitorConfig& cfg, MonitorCell& cell, const std::vector<FrameSource*>& sources,
+                         CanPort& can, CycleClock& clock, std::FILE* status_out)
+    : cfg_(&cfg),
+      sources_(sources),
+      can_(&can),
+      clock_(&clock),
+      out_(status_out),
+      sources_match_(sources.size() == cfg.sensors.size() && cell.specs.size() == cfg.sensors.size() &&
+                     cell.tables.size() == cfg.sensors.size() && cell.backgrounds.size() == cfg.sensors.size() &&
+                     std::find(sources.begin(), sources.end(), nullptr) == sources.end()),
+      show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
+                               [](const SensorSettings& s) { return s.pcd_files.empty(); })),
+      zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
+      inputs_(cfg.sensors.size()),
+      line_(status_line_capacity(cfg), '\0'),
+      controller_(controller_config(cfg), cell.frame_grid, {cell.fusion_scratch.data(), cell.fusion_scratch.size()},
+                  {cell.prior.data(), cell.prior.size()}, cell.zones, cell.model, clock, this),
+      output_(output_config(cfg, cell, controller_.prior_crc()), can) {
+    for (std::size_t s = 0U; s < inputs_.size() && sources_match_; ++s) {
+        const bool simulated = cfg.sensors[s].pcd_files.empty();
+        inputs_[s].present = true;
+        inputs_[s].table = simulated ? &cell.tables[s].table() : nullptr;
+        // A recorded sensor has no commissioned view: refused by the config loader; never compared.
+        inputs_[s].background = simulated && cfg.background_match > 0.0F ? &cell.backgrounds[s] : nullptr;
+    }
+}
+
+Status MonitorLoop::status() const noexcept {
+    if (!sources_match_) {
+        return Status{ErrorCode::kInvalidArgument};
+    }
+    return output_.status();
+}
+
+bool MonitorLoop::publish(const CycleReport& report) noexcept { return output_.publish(report); }
+
+void MonitorLoop::load_frames(int k) noexcept {
+    if (!sources_match_) {
+        return;  // no input is present: the controller reports every sensor missing
+    }
+    for (std::size_t s = 0U; s < inputs_.size(); ++s) {
+        if (!sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_) &&
+            out_ != nullptr) {
+            std::fprintf(out_, "input: cycle %d sensor '%s': frame %s refused: %s\n", k,
+                         cfg_->sensors[s].name.c_str(), frame_status_.file, frame_status_.reason);
+        }
+    }
+}
+
+const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
+    load_frames(k);
+    clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
+    for (SensorInput& in : inputs_) {
+        in.captured_us = clock_->base();
+    }
+    if (can_->kind() == CanPort::Kind::kInterface) {
+        output_.set_can_detail_faults(can_->poll_faults());
+    }
+    const std::size_t sent_before = can_->frames_sent();
+    const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false);
+    count(k, r);
+    if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != 3U) {
+        ++stats_.send_failures;
+    }
+    format_status(k, r);
+    if (out_ != nullptr) {
+        std::fputs(line_.data(), out_);
+        std::fflush(out_);
+    }
+    return r;
+}
+
+void MonitorLoop::count(int k, const CycleReport& r) noexcept {
+    stats_.max_cycle_us = std::max(stats_.max_cycle_us, controller_.monitor().last().total_us);
+    ++stats_.cycles_run;
+    stats_.faults_seen |= r.safety.latched_faults;
+    if ((r.safety.latched_faults & fault_bit(Fault::kCanError)) != 0U) {
+        ++stats_.can_fault_cycles;
+    }
+    if (r.safety.stop_requested) {
+        ++stats_.stop_cycles;
+        if (stats_.released && stats_.first_stop_after_release < 0) {
+            stats_.first_stop_after_release = k;
+        }
+    } else {
+        stats_.released = true;
+    }
+    if (r.safety.warning) {
+        ++stats_.warning_cycles;
+    }
+}
+
+void MonitorLoop::append(const char* format, ...) noexcept {
+    if (line_length_ + 1U >= line_.size()) {
+        return;
+    }
+    va_list args;
+    va_start(args, format);
+    const int n = std::vsnprintf(line_.data() + line_length_, line_.size() - line_length_, format, args);
+    va_end(args);
+    line_length_ = std::min(line_length_ + static_cast<std::size_t>(n > 0 ? n : 0), line_.size() - 1U);
+}
+
+void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
+    line_length_ = 0U;
+    line_[0] = '\0';
+    // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
+    char scene_text[64];
+    if (show_person_) {
+        const PersonPosition person = demo_person(k);
+        std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
+                      demo_phase(k));
+    } else {
+        std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", "");
+    }
+    append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
+    for (std::size_t z = 0U; z < zone_count_; ++z) {
+        append(" %s:%s", cfg_->zones[z].name.c_str(), to_string(r.zones.zones[z].state));
+    }
+    char faults[256];
+    append(" | %-4s %-4s | faults %s | cycle %.2f ms\n", r.safety.stop_requested ? "STOP" : "run",
+           r.safety.warning ? "WARN" : "-", format_fault_names(r.safety.latched_faults, faults, sizeof faults),
+           static_cast<double>(controller_.monitor().last().total_us) / 1000.0);
+}
+
+void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_ok) const noexcept {
+    std::fprintf(out, "\nsummary: %d cycles%s, stop requested in %d, warning in %d", stats_.cycles_run,
+                 run.stopped_by_signal ? " (stopped by signal)" : "", stats_.stop_cycles, stats_.warning_cycles);
+    if (stats_.first_stop_after_release >= 0) {
+        std::fprintf(out, ", first stop after release in cycle %d", stats_.first_stop_after_release);
+    }
+    char faults[256];
+    std::fprintf(out,
+                 "\nsummary: faults latched during the run: %s; longest cycle %.2f ms (budget %.1f ms), overruns %llu\n",
+                 format_fault_names(stats_.faults_seen, faults, sizeof faults),
+                 static_cast<double>(stats_.max_cycle_us) / 1000.0, static_cast<double>(cfg_->budget_us) / 1000.0,
+                 static_cast<unsigned long long>(controller_.monitor().overruns()));
+    if (run.paced) {
+        std::fprintf(out, "summary: paced: %llu periods skipped after cycles that ran past their period\n",
+                     static_cast<unsigned long long>(run.skipped_periods));
+    }
+    for (const FrameSource* s : sources_) {
+        if (s != nullptr) {
+            s->write_summary(out);
+        }
+    }
+    can_->write_summary(out, log_ok);
+}
+
+int MonitorLoop::exit_status(std::FILE* err, bool log_ok) const noexcept {
+    if (!log_ok || stats_.send_failures != 0) {
+        std::fprintf(err, "cellguard-monitor: writing the CAN log failed\n");
+        return 1;
+    }
+    if (stats_.can_fault_cycles != 0) {
+        // A supervisor (systemd, the commissioning script) must not read
+        // this run as clean: the safe state held, but frames were lost.
+        std::fprintf(err, "cellguard-monitor: the CAN output failed: CAN-error fault latched in %d of %d cycles\n",
+                     stats_.can_fault_cycles, stats_.cycles_run);
+        return 3;
+    }
+    return 0;
+}
+
+RunResult run_cycles(MonitorLoop& loop, int cycles, std::uint64_t period_us, bool paced,
+                     const volatile std::sig_atomic_t& stop) noexcept {
+    RunResult result;
+    result.paced = paced;
+    timespec next{};
+    clock_gettime(CLOCK_MONOTONIC, &next);
+    for (int k = 0; k < cycles && stop == 0; ++k) {
+        if (paced) {
+            wait_for_period(next, period_us, result.skipped_periods);
+        }
+        (void)loop.run_cycle(k);
+    }
+    result.stopped_by_signal = stop != 0;
+    return result;
+}
+
+}  // namespace cellguard::monitor

@@ -1,0 +1,266 @@
+// Verifies the monitor's cycle (apps/monitor: monitor_loop.hpp): after start-up
+// its cycles allocate nothing, on the simulated demo and with a recorded PCD
+// sensor, each sensor's frame is loaded exactly once per cycle, and the
+// simulator's allocation-free rendering into caller buffers gives
+// render_frame's images bit for bit.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/config.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/frame_source.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/monitor/monitor_loop.hpp"
+#include "cellguard/monitor/pcd_input.hpp"
+#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/sim/workcell.hpp"
+
+using namespace cellguard;
+using namespace cellguard::monitor;
+
+namespace {
+
+/// A clock that advances 10 us per reading.
+class SteppingClock final : public MonotonicClock {
+public:
+    std::uint64_t now_us() noexcept override { return now += 10U; }
+    std::uint64_t now = 5000000U;
+};
+
+/// Counts the frames sent and keeps the last one.
+class CountingSender final : public CanSender {
+public:
+    bool send(const CanFrame& frame) noexcept override {
+        last = frame;
+        ++frames;
+        return true;
+    }
+    CanFrame last{0U, 0U, {}};
+    std::size_t frames = 0U;
+};
+
+/// Passes loads on to another source and counts them per cycle.
+class CountingSource final : public FrameSource {
+public:
+    explicit CountingSource(FrameSource& inner) : inner_(&inner) {}
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override {
+        // Loads must come once per cycle, in cycle order.
+        if (cycle != next_cycle) {
+            ++out_of_order;
+        }
+        next_cycle = cycle + 1U;
+        ++loads;
+        return inner_->load_frame(cycle, reading, status);
+    }
+    void write_summary(std::FILE* out) const noexcept override { inner_->write_summary(out); }
+
+    std::uint64_t loads = 0U;
+    std::uint64_t next_cycle = 0U;
+    std::uint64_t out_of_order = 0U;
+
+private:
+    FrameSource* inner_;
+};
+
+/// A sink for status lines whose buffer is the caller's: writing allocates nothing.
+struct NullOutput {
+    NullOutput() : file(std::fopen("/dev/null", "w")) {
+        REQUIRE(file != nullptr);
+        std::setvbuf(file, buffer, _IOFBF, sizeof buffer);
+    }
+    ~NullOutput() { std::fclose(file); }
+    NullOutput(const NullOutput&) = delete;
+    NullOutput& operator=(const NullOutput&) = delete;
+    std::FILE* file;
+    char buffer[8192] = {};
+};
+
+/// The monitor as main wires it, with counting sources and a counting sender.
+struct Monitor {
+    explicit Monitor(MonitorConfig config) : cfg(std::move(config)), clock(false, source_clock) {
+        cfg.budget_us = 60000000U;  // the cycles' decisions, not this host's speed (as the demo's ctest)
+        REQUIRE_FALSE(cell.configure(cfg).failed());
+        REQUIRE_FALSE(cell.build_prior(cfg, nullptr).failed());
+        REQUIRE_FALSE(cell.build_tables(cfg, nullptr).failed());
+        for (std::size_t s = 0U; s < cfg.sensors.size(); ++s) {
+            const sim::SensorSpec& spec = cell.specs[s];
+            if (cfg.sensors[s].pcd_files.empty()) {
+                simulated.push_back(std::make_unique<SimulatedFrameSource>(spec));
+                counted.push_back(std::make_unique<CountingSource>(*simulated.back()));
+            } else {
+                recorded.push_back(std::make_unique<PcdFrameSource>(spec.name, cfg.sensors[s].pcd_files,
+                                                                    sensor_pose(cfg.sensors[s]), spec.width,
+                                                                    spec.height, spec.max_range));
+                counted.push_back(std::make_unique<CountingSource>(*recorded.back()));
+            }
+            sources.push_back(counted.back().get());
+        }
+        can.use_sender(sender);
+        loop = std::make_unique<MonitorLoop>(cfg, cell, sources, can, clock, out.file);
+        REQUIRE(loop->status().ok());
+    }
+
+    /// Runs @p cycles cycles; returns the allocations of each.
+    std::vector<std::size_t> run(int cycles) {
+        std::vector<std::size_t> allocations(static_cast<std::size_t>(cycles));
+        for (int k = 0; k < cycles; ++k) {
+            const test::AllocationScope scope;
+            (void)loop->run_cycle(k);
+            allocations[static_cast<std::size_t>(k)] = scope.allocations();
+        }
+        return allocations;
+    }
+
+    MonitorConfig cfg;
+    MonitorCell cell;
+    SteppingClock source_clock;
+    CycleClock clock;
+    CountingSender sender;
+    CanPort can;
+    NullOutput out;
+    std::vector<std::unique_ptr<SimulatedFrameSource>> simulated;
+    std::vector<std::unique_ptr<PcdFrameSource>> recorded;
+    std::vector<std::unique_ptr<CountingSource>> counted;
+    std::vector<FrameSource*> sources;
+    std::unique_ptr<MonitorLoop> loop;
+};
+
+/// Cycles of @p allocations that allocated.
+int cycles_that_allocated(const std::vector<std::size_t>& allocations) {
+    int n = 0;
+    for (const std::size_t a : allocations) {
+        n += a != 0U ? 1 : 0;
+    }
+    return n;
+}
+
+}  // namespace
+
+// verifies: SR-GEN-002, SR-SYS-001
+TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and load each frame once per cycle") {
+    Monitor m(demo_config());
+    const int cycles = 1000;
+    const std::vector<std::size_t> allocations = m.run(cycles);
+    CHECK(cycles_that_allocated(allocations) == 0);
+    CHECK(allocations[0] == 0U);
+    for (const std::unique_ptr<CountingSource>& c : m.counted) {
+        CHECK(c->loads == static_cast<std::uint64_t>(cycles));
+        CHECK(c->out_of_order == 0U);
+    }
+    for (const std::unique_ptr<SimulatedFrameSource>& s : m.simulated) {
+        CHECK(s->renders() == static_cast<std::uint64_t>(cycles));  // each image rendered once per cycle
+    }
+    // The demo's decisions: three frames per cycle, the stop when the person
+    // enters the protective zone (cycle 15), no fault.
+    CHECK(m.sender.frames == 3U * static_cast<std::size_t>(cycles));
+    const MonitorStats& st = m.loop->stats();
+    CHECK(st.cycles_run == cycles);
+    CHECK(st.send_failures == 0);
+    CHECK(st.faults_seen == 0U);
+    CHECK(st.first_stop_after_release == 15);
+    const std::string line = m.loop->status_line();
+    CHECK(line.rfind("t= 99.900s cycle 999 person (-1.40, 0.20) outside          | protective:CLEAR "
+                     "warning:INTRUDED | run  WARN | faults - | cycle ",
+                     0) == 0);
+    CHECK(line.back() == '\n');
+}
+
+// verifies: SR-GEN-002, SR-SYS-005
+TEST_CASE("monitor loop: with a recorded PCD sensor, good and refused frames allocate nothing, each read once") {
+    const ConfigLoad load = load_monitor_config(CELLGUARD_SOURCE_DIR "/apps/monitor/test/pcd-cell.toml");
+    REQUIRE_MESSAGE(load.ok, load.error);
+    Monitor m(load.config);
+    REQUIRE(m.recorded.size() == 1U);
+    // Its six files, in turn: ASCII, binary, another sensor's, the wrong size, truncated, ASCII again.
+    const int cycles = 120;
+    const std::vector<std::size_t> allocations = m.run(cycles);
+    CHECK(cycles_that_allocated(allocations) == 0);
+    for (const std::unique_ptr<CountingSource>& c : m.counted) {
+        CHECK(c->loads == static_cast<std::uint64_t>(cycles));
+        CHECK(c->out_of_order == 0U);
+    }
+    const PcdFrameSource& pcd = *m.recorded.front();
+    CHECK(pcd.used() == 60U);  // every file read once per cycle it is due
+    CHECK(pcd.refused() == 60U);
+    CHECK((m.loop->stats().faults_seen & fault_bit(Fault::kFrameInconsistent)) != 0U);
+    CHECK(m.sender.frames == 3U * static_cast<std::size_t>(cycles));
+}
+
+// verifies: SR-SYS-005
+TEST_CASE("monitor loop: the allocation-free PCD load finds what load() finds") {
+    const ConfigLoad load = load_monitor_config(CELLGUARD_SOURCE_DIR "/apps/monitor/test/pcd-cell.toml");
+    REQUIRE_MESSAGE(load.ok, load.error);
+    const SensorSettings& s = load.config.sensors.back();
+    REQUIRE_FALSE(s.pcd_files.empty());
+    PcdFrameSource a("recorded", s.pcd_files, sensor_pose(s), s.width, s.height, static_cast<float>(s.max_range));
+    PcdFrameSource b("recorded", s.pcd_files, sensor_pose(s), s.width, s.height, static_cast<float>(s.max_range));
+    for (std::uint64_t k = 0U; k < s.pcd_files.size(); ++k) {
+        SensorReading ra;
+        SensorReading rb;
+        const PcdFrameCheck c = a.load(k, ra);
+        FrameStatus st;
+        const bool ok = b.load_frame(k, rb, st);
+        CAPTURE(c.reason);
+        CHECK(ok == c.ok);
+        CHECK(c.file == st.file);
+        CHECK(c.reason == st.reason);
+        CHECK(c.points == st.points);
+        CHECK(c.nonfinite == st.nonfinite);
+        REQUIRE(ra.points.size() == rb.points.size());
+        CHECK(std::memcmp(ra.points.data(), rb.points.data(), ra.points.size() * sizeof(Eigen::Vector3f)) == 0);
+        CHECK(validate_sensor_reading(rb).ok() == ok);
+    }
+}
+
+// verifies: SR-EVAL-001
+TEST_CASE("simulator: rendering into caller buffers gives render_frame's images and readings, bit for bit") {
+    const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
+    std::vector<std::vector<float>> images(sensors.size());
+    std::vector<Span<float>> spans;
+    std::vector<SensorReading> readings(sensors.size());
+    for (std::size_t i = 0U; i < sensors.size(); ++i) {
+        images[i].assign(static_cast<std::size_t>(sensors[i].width * sensors[i].height), -1.0F);
+        spans.emplace_back(images[i].data(), images[i].size());
+    }
+    sim::PreparedScene prepared(4U);
+    std::vector<SimulatedFrameSource> sources(sensors.begin(), sensors.end());
+    for (const int k : {0, 15, 22, 34, 55}) {
+        CAPTURE(k);
+        // The demo's scene as the monitor always made it.
+        sim::Scene scene = sim::reference_scene();
+        scene.boxes.push_back(person_box(demo_person(k)));
+        const sim::SimulatedFrame expected = sim::render_frame(sensors, scene);
+        REQUIRE(prepared.assign(scene));
+        REQUIRE(sim::render_frame_into(sensors, prepared, {spans.data(), spans.size()},
+                                       {readings.data(), readings.size()}));
+        for (std::size_t i = 0U; i < sensors.size(); ++i) {
+            CHECK(std::memcmp(images[i].data(), expected.depth[i].data(), images[i].size() * sizeof(float)) == 0);
+            CHECK(readings[i].depth.data() == images[i].data());
+            CHECK(readings[i].pose.matrix() == expected.readings[i].pose.matrix());
+            CHECK(readings[i].intrinsics.fx == expected.readings[i].intrinsics.fx);
+            CHECK(readings[i].max_range == expected.readings[i].max_range);
+            SensorReading r;
+            FrameStatus st;
+            REQUIRE(sources[i].load_frame(static_cast<std::uint64_t>(k), r, st));
+            REQUIRE(r.depth.size() == expected.depth[i].size());
+            CHECK(std::memcmp(r.depth.data(), expected.depth[i].data(), r.depth.size() * sizeof(float)) == 0);
+        }
+    }
+    // Wrong sizes are refused, nothing written; a scene with more boxes than reserved is refused.
+    std::vector<float> small(10U, -1.0F);
+    CHECK_FALSE(sim::render_depth_into(sensors[0], prepared, {small.data(), small.size()}));
+    CHECK(small[0] == -1.0F);
+    CHECK_FALSE(sim::render_frame_into(sensors, prepared, {spans.data(), 2U}, {readings.data(), readings.size()}));
+    sim::Scene crowded = sim::reference_scene();
+    crowded.boxes.resize(5U);
+    CHECK_FALSE(prepared.assign(crowded));
+    CHECK(prepared.scene().boxes.size() == 3U);
+}
