@@ -146,9 +146,10 @@ using RayTableSignatureRegions = std::array<SignatureRegion, kRayTableSignatureR
 /// limits, which build() also stores as words. signature_regions() lists
 /// that RAM and build() takes its CRC-32 (storage_crc), so a SignatureCheck
 /// made from the two (ram_check.hpp) re-reads it a slice at a time and
-/// finds a bit that flips in it within one pass (ceil(checked_bytes() /
-/// slice bytes) steps) of the flip. limits_intact() covers the table object
-/// itself: the limits fuse() uses against the stored words.
+/// reports a bit that flips in it by the end of the first whole pass after
+/// the flip: within 2 x ceil(checked_bytes() / slice bytes) steps.
+/// limits_intact() covers the table object itself: the limits fuse() uses
+/// against the stored words.
 class RayTable {
 public:
     /// An empty table (placeholder only; fuse() refuses it).
