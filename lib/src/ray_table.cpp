@@ -234,6 +234,8 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     table.exit_step_ = exit_step;
     table.steps_per_metre_ = compact ? 1.0F / exit_step : 0.0F;
     table.compact_ = compact;
+    table.placement_ = ReadingPlacement{grid, sensor.intrinsics, 1.0 / sensor.intrinsics.fx, 1.0 / sensor.intrinsics.fy,
+                                        sensor.pose};
     table.header_words_ = table.check_header();
     std::uint32_t crc = kCrc32Init;
     for (const SignatureRegion& region : table.signature_regions()) {
@@ -481,7 +483,62 @@ struct FuseView {
     float max_range;
     float exit_step;
     float steps_per_metre;
+    const ReadingPlacement* placement;  ///< fuse_sensor's rule for readings near a face
 };
+
+/// Entries on either side of the table's own entry that settle_reading
+/// searches: a reading on an edge or a corner lies on the faces of up to
+/// three entries of zero or rounding length.
+constexpr std::uint32_t kSettleReach = 3U;
+
+/// The entry within kSettleReach of @p k among a pixel's entries [first,
+/// end) whose voxel is @p voxel, nearest to k first; @p k when none is (not
+/// reached in the tests).
+template <typename Entries>
+std::uint32_t entry_of_voxel(const Entries& entries, std::uint32_t first, std::uint32_t end, std::uint32_t k,
+                             std::size_t voxel) noexcept {
+    for (std::uint32_t r = 0U; r <= kSettleReach; ++r) {
+        if (k + r < end && voxels(entries)[k + r] == voxel) {
+            return k + r;
+        }
+        if (r <= k && k - r >= first && k - r < end && voxels(entries)[k - r] == voxel) {
+            return k - r;
+        }
+    }
+    return k;
+}
+
+/// Where fuse_sensor puts the reading of @p pixel at depth @p d: the entry of
+/// its voxel (GridGeometry's half-open rule on depth_pixel_point and
+/// reading_in_cell, fusion.hpp), @p end when that point lies outside the
+/// grid, or @p k, the table's own entry, when the two are not neighbours.
+template <typename Entries>
+std::uint32_t settle_reading(const Entries& entries, const FuseView& t, std::size_t pixel, float d,
+                             std::uint32_t first, std::uint32_t end, std::uint32_t k) noexcept {
+    const ReadingPlacement& p = *t.placement;
+    const auto width = static_cast<std::size_t>(p.intrinsics.width);
+    const auto u = static_cast<std::int32_t>(pixel % width);
+    const auto v = static_cast<std::int32_t>(pixel / width);
+    const Eigen::Vector3d point = reading_in_cell(p.pose, depth_pixel_point(p.intrinsics, p.inv_fx, p.inv_fy, u, v, d));
+    const VoxelCoord c = p.grid.world_to_voxel_unchecked(point);
+    if (!p.grid.contains(c)) {
+        return end;
+    }
+    return entry_of_voxel(entries, first, end, k, p.grid.index_of(c));
+}
+
+/// True when @p range lies within a compact table's rounding (two exit
+/// steps) or 0.1 mm of the face where entry @p k - 1 ends or @p k ends:
+/// there fuse_sensor's float point and the table's exit distances may put the
+/// reading in different voxels.
+template <typename Entries>
+bool near_a_face(const Entries& entries, const FuseView& t, float range, std::uint32_t first, std::uint32_t end,
+                 std::uint32_t k) noexcept {
+    const float eps = t.exit_step > 0.0F ? 2.0F * t.exit_step : 1e-4F;
+    const bool near_before = k > first && std::fabs(range - exit_of(entries, k - 1U, t.exit_step)) <= eps;
+    const bool near_after = k < end && std::fabs(exit_of(entries, k, t.exit_step) - range) <= eps;
+    return near_before || near_after;
+}
 
 /// RayTable::fuse for one entry kind (the checks are done by the caller).
 template <typename Entries>
@@ -561,16 +618,31 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
             const SearchSlot<Limit>& slot = batch[j];
             const std::uint32_t first = t.begin[slot.pixel];
             const std::uint32_t end = t.begin[slot.pixel + 1U];
+            // The table's own entry of the reading: the first whose exit
+            // lies beyond it (end: beyond the grid). Near a face,
+            // fuse_sensor's rule decides instead (at most kSettleReach
+            // entries away, or out of the grid).
+            std::uint32_t own = slot.base;
+            while (own < end && keys(entries)[own] <= slot.range_limit) {
+                ++own;
+            }
+            const std::uint32_t hit = near_a_face(entries, t, slot.range, first, end, own)
+                                          ? settle_reading(entries, t, slot.pixel, depth[slot.pixel], first, end, own)
+                                          : own;
+            // The entries before the reading's are crossed: the ramp (the
+            // constant before slot.base is set already). A reading outside
+            // the grid leaves every entry to the box crossed.
+            const std::uint32_t crossed_end = hit < end ? hit : end;
             std::uint32_t k = slot.base;
-            for (; k < end && keys(entries)[k] <= slot.range_limit; ++k) {
+            for (; k < crossed_end; ++k) {
                 const float exit = exit_of(entries, k, t.exit_step);
                 const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
                 std::int16_t& o = t.opinion[voxels(entries)[k]];
                 o = e > o ? e : o;
             }
-            if (k < end) {
-                t.opinion[voxels(entries)[k]] = peak;  // above every free opinion
-                ++k;
+            if (hit < end) {
+                t.opinion[voxels(entries)[hit]] = peak;  // above every free opinion
+                k = hit + 1U;
                 ++s.readings_in_grid;
             }
             t.walked[slot.pixel] = k;
@@ -629,7 +701,7 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                         storage_.hit_count.data(),   storage_.sensor_opinion.data(), pixels_,
                         step_count_,                 voxel_count,                 min_range_,
                         max_range_,                  exit_step_,
-                        steps_per_metre_};
+                        steps_per_metre_,            &placement_};
     return compact_ ? fuse_entries(CompactEntries{storage_.compact_voxels.data(), storage_.compact_exit_steps.data()},
                                    view, grid, depth, model)
                     : fuse_entries(WideEntries{storage_.wide_voxels.data(), storage_.wide_exits.data()}, view, grid,

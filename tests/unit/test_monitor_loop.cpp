@@ -168,7 +168,7 @@ TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and
     CHECK(st.first_stop_after_release == 15);
     const std::string line = m.loop->status_line();
     CHECK(line.rfind("t= 99.900s cycle 999 person (-1.40, 0.20) outside          | protective:CLEAR "
-                     "warning:INTRUDED | run  WARN | faults - | cycle ",
+                     "warning:CLEAR | run  -    | faults - | cycle ",
                      0) == 0);
     CHECK(line.back() == '\n');
 }

@@ -10,6 +10,7 @@
 
 #include "alloc_counter.hpp"
 #include "ray_table_vectors.hpp"
+#include "cellguard/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -42,20 +43,22 @@ struct OwnedGrid {
 };
 
 
-/// The sensor model applied ray by ray to the table's entries: for each
-/// pixel, every entry the ray leaves before the reading gets the profile's
-/// free opinion (constant, then the ramp), the reading's entry the hit; each
-/// voxel keeps the largest opinion (fusion.hpp), kNoOpinion where no ray
-/// reached it.
+/// The sensor model applied ray by ray to the table's entries, with each
+/// reading placed by fuse_sensor's rule (depth_pixel_point, reading_in_cell,
+/// the half-open rule): the entry of that voxel gets the hit and every entry
+/// before it the profile's free opinion (constant, then the ramp); a reading
+/// outside the grid leaves every entry it passes free. Each voxel keeps the
+/// largest opinion (fusion.hpp), kNoOpinion where no ray reached it.
 struct ExactOpinions {
     std::vector<std::int16_t> opinion;
 };
 
 ExactOpinions walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r, const SensorModelTable& model,
-                           std::size_t voxel_count) {
+                           const GridGeometry& g) {
+    const std::size_t voxel_count = g.voxel_count();
     ExactOpinions out{std::vector<std::int16_t>(voxel_count, kNoOpinion)};
-    const auto ramp = static_cast<float>(model.ramp_length());
     const auto add = [&](std::uint32_t v, std::int16_t e) { out.opinion[v] = std::max(out.opinion[v], e); };
+    const PinholeIntrinsics& k = r.intrinsics;
     for (std::size_t i = 0; i < r.depth.size(); ++i) {
         const float d = r.depth[i];
         if (!std::isfinite(d) || d <= 0.0F) {
@@ -65,16 +68,25 @@ ExactOpinions walk_per_ray(const host::OwnedRayTable& t, const SensorReading& r,
         if (range < r.min_range || range > r.max_range || range < t.table().pixel_enter(i)) {
             continue;
         }
-        std::uint32_t k = t.table().pixel_begin(i);
+        const auto u = static_cast<std::int32_t>(i % static_cast<std::size_t>(k.width));
+        const auto v = static_cast<std::int32_t>(i / static_cast<std::size_t>(k.width));
+        const VoxelCoord c = g.world_to_voxel_unchecked(
+            reading_in_cell(r.pose, depth_pixel_point(k, 1.0 / k.fx, 1.0 / k.fy, u, v, d)));
+        const std::size_t hit_voxel = g.contains(c) ? g.index_of(c) : voxel_count;
         const std::uint32_t end = t.table().pixel_begin(i + 1U);
-        for (; k < end && t.table().entry_exit(i, k) <= range - ramp; ++k) {
-            add(t.table().entry_voxel(k), model.constant_free_evidence());
-        }
-        for (; k < end && t.table().entry_exit(i, k) <= range; ++k) {
-            add(t.table().entry_voxel(k), model.free_evidence(static_cast<double>(range - t.table().entry_exit(i, k))));
-        }
-        if (k < end) {
-            add(t.table().entry_voxel(k), model.reading_evidence());
+        for (std::uint32_t e = t.table().pixel_begin(i); e < end; ++e) {
+            const float exit = t.table().entry_exit(i, e);
+            if (t.table().entry_voxel(e) == hit_voxel) {
+                add(t.table().entry_voxel(e), model.reading_evidence());
+                break;
+            }
+            if (hit_voxel != voxel_count && exit > range + 0.01F) {
+                break;  // past the reading by more than any rounding: the hit was not on this ray's entries
+            }
+            add(t.table().entry_voxel(e), model.free_evidence(static_cast<double>(range - exit)));
+            if (hit_voxel == voxel_count && exit > range) {
+                break;  // a reading outside the grid: the ray ends at the box
+            }
         }
     }
     return out;
@@ -129,13 +141,21 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
           static_cast<long>(direct_stats.readings_in_grid / 1000U));
     std::size_t observed_differ = 0;
     std::size_t sign_differ = 0;
+    std::size_t value_differ = 0;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
         observed_differ += (direct.ob[i] != tabled.ob[i]) ? 1U : 0U;
         sign_differ += ((direct.lo[i] > 0) != (tabled.lo[i] > 0)) ? 1U : 0U;
+        value_differ += (direct.lo[i] != tabled.lo[i]) ? 1U : 0U;
     }
-    MESSAGE("voxels whose observed flag differs: " << observed_differ << ", whose occupied sign differs: " << sign_differ);
-    CHECK(observed_differ <= g.voxel_count() / 1000U);
-    CHECK(sign_differ <= g.voxel_count() / 200U);
+    MESSAGE("voxels whose observed flag differs: " << observed_differ << ", occupied sign: " << sign_differ
+                                                   << ", evidence: " << value_differ);
+    // Readings on voxel faces (the simulated boxes and floor lie on them)
+    // are placed by fuse_sensor's rule: the same voxels are observed and
+    // occupied. A compact table's exit distances are rounded to 0.12 mm, which
+    // moves a few voxels' free opinions by a step of the ramp (measured 27).
+    CHECK(observed_differ == 0U);
+    CHECK(sign_differ == 0U);
+    CHECK(value_differ <= g.voxel_count() / 1000U);
 }
 
 // verifies: SR-FUSE-006
@@ -187,7 +207,7 @@ TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of 
                 r.depth = Span<const float>(cases[c].data(), cases[c].size());
                 OwnedGrid fused(g);
                 const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
-                const ExactOpinions exact = walk_per_ray(t, r, model, g.voxel_count());
+                const ExactOpinions exact = walk_per_ray(t, r, model, g);
                 CHECK(st.voxel_updates > 0U);
                 MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
                 CHECK(differs_from_exact(fused, exact, model) == 0U);
@@ -243,7 +263,7 @@ TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, 
             r.depth = Span<const float>(cases[c].data(), cases[c].size());
             OwnedGrid fused(g);
             REQUIRE(t.table().fuse(fused.grid, r.depth, model).ok());
-            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g.voxel_count()), model) == 0U);
+            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g), model) == 0U);
         }
     }
     MESSAGE("rays of " << shortest << " to " << longest << " entries");

@@ -2,7 +2,7 @@
 // three real Kinect frames (tests/data/kinect-frames, 640 x 480): every voxel
 // that holds readings is occupied in that frame; the grid does not depend on
 // the order of the readings; the ray table gives the grid of on-the-fly
-// fusion but for a few readings on voxel faces; and both accessibility methods call a frame replayed against a
+// fusion voxel for voxel; and both accessibility methods call a frame replayed against a
 // prior commissioned from itself CLEAR, and the same frame with a
 // person-sized block of readings INTRUDED.
 //
@@ -200,7 +200,7 @@ TEST_CASE("real frames: shuffled readings give the identical grid") {
 }
 
 // verifies: SR-FUSE-006
-TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion but for readings on a voxel face") {
+TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion, voxel for voxel") {
     const GridGeometry g = grid_geometry();
     const sim::SensorSpec c = camera();
     for (const char* path : kFrames) {
@@ -227,12 +227,9 @@ TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion but fo
             occupied_differ += ((direct.lo[v] > 0) != (tabled.lo[v] > 0)) ? 1U : 0U;
         }
         MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << ": " << differ << " voxels differ, " << occupied_differ << " in occupied or not");
-        // Not yet voxel for voxel: measured 2, 4 and 3 voxels (the per-ray
-        // model: 169, 169 and 189), each a reading within float rounding of a
-        // voxel face, which the table places by its exit distances and
-        // fuse_sensor by the half-open rule of grid.hpp (ray_table.hpp).
-        CHECK(differ <= 8U);
-        CHECK(differ == occupied_differ);  // never a difference in free evidence
+        // Voxel for voxel (the per-ray model: 169, 169 and 189 voxels; before
+        // readings on a face were placed by fuse_sensor's rule: 2, 4 and 3).
+        CHECK(differ == 0U);
     }
 }
 

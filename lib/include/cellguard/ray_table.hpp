@@ -67,6 +67,17 @@
 
 namespace cellguard {
 
+/// What the ray table needs to place a reading near a voxel face by
+/// fuse_sensor's own rule (fusion.hpp: depth_pixel_point, reading_in_cell,
+/// then the half-open rule of grid.hpp); set by RayTable::build.
+struct ReadingPlacement {
+    GridGeometry grid{};                                   ///< the table's grid
+    PinholeIntrinsics intrinsics{};                        ///< the sensor's intrinsics
+    double inv_fx = 0.0;                                   ///< 1 / fx, as fuse_sensor computes it
+    double inv_fy = 0.0;                                   ///< 1 / fy, likewise
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell
+};
+
 /// A table entry is a voxel and where the ray leaves it. A compact table
 /// stores it in 4 bytes, as two arrays: a 16-bit voxel index and a 16-bit
 /// exit distance from the sensor origin in exit steps (rounded to nearest).
@@ -222,6 +233,7 @@ private:
     float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
     CheckHeader header_words_{};  ///< check_header() at build(): the first signature region
+    ReadingPlacement placement_{};  ///< fuse_sensor's rule for readings near a face
     std::uint32_t storage_crc_ = 0U;
 };
 
