@@ -8,9 +8,10 @@
 # Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
 set -euo pipefail
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
+# libcli11-dev: the host programs' command lines.
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox)
+      gnuplot-nox libcli11-dev)
 for arg in "$@"; do
   case "$arg" in
     --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi

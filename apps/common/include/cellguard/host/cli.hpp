@@ -6,13 +6,15 @@
 /// never takes the next option as its value: `--out --help` is "--out needs
 /// a value", not an output folder named "--help".
 ///
-/// Header-only and standard C/C++ only (no heap, no exceptions), so that the
-/// firmware's host digest program can use it on every Linux target.
+/// Header-only and standard C++ only, so that the firmware's host digest
+/// program can use it on every Linux target. The programs on CLI11
+/// (command_line.hpp) share version_text() and usage_error_line().
 #ifndef CELLGUARD_HOST_CLI_HPP
 #define CELLGUARD_HOST_CLI_HPP
 
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "cellguard/host/version.hpp"
 
@@ -20,6 +22,15 @@ namespace cellguard::host {
 
 /// Exit status of a usage error (bad command line), in every program.
 constexpr int kExitUsage = 2;
+
+/// The --version answer: "<program> <version>" (no newline).
+inline std::string version_text(const std::string& program) { return program + " " + kVersion; }
+
+/// The line a usage error prints to stderr: "<program>: <message> (see --help)"
+/// and a newline (command_line.hpp, the programs on CLI11).
+inline std::string usage_error_line(const std::string& program, const std::string& message) {
+    return program + ": " + message + " (see --help)\n";
+}
 
 /// Prints "<program> <version>" and a newline to stdout (the --version answer).
 inline void print_version(const char* program) noexcept { std::printf("%s %s\n", program, kVersion); }
