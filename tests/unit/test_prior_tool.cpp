@@ -412,9 +412,9 @@ TEST_CASE("prior tool: bad option values exit 2 with one line naming the option"
          "2 background frame(s) are too few for the probabilistic method: it needs at least 3"},
         {{"--namespace", "not a namespace"}, "--namespace 'not a namespace'"},
         {{"--bogus"}, "unknown argument '--bogus'"},
-        {{"--simulated", "--background-npy", "x.npy"}, "excludes the other input"},
-        {{"--observed", "x.npy"}, "--observed goes with --background-npy"},
-        {{"--frames", "somewhere"}, "need --config FILE"},
+        {{"--simulated", "--background-npy", "x.npy"}, "--simulated excludes --background-npy"},
+        {{"--observed", "x.npy"}, "--observed requires --background-npy"},
+        {{"--frames", "somewhere"}, "--frames requires --config"},
         {{"--background-npy", "x.npy"}, "needs the grid's placement"},
         {{"--config", dir / "missing.toml"}, "configuration: "},
     };
@@ -432,7 +432,7 @@ TEST_CASE("prior tool: bad option values exit 2 with one line naming the option"
     CHECK(no_value.err.find("--radius needs a value") != std::string::npos);
     const Run no_out = run_tool({"--simulated"});
     CHECK(no_out.status == kExitInputError);
-    CHECK(no_out.err.find("--out DIR is required") != std::string::npos);
+    CHECK(no_out.err.find("--out is required") != std::string::npos);
     const Run help = run_tool({"--help"});
     CHECK(help.status == kExitOk);
     CHECK(help.out.find("--background-npy FILE") != std::string::npos);

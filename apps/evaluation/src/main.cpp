@@ -9,14 +9,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <sys/stat.h>
 #include <vector>
 
-#include "cellguard/host/cli.hpp"
+#include "cellguard/host/command_line.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/sim/experiment.hpp"
 #include "cellguard/host/png.hpp"
@@ -42,40 +41,6 @@ struct Options {
     bool paper_scenes = true;
     bool scale = false;
 };
-
-void usage() {
-    std::puts(
-        "usage: cellguard-eval [options]\n"
-        "  Runs the paper's experiments on the simulated workcell and writes, into the output folder:\n"
-        "  pr-<scene>.csv (precision and recall over a sweep of t_f, four methods), results.md (a table per\n"
-        "  scene: best F1, precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
-        "  pr-<scene>.png (gnuplot, when installed) and render-<scene>-<method>.png (foreground red over the\n"
-        "  background grey at t_f = 0.73, from the position of the sensor stereo-a, zoomed on the boxes).\n"
-        "  --scenes DIR               scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)\n"
-        "  --out DIR                  output folder, created if missing (default eval-results)\n"
-        "  --background-frames N      empty frames summed into G_B (default 100)\n"
-        "  --foreground-frames N      frames with the foreground, scores summed (default 5)\n"
-        "  --ideal                    ideal sensors instead of the scenes' noise models\n"
-        "  --exact                    rasterise rays with the exact traversal (default: the paper's 3D Bresenham)\n"
-        "  --no-plots                 do not call gnuplot\n"
-        "  --scale                    also run the large scene on a 256 x 256 x 128 grid over the whole cell and\n"
-        "                             print fusion, prior and subtraction times (scale.md)\n"
-        "  --scale-only               only that\n"
-        "  --scale-background-frames N  G_B frames of the scale run (default 10)\n"
-        "  --help                     this text\n"
-        "  --version                  print the version and exit\n"
-        "Exit status: 0 done, 1 an experiment or an output failed, 2 bad command line.");
-}
-
-bool parse_int(const char* s, int lo, int hi, int& out) {
-    char* end = nullptr;
-    const long v = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || v < lo || v > hi) {
-        return false;
-    }
-    out = static_cast<int>(v);
-    return true;
-}
 
 std::string fmt(double v, int digits = 3) {
     if (v < 0.0) {
@@ -288,71 +253,38 @@ int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostrings
     return 0;
 }
 
-constexpr const char* kProgram = "cellguard-eval";
-
-/// The integer value of option argv[@p i] (1 ..@p hi) into @p out; -1 when
-/// taken, else the exit status of the usage error it printed.
-int int_value(int argc, char** argv, int& i, int hi, int& out) {
-    const char* name = argv[i];
-    const char* v = host::take_value(argc, argv, i);
-    if (v == nullptr) {
-        return host::needs_value(kProgram, name);
-    }
-    if (!parse_int(v, 1, hi, out)) {
-        const std::string m = std::string(name) + " expects an integer 1.." + std::to_string(hi) + ", got";
-        return host::usage_error(kProgram, m.c_str(), v);
-    }
-    return -1;
-}
-
-/// The value of option argv[@p i] into @p out; -1 when taken, else the exit status of "needs a value".
-int text_value(int argc, char** argv, int& i, std::string& out) {
-    const char* name = argv[i];
-    const char* v = host::take_value(argc, argv, i);
-    if (v == nullptr) {
-        return host::needs_value(kProgram, name);
-    }
-    out = v;
-    return -1;
-}
-
 /// Reads the command line into @p o: -1 to run, else the exit status
 /// (0 after --help or --version, 2 after a usage error).
 int parse_args(int argc, char** argv, Options& o) {
-    int status = -1;
-    for (int i = 1; i < argc && status < 0; ++i) {
-        const char* a = argv[i];
-        if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
-            usage();
-            status = 0;
-        } else if (std::strcmp(a, "--version") == 0) {
-            host::print_version(kProgram);
-            status = 0;
-        } else if (std::strcmp(a, "--scenes") == 0) {
-            status = text_value(argc, argv, i, o.scenes_dir);
-        } else if (std::strcmp(a, "--out") == 0) {
-            status = text_value(argc, argv, i, o.out_dir);
-        } else if (std::strcmp(a, "--background-frames") == 0) {
-            status = int_value(argc, argv, i, 100000, o.background_frames);
-        } else if (std::strcmp(a, "--foreground-frames") == 0) {
-            status = int_value(argc, argv, i, 10000, o.foreground_frames);
-        } else if (std::strcmp(a, "--scale-background-frames") == 0) {
-            status = int_value(argc, argv, i, 10000, o.scale_background_frames);
-        } else if (std::strcmp(a, "--ideal") == 0) {
-            o.ideal = true;
-        } else if (std::strcmp(a, "--exact") == 0) {
-            o.exact = true;
-        } else if (std::strcmp(a, "--no-plots") == 0) {
-            o.plots = false;
-        } else if (std::strcmp(a, "--scale") == 0) {
-            o.scale = true;
-        } else if (std::strcmp(a, "--scale-only") == 0) {
-            o.scale = true;
-            o.paper_scenes = false;
-        } else {
-            status = host::usage_error(kProgram, "unknown argument", a);
-        }
-    }
+    host::CommandLine cli(
+        "cellguard-eval", "cellguard-eval [options]",
+        "Runs the paper's experiments on the simulated workcell and writes, into the output folder:\n"
+        "pr-<scene>.csv (precision and recall over a sweep of t_f, four methods), results.md (a table per\n"
+        "scene: best F1, precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
+        "pr-<scene>.png (gnuplot, when installed) and render-<scene>-<method>.png (foreground red over the\n"
+        "background grey at t_f = 0.73, from the position of the sensor stereo-a, zoomed on the boxes).",
+        "Exit status: 0 done, 1 an experiment or an output failed, 2 bad command line.");
+    cli.text("--scenes", o.scenes_dir, "DIR",
+             "scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)");
+    cli.text("--out", o.out_dir, "DIR", "output folder, created if missing (default eval-results)");
+    cli.integer("--background-frames", o.background_frames, 1, 100000, "N", "empty frames summed into G_B (default 100)");
+    cli.integer("--foreground-frames", o.foreground_frames, 1, 10000, "N",
+                "frames with the foreground, scores summed (default 5)");
+    cli.flag("--ideal", o.ideal, "ideal sensors instead of the scenes' noise models");
+    cli.flag("--exact", o.exact, "rasterise rays with the exact traversal (default: the paper's 3D Bresenham)");
+    bool no_plots = false;
+    cli.flag("--no-plots", no_plots, "do not call gnuplot");
+    cli.flag("--scale", o.scale,
+             "also run the large scene on a 256 x 256 x 128 grid over the whole cell and\n"
+             "print fusion, prior and subtraction times (scale.md)");
+    bool scale_only = false;
+    cli.flag("--scale-only", scale_only, "only that");
+    cli.integer("--scale-background-frames", o.scale_background_frames, 1, 10000, "N",
+                "G_B frames of the scale run (default 10)");
+    const int status = cli.parse(argc, argv);
+    o.plots = !no_plots;
+    o.scale = o.scale || scale_only;
+    o.paper_scenes = !scale_only;
     return status;
 }
 

@@ -5,14 +5,13 @@
 // half the paper's resolution, three scenes). Every double and float
 // is written as a hexadecimal literal, so the targets read the exact bits.
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
 #include "cellguard/accessibility.hpp"
 #include "cellguard/evidence_grid.hpp"
 #include "cellguard/fusion.hpp"
-#include "cellguard/host/cli.hpp"
+#include "cellguard/host/command_line.hpp"
 #include "cellguard/linux/prior_files.hpp"
 #include "cellguard/prior_image.hpp"
 #include "cellguard/sim/workcell.hpp"
@@ -55,45 +54,20 @@ std::string hex_float(float v) {
     return b;
 }
 
-constexpr const char* kProgram = "cellguard-firmware-gen";
-
-constexpr const char* kUsage =
-    "usage: cellguard-firmware-gen OUTPUT_DIR\n"
-    "\n"
-    "Renders the firmware's canned inputs on the host into the existing folder\n"
-    "OUTPUT_DIR: firmware_prior.hpp (the prior image as flash source),\n"
-    "prior_values.hpp (the same prior as an int16 array) and canned_frames.hpp\n"
-    "(four depth sensors at half the paper's resolution, three scenes), every\n"
-    "double and float as a hexadecimal literal. The checked-in copies are in\n"
-    "apps/firmware/generated.\n"
-    "\n"
-    "  --help     this text\n"
-    "  --version  print the version and exit\n"
-    "\n"
-    "Exit status: 0 written, 1 a computation or a write failed, 2 bad command line.\n";
-
 /// Reads the command line: the output folder into @p dir and -1 to run, else
 /// the exit status (0 after --help or --version, 2 after a usage error).
 int parse_args(int argc, char** argv, std::string& dir) {
-    for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-            std::fputs(kUsage, stdout);
-            return 0;
-        }
-        if (std::strcmp(argv[i], "--version") == 0) {
-            host::print_version(kProgram);
-            return 0;
-        }
-        if (std::strncmp(argv[i], "--", 2U) == 0) {
-            return host::usage_error(kProgram, "unknown option", argv[i]);
-        }
-    }
-    if (argc != 2) {
-        return host::usage_error(kProgram, argc < 2 ? "needs one argument, the output folder OUTPUT_DIR"
-                                                    : "expects one argument, the output folder OUTPUT_DIR");
-    }
-    dir = argv[1];
-    return -1;
+    host::CommandLine cli("cellguard-firmware-gen", "cellguard-firmware-gen OUTPUT_DIR",
+                          "Renders the firmware's canned inputs on the host into the existing folder\n"
+                          "OUTPUT_DIR: firmware_prior.hpp (the prior image as flash source),\n"
+                          "prior_values.hpp (the same prior as an int16 array) and canned_frames.hpp\n"
+                          "(four depth sensors at half the paper's resolution, three scenes), every\n"
+                          "double and float as a hexadecimal literal. The checked-in copies are in\n"
+                          "apps/firmware/generated.",
+                          "Exit status: 0 written, 1 a computation or a write failed, 2 bad command line.");
+    cli.argument("OUTPUT_DIR", "the existing folder the three headers go into",
+                 [&dir](const std::string& v) { dir = v; });
+    return cli.parse(argc, argv);
 }
 
 }  // namespace

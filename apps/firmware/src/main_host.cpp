@@ -1,12 +1,17 @@
 // cellguard-firmware-digest: the firmware's canned run (scenario.hpp) on a
 // Linux host (x86-64 natively, aarch64 under qemu-user): prints the same
 // lines and digest as the Cortex-M7 image. With an argument 0x........ it
-// exits 1 unless the digest equals it; --help and --version as every program
-// (cellguard/host/cli.hpp), a bad command line exits 2.
+// exits 1 unless the digest equals it; --help, --version and usage errors as
+// every program (cellguard/host/cli.hpp), a bad command line exits 2. Its one
+// optional argument is parsed by hand, not with CLI11 (command_line.hpp):
+// this is the host twin of the bare-metal image's main, built for every
+// Linux target of tools/cross.sh, and CLI11 would bring exceptions, RTTI
+// and the heap for that one argument.
 #include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/host/cli.hpp"
@@ -44,11 +49,15 @@ constexpr const char* kUsage =
     "usage: cellguard-firmware-digest [EXPECTED]\n"
     "\n"
     "Runs the firmware's canned scenario on this host and prints the same lines,\n"
-    "CAN frames and digest as the Cortex-M7 image. With EXPECTED (0x and 1 to 8\n"
-    "hex digits, as in apps/firmware/expected_digest.txt) it also compares the digest.\n"
+    "CAN frames and digest as the Cortex-M7 image.\n"
     "\n"
-    "  --help     this text\n"
-    "  --version  print the version and exit\n"
+    "arguments:\n"
+    "  EXPECTED                    the digest to compare with: 0x and 1 to 8 hex\n"
+    "                              digits, as in apps/firmware/expected_digest.txt\n"
+    "\n"
+    "options:\n"
+    "  -h, --help                  print this help and exit\n"
+    "  --version                   print the version and exit\n"
     "\n"
     "Exit status: 0 the run completed (and the digest matches EXPECTED), 1 the\n"
     "set-up failed or the digest differs, 2 bad command line.\n";
@@ -79,14 +88,15 @@ int parse_args(int argc, char** argv, const char*& expected_text, unsigned long&
             return 0;
         }
         if (a[0] == '-') {
-            return cellguard::host::usage_error(kProgram, "unknown option", a);
+            return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + a + "'");
         }
     }
     if (argc > 2) {
-        return cellguard::host::usage_error(kProgram, "expects at most one argument, the EXPECTED digest");
+        return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[2] + "'");
     }
     if (argc == 2 && !parse_digest(argv[1], expected)) {
-        return cellguard::host::usage_error(kProgram, "EXPECTED expects 0x and 1 to 8 hex digits, got", argv[1]);
+        return cellguard::host::usage_error(kProgram,
+                                            std::string("EXPECTED expects 0x and 1 to 8 hex digits, got '") + argv[1] + "'");
     }
     expected_text = argc == 2 ? argv[1] : nullptr;
     return -1;

@@ -17,6 +17,7 @@
 
 #include "cellguard/accessibility.hpp"
 #include "cellguard/host/cli.hpp"
+#include "cellguard/host/command_line.hpp"
 #include "cellguard/log_odds.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 
@@ -41,9 +42,7 @@ std::string too_few_frames(std::size_t frames, const AccessibilityParams& params
 /// Voxels from which the progress bar is on by default (on a terminal).
 constexpr std::size_t kLargeGridVoxels = std::size_t{1} << 20U;
 
-constexpr const char* kUsage =
-    "usage: cellguard-prior [INPUT] [GRID] [ANALYSIS] --out DIR\n"
-    "\n"
+constexpr const char* kDescription =
     "Computes the accessibility prior of an empty workcell (Anderson-Sprecher,\n"
     "Simmons and Huber) from its background grid G_B and writes it into DIR as\n"
     "  prior.cgprior    the prior image (certification/prior-image-format.md),\n"
@@ -52,63 +51,11 @@ constexpr const char* kUsage =
     "  p_acc.npy        P(acc) per voxel, float32, shape (nz, ny, nx)\n"
     "  p_fore.npy       P(fore) = P(acc) / 2 per voxel, float32, shape (nz, ny, nx)\n"
     "then reads every file back and checks it (the image with the controller's\n"
-    "loader) and prints the image's CRCs and geometry.\n"
-    "\n"
-    "INPUT, one of (default: --simulated):\n"
-    "  --simulated             the simulated paper cell's empty background: its four\n"
-    "                          sensors looking at the reference scene (a demo)\n"
-    "  --background-npy FILE   a background grid, shape (nz, ny, nx): int16 log-odds\n"
-    "                          ('<i2', 1/256 nat, as the npy exporter writes) or\n"
-    "                          float32 probability ('<f4', in [0, 1])\n"
-    "  --observed FILE         uint8 observed flags for --background-npy (default: the\n"
-    "                          sibling *_observed.npy of a *_log_odds.npy if it exists,\n"
-    "                          else voxels without evidence count as unobserved)\n"
-    "  --frames DIR            recorded frames of the empty cell: DIR/<sensor>/*.pcd,\n"
-    "                          one folder per sensor of --config, points in the sensor\n"
-    "                          frame; frame k is the k-th file (by name) of each sensor\n"
-    "  --frame SENSOR=FILE     one more recorded .pcd of SENSOR (repeatable)\n"
-    "  --config-frames         the `pcd_files` of --config's sensors as recorded frames\n"
-    "                          (as the monitor replays them; combines with --frames)\n"
-    "\n"
-    "GRID:\n"
-    "  --config FILE           a monitor configuration (apps/monitor/config/*.toml):\n"
-    "                          [grid] and, for --frames, the sensors' names and poses;\n"
-    "                          --simulated takes [grid] and [prior] background_frames\n"
-    "                          (its sensors stay the simulated paper cell's)\n"
-    "  --origin X,Y,Z          grid minimum corner, metres   (default: --config's, or\n"
-    "  --voxel-size S          voxel edge, metres             the paper grid: 34 x 30 x 30\n"
-    "  --dims NX,NY,NZ         voxels per axis                of 0.05 m from (-0.85,-0.75,0))\n"
-    "                          with --background-npy the shape gives the dims; --dims\n"
-    "                          or --config then only check it\n"
-    "  --background-frames N   frames --simulated accumulates (default: --config's, or 8)\n"
-    "\n"
-    "ANALYSIS (defaults: the paper's):\n"
-    "  --method M              probabilistic | thresholded | thresholded-baseline |\n"
-    "                          probabilistic-baseline            (default probabilistic)\n"
-    "  --tb T                  thresholded: empty when P(occ) < T, 0 < T < 1 (0.51)\n"
-    "  --te T                  probabilistic: P(occ) < T counts as 0, 0 < T < 1 (0.1)\n"
-    "  --radius R              object radius r in voxels, 0..8 (2)\n"
-    "  --open-faces F          faces open to the outside: sides | all | none | a comma\n"
-    "                          list of xmin,xmax,ymin,ymax,zmin,zmax (sides)\n"
-    "\n"
-    "OUTPUT:\n"
-    "  --out DIR               output directory, created if missing (required)\n"
-    "  --namespace NS          namespace of prior_flash.hpp (cellguard_prior)\n"
-    "  --config-header H       header prior_flash.hpp includes first, e.g. the one that\n"
-    "                          defines CELLGUARD_GRID_NX/NY/NZ\n"
-    "  --progress              progress bar on stderr (default: on a terminal, for\n"
-    "  --no-progress             frames and grids of 2^20 voxels or more)\n"
-    "  --help                  this text\n"
-    "  --version               print the version and exit\n"
-    "\n"
-    "Exit status: 0 written and verified, 1 an output could not be written or\n"
-    "failed verification, 2 bad command line or bad input.\n";
+    "loader) and prints the image's CRCs and geometry.";
 
-/// A refused command line or input: the message for the one error line.
-struct Failure {
-    int status = kExitInputError;
-    std::string message;
-};
+constexpr const char* kFooter =
+    "Exit status: 0 written and verified, 1 an output could not be written or\n"
+    "failed verification, 2 bad command line or bad input.";
 
 bool parse_double(const std::string& text, double& value) {
     if (text.empty()) {
@@ -118,20 +65,6 @@ bool parse_double(const std::string& text, double& value) {
     errno = 0;
     const double v = std::strtod(text.c_str(), &end);
     if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v)) {
-        return false;
-    }
-    value = v;
-    return true;
-}
-
-bool parse_int(const std::string& text, long min, long max, long& value) {
-    if (text.empty()) {
-        return false;
-    }
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (errno != 0 || end != text.c_str() + text.size() || v < min || v > max) {
         return false;
     }
     value = v;
@@ -158,7 +91,6 @@ enum class ProgressMode { kAuto, kOn, kOff };
 
 struct Options {
     InputKind input = InputKind::kSimulated;
-    bool input_given = false;
     std::string npy;
     std::string observed;
     std::string frames_dir;
@@ -177,168 +109,171 @@ struct Options {
     std::string name_space = "cellguard_prior";
     std::string config_header;
     ProgressMode progress = ProgressMode::kAuto;
-    bool help = false;
-    bool version = false;
 };
 
-/// Parses @p raw into @p o; false with @p f set on a bad command line.
-/// "--name=value" is read as "--name" "value".
-bool parse_args(const std::vector<std::string>& raw, Options& o, Failure& f) {
-    std::vector<std::string> args;
-    for (const std::string& a : raw) {
-        const std::size_t eq = a.find('=');
-        if (a.rfind("--", 0) == 0 && eq != std::string::npos) {
-            args.push_back(a.substr(0U, eq));
-            args.push_back(a.substr(eq + 1U));
-        } else {
-            args.push_back(a);
-        }
+/// Reads @p args into @p o: -1 to run, else the exit status (kExitOk after
+/// --help or --version on @p out, kExitInputError after a usage error on @p err).
+int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& out, std::ostream& err) {
+    static_assert(kExitInputError == host::kExitUsage, "a bad command line is a bad input");
+    host::CommandLine cli(kToolName, "cellguard-prior [INPUT] [GRID] [ANALYSIS] --out DIR", kDescription, kFooter);
+    CLI::App& app = cli.app();
+    using host::reject;
+
+    app.option_defaults()->group("INPUT, one of (default: --simulated)");
+    bool simulated = false;
+    CLI::Option* simulated_opt = cli.flag("--simulated", simulated,
+                                          "the simulated paper cell's empty background: its four\n"
+                                          "sensors looking at the reference scene (a demo)");
+    CLI::Option* npy = cli.text("--background-npy", o.npy, "FILE",
+                                "a background grid, shape (nz, ny, nx): int16 log-odds\n"
+                                "('<i2', 1/256 nat, as the npy exporter writes) or\n"
+                                "float32 probability ('<f4', in [0, 1])");
+    cli.text("--observed", o.observed, "FILE",
+             "uint8 observed flags for --background-npy (default: the\n"
+             "sibling *_observed.npy of a *_log_odds.npy if it exists,\n"
+             "else voxels without evidence count as unobserved)")
+        ->needs(npy);
+    CLI::Option* frames = cli.value("--frames", "DIR",
+                                    "recorded frames of the empty cell: DIR/<sensor>/*.pcd,\n"
+                                    "one folder per sensor of --config, points in the sensor\n"
+                                    "frame; frame k is the k-th file (by name) of each sensor",
+                                    [&o](const std::string& v) {
+                                        if (!o.frames_dir.empty()) {
+                                            reject("--frames given twice");
+                                        }
+                                        o.frames_dir = v;
+                                    });
+    CLI::Option* frame = cli.value("--frame", "SENSOR=FILE", "one more recorded .pcd of SENSOR (repeatable)",
+                                   [&o](const std::string& v) {
+                                       const std::size_t eq = v.find('=');
+                                       if (eq == std::string::npos || eq == 0U || eq + 1U == v.size()) {
+                                           reject("--frame expects SENSOR=FILE.pcd, got '" + v + "'");
+                                       }
+                                       o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
+                                   });
+    CLI::Option* config_frames = cli.flag("--config-frames", o.config_frames,
+                                          "the `pcd_files` of --config's sensors as recorded frames\n"
+                                          "(as the monitor replays them; combines with --frames)");
+    const std::vector<CLI::Option*> recorded = {frames, frame, config_frames};
+    for (CLI::Option* r : recorded) {
+        simulated_opt->excludes(r);
+        npy->excludes(r);
     }
-    auto fail = [&](const std::string& m) {
-        f.status = kExitInputError;
-        f.message = m;
-        return false;
-    };
-    auto set_input = [&](InputKind kind, const char* name) {
-        if (o.input_given && o.input != kind) {
-            return fail(std::string(name) + " excludes the other input (--simulated, --background-npy, --frames/--frame/--config-frames)");
+    simulated_opt->excludes(npy);
+
+    app.option_defaults()->group("GRID");
+    CLI::Option* config = cli.text("--config", o.config, "FILE",
+                                   "a monitor configuration (apps/monitor/config/*.toml):\n"
+                                   "[grid] and, for --frames, the sensors' names and poses;\n"
+                                   "--simulated takes [grid] and [prior] background_frames\n"
+                                   "(its sensors stay the simulated paper cell's)");
+    for (CLI::Option* r : recorded) {
+        r->needs(config);
+    }
+    cli.value("--origin", "X,Y,Z", "grid minimum corner, metres", [&o](const std::string& v) {
+        double t[3];
+        if (!parse_triple(v, t)) {
+            reject("--origin expects X,Y,Z in metres (finite numbers), got '" + v + "'");
         }
-        o.input_given = true;
-        o.input = kind;
-        return true;
-    };
-    for (std::size_t i = 0U; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        std::string v;
-        auto value = [&](const char* name) {
-            if (i + 1U >= args.size() || !host::is_option_value(args[i + 1U].c_str())) {
-                return fail(std::string(name) + " needs a value");
-            }
-            v = args[++i];
-            return true;
-        };
-        if (a == "--help" || a == "-h") {
-            o.help = true;
-            return true;
-        } else if (a == "--version") {
-            o.version = true;
-            return true;
-        } else if (a == "--simulated") {
-            if (!set_input(InputKind::kSimulated, "--simulated")) return false;
-        } else if (a == "--background-npy") {
-            if (!value("--background-npy") || !set_input(InputKind::kNpy, "--background-npy")) return false;
-            o.npy = v;
-        } else if (a == "--observed") {
-            if (!value("--observed")) return false;
-            o.observed = v;
-        } else if (a == "--frames") {
-            if (!value("--frames") || !set_input(InputKind::kFrames, "--frames")) return false;
-            if (!o.frames_dir.empty()) return fail("--frames given twice");
-            o.frames_dir = v;
-        } else if (a == "--frame") {
-            if (!value("--frame") || !set_input(InputKind::kFrames, "--frame")) return false;
-            const std::size_t eq = v.find('=');
-            if (eq == std::string::npos || eq == 0U || eq + 1U == v.size()) {
-                return fail("--frame expects SENSOR=FILE.pcd, got '" + v + "'");
-            }
-            o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
-        } else if (a == "--config-frames") {
-            if (!set_input(InputKind::kFrames, "--config-frames")) return false;
-            o.config_frames = true;
-        } else if (a == "--config") {
-            if (!value("--config")) return false;
-            o.config = v;
-        } else if (a == "--origin") {
-            double t[3];
-            if (!value("--origin")) return false;
-            if (!parse_triple(v, t)) return fail("--origin expects X,Y,Z in metres (finite numbers), got '" + v + "'");
-            o.has_origin = true;
-            o.origin = Eigen::Vector3d(t[0], t[1], t[2]);
-        } else if (a == "--voxel-size") {
-            if (!value("--voxel-size")) return false;
-            if (!parse_double(v, o.voxel_size) || !(o.voxel_size > 0.0)) {
-                return fail("--voxel-size expects a positive length in metres, got '" + v + "'");
-            }
-            o.has_voxel_size = true;
-        } else if (a == "--dims") {
-            if (!value("--dims")) return false;
-            long d[3] = {0, 0, 0};
-            std::size_t start = 0U;
-            bool ok = true;
-            for (int k = 0; k < 3 && ok; ++k) {
-                const std::size_t comma = k < 2 ? v.find(',', start) : v.size();
-                ok = comma != std::string::npos && parse_int(v.substr(start, comma - start), 1, kMaxDimension, d[k]);
-                start = comma + 1U;
-            }
-            if (!ok) {
-                return fail("--dims expects NX,NY,NZ, each 1.." + std::to_string(kMaxDimension) + ", got '" + v + "'");
-            }
-            o.has_dims = true;
-            o.dims = GridDims{static_cast<std::int32_t>(d[0]), static_cast<std::int32_t>(d[1]),
-                              static_cast<std::int32_t>(d[2])};
-        } else if (a == "--background-frames") {
-            long n = 0;
-            if (!value("--background-frames")) return false;
-            if (!parse_int(v, 1, 100000, n)) return fail("--background-frames expects an integer 1..100000, got '" + v + "'");
-            o.background_frames = static_cast<int>(n);
-        } else if (a == "--method") {
-            if (!value("--method")) return false;
-            if (!parse_method(v, o.params.method)) {
-                return fail("--method expects probabilistic, thresholded, thresholded-baseline or "
-                            "probabilistic-baseline, got '" + v + "'");
-            }
-        } else if (a == "--tb" || a == "--te") {
+        o.has_origin = true;
+        o.origin = Eigen::Vector3d(t[0], t[1], t[2]);
+    });
+    cli.value("--voxel-size", "S", "voxel edge, metres",
+              [&o](const std::string& v) {
+                  if (!parse_double(v, o.voxel_size) || !(o.voxel_size > 0.0)) {
+                      reject("--voxel-size expects a positive length in metres, got '" + v + "'");
+                  }
+                  o.has_voxel_size = true;
+              });
+    cli.value("--dims", "NX,NY,NZ",
+              "voxels per axis; with --background-npy the shape gives\n"
+              "the dims, --dims or --config then only check it\n"
+              "(default of all three: --config's, or the paper grid,\n"
+              "34 x 30 x 30 of 0.05 m from (-0.85,-0.75,0))",
+              [&o](const std::string& v) {
+                  long d[3] = {0, 0, 0};
+                  std::size_t start = 0U;
+                  bool ok = true;
+                  for (int k = 0; k < 3 && ok; ++k) {
+                      const std::size_t comma = k < 2 ? v.find(',', start) : v.size();
+                      ok = comma != std::string::npos &&
+                           host::parse_integer(v.substr(start, comma - start), 1, kMaxDimension, d[k]);
+                      start = comma + 1U;
+                  }
+                  if (!ok) {
+                      reject("--dims expects NX,NY,NZ, each 1.." + std::to_string(kMaxDimension) + ", got '" + v + "'");
+                  }
+                  o.has_dims = true;
+                  o.dims = GridDims{static_cast<std::int32_t>(d[0]), static_cast<std::int32_t>(d[1]),
+                                    static_cast<std::int32_t>(d[2])};
+              });
+    CLI::Option* background_frames =
+        cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
+                    "frames --simulated accumulates (default: --config's, or 8)");
+    background_frames->excludes(npy);
+    for (CLI::Option* r : recorded) {
+        background_frames->excludes(r);
+    }
+
+    app.option_defaults()->group("ANALYSIS (defaults: the paper's)");
+    cli.value("--method", "M",
+              "probabilistic | thresholded | thresholded-baseline |\n"
+              "probabilistic-baseline            (default probabilistic)",
+              [&o](const std::string& v) {
+                  if (!parse_method(v, o.params.method)) {
+                      reject("--method expects probabilistic, thresholded, thresholded-baseline or "
+                             "probabilistic-baseline, got '" + v + "'");
+                  }
+              });
+    auto probability = [](const char* name, double& target) {
+        return [name, &target](const std::string& v) {
             double t = 0.0;
-            if (!value(a.c_str())) return false;
             if (!parse_double(v, t) || !(t > 0.0 && t < 1.0)) {
-                return fail(a + " expects a probability strictly between 0 and 1, got '" + v + "'");
+                reject(std::string(name) + " expects a probability strictly between 0 and 1, got '" + v + "'");
             }
-            (a == "--tb" ? o.params.t_b : o.params.t_e) = t;
-        } else if (a == "--radius") {
-            long r = 0;
-            if (!value("--radius")) return false;
-            if (!parse_int(v, 0, kMaxAccessibilityAnalysisRadius, r)) {
-                return fail("--radius expects an integer 0.." + std::to_string(kMaxAccessibilityAnalysisRadius) +
-                            " (voxels), got '" + v + "'");
-            }
-            o.params.radius_voxels = static_cast<std::int32_t>(r);
-        } else if (a == "--open-faces") {
-            if (!value("--open-faces")) return false;
-            if (!parse_open_faces(v, o.params.open_faces)) {
-                return fail("--open-faces expects sides, all, none or a comma list of xmin,xmax,ymin,ymax,zmin,zmax, "
-                            "got '" + v + "'");
-            }
-        } else if (a == "--out") {
-            if (!value("--out")) return false;
-            if (v.empty()) return fail("--out expects a directory, got ''");
-            o.out_dir = v;
-        } else if (a == "--namespace") {
-            if (!value("--namespace")) return false;
-            o.name_space = v;
-        } else if (a == "--config-header") {
-            if (!value("--config-header")) return false;
-            o.config_header = v;
-        } else if (a == "--progress") {
-            o.progress = ProgressMode::kOn;
-        } else if (a == "--no-progress") {
-            o.progress = ProgressMode::kOff;
-        } else {
-            return fail("unknown argument '" + a + "'");
-        }
+            target = t;
+        };
+    };
+    cli.value("--tb", "T", "thresholded: empty when P(occ) < T, 0 < T < 1 (0.51)", probability("--tb", o.params.t_b));
+    cli.value("--te", "T", "probabilistic: P(occ) < T counts as 0, 0 < T < 1 (0.1)", probability("--te", o.params.t_e));
+    cli.integer("--radius", o.params.radius_voxels, 0, kMaxAccessibilityAnalysisRadius, "R",
+                "object radius r in voxels, 0.." + std::to_string(kMaxAccessibilityAnalysisRadius) + " (2)");
+    cli.value("--open-faces", "F",
+              "faces open to the outside: sides | all | none | a comma\n"
+              "list of xmin,xmax,ymin,ymax,zmin,zmax (sides)",
+              [&o](const std::string& v) {
+                  if (!parse_open_faces(v, o.params.open_faces)) {
+                      reject("--open-faces expects sides, all, none or a comma list of xmin,xmax,ymin,ymax,zmin,zmax, "
+                             "got '" + v + "'");
+                  }
+              });
+
+    app.option_defaults()->group("OUTPUT");
+    cli.value("--out", "DIR", "output directory, created if missing (required)", [&o](const std::string& v) {
+           if (v.empty()) {
+               reject("--out expects a directory, got ''");
+           }
+           o.out_dir = v;
+       })->required();
+    cli.text("--namespace", o.name_space, "NS", "namespace of prior_flash.hpp (cellguard_prior)");
+    cli.text("--config-header", o.config_header, "H",
+             "header prior_flash.hpp includes first, e.g. the one that\n"
+             "defines CELLGUARD_GRID_NX/NY/NZ");
+    bool progress = false;
+    CLI::Option* progress_opt = cli.flag("--progress,!--no-progress", progress,
+                                         "progress bar on stderr, or none (default: on a\n"
+                                         "terminal, for frames and grids of 2^20 voxels or more)");
+
+    const int status = cli.parse(args, out, err);
+    if (!o.npy.empty()) {
+        o.input = InputKind::kNpy;
+    } else if (!o.frames_dir.empty() || !o.frame_files.empty() || o.config_frames) {
+        o.input = InputKind::kFrames;
     }
-    if (o.out_dir.empty()) {
-        return fail("--out DIR is required (where the prior image, flash source and .npy files go)");
+    if (progress_opt->count() > 0U) {
+        o.progress = progress ? ProgressMode::kOn : ProgressMode::kOff;
     }
-    if (!o.observed.empty() && o.input != InputKind::kNpy) {
-        return fail("--observed goes with --background-npy");
-    }
-    if (o.input == InputKind::kFrames && o.config.empty()) {
-        return fail("--frames/--frame/--config-frames need --config FILE (the sensors' names and poses)");
-    }
-    if (o.background_frames > 0 && o.input != InputKind::kSimulated) {
-        return fail("--background-frames goes with --simulated");
-    }
-    return true;
+    return status;
 }
 
 /// The progress bar on stderr: a bar for counted work, an elapsed-time
@@ -427,17 +362,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         return status;
     };
     Options o;
-    Failure f;
-    if (!parse_args(args, o, f)) {
-        return error(f.status, f.message + " (see --help)");
-    }
-    if (o.help) {
-        out << kUsage;
-        return kExitOk;
-    }
-    if (o.version) {
-        out << kToolName << " " << host::kVersion << "\n";
-        return kExitOk;
+    if (const int status = parse_args(args, o, out, err); status >= 0) {
+        return status;
     }
 
     // --namespace and --config-header: checked by the source generator, on a one-voxel image.
@@ -645,8 +571,6 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
 }
 
 }  // namespace
-
-const char* usage_text() noexcept { return kUsage; }
 
 int run_prior_tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                    bool err_is_tty) noexcept {

@@ -4,83 +4,43 @@
 // (the zone monitor and its demo come with the monitor).
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <vector>
 
 #include "cellguard/fusion.hpp"
-#include "cellguard/host/cli.hpp"
+#include "cellguard/host/command_line.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;
 
 namespace {
 
-constexpr const char* kProgram = "cellguard-sim";
-
-void usage() {
-    std::puts("usage: cellguard-sim [--frames N] [--bresenham] [--help] [--version]\n"
-              "  Fuses the paper's simulated workcell (4 sensors, reference scene) into the paper's\n"
-              "  34 x 30 x 30 grid: N background frames into G_B, then one frame with a person-sized box.\n"
-              "  --frames N     background frames to accumulate (default 20, 1..10000)\n"
-              "  --bresenham    rasterise rays with the paper's 3D Bresenham instead of the exact traversal\n"
-              "  --help         this text\n"
-              "  --version      print the version and exit\n"
-              "Exit status: 0 done, 1 fusion failed, 2 bad command line.");
-}
-
 struct Options {
     int frames = 20;
-    Rasterization raster = Rasterization::kExact;
-    int exit_status = -1;  ///< >= 0: exit with it (--help, --version, a usage error)
+    bool bresenham = false;
 };
 
-/// @p text as a frame count 1..10000; false for anything else.
-bool parse_frames(const char* text, int& frames) {
-    char* end = nullptr;
-    const long n = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || n < 1 || n > 10000) {
-        return false;
-    }
-    frames = static_cast<int>(n);
-    return true;
-}
-
-Options parse_args(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc && o.exit_status < 0; ++i) {
-        const char* a = argv[i];
-        if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
-            usage();
-            o.exit_status = 0;
-        } else if (std::strcmp(a, "--version") == 0) {
-            host::print_version(kProgram);
-            o.exit_status = 0;
-        } else if (std::strcmp(a, "--bresenham") == 0) {
-            o.raster = Rasterization::kBresenham3d;
-        } else if (std::strcmp(a, "--frames") == 0) {
-            const char* v = host::take_value(argc, argv, i);
-            if (v == nullptr) {
-                o.exit_status = host::needs_value(kProgram, "--frames");
-            } else if (!parse_frames(v, o.frames)) {
-                o.exit_status = host::usage_error(kProgram, "--frames expects a whole number from 1 to 10000, got", v);
-            }
-        } else {
-            o.exit_status = host::usage_error(kProgram, "unknown argument", a);
-        }
-    }
-    return o;
+/// Reads the command line into @p o: -1 to run, else the exit status (0
+/// after --help or --version, 2 after a usage error).
+int parse_args(int argc, char** argv, Options& o) {
+    host::CommandLine cli("cellguard-sim", "cellguard-sim [--frames N] [--bresenham]",
+                          "Fuses the paper's simulated workcell (4 sensors, reference scene) into the paper's\n"
+                          "34 x 30 x 30 grid: N background frames into G_B, then one frame with a person-sized box.",
+                          "Exit status: 0 done, 1 fusion failed, 2 bad command line.");
+    cli.integer("--frames", o.frames, 1, 10000, "N", "background frames to accumulate (default 20)");
+    cli.flag("--bresenham", o.bresenham,
+             "rasterise rays with the paper's 3D Bresenham instead of the exact traversal");
+    return cli.parse(argc, argv);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options opt = parse_args(argc, argv);
-    if (opt.exit_status >= 0) {
-        return opt.exit_status;
+    Options opt;
+    if (const int status = parse_args(argc, argv, opt); status >= 0) {
+        return status;
     }
     const int frames = opt.frames;
-    const Rasterization raster = opt.raster;
+    const Rasterization raster = opt.bresenham ? Rasterization::kBresenham3d : Rasterization::kExact;
 
     const GridGeometry g = paper_grid_geometry();
     std::vector<std::int16_t> bg_lo(g.voxel_count()), fr_lo(g.voxel_count());

@@ -1,14 +1,17 @@
 /// @file cli.hpp
-/// What every host program's command line does alike (apps/; issue 15):
-/// `--version` prints "<program> <version>" to stdout and exits 0, `--help`
-/// prints the usage to stdout and exits 0, and a usage error prints a message
-/// naming the option to stderr and exits 2. An option that takes a value
-/// never takes the next option as its value: `--out --help` is "--out needs
-/// a value", not an output folder named "--help".
+/// What every host program's command line does alike (apps/; issues 15 and
+/// 16): `--version` prints "<program> <version>" to stdout and exits 0,
+/// `--help` prints the usage to stdout and exits 0, and a usage error prints
+/// one line naming the option, "<program>: <message> (see --help)", to stderr
+/// and exits 2. An option that takes a value never takes the next option as
+/// its value: `--out --help` is "--out needs a value", not an output folder
+/// named "--help".
 ///
-/// Header-only and standard C++ only, so that the firmware's host digest
-/// program can use it on every Linux target. The programs on CLI11
-/// (command_line.hpp) share version_text() and usage_error_line().
+/// The programs parse with CLI11 through command_line.hpp. This header holds
+/// the few pieces that need no CLI11, for the programs that parse by hand:
+/// cellguard-firmware-digest (its one optional argument; it is also built
+/// for the cross targets) and cellguard-monitor (its parser is not on CLI11
+/// yet). Standard C++ only.
 #ifndef CELLGUARD_HOST_CLI_HPP
 #define CELLGUARD_HOST_CLI_HPP
 
@@ -26,49 +29,25 @@ constexpr int kExitUsage = 2;
 /// The --version answer: "<program> <version>" (no newline).
 inline std::string version_text(const std::string& program) { return program + " " + kVersion; }
 
+/// Prints version_text(@p program) and a newline to stdout.
+inline void print_version(const char* program) { std::printf("%s\n", version_text(program).c_str()); }
+
 /// The line a usage error prints to stderr: "<program>: <message> (see --help)"
-/// and a newline (command_line.hpp, the programs on CLI11).
+/// and a newline.
 inline std::string usage_error_line(const std::string& program, const std::string& message) {
     return program + ": " + message + " (see --help)\n";
 }
 
-/// Prints "<program> <version>" and a newline to stdout (the --version answer).
-inline void print_version(const char* program) noexcept { std::printf("%s %s\n", program, kVersion); }
+/// Prints usage_error_line(@p program, @p message) to stderr; returns kExitUsage.
+inline int usage_error(const char* program, const std::string& message) {
+    std::fputs(usage_error_line(program, message).c_str(), stderr);
+    return kExitUsage;
+}
 
 /// True when @p arg can be an option's value: it exists and does not start
 /// with "--" (that is the next option). Single-dash text such as "-0.5" is a value.
 inline bool is_option_value(const char* arg) noexcept {
     return arg != nullptr && std::strncmp(arg, "--", 2U) != 0;
-}
-
-/// The value of the option at argv[@p i]: argv[i + 1] when there is one and
-/// is_option_value() holds, with @p i advanced to it; nullptr otherwise (the
-/// caller reports needs_value()).
-inline const char* take_value(int argc, char** argv, int& i) noexcept {
-    if (i + 1 >= argc || !is_option_value(argv[i + 1])) {
-        return nullptr;
-    }
-    ++i;
-    return argv[i];
-}
-
-/// Prints "<program>: <message>" and "Try '<program> --help'." to stderr and
-/// returns kExitUsage.
-inline int usage_error(const char* program, const char* message) noexcept {
-    std::fprintf(stderr, "%s: %s\nTry '%s --help'.\n", program, message, program);
-    return kExitUsage;
-}
-
-/// usage_error() with @p quoted appended in quotes: "<program>: <message> '<quoted>'".
-inline int usage_error(const char* program, const char* message, const char* quoted) noexcept {
-    std::fprintf(stderr, "%s: %s '%s'\nTry '%s --help'.\n", program, message, quoted, program);
-    return kExitUsage;
-}
-
-/// usage_error() for an option given without its value: "<option> needs a value".
-inline int needs_value(const char* program, const char* option) noexcept {
-    std::fprintf(stderr, "%s: %s needs a value\nTry '%s --help'.\n", program, option, program);
-    return kExitUsage;
 }
 
 }  // namespace cellguard::host

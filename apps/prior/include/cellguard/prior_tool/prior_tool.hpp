@@ -68,9 +68,6 @@ constexpr const char* kPForeName = "p_fore.npy";
 int run_prior_tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                    bool err_is_tty) noexcept;
 
-/// The --help text.
-const char* usage_text() noexcept;
-
 /// Method name on the command line: "thresholded", "probabilistic",
 /// "thresholded-baseline", "probabilistic-baseline".
 const char* method_name(PriorMethod method) noexcept;
