@@ -3,19 +3,23 @@
 # Needs root (or sudo). Safe to run again.
 # --cross also installs the cross toolchains and emulators of tools/cross.sh:
 # aarch64 g++ with qemu-user, arm-none-eabi gcc with newlib's libstdc++ and
-# qemu-system-arm (about 1 GB; not part of the default install).
+# qemu-system-arm (about 1 GB; not part of the default install), and the
+# aarch64 libpng the host programs link (Debian multiarch: adds the arm64
+# architecture to dpkg).
 # --vcan also installs what tools/vcan-integration.sh needs: qemu-system-x86,
 # Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
 set -euo pipefail
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
-# libcli11-dev: the host programs' command lines.
+# libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox libcli11-dev)
+      gnuplot-nox libcli11-dev libpng-dev)
+arm64=0
 for arg in "$@"; do
   case "$arg" in
     --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
-                    libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm) ;;
+                    libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm libpng-dev:arm64)
+             arm64=1 ;;
     --vcan) pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static can-utils cpio iproute2) ;;
     *) echo "usage: $0 [--cross] [--vcan]" >&2; exit 2 ;;
   esac
@@ -33,5 +37,8 @@ SUDO=""
 echo "install-deps: installing ${missing[*]}"
 # Wait for another apt/dpkg run (unattended upgrades, a parallel job) instead of failing.
 lock=(-o DPkg::Lock::Timeout=600)
+if [ "$arm64" -eq 1 ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  $SUDO dpkg --add-architecture arm64
+fi
 $SUDO apt-get "${lock[@]}" update -qq
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get "${lock[@]}" install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,125 +1,106 @@
-// PNG writer: per-row None/Up filter, fixed-Huffman deflate with run-length
-// matches, Adler-32, CRC-32 per chunk.
+// PNG writer on libpng: the image is written into memory, then to the file.
+// libpng reports an error by calling the error function, which must not
+// return: it copies the message and longjmps back to write_with_libpng(),
+// which destroys libpng's state and returns false. No object with a
+// destructor lives only between the setjmp and a jump (in
+// write_with_libpng() after the setjmp, or in the callbacks), so the jump
+// skips no destructor.
 #include "cellguard/host/png.hpp"
 
+#include <png.h>
+
 #include <cerrno>
+#include <csetjmp>
 #include <cstdio>
 #include <cstring>
-
-#include "cellguard/crc32.hpp"
+#include <new>
 
 namespace cellguard::host {
 namespace {
 
-/// Deflate bit writer: bits go LSB first; Huffman codes are emitted MSB first.
-class BitWriter {
-public:
-    void bits(std::uint32_t value, int count) {
-        for (int i = 0; i < count; ++i) {
-            put((value >> static_cast<unsigned>(i)) & 1U);
-        }
-    }
-    void code(std::uint32_t value, int count) {
-        for (int i = count - 1; i >= 0; --i) {
-            put((value >> static_cast<unsigned>(i)) & 1U);
-        }
-    }
-    std::vector<std::uint8_t> finish() {
-        if (used_ > 0) {
-            out_.push_back(current_);
-        }
-        return out_;
-    }
-
-private:
-    void put(std::uint32_t bit) {
-        current_ = static_cast<std::uint8_t>(current_ | (bit << static_cast<unsigned>(used_)));
-        if (++used_ == 8) {
-            out_.push_back(current_);
-            current_ = 0U;
-            used_ = 0;
-        }
-    }
-    std::vector<std::uint8_t> out_;
-    std::uint8_t current_ = 0U;
-    int used_ = 0;
+/// What the callbacks share with encode(): the output and the first error.
+struct WriteState {
+    std::vector<std::uint8_t>* out = nullptr;
+    char error[160] = {};
 };
 
-void literal_or_length(BitWriter& w, std::uint32_t symbol) {
-    if (symbol <= 143U) {
-        w.code(0x30U + symbol, 8);
-    } else if (symbol <= 255U) {
-        w.code(0x190U + (symbol - 144U), 9);
-    } else if (symbol <= 279U) {
-        w.code(symbol - 256U, 7);
-    } else {
-        w.code(0xC0U + (symbol - 280U), 8);
+void on_error(png_structp png, png_const_charp message) {
+    auto* state = static_cast<WriteState*>(png_get_error_ptr(png));
+    std::snprintf(state->error, sizeof(state->error), "%s", message);
+    png_longjmp(png, 1);
+}
+
+void on_warning(png_structp /*png*/, png_const_charp /*message*/) {}
+
+void on_write(png_structp png, png_bytep data, png_size_t size) {
+    auto* state = static_cast<WriteState*>(png_get_io_ptr(png));
+    bool stored = true;
+    try {
+        state->out->insert(state->out->end(), data, data + size);
+    } catch (const std::bad_alloc&) {
+        stored = false;
+    }
+    if (!stored) {
+        png_error(png, "out of memory");  // outside the handler: longjmp leaves no exception behind
     }
 }
 
-/// A match of @p length (3..258) at @p distance (1..4, codes 0..3 have no extra bits).
-void match(BitWriter& w, std::uint32_t length, std::uint32_t distance) {
-    static const std::uint32_t base[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
-                                           31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
-    static const int extra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-    std::uint32_t code = 28U;
-    while (base[code] > length) {
-        --code;
+void on_flush(png_structp /*png*/) {}
+
+/// The pixels and header fields encode() writes.
+struct Pixels {
+    int width = 0;
+    int height = 0;
+    int colour_type = PNG_COLOR_TYPE_RGB;
+    std::size_t row_bytes = 0U;
+    const std::uint8_t* data = nullptr;
+    png_color palette[256] = {};
+    int palette_size = 0;
+};
+
+/// Appends the PNG file of @p p to @p state.out; false with @p state.error
+/// set when libpng refuses the image or runs out of memory. 8 bits per
+/// sample, no interlace, per row filter None or Up (libpng picks), zlib's
+/// default level. @p state lives in the caller's frame: the jump back to the
+/// setjmp below leaves it determinate.
+bool write_with_libpng(const Pixels& p, WriteState& state) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state, on_error, on_warning);
+    png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+    if (info == nullptr) {
+        png_destroy_write_struct(&png, nullptr);
+        std::snprintf(state.error, sizeof(state.error), "%s", "out of memory");
+        return false;
     }
-    literal_or_length(w, 257U + code);
-    w.bits(length - base[code], extra[code]);
-    w.code(distance - 1U, 5);
+    if (setjmp(png_jmpbuf(png)) != 0) {  // NOLINT(cert-err52-cpp): libpng's error handling
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_set_write_fn(png, &state, on_write, on_flush);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(p.width), static_cast<png_uint_32>(p.height), 8,
+                 p.colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (p.palette_size > 0) {
+        png_set_PLTE(png, info, p.palette, p.palette_size);
+    }
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE | PNG_FILTER_UP);
+    png_write_info(png, info);
+    for (int y = 0; y < p.height; ++y) {
+        png_write_row(png, p.data + static_cast<std::size_t>(y) * p.row_bytes);
+    }
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return true;
 }
 
-/// One final fixed-Huffman block of @p data, repeats at @p distance as matches.
-std::vector<std::uint8_t> deflate_fixed(const std::vector<std::uint8_t>& data, std::size_t distance) {
-    BitWriter w;
-    w.bits(1U, 1);  // final block
-    w.bits(1U, 2);  // fixed Huffman codes
-    std::size_t i = 0;
-    while (i < data.size()) {
-        std::size_t run = 0;
-        if (i >= distance) {
-            while (i + run < data.size() && run < 258U && data[i + run] == data[i + run - distance]) {
-                ++run;
-            }
-        }
-        if (run >= 3U) {
-            match(w, static_cast<std::uint32_t>(run), static_cast<std::uint32_t>(distance));
-            i += run;
-        } else {
-            literal_or_length(w, data[i]);
-            ++i;
-        }
+/// Appends the PNG file of @p p to @p out; false with @p error set ("PNG: "
+/// and libpng's message).
+bool encode(const Pixels& p, std::vector<std::uint8_t>& out, std::string& error) {
+    WriteState state;
+    state.out = &out;
+    if (!write_with_libpng(p, state)) {
+        error = std::string("PNG: ") + state.error;
+        return false;
     }
-    literal_or_length(w, 256U);  // end of block
-    return w.finish();
-}
-
-void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-    out.push_back(static_cast<std::uint8_t>(v >> 24U));
-    out.push_back(static_cast<std::uint8_t>(v >> 16U));
-    out.push_back(static_cast<std::uint8_t>(v >> 8U));
-    out.push_back(static_cast<std::uint8_t>(v));
-}
-
-/// Appends a chunk: length, type, data, CRC-32 over type and data.
-void put_chunk(std::vector<std::uint8_t>& out, const char (&type)[5], const std::vector<std::uint8_t>& data) {
-    put_u32(out, static_cast<std::uint32_t>(data.size()));
-    const std::size_t crc_from = out.size();
-    for (std::size_t i = 0U; i < 4U; ++i) {
-        out.push_back(static_cast<std::uint8_t>(type[i]));
-    }
-    out.insert(out.end(), data.begin(), data.end());
-    put_u32(out, crc32(Span<const std::uint8_t>(out.data() + crc_from, out.size() - crc_from)));
-}
-
-std::size_t transitions(const std::vector<std::uint8_t>& row) {
-    std::size_t n = 0;
-    for (std::size_t i = 1; i < row.size(); ++i) {
-        n += row[i] != row[i - 1U] ? 1U : 0U;
-    }
-    return n;
+    return true;
 }
 
 bool valid_size(int width, int height, std::size_t bytes, std::size_t bytes_per_pixel) {
@@ -127,59 +108,47 @@ bool valid_size(int width, int height, std::size_t bytes, std::size_t bytes_per_
            bytes == static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * bytes_per_pixel;
 }
 
-/// The PNG file of @p pixels (@p bytes_per_pixel bytes each, row-major) with
-/// IHDR colour type @p colour_type and, when not empty, the PLTE @p palette.
-std::vector<std::uint8_t> encode(int width, int height, std::uint8_t colour_type, std::size_t bytes_per_pixel,
-                                 const std::vector<std::uint8_t>& pixels, const std::vector<std::uint8_t>& palette) {
-    const std::size_t row_bytes = static_cast<std::size_t>(width) * bytes_per_pixel;
-    const auto h = static_cast<std::size_t>(height);
-    // Filtered scanlines: per row None or Up, whichever has fewer value changes.
-    std::vector<std::uint8_t> raw;
-    raw.reserve(h * (row_bytes + 1U));
-    std::vector<std::uint8_t> none(row_bytes);
-    std::vector<std::uint8_t> up(row_bytes);
-    for (std::size_t y = 0; y < h; ++y) {
-        for (std::size_t x = 0; x < row_bytes; ++x) {
-            const std::uint8_t v = pixels[y * row_bytes + x];
-            const std::uint8_t above = y > 0U ? pixels[(y - 1U) * row_bytes + x] : std::uint8_t{0U};
-            none[x] = v;
-            up[x] = static_cast<std::uint8_t>(v - above);
-        }
-        const bool use_up = transitions(up) < transitions(none);
-        raw.push_back(use_up ? 2U : 0U);
-        const std::vector<std::uint8_t>& row = use_up ? up : none;
-        raw.insert(raw.end(), row.begin(), row.end());
-    }
-    // zlib stream: CMF/FLG (deflate, 32 KiB window, no dictionary, check
-    // bits so that (CMF * 256 + FLG) % 31 == 0), the block, Adler-32.
-    std::vector<std::uint8_t> z = {0x78U, 0x01U};
-    const std::vector<std::uint8_t> deflated = deflate_fixed(raw, bytes_per_pixel);
-    z.insert(z.end(), deflated.begin(), deflated.end());
-    put_u32(z, adler32(raw.data(), raw.size()));
-
-    std::vector<std::uint8_t> png = {0x89U, 'P', 'N', 'G', '\r', '\n', 0x1AU, '\n'};
-    std::vector<std::uint8_t> ihdr;
-    put_u32(ihdr, static_cast<std::uint32_t>(width));
-    put_u32(ihdr, static_cast<std::uint32_t>(height));
-    ihdr.push_back(8U);  // bit depth
-    ihdr.push_back(colour_type);
-    ihdr.push_back(0U);  // compression: deflate
-    ihdr.push_back(0U);  // filter method 0 (adaptive)
-    ihdr.push_back(0U);  // no interlace
-    put_chunk(png, "IHDR", ihdr);
-    if (!palette.empty()) {
-        put_chunk(png, "PLTE", palette);
-    }
-    put_chunk(png, "IDAT", z);
-    put_chunk(png, "IEND", {});
-    return png;
-}
-
-bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& png, std::string& error) {
-    if (png.empty()) {
+/// The PNG of @p image in @p out; false with @p error set.
+bool encode_rgb(const RgbImage& image, std::vector<std::uint8_t>& out, std::string& error) {
+    if (!valid_size(image.width, image.height, image.rgb.size(), 3U)) {
         error = "invalid image size";
         return false;
     }
+    Pixels p;
+    p.width = image.width;
+    p.height = image.height;
+    p.row_bytes = static_cast<std::size_t>(image.width) * 3U;
+    p.data = image.rgb.data();
+    return encode(p, out, error);
+}
+
+/// The PNG of @p image in @p out; false with @p error set.
+bool encode_indexed(const IndexedImage& image, std::vector<std::uint8_t>& out, std::string& error) {
+    if (!valid_size(image.width, image.height, image.pixels.size(), 1U) || image.palette.empty() ||
+        image.palette.size() > 256U) {
+        error = "invalid image size or palette";
+        return false;
+    }
+    for (const std::uint8_t index : image.pixels) {
+        if (index >= image.palette.size()) {
+            error = "a pixel's index is beyond the palette";
+            return false;
+        }
+    }
+    Pixels p;
+    p.width = image.width;
+    p.height = image.height;
+    p.colour_type = PNG_COLOR_TYPE_PALETTE;
+    p.row_bytes = static_cast<std::size_t>(image.width);
+    p.data = image.pixels.data();
+    for (std::size_t i = 0U; i < image.palette.size(); ++i) {
+        p.palette[i] = png_color{image.palette[i][0], image.palette[i][1], image.palette[i][2]};
+    }
+    p.palette_size = static_cast<int>(image.palette.size());
+    return encode(p, out, error);
+}
+
+bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& png, std::string& error) {
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (f == nullptr) {
         error = path + ": " + std::strerror(errno);
@@ -210,47 +179,26 @@ RgbImage RgbImage::filled(int w, int h, std::uint8_t r, std::uint8_t g, std::uin
     return img;
 }
 
-std::uint32_t adler32(const std::uint8_t* data, std::size_t size) {
-    constexpr std::uint32_t kMod = 65521U;
-    std::uint32_t a = 1U;
-    std::uint32_t b = 0U;
-    for (std::size_t i = 0U; i < size; ++i) {
-        a = (a + data[i]) % kMod;
-        b = (b + a) % kMod;
-    }
-    return (b << 16U) | a;
-}
-
 std::vector<std::uint8_t> encode_png(const RgbImage& image) {
-    if (!valid_size(image.width, image.height, image.rgb.size(), 3U)) {
-        return {};
-    }
-    return encode(image.width, image.height, 2U, 3U, image.rgb, {});
+    std::vector<std::uint8_t> png;
+    std::string error;
+    return encode_rgb(image, png, error) ? png : std::vector<std::uint8_t>{};
 }
 
 std::vector<std::uint8_t> encode_png(const IndexedImage& image) {
-    if (!valid_size(image.width, image.height, image.pixels.size(), 1U) || image.palette.empty() ||
-        image.palette.size() > 256U) {
-        return {};
-    }
-    std::vector<std::uint8_t> plte;
-    for (const auto& c : image.palette) {
-        plte.insert(plte.end(), c.begin(), c.end());
-    }
-    for (const std::uint8_t index : image.pixels) {
-        if (index >= image.palette.size()) {
-            return {};
-        }
-    }
-    return encode(image.width, image.height, 3U, 1U, image.pixels, plte);
+    std::vector<std::uint8_t> png;
+    std::string error;
+    return encode_indexed(image, png, error) ? png : std::vector<std::uint8_t>{};
 }
 
 bool write_png(const std::string& path, const RgbImage& image, std::string& error) {
-    return write_bytes(path, encode_png(image), error);
+    std::vector<std::uint8_t> png;
+    return encode_rgb(image, png, error) && write_bytes(path, png, error);
 }
 
 bool write_png(const std::string& path, const IndexedImage& image, std::string& error) {
-    return write_bytes(path, encode_png(image), error);
+    std::vector<std::uint8_t> png;
+    return encode_indexed(image, png, error) && write_bytes(path, png, error);
 }
 
 }  // namespace cellguard::host

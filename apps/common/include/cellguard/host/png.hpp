@@ -1,10 +1,7 @@
 /// @file png.hpp
-/// The host programs' PNG writer: 8-bit RGB or 8-bit indexed colour, no
-/// interlace, per row filter None or Up (whichever has fewer value changes),
-/// one IDAT holding a zlib stream of one deflate block with the fixed Huffman
-/// code and run-length matches (distance one pixel), its Adler-32, and each
-/// chunk's CRC-32 (lib/'s crc32.hpp is the PNG CRC). Flat-coloured images
-/// shrink well; no dependency beyond lib/.
+/// The host programs' PNG writer, on libpng (Debian libpng-dev): 8-bit RGB
+/// or 8-bit indexed colour, no interlace, per row filter None or Up, zlib's
+/// default compression. Flat-coloured images shrink well.
 #ifndef CELLGUARD_HOST_PNG_HPP
 #define CELLGUARD_HOST_PNG_HPP
 
@@ -38,24 +35,23 @@ struct IndexedImage {
     std::vector<std::array<std::uint8_t, 3>> palette;  ///< RGB entries, 1 to 256
 };
 
-/// Adler-32 of @p size bytes at @p data (RFC 1950).
-std::uint32_t adler32(const std::uint8_t* data, std::size_t size);
-
-/// The PNG file of @p image (width and height 1..2^31 - 1 and rgb of the
-/// right size, else an empty vector).
+/// The PNG file of @p image (width and height 1..1,000,000, libpng's
+/// limit, and rgb of the right size; else an empty vector).
 std::vector<std::uint8_t> encode_png(const RgbImage& image);
 
-/// The PNG file of @p image (width and height 1..2^31 - 1, pixels of the
-/// right size, 1 to 256 palette entries covering every index used, else an
+/// The PNG file of @p image (width and height 1..1,000,000, pixels of the
+/// right size, 1 to 256 palette entries covering every index used; else an
 /// empty vector).
 std::vector<std::uint8_t> encode_png(const IndexedImage& image);
 
 /// Writes encode_png(@p image) to @p path; false with @p error set when the
-/// image is invalid or the file cannot be written.
+/// image is invalid, libpng refuses it ("PNG: " and libpng's message) or the
+/// file cannot be written (the message names @p path).
 bool write_png(const std::string& path, const RgbImage& image, std::string& error);
 
 /// Writes encode_png(@p image) to @p path; false with @p error set when the
-/// image is invalid or the file cannot be written.
+/// image is invalid, libpng refuses it ("PNG: " and libpng's message) or the
+/// file cannot be written (the message names @p path).
 bool write_png(const std::string& path, const IndexedImage& image, std::string& error);
 
 }  // namespace cellguard::host
