@@ -267,18 +267,37 @@ RayTable::CheckHeader RayTable::check_header() const noexcept {
     const std::array<std::uint32_t, 2> ox = bits_of(geometry_.origin().x());
     const std::array<std::uint32_t, 2> oy = bits_of(geometry_.origin().y());
     const std::array<std::uint32_t, 2> oz = bits_of(geometry_.origin().z());
-    return CheckHeader{static_cast<std::uint32_t>(pixels_),
-                       static_cast<std::uint32_t>(step_count_),
-                       static_cast<std::uint32_t>(crossed_count_),
-                       bits_of(min_range_),
-                       bits_of(max_range_),
-                       bits_of(exit_step_),
-                       bits_of(steps_per_metre_),
-                       compact_ ? 1U : 0U,
-                       static_cast<std::uint32_t>(geometry_.dims().nx),
-                       static_cast<std::uint32_t>(geometry_.dims().ny),
-                       static_cast<std::uint32_t>(geometry_.dims().nz),
-                       size[0], size[1], ox[0], ox[1], oy[0], oy[1], oz[0], oz[1]};
+    CheckHeader words{static_cast<std::uint32_t>(pixels_),
+                      static_cast<std::uint32_t>(step_count_),
+                      static_cast<std::uint32_t>(crossed_count_),
+                      bits_of(min_range_),
+                      bits_of(max_range_),
+                      bits_of(exit_step_),
+                      bits_of(steps_per_metre_),
+                      compact_ ? 1U : 0U,
+                      static_cast<std::uint32_t>(geometry_.dims().nx),
+                      static_cast<std::uint32_t>(geometry_.dims().ny),
+                      static_cast<std::uint32_t>(geometry_.dims().nz),
+                      size[0], size[1], ox[0], ox[1], oy[0], oy[1], oz[0], oz[1]};
+    // The reading placement (ray_table.hpp): what fuse() reads near a face.
+    std::size_t n = 19U;
+    const auto put = [&words, &n](double value) noexcept {
+        const std::array<std::uint32_t, 2> b = bits_of(value);
+        words[n++] = b[0];
+        words[n++] = b[1];
+    };
+    const ReadingPlacement& p = placement_;
+    for (const double value : {p.intrinsics.fx, p.intrinsics.fy, p.intrinsics.cx, p.intrinsics.cy, p.inv_fx, p.inv_fy}) {
+        put(value);
+    }
+    words[n++] = static_cast<std::uint32_t>(p.intrinsics.width);
+    words[n++] = static_cast<std::uint32_t>(p.intrinsics.height);
+    for (Eigen::Index row = 0; row < 3; ++row) {
+        for (Eigen::Index col = 0; col < 4; ++col) {
+            put(p.pose.matrix()(row, col));
+        }
+    }
+    return words;
 }
 
 RayTableSignatureRegions RayTable::signature_regions() const noexcept {

@@ -370,13 +370,13 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     for (const std::uint32_t h : v.full_hits) {
         crossed_count += h != 0U ? 1U : 0U;
     }
-    // What a pass reads: the limits (19 words), both entry arrays, the four
+    // What a pass reads: the limits and the reading placement (57 words), both entry arrays, the four
     // per-pixel arrays, full_hits and the crossed voxels.
     const RayTableSignatureRegions regions = table.signature_regions();
     const Span<const SignatureRegion> list(regions.data(), regions.size());
     CHECK(table.checked_bytes() ==
-          19U * 4U + 4U * n + 4U * (px + 1U) + 12U * px + 4U * g.voxel_count() + 4U * crossed_count);
-    CHECK(regions[0].size() == 19U * 4U);
+          57U * 4U + 4U * n + 4U * (px + 1U) + 12U * px + 4U * g.voxel_count() + 4U * crossed_count);
+    CHECK(regions[0].size() == 57U * 4U);
     CHECK(regions[1].data() == reinterpret_cast<const std::uint8_t*>(v.voxels.data()));  // NOLINT: the byte view of the entries
     // build()'s CRC is the CRC of the regions read in order.
     CHECK(SignatureCheck(list).reference() == table.storage_crc());
@@ -451,6 +451,15 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     CHECK_FALSE(run_pass(of_copy).first);
     words[5] ^= 0x02U;
     CHECK(copy.limits_intact());
+    // Likewise the reading placement's words (from word 19: fx, fy, cx, cy,
+    // 1/fx, 1/fy, width, height, the pose), which fuse() reads near a face.
+    for (const std::size_t byte : {19U * 4U + 3U, 31U * 4U, 33U * 4U + 7U, 56U * 4U + 2U}) {
+        CAPTURE(byte);
+        words[byte] ^= 0x10U;
+        CHECK_FALSE(copy.limits_intact());
+        words[byte] ^= 0x10U;
+        CHECK(copy.limits_intact());
+    }
 
     // An empty table has no regions and nothing to fail.
     const RayTable empty;

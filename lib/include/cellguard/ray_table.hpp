@@ -211,13 +211,17 @@ public:
     /// Bytes one pass over signature_regions() reads (0 for an empty table).
     [[nodiscard]] std::size_t checked_bytes() const noexcept;
     /// True while the limits fuse() uses (grid, counts, ranges, exit step,
-    /// kind) still equal the words build() stored: a change to the table
-    /// object that the signature of its regions would not see. Work: the
-    /// 19 words recomputed and compared. True for an empty table.
+    /// kind, and the sensor's intrinsics and pose with which it places a
+    /// reading near a face) still equal the words build() stored: a change to
+    /// the table object that the signature of its regions would not see.
+    /// Work: the kCheckHeaderWords words recomputed and compared. True for an
+    /// empty table.
     [[nodiscard]] bool limits_intact() const noexcept;
 
 private:
-    static constexpr std::size_t kCheckHeaderWords = 19U;
+    /// The limits (19 words), then the reading placement: fx, fy, cx, cy,
+    /// 1/fx and 1/fy as doubles, width and height, the pose's 3 x 4 doubles.
+    static constexpr std::size_t kCheckHeaderWords = 19U + 12U + 2U + 24U;
     using CheckHeader = std::array<std::uint32_t, kCheckHeaderWords>;
     /// The table's geometry and limits as words, from the members.
     [[nodiscard]] CheckHeader check_header() const noexcept;

@@ -123,8 +123,8 @@ public:
 private:
     /// The value or the error, constructed in place: no default T is needed.
     union Storage {
-        Storage() noexcept {}   // NOLINT(modernize-use-equals-default): a union with non-trivial members needs it user-provided
-        ~Storage() {}           // NOLINT(modernize-use-equals-default): the Result destroys the active member
+        Storage() noexcept {}   // NOLINT(modernize-use-equals-default,hicpp-use-equals-default): a union with non-trivial members needs it user-provided
+        ~Storage() {}           // NOLINT(modernize-use-equals-default,hicpp-use-equals-default): the Result destroys the active member
         Storage(const Storage&) = delete;
         Storage& operator=(const Storage&) = delete;
         Storage(Storage&&) = delete;
