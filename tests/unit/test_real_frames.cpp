@@ -126,9 +126,9 @@ struct WholeViewZone {
     }
 };
 
-/// The prior commissioned from @p frame alone, given as many times as
-/// min_background_frames asks for @p method.
-std::vector<std::int16_t> prior_from(const GridGeometry& g, const SensorReading& frame, PriorMethod method) {
+/// The prior commissioned from the sensors' @p frame alone, given as many
+/// times as min_background_frames asks for @p method.
+std::vector<std::int16_t> prior_from(const GridGeometry& g, Span<const SensorReading> frame, PriorMethod method) {
     AccessibilityParams params;
     params.method = method;
     const SensorModelTable model;
@@ -137,8 +137,7 @@ std::vector<std::int16_t> prior_from(const GridGeometry& g, const SensorReading&
     Grid background(g);
     Grid scratch_frame(g);
     for (std::uint32_t k = 0; k < frames; ++k) {
-        REQUIRE(fuse_background_frame(background.grid, scratch_frame.grid, {&frame, 1U}, model,
-                                      scratch_frame.fusion_scratch())
+        REQUIRE(fuse_background_frame(background.grid, scratch_frame.grid, frame, model, scratch_frame.fusion_scratch())
                     .ok());
     }
     const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
@@ -246,7 +245,8 @@ TEST_CASE("real frames: replayed against a prior commissioned from itself a fram
         for (const PriorMethod method : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
             CAPTURE(std::string(path));
             CAPTURE(static_cast<int>(method));
-            const std::vector<std::int16_t> prior = prior_from(g, point_reading(points), method);
+            const SensorReading background = point_reading(points);
+            const std::vector<std::int16_t> prior = prior_from(g, {&background, 1U}, method);
             const ZoneReport empty = replay(g, point_reading(points), prior, zone);
             const ZoneReport intruded = replay(g, point_reading(person), prior, zone);
             MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << " method " << static_cast<int>(method) << ": background " << empty.foreground
@@ -283,23 +283,7 @@ TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted
     const SensorModelTable model;
     for (const PriorMethod method : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
         CAPTURE(static_cast<int>(method));
-        AccessibilityParams params;
-        params.method = method;
-        Grid background(g);
-        Grid frame(g);
-        for (std::uint32_t k = 0; k < min_background_frames(params, model); ++k) {
-            REQUIRE(fuse_background_frame(background.grid, frame.grid, {empty.readings.data(), empty.readings.size()},
-                                          model, frame.fusion_scratch())
-                        .ok());
-        }
-        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
-        std::vector<std::uint32_t> words(size.words);
-        std::vector<std::uint8_t> bytes(size.bytes);
-        std::vector<std::int16_t> prior(g.voxel_count());
-        REQUIRE(compute_accessibility_prior(background.grid, params,
-                                            AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                                            {prior.data(), prior.size()}, {})
-                    .ok());
+        const std::vector<std::int16_t> prior = prior_from(g, {empty.readings.data(), empty.readings.size()}, method);
         const auto evaluate = [&](const sim::SimulatedFrame& f) {
             Grid fused(g);
             REQUIRE(fuse_frame(fused.grid, {f.readings.data(), f.readings.size()}, model, fused.fusion_scratch()).ok());
