@@ -13,7 +13,8 @@ namespace cellguard::monitor {
 namespace {
 
 // 5 x 7 font (ASCII 32..126), five columns per character, bit 0 the top row
-// (bit 7 for descenders). The classic public-domain "glcdfont" layout.
+// (bit 7 for descenders). The glyphs are Adafruit's glcdfont, byte for byte
+// (Adafruit GFX Library, BSD-2-Clause; see NOTICE and .reuse/dep5).
 constexpr std::uint8_t kFont[95][5] = {
     {0x00, 0x00, 0x00, 0x00, 0x00}, {0x00, 0x00, 0x5F, 0x00, 0x00}, {0x00, 0x07, 0x00, 0x07, 0x00},
     {0x14, 0x7F, 0x14, 0x7F, 0x14}, {0x24, 0x2A, 0x7F, 0x2A, 0x12}, {0x23, 0x13, 0x08, 0x64, 0x62},
