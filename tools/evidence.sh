@@ -130,16 +130,16 @@ step "static analysis: clang-tidy checks enabled by .clang-tidy"
 sa_tmp=$(mktemp)
 {
     echo "Checks that \`.clang-tidy\` enables, as listed by \`clang-tidy --list-checks\` on"
-    echo "lib/src/crc32.cpp ($(clang-tidy --version 2>/dev/null | grep -i version | head -n 1 | sed 's/^ *//')):"
+    echo "lib/base/src/crc32.cpp ($(clang-tidy --version 2>/dev/null | grep -i version | head -n 1 | sed 's/^ *//')):"
     echo
     echo "| group | checks enabled |"
     echo "|---|---|"
-    clang-tidy --list-checks lib/src/crc32.cpp -- -std=c++17 -Ilib/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
+    clang-tidy --list-checks lib/base/src/crc32.cpp -- -std=c++17 -Ilib/base/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
         | grep -v '^$' | sed -E 's/^(clang-analyzer|[a-z0-9]+)-.*/\1/' | sort | uniq -c | awk '{printf "| %s | %s |\n", $2, $1}'
     echo
     echo "CERT checks enabled (all of clang-tidy's cert-* aliases and checks):"
     echo
-    clang-tidy --list-checks lib/src/crc32.cpp -- -std=c++17 -Ilib/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
+    clang-tidy --list-checks lib/base/src/crc32.cpp -- -std=c++17 -Ilib/base/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
         | grep '^cert-' | tr '\n' ' ' | sed 's/ $//; s/\([^ ]*\)/`\1`/g; s/` `/`, `/g'
     echo
 } >"$sa_tmp"

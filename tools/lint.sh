@@ -21,13 +21,16 @@ else
 fi
 
 [ -f "$build/compile_commands.json" ] || { echo "lint: no $build/compile_commands.json; configure first" >&2; exit 2; }
-mapfile -t sources < <(find lib/src port -name '*.cpp' | sort)
+mapfile -t sources < <(find lib port -name '*.cpp' | sort)
+# Every lib/ module's include root (lib/<module>/include, lib/<module>/<part>/include).
+lib_includes=()
+for d in lib/*/include lib/*/*/include; do lib_includes+=(-I "$d"); done
 
 echo "== cppcheck $(cppcheck --version)"
 cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portability \
   --inline-suppr --error-exitcode=1 --quiet \
   --suppressions-list=tools/cppcheck-suppressions.txt \
-  -I lib/include -I port/linux/include -D__GNUC__ -DEIGEN_NO_MALLOC \
+  "${lib_includes[@]}" -I port/linux/include -D__GNUC__ -DEIGEN_NO_MALLOC \
   "${sources[@]}"
 
 echo "== clang-tidy $(clang-tidy --version | head -n 2 | tail -n 1)"
@@ -48,7 +51,7 @@ if [ ${#bm_sources[@]} -gt 0 ]; then
     mapfile -t bm_inc < <(arm-none-eabi-g++ "${bm_cpu[@]}" -std=c++17 -E -x c++ -v - </dev/null 2>&1 >/dev/null |
                           sed -n '/^#include <...> search starts here:/,/^End of search list./p' | sed '1d;$d' | sed 's/^ *//')
     bm_flags=(--target=arm-none-eabi "${bm_cpu[@]}" -std=c++17 -fno-exceptions -fno-rtti -DNDEBUG -DEIGEN_NO_MALLOC
-              -DEIGEN_MAX_STATIC_ALIGN_BYTES=16 -Ilib/include -Iport/baremetal/include -isystem /usr/include/eigen3)
+              -DEIGEN_MAX_STATIC_ALIGN_BYTES=16 "${lib_includes[@]}" -Iport/baremetal/include -isystem /usr/include/eigen3)
     for d in "${bm_inc[@]}"; do bm_flags+=(-isystem "$d"); done
     for f in "${bm_sources[@]}"; do
       out=$(clang-tidy --quiet "$f" -- "${bm_flags[@]}" 2>&1) || { printf '%s\n' "$out" >>"$log"; echo "clang-tidy: findings in $f" >>"$log"; status=1; }

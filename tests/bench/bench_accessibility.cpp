@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/grid.hpp"
 
 using namespace cellguard;
 using Clock = std::chrono::steady_clock;

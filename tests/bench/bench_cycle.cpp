@@ -55,14 +55,14 @@
 
 #include <time.h>
 
-#include "cellguard/cycle.hpp"
+#include "cellguard/safety/cycle.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/log_odds.hpp"
-#include "cellguard/ray_table.hpp"
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/grid/ray_table.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/can/safety_output.hpp"
 #include "cellguard/sim/workcell.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/zones.hpp"
 
 using namespace cellguard;
 using SteadyClock = std::chrono::steady_clock;

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/ray_table.hpp"
+#include "cellguard/grid/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 #ifdef CELLGUARD_HAVE_OCTOMAP

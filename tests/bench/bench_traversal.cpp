@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 
 using namespace cellguard;
 namespace {

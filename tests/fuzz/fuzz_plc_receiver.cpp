@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "cellguard/plc_receiver.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 
 using namespace cellguard;
 

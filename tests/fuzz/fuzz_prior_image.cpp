@@ -17,9 +17,9 @@
 #include <cstring>
 #include <vector>
 
-#include "cellguard/crc32.hpp"
-#include "cellguard/prior_image.hpp"
-#include "cellguard/ram_check.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/prior/prior_image.hpp"
+#include "cellguard/base/ram_check.hpp"
 
 using namespace cellguard;
 namespace layout = cellguard::prior_image_layout;

@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "cellguard/safety_frame.hpp"
+#include "cellguard/can/safety_frame.hpp"
 
 using namespace cellguard;
 

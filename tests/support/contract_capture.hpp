@@ -5,7 +5,7 @@
 
 #include <csetjmp>
 
-#include "cellguard/contract.hpp"
+#include "cellguard/base/contract.hpp"
 
 namespace cellguard::test {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "cellguard/ray_table.hpp"
+#include "cellguard/grid/ray_table.hpp"
 
 namespace cellguard::test {
 

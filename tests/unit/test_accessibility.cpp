@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/accessibility.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/log_odds.hpp"
 
 using namespace cellguard;
 

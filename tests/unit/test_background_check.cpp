@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "cellguard/background_check.hpp"
+#include "cellguard/safety/background_check.hpp"
 
 using namespace cellguard;
 

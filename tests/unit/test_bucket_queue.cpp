@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "cellguard/bucket_queue.hpp"
+#include "cellguard/prior/bucket_queue.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "cellguard/can_frame.hpp"
+#include "cellguard/can/can_frame.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

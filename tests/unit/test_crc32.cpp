@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "cellguard/crc32.hpp"
+#include "cellguard/base/crc32.hpp"
 
 using namespace cellguard;
 

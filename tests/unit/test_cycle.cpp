@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "cellguard/cycle.hpp"
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/safety/cycle.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/safety_frame.hpp"
+#include "cellguard/can/safety_frame.hpp"
 
 using namespace cellguard;
 

@@ -5,7 +5,7 @@
 #include <initializer_list>
 #include <vector>
 
-#include "cellguard/e2e_crc.hpp"
+#include "cellguard/can/e2e_crc.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -1,7 +1,7 @@
 // Requirements: evidence grid storage, observed flags, background accumulation.
 #include <doctest/doctest.h>
 
-#include "cellguard/evidence_grid.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
 
 using namespace cellguard;
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/linux/pcd.hpp"
 
 using namespace cellguard;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "cellguard/grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <initializer_list>
 
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 
 using namespace cellguard;
 

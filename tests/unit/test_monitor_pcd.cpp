@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/monitor/pcd_input.hpp"
-#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;

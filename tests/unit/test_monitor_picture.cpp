@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cellguard/host/png.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/monitor/picture.hpp"
 
 using namespace cellguard;

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "cellguard/morphology.hpp"
+#include "cellguard/prior/morphology.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

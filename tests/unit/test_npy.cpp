@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "cellguard/linux/npy.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 
 using namespace cellguard;
 

@@ -15,7 +15,7 @@
 
 #include <string>
 
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/sim/experiment.hpp"
 
 using namespace cellguard;

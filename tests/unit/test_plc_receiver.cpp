@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "cellguard/plc_receiver.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 #include "contract_capture.hpp"
 #include "enum_names.hpp"
 

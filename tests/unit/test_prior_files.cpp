@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "cellguard/linux/prior_files.hpp"
-#include "cellguard/log_odds.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/prior_image.hpp"
 
 // The generated example is compiled into this test binary: the build itself
 // proves that generated source compiles (with the grid macros it checks).

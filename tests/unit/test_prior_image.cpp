@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/crc32.hpp"
-#include "cellguard/log_odds.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/prior_image.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

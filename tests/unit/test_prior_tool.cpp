@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/linux/npy.hpp"
 #include "cellguard/linux/pcd.hpp"
-#include "cellguard/log_odds.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/prior_image.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 #include "cellguard/sim/workcell.hpp"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/ram_check.hpp"
+#include "cellguard/base/ram_check.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -10,9 +10,9 @@
 
 #include "alloc_counter.hpp"
 #include "ray_table_vectors.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/ray_table.hpp"
+#include "cellguard/grid/ray_table.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;

@@ -12,7 +12,7 @@
 #include <tuple>
 #include <vector>
 
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/linux/pcd.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/monitor/scenario.hpp"
 #include "cellguard/sim/workcell.hpp"
-#include "cellguard/zone_evaluation.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/zone_evaluation.hpp"
+#include "cellguard/safety/zones.hpp"
 
 using namespace cellguard;
 

@@ -8,8 +8,8 @@
 #include <type_traits>
 #include <utility>
 
-#include "cellguard/result.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/base/result.hpp"
+#include "cellguard/safety/zones.hpp"
 #include "contract_capture.hpp"
 #include "enum_names.hpp"
 

@@ -11,9 +11,9 @@
 #include "alloc_counter.hpp"
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
-#include "cellguard/accessibility.hpp"
+#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/firmware/scenario.hpp"
-#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "cellguard/safety_frame.hpp"
+#include "cellguard/can/safety_frame.hpp"
 #include "contract_capture.hpp"
 #include "enum_names.hpp"
 

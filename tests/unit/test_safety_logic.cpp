@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "cellguard/safety_logic.hpp"
+#include "cellguard/safety/safety_logic.hpp"
 #include "enum_names.hpp"
 
 using namespace cellguard;

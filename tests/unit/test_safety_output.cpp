@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "cellguard/plc_receiver.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/can/plc_receiver.hpp"
+#include "cellguard/can/safety_output.hpp"
 
 using namespace cellguard;
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "cellguard/sensor_frame.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
 
 using namespace cellguard;
 

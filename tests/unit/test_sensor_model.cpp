@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "cellguard/log_odds.hpp"
-#include "cellguard/sensor_model.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/grid/sensor_model.hpp"
 
 using namespace cellguard;
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <cstring>
 
-#include "cellguard/crc32.hpp"
-#include "cellguard/span.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/base/span.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

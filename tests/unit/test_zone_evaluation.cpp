@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "cellguard/zone_evaluation.hpp"
+#include "cellguard/safety/zone_evaluation.hpp"
 #include "enum_names.hpp"
 
 using namespace cellguard;

@@ -4,7 +4,7 @@
 #include <limits>
 #include <vector>
 
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/zones.hpp"
 
 using namespace cellguard;
 

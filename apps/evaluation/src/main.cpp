@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/sim/experiment.hpp"
 #include "cellguard/host/png.hpp"
 #include "render.hpp"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 
 namespace cellguard::eval {
 

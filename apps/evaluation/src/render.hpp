@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "cellguard/grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/sim/workcell.hpp"
 #include "cellguard/host/png.hpp"
 

@@ -15,8 +15,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/crc32.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/prior/prior_image.hpp"
 #include "cellguard/firmware/grid_config.hpp"
 
 #if !defined(CELLGUARD_GRID_NX) || !defined(CELLGUARD_GRID_NY) || !defined(CELLGUARD_GRID_NZ)

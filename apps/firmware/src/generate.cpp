@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/command_line.hpp"
 #include "cellguard/linux/prior_files.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/prior/prior_image.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 using namespace cellguard;

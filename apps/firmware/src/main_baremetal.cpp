@@ -5,7 +5,7 @@
 #include "cellguard/baremetal/semihosting.hpp"
 #include "cellguard/baremetal/semihosting_can.hpp"
 #include "cellguard/baremetal/systick_clock.hpp"
-#include "cellguard/crc32.hpp"
+#include "cellguard/base/crc32.hpp"
 #include "cellguard/firmware/scenario.hpp"
 
 extern "C" {

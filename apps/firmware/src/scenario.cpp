@@ -6,11 +6,11 @@
 #include <cstdint>
 
 #include "canned_frames.hpp"
-#include "cellguard/crc32.hpp"
-#include "cellguard/evidence_grid.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/firmware/grid_config.hpp"
-#include "cellguard/prior_image.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/prior/prior_image.hpp"
+#include "cellguard/safety/zones.hpp"
 #include "firmware_prior.hpp"
 #include "prior_values.hpp"
 

@@ -12,9 +12,9 @@
 #include <optional>
 #include <sstream>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/fusion.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/fusion.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/host/toml_loader.hpp"
 #include "cellguard/sim/workcell.hpp"
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/crc32.hpp"
+#include "cellguard/base/crc32.hpp"
 #include "cellguard/host/cli.hpp"
 #include "cellguard/linux/monotonic_clock.hpp"
 #include "cellguard/monitor/can_port.hpp"

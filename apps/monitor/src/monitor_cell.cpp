@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdarg>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/cycle.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/safety/cycle.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/linux/prior_files.hpp"
 
 namespace cellguard::monitor {

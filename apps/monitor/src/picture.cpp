@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "cellguard/log_odds.hpp"
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 
 namespace cellguard::monitor {
 namespace {

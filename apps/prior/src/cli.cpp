@@ -15,10 +15,10 @@
 #include <thread>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
+#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/host/cli.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 
 namespace cellguard::prior_tool {

@@ -14,12 +14,12 @@
 #include <filesystem>
 #include <utility>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/linux/npy.hpp"
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/monitor/config.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/prior/prior_image.hpp"
 #include "cellguard/sim/experiment.hpp"
 
 namespace cellguard::prior_tool {

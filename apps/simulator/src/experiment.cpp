@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 
 namespace cellguard::sim {
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "cellguard/fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/command_line.hpp"
 #include "cellguard/sim/workcell.hpp"
 

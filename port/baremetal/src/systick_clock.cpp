@@ -1,7 +1,7 @@
 // SysTick as the monotonic clock (systick_clock.hpp).
 #include "cellguard/baremetal/systick_clock.hpp"
 
-#include "cellguard/contract.hpp"
+#include "cellguard/base/contract.hpp"
 
 namespace {
 

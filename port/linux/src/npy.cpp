@@ -10,7 +10,7 @@
 #include <memory>
 #include <new>
 
-#include "cellguard/log_odds.hpp"
+#include "cellguard/grid/log_odds.hpp"
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "npy.cpp copies little-endian .npy data as is: it needs a little-endian host");

@@ -221,7 +221,7 @@ void build_source(const PriorImageView& view, const PriorSourceOptions& options,
     out += "// payload CRC-32 " + hex(h.payload_crc, 8) + ", header CRC-32 " + hex(h.header_crc, 8) + "\n";
     out += "#ifndef " + guard + "\n#define " + guard + "\n\n";
     out += "#include <cstddef>\n#include <cstdint>\n\n";
-    out += "#include \"cellguard/crc32.hpp\"\n#include \"cellguard/prior_image.hpp\"\n";
+    out += "#include \"cellguard/base/crc32.hpp\"\n#include \"cellguard/prior/prior_image.hpp\"\n";
     if (options.config_header != nullptr) {
         out += "#include \"" + std::string(options.config_header) + "\"\n";
     }

@@ -34,8 +34,8 @@
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/monitor/scenario.hpp"
-#include "cellguard/plc_receiver.hpp"
-#include "cellguard/safety_frame.hpp"
+#include "cellguard/can/plc_receiver.hpp"
+#include "cellguard/can/safety_frame.hpp"
 
 using namespace cellguard;
 using namespace cellguard::monitor;

@@ -15,8 +15,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/crc32.hpp"
-#include "cellguard/prior_image.hpp"
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/prior/prior_image.hpp"
 
 #if !defined(CELLGUARD_GRID_NX) || !defined(CELLGUARD_GRID_NY) || !defined(CELLGUARD_GRID_NZ)
 #error "define CELLGUARD_GRID_NX, CELLGUARD_GRID_NY and CELLGUARD_GRID_NZ to the grid the firmware is built for"

@@ -22,9 +22,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/safety_output.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/can/safety_output.hpp"
+#include "cellguard/safety/zones.hpp"
 
 namespace cellguard::firmware {
 

@@ -16,8 +16,8 @@
 #include "cellguard/linux/candump_log.hpp"
 #include "cellguard/linux/io_status.hpp"
 #include "cellguard/linux/socketcan.hpp"
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard::monitor {
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/safety_frame.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/can/safety_frame.hpp"
+#include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
 

@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 
 namespace cellguard::monitor {
 

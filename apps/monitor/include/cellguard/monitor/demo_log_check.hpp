@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "cellguard/monitor/config.hpp"
-#include "cellguard/plc_receiver.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 
 namespace cellguard::monitor {
 

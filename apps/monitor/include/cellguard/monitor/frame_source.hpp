@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "cellguard/sensor_frame.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 namespace cellguard::monitor {

@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/monitor/config.hpp"
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/sensor_model.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/grid/sensor_model.hpp"
 #include "cellguard/sim/workcell.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
 

@@ -30,8 +30,8 @@
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/frame_source.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard::monitor {
 

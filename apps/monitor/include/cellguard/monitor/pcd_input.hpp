@@ -38,7 +38,7 @@
 
 #include "cellguard/linux/pcd.hpp"
 #include "cellguard/monitor/frame_source.hpp"
-#include "cellguard/sensor_frame.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
 
 namespace cellguard::monitor {
 

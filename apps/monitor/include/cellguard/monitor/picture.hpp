@@ -22,13 +22,13 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/host/png.hpp"
 #include "cellguard/monitor/config.hpp"
 #include "cellguard/sim/workcell.hpp"
-#include "cellguard/sensor_frame.hpp"
-#include "cellguard/span.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/base/span.hpp"
+#include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
 

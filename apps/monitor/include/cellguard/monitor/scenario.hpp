@@ -8,7 +8,7 @@
 #define CELLGUARD_MONITOR_SCENARIO_HPP
 
 #include "cellguard/sim/workcell.hpp"
-#include "cellguard/zones.hpp"
+#include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
 

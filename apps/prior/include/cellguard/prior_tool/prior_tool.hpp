@@ -32,14 +32,14 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility_params.hpp"
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/linux/io_status.hpp"
 #include "cellguard/linux/prior_files.hpp"
 #include "cellguard/monitor/pcd_input.hpp"
-#include "cellguard/sensor_frame.hpp"
-#include "cellguard/sensor_model.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/grid/sensor_model.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 namespace cellguard::prior_tool {

@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility.hpp"
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/fusion.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/fusion.hpp"
 #include "cellguard/sim/ground_truth.hpp"
 #include "cellguard/sim/scene_file.hpp"
 

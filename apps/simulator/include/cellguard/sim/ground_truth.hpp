@@ -22,8 +22,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "cellguard/grid.hpp"
-#include "cellguard/ray_traversal.hpp"
+#include "cellguard/grid/grid.hpp"
+#include "cellguard/grid/ray_traversal.hpp"
 #include "cellguard/sim/workcell.hpp"
 
 namespace cellguard::sim {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/sensor_frame.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
 
 namespace cellguard::sim {
 

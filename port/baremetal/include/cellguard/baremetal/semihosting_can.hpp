@@ -5,8 +5,8 @@
 #ifndef CELLGUARD_BAREMETAL_SEMIHOSTING_CAN_HPP
 #define CELLGUARD_BAREMETAL_SEMIHOSTING_CAN_HPP
 
-#include "cellguard/can_frame.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/can/can_frame.hpp"
+#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard::baremetal {
 

@@ -17,10 +17,10 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "cellguard/can_frame.hpp"
+#include "cellguard/can/can_frame.hpp"
 #include "cellguard/linux/io_status.hpp"
-#include "cellguard/safety_controller.hpp"
-#include "cellguard/safety_output.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard::linux_port {
 

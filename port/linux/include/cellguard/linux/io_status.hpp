@@ -11,7 +11,7 @@
 
 #include <cstddef>
 
-#include "cellguard/result.hpp"
+#include "cellguard/base/result.hpp"
 
 namespace cellguard {
 

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "cellguard/safety_controller.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 
 namespace cellguard::linux_port {
 

@@ -27,10 +27,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/evidence_grid.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/linux/io_status.hpp"
-#include "cellguard/span.hpp"
+#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 

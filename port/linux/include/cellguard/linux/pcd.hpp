@@ -33,7 +33,7 @@
 #include <cstdint>
 
 #include "cellguard/linux/io_status.hpp"
-#include "cellguard/span.hpp"
+#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 

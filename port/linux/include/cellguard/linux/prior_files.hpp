@@ -31,11 +31,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/accessibility_params.hpp"
-#include "cellguard/grid.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
+#include "cellguard/grid/grid.hpp"
 #include "cellguard/linux/io_status.hpp"
-#include "cellguard/prior_image.hpp"
-#include "cellguard/span.hpp"
+#include "cellguard/prior/prior_image.hpp"
+#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 

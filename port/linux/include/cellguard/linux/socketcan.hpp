@@ -32,8 +32,8 @@
 
 #include <cstdint>
 
-#include "cellguard/can_frame.hpp"
-#include "cellguard/safety_frame.hpp"
+#include "cellguard/can/can_frame.hpp"
+#include "cellguard/can/safety_frame.hpp"
 
 namespace cellguard::linux_port {
 

@@ -1,0 +1,138 @@
+/// @file can_frame.hpp
+/// A classic CAN frame and the description of a signal inside its 8 data
+/// bytes, in the terms a DBC file uses (start bit, length, byte order,
+/// factor, multiplexing), so that one constexpr table serves the encoder,
+/// the decoder and the test that compares the table with the DBC file.
+///
+/// Bit numbering is the DBC one for Intel (little-endian, `@1`) signals:
+/// bit b of data byte k is bit 8k + b, and a signal's start bit is its least
+/// significant bit. All cellguard signals are Intel, unsigned, offset 0.
+#ifndef CELLGUARD_CAN_FRAME_HPP
+#define CELLGUARD_CAN_FRAME_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "cellguard/base/contract.hpp"
+
+namespace cellguard {
+
+/// Data bytes of a classic CAN frame.
+constexpr std::uint8_t kCanMaxDataLength = 8U;
+/// Largest 11-bit (standard) CAN identifier.
+constexpr std::uint32_t kCanMaxStandardId = 0x7FFU;
+
+/// A classic CAN frame: identifier, data length code and up to 8 data bytes.
+/// `id` holds the bare identifier (no SocketCAN flag bits); bytes at and after
+/// `dlc` are not part of the frame.
+struct CanFrame {
+    std::uint32_t id;       ///< CAN identifier (11-bit for cellguard's frames)
+    std::uint8_t dlc;       ///< data length code, 0..8
+    std::uint8_t data[8];   ///< data bytes; byte 0 is sent first
+};
+
+/// Byte order of a signal, with the DBC's codes (`@0` Motorola, `@1` Intel).
+enum class ByteOrder : std::uint8_t {
+    kMotorola = 0,  ///< big-endian (not used by cellguard's frames)
+    kIntel = 1,     ///< little-endian: the start bit is the least significant bit
+};
+
+/// Role of a signal in DBC multiplexing.
+enum class Multiplex : std::uint8_t {
+    kNone = 0,         ///< always present
+    kMultiplexor = 1,  ///< the selector (`M` in the DBC)
+    kMultiplexed = 2,  ///< present when the selector equals multiplex_value (`m<value>`)
+};
+
+/// One signal of a frame, as a DBC `SG_` line states it. Raw values are
+/// unsigned; physical value = raw * factor (offset 0), in `unit`.
+struct SignalLayout {
+    const char* name;              ///< DBC signal name
+    std::uint8_t start_bit;        ///< least significant bit, Intel numbering (8 * byte + bit)
+    std::uint8_t length;           ///< width in bits, 1..32
+    ByteOrder byte_order;          ///< always kIntel in cellguard's tables
+    std::uint32_t factor;          ///< physical units per raw unit (integer)
+    const char* unit;              ///< physical unit, "" for dimensionless
+    std::uint32_t raw_max;         ///< largest valid raw value (DBC maximum = raw_max * factor)
+    Multiplex multiplex;           ///< multiplexing role
+    std::uint8_t multiplex_value;  ///< selector value for kMultiplexed signals, else 0
+};
+
+/// Mask of the bits @p s occupies in the frame's 64 data bits.
+[[nodiscard]] constexpr std::uint64_t signal_mask(const SignalLayout& s) noexcept {
+    const std::uint64_t ones = (s.length >= 64U) ? ~std::uint64_t{0} : ((std::uint64_t{1} << s.length) - 1U);
+    return ones << s.start_bit;
+}
+
+/// True when @p a and @p b can be present in the same frame (not two
+/// multiplexed signals of different selector values).
+[[nodiscard]] constexpr bool signals_coexist(const SignalLayout& a, const SignalLayout& b) noexcept {
+    return !(a.multiplex == Multiplex::kMultiplexed && b.multiplex == Multiplex::kMultiplexed &&
+             a.multiplex_value != b.multiplex_value);
+}
+
+/// Compile-time check of a layout table: every signal is Intel, 1..32 bits
+/// wide, inside the 64 data bits, has a factor >= 1 and a raw_max that fits;
+/// and no two coexisting signals overlap.
+template <std::size_t N>
+[[nodiscard]] constexpr bool layout_is_consistent(const SignalLayout (&table)[N]) noexcept {
+    for (std::size_t i = 0U; i < N; ++i) {
+        const SignalLayout& s = table[i];
+        if (s.byte_order != ByteOrder::kIntel || s.length == 0U || s.length > 32U ||
+            s.start_bit + s.length > 64U || s.factor == 0U ||
+            (s.length < 32U && s.raw_max > ((std::uint32_t{1} << s.length) - 1U))) {
+            return false;
+        }
+        for (std::size_t j = i + 1U; j < N; ++j) {
+            if (signals_coexist(s, table[j]) && (signal_mask(s) & signal_mask(table[j])) != 0U) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+/// Union of the bits of every signal in @p table (the complement is reserved).
+template <std::size_t N>
+[[nodiscard]] constexpr std::uint64_t layout_used_bits(const SignalLayout (&table)[N]) noexcept {
+    std::uint64_t used = 0U;
+    for (std::size_t i = 0U; i < N; ++i) {
+        used |= signal_mask(table[i]);
+    }
+    return used;
+}
+
+/// The 8 data bytes of @p frame as one little-endian 64-bit word (byte 0 lowest).
+[[nodiscard]] constexpr std::uint64_t frame_bits(const CanFrame& frame) noexcept {
+    std::uint64_t bits = 0U;
+    for (std::size_t k = 0U; k < kCanMaxDataLength; ++k) {
+        bits |= static_cast<std::uint64_t>(frame.data[k]) << (8U * k);
+    }
+    return bits;
+}
+
+/// Raw value of signal @p s in @p frame (Intel signals only, a contract).
+[[nodiscard]] constexpr std::uint32_t get_signal(const CanFrame& frame, const SignalLayout& s) noexcept {
+    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U &&
+                   s.start_bit + s.length <= 64U,
+               "only Intel signals of 1..32 bits inside the frame");
+    return static_cast<std::uint32_t>((frame_bits(frame) & signal_mask(s)) >> s.start_bit);
+}
+
+/// Writes raw value @p raw into signal @p s of @p frame, leaving the other
+/// bits as they are. Contract: Intel signal, and @p raw fits in its length.
+constexpr void set_signal(CanFrame& frame, const SignalLayout& s, std::uint32_t raw) noexcept {
+    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U &&
+                   s.start_bit + s.length <= 64U,
+               "only Intel signals of 1..32 bits inside the frame");
+    CG_ENFORCE(s.length == 32U || raw < (std::uint32_t{1} << s.length), "raw value wider than the signal");
+    const std::uint64_t mask = signal_mask(s);
+    const std::uint64_t bits = (frame_bits(frame) & ~mask) | ((static_cast<std::uint64_t>(raw) << s.start_bit) & mask);
+    for (std::size_t k = 0U; k < kCanMaxDataLength; ++k) {
+        frame.data[k] = static_cast<std::uint8_t>(bits >> (8U * k));
+    }
+}
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_CAN_FRAME_HPP

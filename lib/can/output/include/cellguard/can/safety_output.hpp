@@ -1,0 +1,124 @@
+/// @file safety_output.hpp
+/// The CAN side of the cycle executive: turns each CycleReport into the CAN
+/// frames of one cycle and hands them to a CanSender.
+///
+/// Frames of one cycle, in the order they are sent:
+/// 1. the safety frame (safety_frame.hpp): protective stop = the report's
+///    stop_requested, warning, fault = any fault latched, the zone intrusion
+///    and unseen bits of the configured zones, the zone count;
+/// 2. its inverted copy (inverted_copy);
+/// 3. the diagnostics frame: the previous cycle's duration and the worst so
+///    far (the current one is still running when it is published), the
+///    latched safety logic faults on ActiveFaults bits 0..8 and the CAN
+///    port's details on bits 9..14, and one byte of the prior CRC-32, the
+///    page rotating 0, 1, 2, 3, 0, ... per cycle.
+/// The safety frame (with its copy) and the diagnostics frame each have
+/// their own E2E counter, both advancing by one per cycle (0..14, wrapping
+/// 14 -> 0) whether or not the send succeeded, so a frame lost on the way
+/// shows at the PLC as a counter jump.
+///
+/// A safety frame carries at most kMaxZonesInFrame (16) zones: a
+/// configuration with more zones, or with an invalid channel config, is
+/// refused at construction (check_config); a refused output sends nothing
+/// and every publish() returns false, so the controller latches a CAN fault
+/// and stays in the safe state.
+#ifndef CELLGUARD_SAFETY_OUTPUT_HPP
+#define CELLGUARD_SAFETY_OUTPUT_HPP
+
+#include <cstdint>
+
+#include "cellguard/can/can_frame.hpp"
+#include "cellguard/can/can_sender.hpp"
+#include "cellguard/base/result.hpp"
+#include "cellguard/safety/cycle_output.hpp"
+#include "cellguard/can/safety_frame.hpp"
+
+namespace cellguard {
+
+/// Configuration of the CAN safety output.
+struct SafetyOutputConfig {
+    SafetyChannelConfig channel{};  ///< CAN IDs, data IDs, data ID mode
+    std::uint8_t zone_count = 0U;   ///< configured zones, 0..kMaxZonesInFrame
+    std::uint32_t prior_crc = 0U;   ///< CRC-32 of the prior in use (SafetyController::prior_crc)
+};
+
+/// Checks @p config: kInvalidArgument for an invalid channel config,
+/// kCapacityExceeded for more zones than one safety frame carries.
+[[nodiscard]] Status check_safety_output_config(const SafetyOutputConfig& config) noexcept;
+
+/// The content of the safety frame for @p outputs with @p zone_count zones
+/// (at most kMaxZonesInFrame, a contract): zone bits at and above the count are dropped.
+[[nodiscard]] SafetyMessage safety_message(const SafetyOutputs& outputs, std::uint8_t zone_count) noexcept;
+
+/// The content of the diagnostics frame for @p report, prior CRC page @p page
+/// (0..3, a contract) of @p prior_crc, with the CAN port's detail faults
+/// @p can_detail_faults (only bits 9..14 are used).
+[[nodiscard]] DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t page,
+                                                     std::uint32_t prior_crc,
+                                                     std::uint16_t can_detail_faults) noexcept;
+
+/// The three frames of one cycle.
+struct CycleFrames {
+    CanFrame safety;        ///< the safety frame
+    CanFrame inverted;      ///< its inverted copy
+    CanFrame diagnostics;   ///< the diagnostics frame
+};
+
+/// Encodes the frames of successive cycles: holds both E2E counters and the
+/// prior CRC page. @p config must pass check_safety_output_config (contract).
+class CycleFrameEncoder {
+public:
+    /// Counters and page start at 0.
+    explicit CycleFrameEncoder(const SafetyOutputConfig& config) noexcept;
+
+    /// The frames of the cycle in @p report; advances both counters and the page.
+    [[nodiscard]] CycleFrames encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept;
+
+    /// Counter the next safety frame will carry.
+    [[nodiscard]] std::uint8_t safety_counter() const noexcept { return safety_counter_; }
+    /// Counter the next diagnostics frame will carry.
+    [[nodiscard]] std::uint8_t diagnostics_counter() const noexcept { return diagnostics_counter_; }
+    /// Prior CRC page the next diagnostics frame will carry.
+    [[nodiscard]] std::uint8_t prior_crc_page() const noexcept { return page_; }
+
+private:
+    SafetyOutputConfig config_;
+    std::uint8_t safety_counter_ = 0U;
+    std::uint8_t diagnostics_counter_ = 0U;
+    std::uint8_t page_ = 0U;
+};
+
+/// The CycleOutput that sends each cycle's frames through a CanSender.
+class CanSafetyOutput final : public CycleOutput {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+public:
+    /// Binds @p sender (must outlive the output). A @p config that fails
+    /// check_safety_output_config is refused: status() holds the error and
+    /// publish() sends nothing and returns false.
+    CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept;
+
+    /// Sends the safety frame, its copy and the diagnostics frame in this
+    /// order, stopping at the first failed send. False when refused or when a send failed.
+    bool publish(const CycleReport& report) noexcept override;
+
+    /// Sets the CAN port's detail faults (ActiveFaults bits 9..14) sent from the next cycle on.
+    void set_can_detail_faults(std::uint16_t bits) noexcept {
+        can_detail_faults_ = static_cast<std::uint16_t>(bits & kCanDetailFaultBits);
+    }
+    /// kOk, or why the configuration was refused.
+    [[nodiscard]] Status status() const noexcept { return status_; }
+    /// The encoder (counters and page of the next cycle).
+    [[nodiscard]] const CycleFrameEncoder& encoder() const noexcept { return encoder_; }
+    /// Frames of the last published cycle.
+    [[nodiscard]] const CycleFrames& last_frames() const noexcept { return last_; }
+
+private:
+    Status status_;
+    CycleFrameEncoder encoder_;
+    CanSender* sender_;
+    CycleFrames last_{};
+    std::uint16_t can_detail_faults_ = 0U;
+};
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_SAFETY_OUTPUT_HPP

@@ -1,0 +1,77 @@
+#include "cellguard/can/safety_output.hpp"
+
+namespace cellguard {
+namespace {
+
+/// The encoder's config: the given one when valid, else a valid placeholder (never used to send).
+SafetyOutputConfig usable_config(const SafetyOutputConfig& config) noexcept {
+    return check_safety_output_config(config).ok() ? config : SafetyOutputConfig{};
+}
+
+}  // namespace
+
+Status check_safety_output_config(const SafetyOutputConfig& config) noexcept {
+    if (!check_channel_config(config.channel).ok()) {
+        return ErrorCode::kInvalidArgument;
+    }
+    if (config.zone_count > kMaxZonesInFrame) {
+        return ErrorCode::kCapacityExceeded;
+    }
+    return Status{};
+}
+
+SafetyMessage safety_message(const SafetyOutputs& outputs, std::uint8_t zone_count) noexcept {
+    CG_ENFORCE(zone_count <= kMaxZonesInFrame, "a safety frame carries at most 16 zones");
+    const std::uint32_t mask = (std::uint32_t{1} << zone_count) - 1U;
+    SafetyMessage m;
+    m.protective_stop = outputs.stop_requested;
+    m.warning = outputs.warning;
+    m.fault = outputs.latched_faults != 0U;
+    m.zone_intrusion = static_cast<std::uint16_t>(outputs.intruded_mask & mask);
+    m.zone_unseen = static_cast<std::uint16_t>(outputs.unseen_mask & mask);
+    m.zone_count = zone_count;
+    return m;
+}
+
+DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t page, std::uint32_t prior_crc,
+                                       std::uint16_t can_detail_faults) noexcept {
+    DiagnosticsMessage m;
+    m.cycle_time = diagnostics_time_saturating(report.timing.total_us);
+    m.max_cycle_time = diagnostics_time_saturating(report.worst.total_us);
+    m.active_faults = static_cast<std::uint16_t>((report.safety.latched_faults & kSafetyLogicFaultBits) |
+                                                 (static_cast<unsigned>(can_detail_faults) & kCanDetailFaultBits));
+    m.prior_crc_page = page;
+    m.prior_crc_part = prior_crc_part(prior_crc, page);
+    return m;
+}
+
+CycleFrameEncoder::CycleFrameEncoder(const SafetyOutputConfig& config) noexcept : config_(config) {
+    CG_ENFORCE(check_safety_output_config(config).ok(), "CycleFrameEncoder needs a valid configuration");
+}
+
+CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept {
+    const Result<CanFrame> safety =
+        encode_safety_frame(safety_message(report.safety, config_.zone_count), safety_counter_, config_.channel);
+    const Result<CanFrame> diagnostics = encode_diagnostics_frame(
+        diagnostics_message(report, page_, config_.prior_crc, can_detail_faults), diagnostics_counter_,
+        config_.channel);
+    // Both cannot fail: the config was checked, counters stay 0..14, page 0..3, messages are in range.
+    CG_ENFORCE(safety.ok() && diagnostics.ok(), "frames of a checked configuration always encode");
+    safety_counter_ = e2e_p01_next_counter(safety_counter_);
+    diagnostics_counter_ = e2e_p01_next_counter(diagnostics_counter_);
+    page_ = static_cast<std::uint8_t>((page_ + 1U) % 4U);
+    return CycleFrames{safety.value(), inverted_copy(safety.value()), diagnostics.value()};
+}
+
+CanSafetyOutput::CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept
+    : status_(check_safety_output_config(config)), encoder_(usable_config(config)), sender_(&sender) {}
+
+bool CanSafetyOutput::publish(const CycleReport& report) noexcept {
+    if (!status_.ok()) {
+        return false;
+    }
+    last_ = encoder_.encode(report, can_detail_faults_);
+    return sender_->send(last_.safety) && sender_->send(last_.inverted) && sender_->send(last_.diagnostics);
+}
+
+}  // namespace cellguard

@@ -1,0 +1,203 @@
+#include "cellguard/can/plc_receiver.hpp"
+
+namespace cellguard {
+namespace {
+
+ReceiverFault fault_of(FrameCheck check) noexcept {
+    switch (check) {
+        case FrameCheck::kWrongLength: return ReceiverFault::kWrongLength;
+        case FrameCheck::kWrongDataIdNibble: return ReceiverFault::kWrongDataIdNibble;
+        case FrameCheck::kWrongCrc: return ReceiverFault::kWrongCrc;
+        case FrameCheck::kCounterOutOfRange: return ReceiverFault::kCounterOutOfRange;
+        case FrameCheck::kOk:           // not a fault; never passed here
+        case FrameCheck::kWrongCanId:   // frames are dispatched by CAN ID first
+        case FrameCheck::kMalformedContent: return ReceiverFault::kMalformedContent;
+    }
+    return ReceiverFault::kMalformedContent;
+}
+
+constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept {
+    return n == UINT32_MAX ? n : n + 1U;
+}
+
+}  // namespace
+
+const char* to_string(ReceiverFault fault) noexcept {
+    switch (fault) {
+        case ReceiverFault::kNone: return "none";
+        case ReceiverFault::kNoFrameYet: return "no frame yet";
+        case ReceiverFault::kWrongLength: return "wrong length";
+        case ReceiverFault::kWrongCrc: return "wrong CRC or data ID";
+        case ReceiverFault::kWrongDataIdNibble: return "wrong data ID nibble";
+        case ReceiverFault::kCounterOutOfRange: return "counter out of range";
+        case ReceiverFault::kMalformedContent: return "malformed content";
+        case ReceiverFault::kZoneCountMismatch: return "zone count mismatch";
+        case ReceiverFault::kRepeatedCounter: return "repeated counter";
+        case ReceiverFault::kCounterJump: return "counter jump";
+        case ReceiverFault::kInvertedCopyMissing: return "inverted copy missing";
+        case ReceiverFault::kInvertedCopyMismatch: return "inverted copy mismatch";
+        case ReceiverFault::kInvertedCopyLate: return "inverted copy late";
+        case ReceiverFault::kUnexpectedInvertedCopy: return "unexpected inverted copy";
+        case ReceiverFault::kSctExpired: return "safeguard cycle time expired";
+        case ReceiverFault::kTimeWentBackwards: return "time went backwards";
+    }
+    return "unknown receiver fault";
+}
+
+SafetyMessage safe_state_message(std::uint8_t zone_count) noexcept {
+    CG_ENFORCE(zone_count <= kMaxZonesInFrame, "at most 16 zones in a safety frame");
+    const auto zones = static_cast<std::uint16_t>((std::uint32_t{1} << zone_count) - 1U);
+    SafetyMessage m;
+    m.protective_stop = true;
+    m.warning = true;
+    m.fault = true;
+    m.zone_intrusion = zones;
+    m.zone_unseen = zones;
+    m.zone_count = zone_count;
+    return m;
+}
+
+Status PlcReceiver::check_config(const PlcReceiverConfig& config) noexcept {
+    if (!check_channel_config(config.channel).ok() || config.srvt_us == 0U || config.srvt_us >= config.sct_us ||
+        config.max_delta_counter < 1U || config.max_delta_counter > kE2eP01CounterMax ||
+        config.recovery_good_pairs < 1U || config.expected_zone_count > kMaxZonesInFrame) {
+        return ErrorCode::kInvalidArgument;
+    }
+    return Status{};
+}
+
+PlcReceiver::PlcReceiver(const PlcReceiverConfig& config) noexcept : config_(config) {
+    CG_ENFORCE(check_config(config).ok(), "PlcReceiver needs a configuration that passes check_config");
+}
+
+ReceiverStatus PlcReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (advance_time(now_us)) {
+        if (frame.id == config_.channel.safety_can_id) {
+            on_normal_frame(frame, now_us);
+        } else if (frame.id == inverted_can_id(config_.channel)) {
+            on_inverted_copy(frame, now_us);
+        } else {
+            check_timeouts(now_us);  // not ours: only time has passed
+        }
+    }
+    return status();
+}
+
+ReceiverStatus PlcReceiver::poll(std::uint64_t now_us) noexcept {
+    if (advance_time(now_us)) {
+        check_timeouts(now_us);
+    }
+    return status();
+}
+
+void PlcReceiver::on_normal_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (pending_) {
+        pending_ = false;
+        enter_safe_state(ReceiverFault::kInvertedCopyMissing);
+    }
+    if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
+        enter_safe_state(ReceiverFault::kSctExpired);  // a late frame; it may still start a new reference
+    }
+    SafetyFrameContent content;
+    const FrameCheck check = check_safety_frame(frame, config_.channel, content);
+    if (check != FrameCheck::kOk) {
+        enter_safe_state(fault_of(check));
+        return;
+    }
+    if (content.message.zone_count != config_.expected_zone_count) {
+        enter_safe_state(ReceiverFault::kZoneCountMismatch);
+        return;
+    }
+    pending_ = true;
+    pending_frame_ = frame;
+    pending_content_ = content;
+    pending_time_us_ = now_us;
+}
+
+void PlcReceiver::on_inverted_copy(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (!pending_) {
+        enter_safe_state(ReceiverFault::kUnexpectedInvertedCopy);
+        return;
+    }
+    pending_ = false;
+    if (now_us - pending_time_us_ > config_.srvt_us) {
+        enter_safe_state(ReceiverFault::kInvertedCopyLate);
+        return;
+    }
+    bool inverse = frame.dlc == pending_frame_.dlc;
+    for (std::size_t k = 0U; k < kCanMaxDataLength; ++k) {
+        inverse = inverse && frame.data[k] == static_cast<std::uint8_t>(~pending_frame_.data[k]);
+    }
+    if (!inverse) {
+        enter_safe_state(ReceiverFault::kInvertedCopyMismatch);
+        return;
+    }
+    // A complete pair. Check it against the previous good pair, if there is one.
+    if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
+        enter_safe_state(ReceiverFault::kSctExpired);  // late; the pair may still start a new reference
+    }
+    if (have_reference_) {
+        const std::uint8_t delta = e2e_p01_counter_delta(pending_content_.counter, reference_counter_);
+        if (delta == 0U) {
+            enter_safe_state(ReceiverFault::kRepeatedCounter);
+            return;
+        }
+        if (delta > config_.max_delta_counter) {
+            enter_safe_state(ReceiverFault::kCounterJump);
+            return;
+        }
+        if (good_pairs_ < UINT8_MAX) {
+            ++good_pairs_;
+        }
+    }
+    have_reference_ = true;
+    reference_counter_ = pending_content_.counter;
+    reference_time_us_ = now_us;
+    message_ = pending_content_.message;
+    if (!valid_ && good_pairs_ >= config_.recovery_good_pairs) {
+        valid_ = true;
+        fault_ = ReceiverFault::kNone;
+    }
+}
+
+bool PlcReceiver::advance_time(std::uint64_t now_us) noexcept {
+    if (have_time_ && now_us < last_time_us_) {
+        last_time_us_ = now_us;  // continue on the new time line; every time reference is dropped
+        pending_ = false;
+        enter_safe_state(ReceiverFault::kTimeWentBackwards);
+        return false;
+    }
+    have_time_ = true;
+    last_time_us_ = now_us;
+    return true;
+}
+
+void PlcReceiver::check_timeouts(std::uint64_t now_us) noexcept {
+    if (pending_ && now_us - pending_time_us_ > config_.srvt_us) {
+        pending_ = false;
+        enter_safe_state(ReceiverFault::kInvertedCopyMissing);
+    }
+    if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
+        enter_safe_state(ReceiverFault::kSctExpired);
+    }
+}
+
+void PlcReceiver::enter_safe_state(ReceiverFault reason) noexcept {
+    valid_ = false;
+    fault_ = reason;
+    fault_events_ = saturating_increment(fault_events_);
+    have_reference_ = false;
+    good_pairs_ = 0U;
+}
+
+ReceiverStatus PlcReceiver::status() const noexcept {
+    ReceiverStatus s;
+    s.communication_valid = valid_;
+    s.stop_requested = !valid_ || message_.protective_stop;
+    s.fault = valid_ ? ReceiverFault::kNone : fault_;
+    s.message = valid_ ? message_ : safe_state_message(config_.expected_zone_count);
+    s.fault_events = fault_events_;
+    return s;
+}
+
+}  // namespace cellguard

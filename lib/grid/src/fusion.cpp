@@ -1,0 +1,213 @@
+#include "cellguard/grid/fusion.hpp"
+
+#include <cmath>
+
+namespace cellguard {
+
+void FusionStats::add(const FusionStats& other) noexcept {
+    rays_fused += other.rays_fused;
+    readings_in_grid += other.readings_in_grid;
+    skipped_nan += other.skipped_nan;
+    skipped_infinite += other.skipped_infinite;
+    skipped_zero += other.skipped_zero;
+    skipped_behind += other.skipped_behind;
+    skipped_out_of_range += other.skipped_out_of_range;
+    voxel_updates += other.voxel_updates;
+}
+
+std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry& g, const Eigen::Vector3d& origin,
+                                 const Eigen::Vector3d& reading, const SensorModelTable& model,
+                                 Rasterization rasterization, bool* reading_in_grid) noexcept {
+    const double length = (reading - origin).norm();
+    if (!std::isfinite(length)) {
+        return 0U;
+    }
+    // The voxel holding the reading, by the same half-open rule as the traversal.
+    const VoxelCoord end = g.world_to_voxel_unchecked(reading);
+    const bool end_inside = g.contains(end);
+    const std::size_t end_index = end_inside ? g.index_of(end) : g.voxel_count();
+    if (reading_in_grid != nullptr) {
+        *reading_in_grid = end_inside;
+    }
+    std::int16_t* const op = opinions.data();
+    const std::int16_t hit = model.reading_evidence();
+    std::uint32_t visits = 0U;
+    const auto visit = [&](const TraversedVoxel& v) {
+        const std::int16_t e = (v.index == end_index) ? hit : model.free_evidence(length - v.t_exit);
+        op[v.index] = e > op[v.index] ? e : op[v.index];
+        ++visits;
+    };
+    (void)traverse(rasterization, g, origin, reading, visit);
+    return visits;
+}
+
+Eigen::Vector3f depth_pixel_point(const PinholeIntrinsics& k, double inv_fx, double inv_fy, std::int32_t u,
+                                  std::int32_t v, float d) noexcept {
+    const double rx = (static_cast<double>(u) - k.cx) * inv_fx;
+    const double ry = (static_cast<double>(v) - k.cy) * inv_fy;
+    return {static_cast<float>(rx * static_cast<double>(d)), static_cast<float>(ry * static_cast<double>(d)), d};
+}
+
+Eigen::Vector3d reading_in_cell(const Eigen::Isometry3d& pose, const Eigen::Vector3f& p) noexcept {
+    return pose * p.cast<double>();
+}
+
+// cppcheck-suppress constParameter ; the grid is written through its views: const would hide that
+void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const SensorModelTable& model) noexcept {
+    std::int16_t* const lo = grid.log_odds().data();
+    std::uint8_t* const obs = grid.observed().data();
+    const std::size_t n = grid.voxel_count();
+    for (std::size_t i = 0U; i < n; ++i) {
+        const std::int16_t e = opinions[i];
+        if (e != kNoOpinion) {
+            lo[i] = model.pool(lo[i], e);
+            obs[i] = 1U;
+        }
+    }
+}
+
+namespace {
+
+enum class ReadingClass : std::uint8_t { kValid, kNan, kInfinite, kZero, kBehind, kOutOfRange };
+
+ReadingClass classify_point(const Eigen::Vector3f& p, float min_range, float max_range) noexcept {
+    if (std::isnan(p.x()) || std::isnan(p.y()) || std::isnan(p.z())) {
+        return ReadingClass::kNan;
+    }
+    if (std::isinf(p.x()) || std::isinf(p.y()) || std::isinf(p.z())) {
+        return ReadingClass::kInfinite;
+    }
+    if (p.x() == 0.0F && p.y() == 0.0F && p.z() == 0.0F) {
+        return ReadingClass::kZero;
+    }
+    if (p.z() < 0.0F) {
+        return ReadingClass::kBehind;
+    }
+    const float range = p.norm();
+    if (range < min_range || range > max_range) {
+        return ReadingClass::kOutOfRange;
+    }
+    return ReadingClass::kValid;
+}
+
+void count(FusionStats& s, ReadingClass c) noexcept {
+    switch (c) {
+        case ReadingClass::kValid: break;
+        case ReadingClass::kNan: ++s.skipped_nan; break;
+        case ReadingClass::kInfinite: ++s.skipped_infinite; break;
+        case ReadingClass::kZero: ++s.skipped_zero; break;
+        case ReadingClass::kBehind: ++s.skipped_behind; break;
+        case ReadingClass::kOutOfRange: ++s.skipped_out_of_range; break;
+    }
+}
+
+void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& r, const Eigen::Vector3f& p,
+                const SensorModelTable& model, Rasterization rasterization, FusionStats& s) noexcept {
+    const ReadingClass c = classify_point(p, r.min_range, r.max_range);
+    if (c != ReadingClass::kValid) {
+        count(s, c);
+        return;
+    }
+    bool in_grid = false;
+    s.voxel_updates +=
+        trace_ray_opinions(opinions, g, r.pose.translation(), reading_in_cell(r.pose, p), model, rasterization, &in_grid);
+    ++s.rays_fused;
+    s.readings_in_grid += in_grid ? 1U : 0U;
+}
+
+/// Writes the opinions of every valid reading of @p reading (already validated) into @p opinions.
+FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& reading,
+                         const SensorModelTable& model, Rasterization rasterization) noexcept {
+    FusionStats s;
+    if (reading.kind == SensorDataKind::kPointSet) {
+        for (const Eigen::Vector3f& p : reading.points) {
+            fuse_point(opinions, g, reading, p, model, rasterization, s);
+        }
+        return s;
+    }
+    const PinholeIntrinsics& k = reading.intrinsics;
+    const double inv_fx = 1.0 / k.fx;
+    const double inv_fy = 1.0 / k.fy;
+    std::size_t i = 0U;
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u, ++i) {
+            const float d = reading.depth[i];
+            // Classify the raw depth first: 0 * inf would hide an infinity as NaN.
+            const ReadingClass raw = std::isnan(d)   ? ReadingClass::kNan
+                                     : std::isinf(d) ? ReadingClass::kInfinite
+                                     : d == 0.0F     ? ReadingClass::kZero
+                                     : d < 0.0F      ? ReadingClass::kBehind
+                                                     : ReadingClass::kValid;
+            if (raw != ReadingClass::kValid) {
+                count(s, raw);
+                continue;
+            }
+            fuse_point(opinions, g, reading, depth_pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading, const SensorModelTable& model,
+                                Span<std::int16_t> scratch, Rasterization rasterization) noexcept {
+    const Status valid = validate_sensor_reading(reading);
+    if (!valid.ok()) {
+        return valid.error();
+    }
+    const std::size_t n = grid.voxel_count();
+    if (scratch.size() < n) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    const Span<std::int16_t> opinions = scratch.subspan(0U, n);
+    for (std::int16_t& e : opinions) {
+        e = kNoOpinion;
+    }
+    const FusionStats s = trace_sensor(opinions, grid.geometry(), reading, model, rasterization);
+    pool_opinions(grid, Span<const std::int16_t>(opinions), model);
+    return s;
+}
+
+Result<FusionStats> fuse_frame(EvidenceGrid& grid, Span<const SensorReading> sensors, const SensorModelTable& model,
+                               Span<std::int16_t> scratch, Rasterization rasterization) noexcept {
+    if (sensors.size() > kMaxSensors) {
+        return ErrorCode::kCapacityExceeded;
+    }
+    if (scratch.size() < grid.voxel_count()) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    for (const SensorReading& r : sensors) {
+        const Status valid = validate_sensor_reading(r);
+        if (!valid.ok()) {
+            return valid.error();
+        }
+    }
+    FusionStats total;
+    for (const SensorReading& r : sensors) {
+        const Result<FusionStats> s = fuse_sensor(grid, r, model, scratch, rasterization);
+        if (!s.ok()) {
+            return s.error();  // unreachable: validated above
+        }
+        total.add(s.value());
+    }
+    return total;
+}
+
+Result<FusionStats> fuse_background_frame(EvidenceGrid& background, EvidenceGrid& frame,
+                                          Span<const SensorReading> sensors, const SensorModelTable& model,
+                                          Span<std::int16_t> scratch, Rasterization rasterization,
+                                          BackgroundClamp clamp) noexcept {
+    frame.clear();
+    const Result<FusionStats> fused = fuse_frame(frame, sensors, model, scratch, rasterization);
+    if (!fused.ok()) {
+        return fused.error();
+    }
+    const Status acc = accumulate_background(background, frame, clamp);
+    if (!acc.ok()) {
+        return acc.error();
+    }
+    return fused.value();
+}
+
+}  // namespace cellguard

@@ -1,0 +1,160 @@
+/// @file safety_controller.hpp
+/// The cycle executive: one call per period runs the fixed stages
+/// fuse -> subtract and zones -> safety logic -> output, measures each,
+/// checks the deadline, and turns every fault it can detect into the safe
+/// state through the safety logic.
+///
+/// Faults detected, and when:
+/// - a configured sensor without a frame (kSensorMissing), a frame older
+///   than max_frame_age_us or stamped in the future (kSensorStale), a frame
+///   whose description fails its checks or that no longer shows its
+///   commissioned background (kFrameInconsistent): this cycle;
+/// - the prior in RAM no longer matching its CRC (kPriorCheckFailed): at the
+///   end of the pass of the periodic check that reads the changed byte
+///   (prior_check_slice_bytes per cycle); a prior or zones that do not
+///   match the grid: at construction, latched for good;
+/// - the zones' membership mask in RAM no longer matching its CRC
+///   (kInternalCheck): at the end of the pass of the periodic check
+///   (zone_check_slice_bytes per cycle); their settings (kinds, thresholds,
+///   voxel counts): every cycle; latched for good;
+/// - a sensor's ray table no longer matching its CRC (kInternalCheck): at
+///   the end of the pass of the periodic check that reads the changed byte
+///   (table_check_slice_bytes of one sensor's table per cycle, the sensors
+///   in turn; a SignatureCheck per sensor slot over the table's
+///   signature_regions() against its storage_crc()); a table object whose
+///   limits or regions changed: at its next turn; latched for good;
+/// - zone evaluation failing (kZoneEvaluation): this cycle;
+/// - the output failing (kCanError) and the cycle overrunning its budget
+///   (kCycleOverrun): reported in the next cycle, since the current one has
+///   already been sent.
+/// The controller allocates nothing; its work per cycle is bounded by
+/// compute_work_bound (cycle.hpp).
+#ifndef CELLGUARD_SAFETY_CONTROLLER_HPP
+#define CELLGUARD_SAFETY_CONTROLLER_HPP
+
+#include <array>
+#include <cstdint>
+
+#include "cellguard/safety/background_check.hpp"
+#include "cellguard/safety/clock.hpp"
+#include "cellguard/safety/cycle.hpp"
+#include "cellguard/safety/cycle_output.hpp"
+#include "cellguard/grid/fusion.hpp"
+#include "cellguard/base/ram_check.hpp"
+#include "cellguard/grid/ray_table.hpp"
+#include "cellguard/safety/safety_logic.hpp"
+#include "cellguard/safety/zone_evaluation.hpp"
+
+namespace cellguard {
+
+/// One sensor's input to a cycle.
+struct SensorInput {
+    SensorReading reading{};         ///< what the sensor delivered
+    std::uint64_t captured_us = 0U;  ///< when it was captured, on the controller's clock
+    bool present = false;            ///< false: no frame arrived for this cycle
+    const RayTable* table = nullptr; ///< optional precomputed rays of this (static) depth sensor
+    /// Optional commissioned view of the empty cell of this (static) depth
+    /// sensor: a frame that shows less of it than reference.min_match_fraction
+    /// is kFrameInconsistent and is not fused (background_check.hpp).
+    const BackgroundReference* background = nullptr;
+};
+
+/// Configuration of the cycle executive.
+struct ControllerConfig {
+    SafetyLogicConfig logic{};                 ///< safety logic and restart interlock
+    ZoneEvaluationParams zones{};              ///< t_f and the accessibility threshold for unseen
+    std::size_t sensor_count = 0U;             ///< sensors configured (1..kMaxSensors)
+    std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
+    /// A sensor whose data are bit-identical (reading_fingerprint) in this
+    /// many new frames in a row (new: a time stamp other than the previous
+    /// frame's) is frozen: kSensorStale, and its frame is not fused. 0 turns
+    /// the check off: for noise-free sources (the simulator's ideal frames,
+    /// a recording replayed frame by frame) whose frames repeat by design.
+    std::uint32_t max_repeated_frames = 0U;
+    std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
+    std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
+    std::size_t table_check_slice_bytes = 262144U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
+    std::size_t zone_check_slice_bytes = 16384U;   ///< bytes of the zone membership mask re-checked per cycle (> 0)
+    Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
+};
+
+/// The cycle executive. All references must outlive it.
+class SafetyController {
+public:
+    /// Binds the parts. A prior that does not hold one value per voxel, or
+    /// zones compiled for another grid, latch kPriorCheckFailed or
+    /// kInternalCheck: the controller then stays in the safe state. The
+    /// prior's and the zone mask's bytes and the zones' settings are CRC'd
+    /// now; the periodic checks compare against these. @p fusion_scratch is
+    /// fuse_sensor's working memory for sensors without a ray table (at least
+    /// frame_grid.voxel_count() elements; may be empty when every sensor has
+    /// a table): a sensor that needs it and finds it too small is refused
+    /// every cycle (kFrameInconsistent), so the safe state follows.
+    SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<std::int16_t> fusion_scratch,
+                     Span<const std::int16_t> prior,
+                     const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
+                     CycleOutput* output) noexcept;
+
+    /// Runs one cycle on @p sensors (exactly config.sensor_count entries,
+    /// else kSensorMissing) with the reset input's level @p reset_input.
+    const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept;
+
+    /// The last cycle's report.
+    [[nodiscard]] const CycleReport& report() const noexcept { return report_; }
+    /// The deadline monitor.
+    [[nodiscard]] const CycleMonitor& monitor() const noexcept { return monitor_; }
+    /// CRC-32 of the prior's bytes taken at construction.
+    [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_check_.reference(); }
+
+private:
+    std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
+    bool step_zone_checks() noexcept;
+    bool step_table_check(Span<const SensorInput> sensors) noexcept;
+    bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
+    static bool shows_background(const SensorInput& input) noexcept;
+
+    /// What the frozen-sensor check keeps of a sensor slot's last frame.
+    struct FrameHistory {
+        bool seen = false;                 ///< a frame has been fingerprinted
+        std::uint64_t captured_us = 0U;    ///< its time stamp
+        std::uint64_t fingerprint = 0U;    ///< reading_fingerprint of its data
+        std::uint32_t repeats = 0U;        ///< new frames in a row with the same data (saturating)
+    };
+
+    /// A sensor slot's ray table check: made from the table's regions and
+    /// storage_crc() when the slot first shows that table, remade when the
+    /// slot's table pointer changes.
+    struct TableCheck {
+        const RayTable* table = nullptr;  ///< the table the check is of
+        SignatureCheck check{};           ///< its signature regions against its storage_crc()
+    };
+    /// The turn of @p table in @p slot: @p slice_bytes of its regions, and
+    /// whether the table object still has them. True when the check failed.
+    static bool step_one_table(TableCheck& slot, const RayTable& table, std::size_t slice_bytes) noexcept;
+
+    ControllerConfig config_;
+    EvidenceGrid* grid_;
+    Span<std::int16_t> scratch_;  ///< fuse_sensor's working memory
+    Span<const std::int16_t> prior_;
+    const CompiledZones* zones_;
+    const SensorModelTable* model_;
+    MonotonicClock* clock_;
+    CycleOutput* output_;
+    SafetyLogic logic_;
+    CycleMonitor monitor_;
+    CycleReport report_{};
+    std::uint32_t pending_faults_ = 0U;
+    std::uint32_t construction_faults_ = 0U;
+    SignatureCheck prior_check_;  ///< the prior's bytes, reference taken at construction
+    SignatureCheck zone_mask_check_;  ///< the zones' membership mask, reference taken at construction
+    std::uint32_t zone_settings_crc_ = 0U;  ///< CompiledZones::settings_crc() at construction
+    bool zone_settings_failed_ = false;
+    std::array<TableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the check of its table
+    std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
+    bool table_failed_ = false;
+    std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
+};
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_SAFETY_CONTROLLER_HPP

@@ -1,0 +1,90 @@
+/// @file safety_logic.hpp
+/// The safety logic: from zone states and detected faults to the protective
+/// stop request, the warning, and the latched fault code, with a restart
+/// interlock.
+///
+/// Rules (each is tested in test_safety_logic.cpp):
+/// - The safe state is "protective stop requested". It holds at start-up
+///   until the restart interlock releases it for the first time.
+/// - A protective stop is requested in the same cycle in which any
+///   protective zone is not CLEAR or any fault is latched.
+/// - A warning is signalled while any warning zone is not CLEAR (no interlock).
+/// - Restart interlock: once every protective zone is CLEAR and no fault is
+///   latched, the stop is held until that has lasted restart_delay_us
+///   without interruption, and, if reset_required, until a rising edge of the
+///   reset input arrives after that time.
+/// - Faults latch. A recoverable fault (sensor stale or missing, inconsistent
+///   frame, cycle overrun, CAN error, zone evaluation error) clears after
+///   fault_recovery_cycles consecutive cycles in which it is not detected;
+///   then the restart interlock applies as above. A non-recoverable fault
+///   (prior check failed, internal check failed, clock fault) stays latched
+///   until the logic is re-initialised (a restart of the controller).
+/// - The clock must advance: a cycle whose time is not later than the
+///   previous cycle's latches a clock fault.
+#ifndef CELLGUARD_SAFETY_LOGIC_HPP
+#define CELLGUARD_SAFETY_LOGIC_HPP
+
+#include <cstdint>
+
+#include "cellguard/safety/faults.hpp"
+#include "cellguard/safety/zone_evaluation.hpp"
+#include "cellguard/safety/zones.hpp"
+
+namespace cellguard {
+
+/// Configuration of the safety logic.
+struct SafetyLogicConfig {
+    std::uint64_t restart_delay_us = 1000000U;  ///< protective zones CLEAR this long before the stop is released
+    bool reset_required = false;                ///< also wait for a rising edge of the reset input
+    std::uint32_t fault_recovery_cycles = 10U;  ///< fault-free cycles before a recoverable fault clears (>= 1)
+};
+
+/// Inputs of one cycle.
+struct SafetyInputs {
+    std::uint64_t now_us = 0U;            ///< monotonic time of this cycle, microseconds
+    const ZoneEvaluation* zones = nullptr; ///< this cycle's zone results (nullptr: not available -> fault)
+    std::uint32_t detected_faults = 0U;   ///< fault bits detected this cycle
+    bool reset_input = false;             ///< level of the reset input
+};
+
+/// Outputs of one cycle.
+struct SafetyOutputs {
+    bool stop_requested = true;        ///< protective stop requested (the safe state)
+    bool warning = false;              ///< a warning zone is not CLEAR
+    bool interlock_holding = true;     ///< the stop is held only by the restart interlock
+    std::uint32_t latched_faults = 0U; ///< fault bits latched now
+    std::uint32_t intruded_mask = 0U;  ///< zones INTRUDED (all zones FAULT while a fault is latched: 0 here)
+    std::uint32_t unseen_mask = 0U;    ///< zones UNSEEN
+    std::uint32_t fault_zone_mask = 0U;///< zones in FAULT (all, while a fault is latched)
+};
+
+/// The safety logic's state machine; one step() per cycle.
+class SafetyLogic {
+public:
+    /// Starts in the safe state. @p zones gives each zone's kind; it must
+    /// outlive the logic. Invalid config (fault_recovery_cycles of 0) is a
+    /// contract violation: configuration is checked when it is loaded.
+    SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& zones) noexcept;
+
+    /// Advances one cycle.
+    SafetyOutputs step(const SafetyInputs& in) noexcept;
+
+    /// The last outputs.
+    [[nodiscard]] const SafetyOutputs& outputs() const noexcept { return out_; }
+
+private:
+    SafetyLogicConfig config_;
+    const CompiledZones* zones_;
+    SafetyOutputs out_{};
+    std::uint32_t latched_ = 0U;
+    std::uint32_t clean_cycles_[kFaultCount] = {};
+    bool have_time_ = false;
+    std::uint64_t last_now_us_ = 0U;
+    bool clear_running_ = false;
+    std::uint64_t clear_since_us_ = 0U;
+    bool last_reset_ = false;
+};
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_SAFETY_LOGIC_HPP

@@ -1,0 +1,87 @@
+#include "cellguard/safety/safety_logic.hpp"
+
+namespace cellguard {
+
+SafetyLogic::SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& zones) noexcept
+    : config_(config), zones_(&zones) {
+    CG_ENFORCE(config.fault_recovery_cycles >= 1U, "fault_recovery_cycles must be at least 1");
+}
+
+SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
+    std::uint32_t detected = in.detected_faults & kAllFaults;
+    if (in.zones == nullptr || in.zones->count != zones_->size()) {
+        detected |= fault_bit(Fault::kZoneEvaluation);
+    }
+    if (have_time_ && in.now_us <= last_now_us_) {
+        detected |= fault_bit(Fault::kClockFault);
+    }
+    // Latch, and count fault-free cycles for the recoverable ones.
+    latched_ |= detected;
+    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+        const std::uint32_t bit = 1U << f;
+        if ((detected & bit) != 0U) {
+            clean_cycles_[f] = 0U;
+        } else if ((latched_ & bit) != 0U && (bit & kNonRecoverableFaults) == 0U) {
+            if (++clean_cycles_[f] >= config_.fault_recovery_cycles) {
+                latched_ &= ~bit;
+                clean_cycles_[f] = 0U;
+            }
+        }
+    }
+    if (!have_time_ || in.now_us > last_now_us_) {
+        last_now_us_ = in.now_us;  // a clock that went back does not move the reference back
+    }
+    have_time_ = true;
+
+    SafetyOutputs out;
+    out.latched_faults = latched_;
+    const bool faulted = latched_ != 0U;
+    std::uint32_t not_clear = 0U;
+    if (faulted || in.zones == nullptr) {
+        out.fault_zone_mask = (zones_->size() >= 32U) ? 0xFFFFFFFFU : ((1U << zones_->size()) - 1U);
+        not_clear = out.fault_zone_mask;
+    } else {
+        out.intruded_mask = in.zones->intruded_mask;
+        out.unseen_mask = in.zones->unseen_mask;
+        not_clear = in.zones->not_clear_mask;
+    }
+    // Which zones are protective, read from the zones every cycle (their
+    // settings are CRC-checked every cycle, SR-CTRL-010) rather than kept in
+    // a copy of our own; any kind other than kWarning counts as protective.
+    std::uint32_t warning_mask = 0U;
+    std::uint32_t protective_mask = 0U;
+    for (std::size_t z = 0U; z < zones_->size(); ++z) {
+        const std::uint32_t bit = 1U << z;
+        if (zones_->config(z).kind == ZoneKind::kWarning) {
+            warning_mask |= bit;
+        } else {
+            protective_mask |= bit;
+        }
+    }
+    out.warning = (not_clear & warning_mask) != 0U;
+    const bool protective_clear = !faulted && (not_clear & protective_mask) == 0U;
+
+    const bool reset_edge = in.reset_input && !last_reset_;
+    last_reset_ = in.reset_input;
+    if (!protective_clear) {
+        clear_running_ = false;
+        out.stop_requested = true;
+        out.interlock_holding = false;
+    } else if (!out_.stop_requested) {
+        out.stop_requested = false;  // already running and still clear
+        out.interlock_holding = false;
+    } else {
+        if (!clear_running_) {
+            clear_running_ = true;
+            clear_since_us_ = in.now_us;
+        }
+        const bool delay_over = in.now_us - clear_since_us_ >= config_.restart_delay_us;
+        const bool released = delay_over && (!config_.reset_required || reset_edge);
+        out.stop_requested = !released;
+        out.interlock_holding = !released;
+    }
+    out_ = out;
+    return out;
+}
+
+}  // namespace cellguard
