@@ -34,9 +34,9 @@ t0=$(date +%s)
 stamp() { echo "cross: [$(( $(date +%s) - t0 )) s] $*"; }
 digest_of() { sed -n 's/^digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }
 
-configure() {  # <dir> <toolchain> [cmake arguments]
+configure() {  # <dir> <preset> [cmake arguments]; the presets (CMakePresets.json) name the toolchains/ files
   mkdir -p "$1"
-  cmake -S "$root" -B "$1" -G Ninja --toolchain "$root/toolchains/$2.cmake" "${@:3}" >"$1/cross-configure.log" 2>&1 ||
+  cmake -S "$root" --preset "$2" -B "$1" "${@:3}" >"$1/cross-configure.log" 2>&1 ||
     { cat "$1/cross-configure.log"; exit 1; }
 }
 
@@ -48,8 +48,8 @@ cmake --build "$bdir/build-x86" -j "$jobs" --target cellguard-firmware-digest >/
 d_x86=$(digest_of "$bdir/build-x86/firmware-digest.log")
 
 stamp "aarch64: building"
-# No benchmarks: under qemu-user they would time the emulator, not the SoC.
-configure "$bdir/build-aarch64" aarch64-linux -DCELLGUARD_BUILD_BENCH=OFF
+# No benchmarks (the preset): under qemu-user they would time the emulator, not the SoC.
+configure "$bdir/build-aarch64" aarch64-linux
 cmake --build "$bdir/build-aarch64" -j "$jobs" >/dev/null
 if [ "$run_ctest" -eq 1 ]; then
   stamp "aarch64: ctest under qemu-aarch64"

@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --preset release -B build >/dev/null  # CMakePresets.json
 cmake --build build -j "$(nproc)" --target cellguard-monitor
 if [ "$#" -eq 0 ]; then
   set -- --demo

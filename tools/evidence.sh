@@ -73,7 +73,7 @@ section_of() {
 if [ "$lint" -eq 1 ]; then
     step "static analysis: tools/lint.sh"
     lint_build=${CELLGUARD_BENCH_BUILD:-build-cert}
-    [ -f "$lint_build/compile_commands.json" ] || cmake -S . -B "$lint_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+    [ -f "$lint_build/compile_commands.json" ] || cmake --preset release -B "$lint_build" >/dev/null
     tools/lint.sh "$lint_build" || fail "lint findings"
 fi
 
@@ -152,17 +152,16 @@ step "coverage of lib/ by the unit tests (gcovr)"
 # run about 40x slower than at -O2 (5.5 CPU minutes here; -Og: see coverage.md),
 # too slow for --check in CI. -Og keeps the line and branch structure that gcov
 # reports close to -O0; NDEBUG is defined as in the shipped RelWithDebInfo build.
-# CELLGUARD_COV_MODE=o0 measures with the project's option instead (build-cov, -O0; slow).
+# CELLGUARD_COV_MODE=o0 measures with the project's option instead (build-cov, -O0; slow;
+# the coverage-o0 preset).
 if [ "${CELLGUARD_COV_MODE:-og}" = o0 ]; then
     cov_build=${CELLGUARD_COV_BUILD:-build-cov}
-    [ -f "$cov_build/CMakeCache.txt" ] || cmake -S . -B "$cov_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-        -DCELLGUARD_COVERAGE=ON -DCELLGUARD_BUILD_BENCH=OFF >/dev/null
+    [ -f "$cov_build/CMakeCache.txt" ] || cmake --preset coverage-o0 -B "$cov_build" >/dev/null
 fi
 if [ ! -f "$cov_build/CMakeCache.txt" ]; then
-    cmake -S . -B "$cov_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-Og -g -DNDEBUG" \
-        -DCMAKE_CXX_FLAGS=--coverage -DCMAKE_C_FLAGS=--coverage -DCMAKE_EXE_LINKER_FLAGS=--coverage \
-        -DCELLGUARD_BUILD_BENCH=OFF >/dev/null
+    # The coverage preset (CMakePresets.json): RelWithDebInfo with "-Og -g -DNDEBUG",
+    # --coverage in the C, C++ and link flags, no benchmarks.
+    cmake --preset coverage -B "$cov_build" >/dev/null
 fi
 grep -q -e '--coverage' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
 cmake --build "$cov_build" -j "$jobs" --target cellguard_unit_tests >/dev/null

@@ -5,9 +5,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build-fuzz}
 seconds=${2:-30}
-CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCELLGUARD_BUILD_FUZZ=ON -DCELLGUARD_BUILD_TESTS=OFF -DCELLGUARD_BUILD_BENCH=OFF -DCELLGUARD_BUILD_APPS=OFF \
-  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" >/dev/null
+# The fuzz preset (CMakePresets.json): clang, RelWithDebInfo, the fuzz targets
+# only, -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined.
+cmake --preset fuzz -B "$build" >/dev/null
 cmake --build "$build" -j "$(nproc)"
 shopt -s nullglob
 targets=("$build"/tests/fuzz_*)

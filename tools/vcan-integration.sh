@@ -45,8 +45,7 @@ die() { say "FAIL: $*"; exit 1; }
 
 # --- build ------------------------------------------------------------------
 if [ ! -f "$build/CMakeCache.txt" ]; then
-  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-        -DCELLGUARD_BUILD_TESTS=OFF -DCELLGUARD_BUILD_BENCH=OFF > /dev/null
+  cmake --preset release -B "$build" -DCELLGUARD_BUILD_TESTS=OFF -DCELLGUARD_BUILD_BENCH=OFF > /dev/null
 fi
 [ -f "$build/build.ninja" ] || die "$build is not a Ninja build directory"
 cmake --build "$build" -j 2 --target cellguard-monitor cellguard-monitor-check-log
