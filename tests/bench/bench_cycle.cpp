@@ -61,7 +61,7 @@
 #include "cellguard/grid/ray_table.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/can/safety_output.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/safety/zones.hpp"
 
 using namespace cellguard;

@@ -16,7 +16,7 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/grid/ray_table.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 #ifdef CELLGUARD_HAVE_OCTOMAP
 #include <octomap/octomap.h>

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/linux/npy.hpp"
+#include "cellguard/host/io/npy.hpp"
 
 using namespace cellguard;
 

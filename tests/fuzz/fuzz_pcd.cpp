@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/linux/pcd.hpp"
+#include "cellguard/host/io/pcd.hpp"
 
 using namespace cellguard;
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/linux/candump_log.hpp"
-#include "cellguard/linux/monotonic_clock.hpp"
+#include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/port/clock.hpp"
 
 using namespace cellguard;
 using namespace cellguard::linux_port;

@@ -19,11 +19,12 @@
 #include <utility>
 #include <vector>
 
-#include "cellguard/linux/candump_log.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 
 namespace {
@@ -48,9 +49,9 @@ std::vector<std::string> demo_log_lines() {
     return lines;
 }
 
-linux_port::CandumpRecord record_of(const std::string& line) {
-    linux_port::CandumpRecord r;
-    REQUIRE(linux_port::parse_candump_line(line.c_str(), r).ok());
+CandumpRecord record_of(const std::string& line) {
+    CandumpRecord r;
+    REQUIRE(parse_candump_line(line.c_str(), r).ok());
     return r;
 }
 
@@ -61,9 +62,9 @@ std::vector<std::string> retimed(const std::vector<std::string>& lines, std::siz
     for (const std::string& l : lines) {
         timed.emplace_back(record_of(l).timestamp_us, l);
     }
-    const linux_port::CandumpRecord r = record_of(lines.at(index));
-    char text[linux_port::kCandumpLineCapacity];
-    const std::size_t n = linux_port::format_candump_line(text, sizeof(text), t_us, r.interface_name, r.frame);
+    const CandumpRecord r = record_of(lines.at(index));
+    char text[kCandumpLineCapacity];
+    const std::size_t n = format_candump_line(text, sizeof(text), t_us, r.interface_name, r.frame);
     REQUIRE(n > 0U);
     timed[index] = {t_us, std::string(text, n)};
     std::stable_sort(timed.begin(), timed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -104,7 +105,7 @@ std::string all_failures(const DemoLogCheck& r) {
 
 /// The time stamp of cycle @p cycle's safety frame (line 3 * cycle), checked to be one.
 std::uint64_t safety_frame_time(const std::vector<std::string>& lines, int cycle) {
-    const linux_port::CandumpRecord r = record_of(lines.at(kLinesPerCycle * static_cast<std::size_t>(cycle)));
+    const CandumpRecord r = record_of(lines.at(kLinesPerCycle * static_cast<std::size_t>(cycle)));
     REQUIRE(r.frame.id == demo_config().can.channel.safety_can_id);
     return r.timestamp_us;
 }
@@ -153,7 +154,7 @@ TEST_CASE("cellguard-monitor-check-log on the demo log: one safety frame delayed
     // the copy missing.
     const std::vector<std::string> lines = demo_log_lines();
     const std::uint64_t t31 = safety_frame_time(lines, 31);
-    const linux_port::CandumpRecord copy30 = record_of(lines.at(91U));
+    const CandumpRecord copy30 = record_of(lines.at(91U));
     REQUIRE(copy30.frame.id == inverted_can_id(demo_config().can.channel));
     REQUIRE(t31 - 20000U > copy30.timestamp_us + 50000U);  // the delayed frame is past the SRVT after its copy
     const DemoLogCheck r = check_lines(retimed(lines, 90U, t31 - 20000U));

@@ -11,7 +11,7 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 

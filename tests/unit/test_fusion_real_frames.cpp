@@ -8,7 +8,7 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/linux/pcd.hpp"
+#include "cellguard/host/io/pcd.hpp"
 
 using namespace cellguard;
 

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "cellguard/linux/io_status.hpp"
+#include "cellguard/host/io/io_status.hpp"
 
 using namespace cellguard;
 

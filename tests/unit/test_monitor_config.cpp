@@ -3,11 +3,11 @@
 
 #include <string>
 
-#include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/scenario.hpp"
 
 using namespace cellguard;
-using namespace cellguard::monitor;
+using namespace cellguard::cell;
 
 namespace {
 

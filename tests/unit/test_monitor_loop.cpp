@@ -14,16 +14,17 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/monitor/can_port.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
-#include "cellguard/monitor/frame_source.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
-#include "cellguard/monitor/pcd_input.hpp"
-#include "cellguard/monitor/scenario.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
+#include "cellguard/host/cell/scenario.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 
 namespace {

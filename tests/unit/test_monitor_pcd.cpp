@@ -12,13 +12,13 @@
 #include <vector>
 
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/pcd_input.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
-using namespace cellguard::monitor;
+using namespace cellguard::cell;
 
 namespace {
 

@@ -15,11 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/png.hpp"
+#include "cellguard/host/io/png.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/monitor/picture.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 using cellguard::host::IndexedImage;
 

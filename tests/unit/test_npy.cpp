@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/linux/npy.hpp"
+#include "cellguard/host/io/npy.hpp"
 #include "cellguard/grid/log_odds.hpp"
 
 using namespace cellguard;

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/sim/experiment.hpp"
+#include "cellguard/host/sim/experiment.hpp"
 
 using namespace cellguard;
 

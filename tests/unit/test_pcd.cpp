@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/linux/pcd.hpp"
+#include "cellguard/host/io/pcd.hpp"
 
 using namespace cellguard;
 

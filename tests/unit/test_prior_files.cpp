@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/linux/prior_files.hpp"
+#include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/prior/prior_image.hpp"
 

@@ -21,12 +21,12 @@
 
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/linux/npy.hpp"
-#include "cellguard/linux/pcd.hpp"
+#include "cellguard/host/io/npy.hpp"
+#include "cellguard/host/io/pcd.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 using namespace cellguard::prior_tool;

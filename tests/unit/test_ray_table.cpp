@@ -13,7 +13,7 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/grid/ray_table.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 

@@ -20,10 +20,10 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/linux/pcd.hpp"
-#include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/scenario.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/io/pcd.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/scenario.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 #include "cellguard/safety/zones.hpp"
 
@@ -269,16 +269,16 @@ TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted
         s.height = 480;
     }
     const GridGeometry g = paper_grid_geometry();
-    const monitor::MonitorConfig demo = monitor::demo_config();
+    const cell::MonitorConfig demo = cell::demo_config();
     std::vector<ZoneConfig> configs;
-    for (const monitor::ZoneSettings& z : demo.zones) {
+    for (const cell::ZoneSettings& z : demo.zones) {
         configs.push_back(z.zone);
     }
     std::vector<std::uint32_t> mask(g.voxel_count());
     const CompiledZones zones = CompiledZones::compile(g, {configs.data(), configs.size()}, {mask.data(), mask.size()}).value();
     const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
     sim::Scene with_person = sim::reference_scene();
-    with_person.boxes.push_back(monitor::person_box(monitor::demo_person(18)));  // in the protective zone
+    with_person.boxes.push_back(cell::person_box(cell::demo_person(18)));  // in the protective zone
     const sim::SimulatedFrame person = sim::render_frame(sensors, with_person);
     const SensorModelTable model;
     for (const PriorMethod method : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {

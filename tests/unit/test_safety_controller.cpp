@@ -14,7 +14,7 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 

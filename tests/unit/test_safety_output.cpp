@@ -11,7 +11,8 @@ using namespace cellguard;
 
 namespace {
 
-/// Records every frame; fails the send with index fail_at (counting from 0), if set.
+/// Records every frame; fails the send with index fail_at (counting from 0),
+/// if set; reports the detail faults `details` and counts the queries.
 class RecordingSender final : public CanSender {
 public:
     bool send(const CanFrame& frame) noexcept override {
@@ -19,8 +20,24 @@ public:
         frames.push_back(frame);
         return ok;
     }
+    std::uint16_t detail_faults() noexcept override {
+        ++detail_queries;
+        return details;
+    }
     std::vector<CanFrame> frames;
     int fail_at = -1;
+    std::uint16_t details = 0U;
+    int detail_queries = 0;
+};
+
+/// A sender with only send(): the interface's default detail faults.
+class PlainSender final : public CanSender {
+public:
+    bool send(const CanFrame& frame) noexcept override {
+        frames.push_back(frame);
+        return true;
+    }
+    std::vector<CanFrame> frames;
 };
 
 SafetyOutputConfig output_config(std::uint8_t zones = 2U) {
@@ -107,14 +124,30 @@ TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the co
 TEST_CASE("safety output: latched faults go to ActiveFaults bits 0..8 and the CAN details to bits 9..14") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
-    out.set_can_detail_faults(static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) | 0x8001U));
+    // The sender's own details; bits outside 9..14 are not sent.
+    sender.details = static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) | 0x8001U);
     REQUIRE(out.publish(report_with(true, 0U, fault_bit(Fault::kSensorStale) | fault_bit(Fault::kCanError))));
+    CHECK(sender.detail_queries == 1);  // once per cycle
     const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
     CHECK(d.message.active_faults == (fault_bit(FaultCode::kSensorStale) | fault_bit(FaultCode::kCanError) |
                                       fault_bit(FaultCode::kCanBusOff)));
     const SafetyFrameContent s = decode_safety_frame(sender.frames[0], SafetyChannelConfig{}).value();
     CHECK(s.message.fault);
     CHECK(s.message.protective_stop);
+    // The next cycle carries what the sender reports then: the bus-off has cleared.
+    sender.details = 0U;
+    REQUIRE(out.publish(report_with(false, 0U, 0U)));
+    CHECK(sender.detail_queries == 2);
+    CHECK(decode_diagnostics_frame(sender.frames[5], SafetyChannelConfig{}).value().message.active_faults == 0U);
+}
+
+// verifies: SR-CAN-005
+TEST_CASE("safety output: a sender without detail faults leaves bits 9..14 clear") {
+    PlainSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    REQUIRE(out.publish(report_with(false, 0U, fault_bit(Fault::kCanError))));
+    const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
+    CHECK(d.message.active_faults == fault_bit(FaultCode::kCanError));
 }
 
 // verifies: SR-CAN-006

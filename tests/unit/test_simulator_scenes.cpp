@@ -6,10 +6,10 @@
 #include <cmath>
 #include <string>
 
-#include "cellguard/sim/experiment.hpp"
-#include "cellguard/sim/ground_truth.hpp"
-#include "cellguard/sim/noise.hpp"
-#include "cellguard/sim/scene_file.hpp"
+#include "cellguard/host/sim/experiment.hpp"
+#include "cellguard/host/sim/ground_truth.hpp"
+#include "cellguard/host/sim/noise.hpp"
+#include "cellguard/host/sim/scene_file.hpp"
 
 using namespace cellguard;
 

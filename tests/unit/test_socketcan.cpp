@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "cellguard/linux/socketcan.hpp"
+#include "cellguard/port/can.hpp"
 
 using namespace cellguard;
 using namespace cellguard::linux_port;
@@ -164,7 +164,7 @@ TEST_CASE("socketcan: opening a missing interface, or with a bad name, is a clea
 TEST_CASE("socketcan: a closed socket refuses to send and receive, and the refusal is a send fault") {
     SocketCan can;
     const CanFrame f{0x101U, 8U, {}};
-    CHECK(can.send(f).error == SocketCanError::kNotOpen);
+    CHECK(can.transmit(f).error == SocketCanError::kNotOpen);
     CHECK(can.active_faults() == fault_bit(FaultCode::kCanSendFailed));
     CanFrame out{};
     CHECK(can.receive(out) == SocketCan::ReceiveOutcome::kFailed);
@@ -172,6 +172,16 @@ TEST_CASE("socketcan: a closed socket refuses to send and receive, and the refus
     SocketCan moved(std::move(can));
     CHECK_FALSE(moved.is_open());
     CHECK(std::string(to_string(static_cast<SocketCanError>(250))) == "unknown SocketCAN error");
+}
+
+// verifies: SR-CAN-011, SR-CAN-005
+TEST_CASE("socketcan: as a CanSender it reports a refused send as false and its own fault as a detail fault") {
+    SocketCan can;
+    CanSender& sender = can;
+    CHECK(sender.detail_faults() == 0U);  // closed, nothing sent yet: no fault, and no socket read
+    CHECK_FALSE(sender.send(CanFrame{0x101U, 8U, {}}));
+    CHECK(sender.detail_faults() == fault_bit(FaultCode::kCanSendFailed));
+    CHECK((sender.detail_faults() & ~kCanDetailFaultBits) == 0U);
 }
 
 // verifies: SR-CAN-011

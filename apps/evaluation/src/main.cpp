@@ -17,8 +17,8 @@
 
 #include "cellguard/host/command_line.hpp"
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/sim/experiment.hpp"
-#include "cellguard/host/png.hpp"
+#include "cellguard/host/sim/experiment.hpp"
+#include "cellguard/host/io/png.hpp"
 #include "render.hpp"
 
 using namespace cellguard;

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/sim/workcell.hpp"
-#include "cellguard/host/png.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/host/io/png.hpp"
 
 namespace cellguard::eval {
 

@@ -35,7 +35,7 @@ bool CanPort::send(const CanFrame& frame) noexcept {
     bool sent = false;
     switch (kind_) {
         case Kind::kInterface:
-            sent = socket_.send(frame).ok();
+            sent = socket_.send(frame);
             break;
         case Kind::kLog:
             sent = log_.send(frame);
@@ -52,15 +52,14 @@ bool CanPort::send(const CanFrame& frame) noexcept {
     return sent;
 }
 
-std::uint16_t CanPort::poll_faults() noexcept {
-    if (kind_ != Kind::kInterface) {
-        return 0U;
+std::uint16_t CanPort::detail_faults() noexcept {
+    switch (kind_) {
+        case Kind::kInterface: return socket_.detail_faults();
+        case Kind::kSender: return sender_->detail_faults();
+        case Kind::kLog:
+        case Kind::kNone: break;
     }
-    CanFrame rx{};
-    int drained = 0;
-    while (socket_.receive(rx) != linux_port::SocketCan::ReceiveOutcome::kNothing && ++drained < 64) {
-    }
-    return socket_.active_faults();
+    return 0U;
 }
 
 bool CanPort::close() noexcept {

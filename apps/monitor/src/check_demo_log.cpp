@@ -11,10 +11,11 @@
 
 #include "cellguard/host/cli.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 
 namespace {

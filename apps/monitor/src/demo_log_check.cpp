@@ -9,8 +9,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "cellguard/linux/candump_log.hpp"
-#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/host/cell/scenario.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -43,7 +43,7 @@ std::string fault_text(ReceiverFault fault, const PlcReceiverConfig& rc) {
 /// One log, line by line: see the file comment of demo_log_check.hpp.
 class LogChecker {
 public:
-    LogChecker(const MonitorConfig& cfg, const PlcReceiverConfig& rc, int cycles, DemoLogCheck& out)
+    LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, int cycles, DemoLogCheck& out)
         : cfg_(cfg), rc_(rc), plc_(rc), step_us_(demo_log_poll_interval_us(rc)), cycles_(cycles), out_(out) {}
 
     void line(const std::string& text);
@@ -58,7 +58,7 @@ private:
     void on_diagnostics_frame(const CanFrame& f, const std::string& where);
     int check_entry_cycle();
 
-    const MonitorConfig& cfg_;
+    const cell::MonitorConfig& cfg_;
     PlcReceiverConfig rc_;
     PlcReceiver plc_;
     std::uint64_t step_us_;
@@ -80,8 +80,8 @@ private:
 void LogChecker::line(const std::string& text) {
     ++lines_;
     const std::string where = "line " + std::to_string(lines_);
-    linux_port::CandumpRecord rec;
-    const IoStatus st = linux_port::parse_candump_line(text.c_str(), rec);
+    CandumpRecord rec;
+    const IoStatus st = parse_candump_line(text.c_str(), rec);
     if (!st.ok()) {
         fail(where + ": " + st.message());
         return;
@@ -178,9 +178,9 @@ void LogChecker::on_diagnostics_frame(const CanFrame& f, const std::string& wher
 /// (-1: never); checks the stop bits there and in the cycle before.
 int LogChecker::check_entry_cycle() {
     int entry = -1;
-    for (const ZoneSettings& z : cfg_.zones) {
+    for (const cell::ZoneSettings& z : cfg_.zones) {
         for (int k = 0; z.zone.kind == ZoneKind::kProtective && k < cycles_ && entry < 0; ++k) {
-            entry = person_overlaps(z.zone, demo_person(k)) ? k : -1;
+            entry = cell::person_overlaps(z.zone, cell::demo_person(k)) ? k : -1;
         }
     }
     const bool inside = entry > 0 && entry < static_cast<int>(stop_.size());
@@ -229,7 +229,7 @@ void LogChecker::finish() {
 
 }  // namespace
 
-PlcReceiverConfig demo_log_receiver_config(const MonitorConfig& config) {
+PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) {
     PlcReceiverConfig rc;
     rc.channel = config.can.channel;
     rc.srvt_us = config.period_us / 2U;
@@ -242,7 +242,7 @@ std::uint64_t demo_log_poll_interval_us(const PlcReceiverConfig& receiver) noexc
     return std::max<std::uint64_t>(1U, std::min<std::uint64_t>(1000U, receiver.srvt_us / 10U));
 }
 
-DemoLogCheck check_demo_log(std::istream& log, int cycles, const MonitorConfig& config) {
+DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorConfig& config) {
     DemoLogCheck out;
     const PlcReceiverConfig rc = demo_log_receiver_config(config);
     if (cycles < 1 || cycles > kDemoLogMaxCycles) {
@@ -265,7 +265,7 @@ DemoLogCheck check_demo_log(std::istream& log, int cycles, const MonitorConfig& 
     return out;
 }
 
-DemoLogCheck check_demo_log_file(const std::string& path, int cycles, const MonitorConfig& config) {
+DemoLogCheck check_demo_log_file(const std::string& path, int cycles, const cell::MonitorConfig& config) {
     errno = 0;
     std::ifstream in(path);
     if (!in) {

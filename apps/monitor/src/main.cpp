@@ -18,18 +18,19 @@
 #include <vector>
 
 #include "cellguard/base/crc32.hpp"
-#include "cellguard/host/cli.hpp"
-#include "cellguard/linux/monotonic_clock.hpp"
+#include "cellguard/host/command_line.hpp"
+#include "cellguard/port/clock.hpp"
 #include "cellguard/monitor/can_port.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
-#include "cellguard/monitor/frame_source.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
-#include "cellguard/monitor/pcd_input.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/monitor/picture.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 
 namespace {
@@ -38,37 +39,6 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
-const char* kUsage =
-    "usage: cellguard-monitor [--demo | --config FILE] [options]\n"
-    "\n"
-    "Protective-zone monitor: fuses the workcell's depth sensors every cycle,\n"
-    "evaluates the protective and warning zones, and sends the CAN safety\n"
-    "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
-    "interface or into a candump-format log. The sensor input is the workcell\n"
-    "simulator (a scripted person walking through the cell), or for sensors\n"
-    "with `pcd_files` in the configuration, recorded PCD frames, each checked.\n"
-    "\n"
-    "  --demo              the built-in paper cell (the default with no arguments)\n"
-    "  --config FILE       load the configuration from a TOML file\n"
-    "                      (example: apps/monitor/config/paper-cell.toml)\n"
-    "  --cycles N          run N cycles (default: the config's demo.cycles, 60)\n"
-    "  --log FILE          candump log path (default: the config's can.log_file)\n"
-    "  --can-interface IF  send on SocketCAN interface IF instead of the log\n"
-    "  --paced             one cycle per period on the real clock (default: as fast as possible)\n"
-    "  --budget-ms MS      cycle time budget, overriding the config's cycle.budget_ms (1..60000);\n"
-    "                      for tests on emulators or loaded hosts, where the real budget is not the point\n"
-    "  --realtime          SCHED_FIFO, mlockall and CPU affinity where permitted\n"
-    "  --quiet             no per-cycle status lines\n"
-    "  --picture FILE      write a PNG of the grid, the background and the zones\n"
-    "                      (top view and one sensor's view) and exit\n"
-    "  --picture-sensor S  the sensor of that view, by name or number from 1 (default 1)\n"
-    "  --help              this text\n"
-    "  --version           print the version and exit\n"
-    "\n"
-    "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
-    "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
-    "3 done but the CAN output failed in some cycle (the PLC may have missed frames).\n";
-
 struct Options {
     bool demo = false;
     std::string config_path;
@@ -76,86 +46,51 @@ struct Options {
     std::string log_file;
     std::string can_interface;
     bool paced = false;
-    long budget_ms = -1;  ///< -1: the config's budget
+    int budget_ms = -1;  ///< -1: the config's budget
     bool realtime = false;
     bool quiet = false;
     std::string picture;
     std::string picture_sensor;
 };
 
-[[noreturn]] void usage_error(const std::string& message) {
-    std::fprintf(stderr, "cellguard-monitor: %s\nTry 'cellguard-monitor --help'.\n", message.c_str());
-    std::exit(2);
-}
-
-Options parse_args(int argc, char** argv) {
-    Options o;
-    if (argc <= 1) {
-        o.demo = true;
-        return o;
+/// Reads the command line into @p o: -1 to run, else the exit status (0
+/// after --help or --version, 2 after a usage error). No arguments, or
+/// options without --config: the built-in demo configuration.
+int parse_args(int argc, char** argv, Options& o) {
+    host::CommandLine cli(
+        "cellguard-monitor", "cellguard-monitor [--demo | --config FILE] [options]",
+        "Protective-zone monitor: fuses the workcell's depth sensors every cycle,\n"
+        "evaluates the protective and warning zones, and sends the CAN safety\n"
+        "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
+        "interface or into a candump-format log. The sensor input is the workcell\n"
+        "simulator (a scripted person walking through the cell), or for sensors\n"
+        "with `pcd_files` in the configuration, recorded PCD frames, each checked.",
+        "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
+        "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
+        "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
+    CLI::Option* demo = cli.flag("--demo", o.demo, "the built-in paper cell (the default with no arguments)");
+    CLI::Option* config = cli.text("--config", o.config_path, "FILE",
+                                   "load the configuration from a TOML file\n"
+                                   "(example: apps/monitor/config/paper-cell.toml)");
+    demo->excludes(config);
+    cli.integer("--cycles", o.cycles, 1, 1000000, "N", "run N cycles (default: the config's demo.cycles, 60)");
+    CLI::Option* log = cli.text("--log", o.log_file, "FILE", "candump log path (default: the config's can.log_file)");
+    CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF", "send on SocketCAN interface IF instead of the log");
+    log->excludes(can);
+    cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
+    cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
+                "cycle time budget, overriding the config's cycle.budget_ms; for tests on\n"
+                "emulators or loaded hosts, where the real budget is not the point");
+    cli.flag("--realtime", o.realtime, "SCHED_FIFO, mlockall and CPU affinity where permitted");
+    cli.flag("--quiet", o.quiet, "no per-cycle status lines");
+    cli.text("--picture", o.picture, "FILE",
+             "write a PNG of the grid, the background and the zones\n(top view and one sensor's view) and exit");
+    cli.text("--picture-sensor", o.picture_sensor, "S", "the sensor of that view, by name or number from 1 (default 1)");
+    const int status = cli.parse(argc, argv);
+    if (o.config_path.empty()) {
+        o.demo = true;  // no arguments, or options only: the built-in demo configuration
     }
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&](const char* name) -> std::string {
-            if (i + 1 >= argc || !host::is_option_value(argv[i + 1])) {
-                usage_error(std::string(name) + " needs a value");
-            }
-            return argv[++i];
-        };
-        // The value of option @p name as an integer in [lo, hi]; anything else is a usage error.
-        auto integer_value = [&](const char* name, long lo, long hi) -> long {
-            const std::string v = value(name);
-            char* end = nullptr;
-            errno = 0;
-            const long n = std::strtol(v.c_str(), &end, 10);
-            if (errno != 0 || end == v.c_str() || *end != '\0' || n < lo || n > hi) {
-                usage_error(std::string(name) + " expects an integer " + std::to_string(lo) + ".." + std::to_string(hi) +
-                            ", got '" + v + "'");
-            }
-            return n;
-        };
-        if (a == "--help" || a == "-h") {
-            std::fputs(kUsage, stdout);
-            std::exit(0);
-        } else if (a == "--version") {
-            host::print_version("cellguard-monitor");
-            std::exit(0);
-        } else if (a == "--demo") {
-            o.demo = true;
-        } else if (a == "--config") {
-            o.config_path = value("--config");
-        } else if (a == "--cycles") {
-            o.cycles = static_cast<int>(integer_value("--cycles", 1, 1000000));
-        } else if (a == "--log") {
-            o.log_file = value("--log");
-        } else if (a == "--can-interface") {
-            o.can_interface = value("--can-interface");
-        } else if (a == "--paced") {
-            o.paced = true;
-        } else if (a == "--budget-ms") {
-            o.budget_ms = integer_value("--budget-ms", 1, 60000);
-        } else if (a == "--realtime") {
-            o.realtime = true;
-        } else if (a == "--quiet") {
-            o.quiet = true;
-        } else if (a == "--picture") {
-            o.picture = value("--picture");
-        } else if (a == "--picture-sensor") {
-            o.picture_sensor = value("--picture-sensor");
-        } else {
-            usage_error("unknown argument '" + a + "'");
-        }
-    }
-    if (o.demo && !o.config_path.empty()) {
-        usage_error("--demo and --config exclude each other");
-    }
-    if (!o.demo && o.config_path.empty()) {
-        o.demo = true;  // options only: the built-in demo configuration
-    }
-    if (!o.log_file.empty() && !o.can_interface.empty()) {
-        usage_error("--log and --can-interface exclude each other");
-    }
-    return o;
+    return status;
 }
 
 /// Real-time set-up: each step reports what it did or why it could not.
@@ -281,7 +216,10 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options opt = parse_args(argc, argv);
+    Options opt;
+    if (const int status = parse_args(argc, argv, opt); status >= 0) {
+        return status;
+    }
     // Every prior and ray-table check reads these tables; a corrupt table would pass a
     // bad prior or fail a good one (hazard H-MEM-2), so they are checked before anything else.
     if (!cellguard::crc32_table_self_test()) {

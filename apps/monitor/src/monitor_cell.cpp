@@ -8,7 +8,7 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/cycle.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/linux/prior_files.hpp"
+#include "cellguard/host/io/prior_files.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -39,7 +39,7 @@ __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char*
 }
 
 // The prior image file of @p cfg, copied into @p prior.
-SetupError read_prior(const MonitorConfig& cfg, const GridGeometry& g, std::vector<std::int16_t>& prior,
+SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std::vector<std::int16_t>& prior,
                       std::FILE* out) {
     std::vector<std::uint8_t> bytes;
     PriorImageView view;
@@ -56,7 +56,7 @@ SetupError read_prior(const MonitorConfig& cfg, const GridGeometry& g, std::vect
 
 }  // namespace
 
-sim::SensorSpec to_spec(const SensorSettings& s, bool simulated_background, std::string& error) {
+sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background, std::string& error) {
     sim::SensorSpec spec;
     spec.name = s.name;
     spec.position = s.position;
@@ -87,7 +87,7 @@ sim::SensorSpec to_spec(const SensorSettings& s, bool simulated_background, std:
     return spec;
 }
 
-ControllerConfig controller_config(const MonitorConfig& cfg) {
+ControllerConfig controller_config(const cell::MonitorConfig& cfg) {
     ControllerConfig cc;
     cc.sensor_count = cfg.sensors.size();
     cc.logic.restart_delay_us = cfg.restart_delay_us;
@@ -103,20 +103,20 @@ ControllerConfig controller_config(const MonitorConfig& cfg) {
     return cc;
 }
 
-SetupError MonitorCell::configure(const MonitorConfig& cfg) {
+SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
     grid = GridGeometry::make(cfg.grid.origin, cfg.grid.voxel_size,
                               GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]})
                .value();
     specs.clear();
-    for (const SensorSettings& s : cfg.sensors) {
+    for (const cell::SensorSettings& s : cfg.sensors) {
         std::string error;
-        specs.push_back(to_spec(s, cfg.prior.source == PriorSource::kSimulatedBackground, error));
+        specs.push_back(to_spec(s, cfg.prior.source == cell::PriorSource::kSimulatedBackground, error));
         if (!error.empty()) {
             return failure(2, "configuration error: %s", error.c_str());
         }
     }
     std::vector<ZoneConfig> zone_configs;
-    for (const ZoneSettings& z : cfg.zones) {
+    for (const cell::ZoneSettings& z : cfg.zones) {
         zone_configs.push_back(z.zone);
     }
     zone_mask.assign(grid.voxel_count(), 0U);
@@ -124,7 +124,7 @@ SetupError MonitorCell::configure(const MonitorConfig& cfg) {
         CompiledZones::compile(grid, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()});
     if (!compiled.ok()) {
         const ZoneError zone_error = compiled.error();
-        const ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
+        const cell::ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
         return failure(2, "configuration error: line %d: zone '%s': %s (%s)", z.line, z.name.c_str(),
                        zone_error.reason, to_string(zone_error.code));
     }
@@ -139,8 +139,8 @@ SetupError MonitorCell::configure(const MonitorConfig& cfg) {
     return {};
 }
 
-SetupError MonitorCell::build_prior(const MonitorConfig& cfg, std::FILE* out) {
-    if (cfg.prior.source == PriorSource::kFile) {
+SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* out) {
+    if (cfg.prior.source == cell::PriorSource::kFile) {
         return read_prior(cfg, grid, prior, out);
     }
     std::vector<std::int16_t> bg_lo(grid.voxel_count());
@@ -170,7 +170,7 @@ SetupError MonitorCell::build_prior(const MonitorConfig& cfg, std::FILE* out) {
     return {};
 }
 
-SetupError MonitorCell::build_tables(const MonitorConfig& cfg, std::FILE* out) {
+SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* out) {
     layout = sim::render_frame(specs, sim::reference_scene());
     tables.clear();
     tables.resize(specs.size());

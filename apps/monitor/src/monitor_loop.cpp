@@ -6,13 +6,13 @@
 #include <cstring>
 #include <ctime>
 
-#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/host/cell/scenario.hpp"
 
 namespace cellguard::monitor {
 namespace {
 
 // The CAN safety output's configuration for @p cfg, with the controller's prior CRC.
-SafetyOutputConfig output_config(const MonitorConfig& cfg, const MonitorCell& cell, std::uint32_t prior_crc) {
+SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCell& cell, std::uint32_t prior_crc) {
     SafetyOutputConfig oc;
     oc.channel = cfg.can.channel;
     oc.zone_count = static_cast<std::uint8_t>(cell.zones.size());
@@ -22,13 +22,13 @@ SafetyOutputConfig output_config(const MonitorConfig& cfg, const MonitorCell& ce
 
 // Room for the longest status line of @p cfg: the fixed text and numbers,
 // every zone's name with the longest state, every fault's name.
-std::size_t status_line_capacity(const MonitorConfig& cfg) {
+std::size_t status_line_capacity(const cell::MonitorConfig& cfg) {
     std::size_t longest_state = 0U;
     for (const ZoneState s : {ZoneState::kClear, ZoneState::kIntruded, ZoneState::kUnseen, ZoneState::kFault}) {
         longest_state = std::max(longest_state, std::strlen(to_string(s)));
     }
     std::size_t n = 256U;  // "t=... cycle ... " with the 63-character scene text, stop and warning, cycle time
-    for (const ZoneSettings& z : cfg.zones) {
+    for (const cell::ZoneSettings& z : cfg.zones) {
         n += z.name.size() + 2U + longest_state;
     }
     for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
@@ -80,7 +80,7 @@ const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capaci
     return out;
 }
 
-MonitorLoop::MonitorLoop(const MonitorConfig& cfg, MonitorCell& cell, const std::vector<FrameSource*>& sources,
+MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
                          CanPort& can, CycleClock& clock, std::FILE* status_out)
     : cfg_(&cfg),
       sources_(sources),
@@ -91,7 +91,7 @@ MonitorLoop::MonitorLoop(const MonitorConfig& cfg, MonitorCell& cell, const std:
                      cell.tables.size() == cfg.sensors.size() && cell.backgrounds.size() == cfg.sensors.size() &&
                      std::find(sources.begin(), sources.end(), nullptr) == sources.end()),
       show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
-                               [](const SensorSettings& s) { return s.pcd_files.empty(); })),
+                               [](const cell::SensorSettings& s) { return s.pcd_files.empty(); })),
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
@@ -134,9 +134,6 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
     for (SensorInput& in : inputs_) {
         in.captured_us = clock_->base();
-    }
-    if (can_->kind() == CanPort::Kind::kInterface) {
-        output_.set_can_detail_faults(can_->poll_faults());
     }
     const std::size_t sent_before = can_->frames_sent();
     const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false);
@@ -189,9 +186,9 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
     char scene_text[64];
     if (show_person_) {
-        const PersonPosition person = demo_person(k);
+        const cell::PersonPosition person = cell::demo_person(k);
         std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
-                      demo_phase(k));
+                      cell::demo_phase(k));
     } else {
         std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", "");
     }
@@ -221,7 +218,7 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         std::fprintf(out, "summary: paced: %llu periods skipped after cycles that ran past their period\n",
                      static_cast<unsigned long long>(run.skipped_periods));
     }
-    for (const FrameSource* s : sources_) {
+    for (const cell::FrameSource* s : sources_) {
         if (s != nullptr) {
             s->write_summary(out);
         }

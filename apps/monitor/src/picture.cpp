@@ -506,7 +506,7 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
     return img;
 }
 
-bool write_config_picture(const std::string& path, const std::string& title, const MonitorConfig& cfg,
+bool write_config_picture(const std::string& path, const std::string& title, const cell::MonitorConfig& cfg,
                           const GridGeometry& grid, const CompiledZones& zones,
                           const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
                           const std::string& view_sensor, std::string& error) {
@@ -514,7 +514,7 @@ bool write_config_picture(const std::string& path, const std::string& title, con
     in.title = title;
     in.grid = grid;
     in.zones = &zones;
-    for (const ZoneSettings& z : cfg.zones) {
+    for (const cell::ZoneSettings& z : cfg.zones) {
         in.zone_names.push_back(z.name);
     }
     in.prior = prior;

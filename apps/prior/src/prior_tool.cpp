@@ -16,11 +16,11 @@
 
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/linux/npy.hpp"
+#include "cellguard/host/io/npy.hpp"
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/prior/prior_image.hpp"
-#include "cellguard/sim/experiment.hpp"
+#include "cellguard/host/sim/experiment.hpp"
 
 namespace cellguard::prior_tool {
 
@@ -291,7 +291,7 @@ IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readin
             continue;
         }
         SensorReading r;
-        const monitor::PcdFrameCheck c = sources_[s].load(k, r);
+        const cell::PcdFrameCheck c = sources_[s].load(k, r);
         if (!c.ok) {
             // read_pcd's messages start with the path already.
             const bool named = c.reason.rfind(c.file, 0) == 0;
@@ -305,11 +305,11 @@ IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readin
 
 IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files,
                              std::vector<RecordedSensor>& sensors, GridGeometry& grid, int& background_frames) {
-    const monitor::ConfigLoad load = monitor::load_monitor_config(config_path);
+    const cell::ConfigLoad load = cell::load_monitor_config(config_path);
     if (!load.ok) {
         return IoStatus::failure(ErrorCode::kMalformedInput, "%s", load.error.c_str());
     }
-    const monitor::MonitorConfig& cfg = load.config;
+    const cell::MonitorConfig& cfg = load.config;
     const Result<GridGeometry> g = GridGeometry::make(
         cfg.grid.origin, cfg.grid.voxel_size, GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]});
     if (!g.ok()) {
@@ -318,7 +318,7 @@ IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files
     grid = g.value();
     background_frames = cfg.prior.background_frames;
     sensors.clear();
-    for (const monitor::SensorSettings& s : cfg.sensors) {
+    for (const cell::SensorSettings& s : cfg.sensors) {
         RecordedSensor r;
         r.name = s.name;
         r.max_range = static_cast<float>(s.max_range);
@@ -336,7 +336,7 @@ IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files
                                          config_path.c_str(), s.line, s.name.c_str());
             }
         }
-        r.pose = monitor::sensor_pose(s);
+        r.pose = cell::sensor_pose(s);
         sensors.push_back(std::move(r));
     }
     return IoStatus{};

@@ -8,7 +8,7 @@
 
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 

@@ -1,5 +1,5 @@
 // ARM semihosting calls (semihosting.hpp).
-#include "cellguard/baremetal/semihosting.hpp"
+#include "cellguard/port/semihosting.hpp"
 
 #include <cstdint>
 

@@ -5,8 +5,8 @@
 // cellguard_firmware_main(), its return value the semihosting exit status.
 #include <cstdint>
 
-#include "cellguard/baremetal/semihosting.hpp"
-#include "cellguard/baremetal/systick_clock.hpp"
+#include "cellguard/port/semihosting.hpp"
+#include "cellguard/port/clock.hpp"
 
 extern "C" {
 // NOLINTBEGIN(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,readability-identifier-naming,cppcoreguidelines-avoid-non-const-global-variables): symbols defined by the linker script

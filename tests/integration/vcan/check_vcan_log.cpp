@@ -31,13 +31,14 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/linux/candump_log.hpp"
-#include "cellguard/monitor/config.hpp"
-#include "cellguard/monitor/scenario.hpp"
+#include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/can/safety_frame.hpp"
 
 using namespace cellguard;
+using namespace cellguard::cell;
 using namespace cellguard::monitor;
 
 namespace {
@@ -117,8 +118,8 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
     for (std::string line; std::getline(in, line);) {
         ++out.lines;
         const std::string where = "log line " + std::to_string(out.lines) + ": ";
-        linux_port::CandumpRecord rec;
-        const IoStatus st = linux_port::parse_candump_line(line.c_str(), rec);
+        CandumpRecord rec;
+        const IoStatus st = parse_candump_line(line.c_str(), rec);
         expect(st.ok(), where + st.message());
         if (!st.ok()) {
             continue;

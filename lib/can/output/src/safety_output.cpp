@@ -70,7 +70,7 @@ bool CanSafetyOutput::publish(const CycleReport& report) noexcept {
     if (!status_.ok()) {
         return false;
     }
-    last_ = encoder_.encode(report, can_detail_faults_);
+    last_ = encoder_.encode(report, sender_->detail_faults());
     return sender_->send(last_.safety) && sender_->send(last_.inverted) && sender_->send(last_.diagnostics);
 }
 

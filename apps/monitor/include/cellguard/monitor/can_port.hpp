@@ -1,10 +1,10 @@
 /// @file can_port.hpp
 /// The monitor's CAN port: the CanSender its CanSafetyOutput sends through,
-/// one of a SocketCAN interface (port/linux socketcan.hpp), a candump log
-/// file (candump_log.hpp) or another CanSender (a test's, a future
-/// transport). Before each cycle poll_faults() drains the interface's receive
-/// queue, so that CAN error frames reach its fault monitor, and gives the CAN
-/// detail faults for the diagnostics frame. Sending allocates nothing.
+/// one of a SocketCAN interface (the Linux port's SocketCan, cellguard/port/can.hpp),
+/// a candump log file (cellguard/host/io/candump_log.hpp) or another
+/// CanSender (a test's, a future transport). Its detail faults are those of
+/// the sender in use (the interface's: SocketCan reads its error frames
+/// when asked). Sending allocates nothing.
 #ifndef CELLGUARD_MONITOR_CAN_PORT_HPP
 #define CELLGUARD_MONITOR_CAN_PORT_HPP
 
@@ -13,11 +13,11 @@
 #include <cstdio>
 #include <string>
 
-#include "cellguard/linux/candump_log.hpp"
-#include "cellguard/linux/io_status.hpp"
-#include "cellguard/linux/socketcan.hpp"
-#include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/can/safety_output.hpp"
+#include "cellguard/can/can_sender.hpp"
+#include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/host/io/io_status.hpp"
+#include "cellguard/port/can.hpp"
+#include "cellguard/safety/clock.hpp"
 
 namespace cellguard::monitor {
 
@@ -42,9 +42,9 @@ public:
 
     /// Sends @p frame; false when it was not sent (written, for a log).
     bool send(const CanFrame& frame) noexcept override;
-    /// Before a cycle: reads what waits on the interface (at most 64 frames)
-    /// and returns the interface's CAN detail faults (0 for the other kinds).
-    std::uint16_t poll_faults() noexcept;
+    /// The detail faults of the sender in use (SocketCan::detail_faults for
+    /// an interface; 0 for a log or nothing).
+    [[nodiscard]] std::uint16_t detail_faults() noexcept override;
     /// Frames sent (written, for a log) so far.
     [[nodiscard]] std::size_t frames_sent() const noexcept { return sent_; }
     /// What the port sends on.
@@ -64,7 +64,7 @@ private:
     Kind kind_ = Kind::kNone;
     std::string target_;
     linux_port::SocketCan socket_;
-    linux_port::CandumpLogWriter log_;
+    CandumpLogWriter log_;
     CanSender* sender_ = nullptr;
     std::size_t sent_ = 0U;
 };

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/can/plc_receiver.hpp"
 
 namespace cellguard::monitor {
@@ -51,7 +51,7 @@ struct DemoLogCheck {
 
 /// The PLC receiver's configuration for the log of @p config: its channel and
 /// zone count, SRVT half a period, SCT three periods.
-[[nodiscard]] PlcReceiverConfig demo_log_receiver_config(const MonitorConfig& config);
+[[nodiscard]] PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config);
 
 /// The PLC's poll interval on the log's clock: 1 ms, or SRVT / 10 when that
 /// is shorter (at least 1 us).
@@ -59,10 +59,10 @@ struct DemoLogCheck {
 
 /// Checks the candump log read from @p log, written by a demo run of
 /// @p cycles cycles of @p config (see the file comment).
-[[nodiscard]] DemoLogCheck check_demo_log(std::istream& log, int cycles, const MonitorConfig& config);
+[[nodiscard]] DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorConfig& config);
 
 /// check_demo_log on the file at @p path; input_ok is false when it cannot be opened.
-[[nodiscard]] DemoLogCheck check_demo_log_file(const std::string& path, int cycles, const MonitorConfig& config);
+[[nodiscard]] DemoLogCheck check_demo_log_file(const std::string& path, int cycles, const cell::MonitorConfig& config);
 
 }  // namespace cellguard::monitor
 

@@ -17,10 +17,10 @@
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/grid/sensor_model.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
@@ -38,10 +38,10 @@ struct SetupError {
 /// their layout, rays and work bound); @p error is set when the simulator
 /// cannot take its pose (@p simulated_background: it must also render a
 /// recorded sensor's view of the empty cell for the prior).
-sim::SensorSpec to_spec(const SensorSettings& s, bool simulated_background, std::string& error);
+sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background, std::string& error);
 
 /// The controller's configuration from @p cfg.
-ControllerConfig controller_config(const MonitorConfig& cfg);
+ControllerConfig controller_config(const cell::MonitorConfig& cfg);
 
 /// See the file comment. Not copyable or movable: the controller keeps
 /// references into it.
@@ -56,13 +56,13 @@ public:
 
     /// The sensors, the grid and its storage, the zones (exit status 2 for a
     /// sensor or zone the configuration gets wrong).
-    SetupError configure(const MonitorConfig& cfg);
+    SetupError configure(const cell::MonitorConfig& cfg);
     /// The prior, read from its file or computed from simulated empty frames;
     /// prints "prior: ..." to @p out (nullptr: silent).
-    SetupError build_prior(const MonitorConfig& cfg, std::FILE* out);
+    SetupError build_prior(const cell::MonitorConfig& cfg, std::FILE* out);
     /// The simulated sensors' ray tables and views of the empty cell; prints
     /// the background check, the tables and the work bound to @p out.
-    SetupError build_tables(const MonitorConfig& cfg, std::FILE* out);
+    SetupError build_tables(const cell::MonitorConfig& cfg, std::FILE* out);
 
     std::vector<sim::SensorSpec> specs;          ///< one per configured sensor
     GridGeometry grid;                           ///< the grid

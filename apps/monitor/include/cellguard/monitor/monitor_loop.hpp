@@ -9,10 +9,10 @@
 ///     (a refused recorded frame is reported on the status output);
 ///  2. the clock starts the cycle at 1 s + k periods (cycle_clock.hpp); every
 ///     frame is stamped with that time;
-///  3. a SocketCAN port's receive queue is drained and its detail faults go
-///     to the output (can_port.hpp);
-///  4. the controller runs and publishes through the CAN safety output;
-///  5. the run's counts are updated and the status line is formatted into the
+///  3. the controller runs and publishes through the CAN safety output,
+///     which asks the CAN port for its detail faults (a SocketCAN
+///     interface reads its error frames then; can_port.hpp);
+///  4. the run's counts are updated and the status line is formatted into the
 ///     fixed buffer and written to the status output.
 /// run_cycles() runs a loop's cycles, as fast as possible or paced one per
 /// period on CLOCK_MONOTONIC.
@@ -26,9 +26,9 @@
 #include <vector>
 
 #include "cellguard/monitor/can_port.hpp"
-#include "cellguard/monitor/config.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
-#include "cellguard/monitor/frame_source.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/can/safety_output.hpp"
@@ -68,7 +68,7 @@ public:
     /// Binds the wiring: @p sources holds one source per configured sensor,
     /// in configuration order; @p status_out receives the status lines and
     /// refused-frame reports (nullptr: quiet).
-    MonitorLoop(const MonitorConfig& cfg, MonitorCell& cell, const std::vector<FrameSource*>& sources, CanPort& can,
+    MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources, CanPort& can,
                 CycleClock& clock, std::FILE* status_out);
     MonitorLoop(const MonitorLoop&) = delete;
     MonitorLoop& operator=(const MonitorLoop&) = delete;
@@ -103,8 +103,8 @@ private:
     void format_status(int k, const CycleReport& r) noexcept;
     void append(const char* format, ...) noexcept __attribute__((format(printf, 2, 3)));
 
-    const MonitorConfig* cfg_;
-    std::vector<FrameSource*> sources_;
+    const cell::MonitorConfig* cfg_;
+    std::vector<cell::FrameSource*> sources_;
     CanPort* can_;
     CycleClock* clock_;
     std::FILE* out_;
@@ -114,7 +114,7 @@ private:
     std::vector<SensorInput> inputs_;  ///< one per sensor, made at construction
     std::vector<char> line_;           ///< the status line, sized at construction for the longest one
     std::size_t line_length_ = 0U;
-    FrameStatus frame_status_{};
+    cell::FrameStatus frame_status_{};
     SafetyController controller_;
     CanSafetyOutput output_;           ///< made after the controller: it sends the controller's prior CRC
     MonitorStats stats_{};

@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/host/png.hpp"
-#include "cellguard/monitor/config.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/io/png.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/base/span.hpp"
 #include "cellguard/safety/zones.hpp"
@@ -92,7 +92,7 @@ int draw_text(RgbImage& image, int x, int y, const std::string& text, PictureCol
 /// seen by the sensor named or numbered (from 1) @p view_sensor (empty: the
 /// first) and writes it as a PNG to @p path. False with @p error set when the
 /// sensor is unknown or the file cannot be written.
-bool write_config_picture(const std::string& path, const std::string& title, const MonitorConfig& cfg,
+bool write_config_picture(const std::string& path, const std::string& title, const cell::MonitorConfig& cfg,
                           const GridGeometry& grid, const CompiledZones& zones,
                           const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
                           const std::string& view_sensor, std::string& error);

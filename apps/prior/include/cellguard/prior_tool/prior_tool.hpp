@@ -35,12 +35,12 @@
 #include "cellguard/prior/accessibility_params.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/linux/io_status.hpp"
-#include "cellguard/linux/prior_files.hpp"
-#include "cellguard/monitor/pcd_input.hpp"
+#include "cellguard/host/io/io_status.hpp"
+#include "cellguard/host/io/prior_files.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/grid/sensor_model.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 namespace cellguard::prior_tool {
 
@@ -188,7 +188,7 @@ public:
     IoStatus frame(std::size_t k, std::vector<SensorReading>& readings) override;
 
 private:
-    std::vector<monitor::PcdFrameSource> sources_;
+    std::vector<cell::PcdFrameSource> sources_;
     std::vector<std::size_t> file_counts_;
     std::size_t frames_ = 0U;
 };

@@ -10,7 +10,8 @@
 /// 3. the diagnostics frame: the previous cycle's duration and the worst so
 ///    far (the current one is still running when it is published), the
 ///    latched safety logic faults on ActiveFaults bits 0..8 and the CAN
-///    port's details on bits 9..14, and one byte of the prior CRC-32, the
+///    sender's details (CanSender::detail_faults, asked once per cycle) on
+///    bits 9..14, and one byte of the prior CRC-32, the
 ///    page rotating 0, 1, 2, 3, 0, ... per cycle.
 /// The safety frame (with its copy) and the diagnostics frame each have
 /// their own E2E counter, both advancing by one per cycle (0..14, wrapping
@@ -96,14 +97,12 @@ public:
     /// publish() sends nothing and returns false.
     CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept;
 
-    /// Sends the safety frame, its copy and the diagnostics frame in this
-    /// order, stopping at the first failed send. False when refused or when a send failed.
+    /// Asks the sender for its detail faults (ActiveFaults bits 9..14 of this
+    /// cycle's diagnostics frame), then sends the safety frame, its copy and
+    /// the diagnostics frame in this order, stopping at the first failed
+    /// send. False when refused (nothing is asked or sent) or when a send failed.
     bool publish(const CycleReport& report) noexcept override;
 
-    /// Sets the CAN port's detail faults (ActiveFaults bits 9..14) sent from the next cycle on.
-    void set_can_detail_faults(std::uint16_t bits) noexcept {
-        can_detail_faults_ = static_cast<std::uint16_t>(bits & kCanDetailFaultBits);
-    }
     /// kOk, or why the configuration was refused.
     [[nodiscard]] Status status() const noexcept { return status_; }
     /// The encoder (counters and page of the next cycle).
@@ -116,7 +115,6 @@ private:
     CycleFrameEncoder encoder_;
     CanSender* sender_;
     CycleFrames last_{};
-    std::uint16_t can_detail_faults_ = 0U;
 };
 
 }  // namespace cellguard

@@ -1,0 +1,82 @@
+/// @file frame_source.hpp
+/// Where the monitor's sensor frames come from, one frame per sensor and
+/// cycle, each into a buffer the source allocated when it was made: the
+/// simulated cell (SimulatedFrameSource, below) or recorded PCD files
+/// (PcdFrameSource, pcd_input.hpp). Loading a frame allocates nothing, so the
+/// monitor's cycle (monitor_loop.hpp) runs without the heap.
+#ifndef CELLGUARD_HOST_CELL_FRAME_SOURCE_HPP
+#define CELLGUARD_HOST_CELL_FRAME_SOURCE_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+#include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+
+namespace cellguard::cell {
+
+/// Capacity of FrameStatus::reason, NUL included (longer reasons are cut).
+constexpr std::size_t kFrameReasonCapacity = 512U;
+
+/// What loading one frame found.
+struct FrameStatus {
+    bool ok = false;                         ///< true: the frame is fused
+    const char* file = "";                   ///< the file it came from ("" for a rendered frame); valid until the source changes
+    char reason[kFrameReasonCapacity] = {};  ///< why it was refused (empty when ok)
+    std::uint64_t points = 0U;               ///< recorded frames: finite points fused
+    std::uint64_t nonfinite = 0U;            ///< recorded frames: points skipped as NaN or infinite
+};
+
+/// One sensor's frames.
+class FrameSource {
+public:
+    /// Puts the frame of cycle @p cycle (from 0) into the source's own buffer
+    /// and describes it in @p reading (valid until the next call). A refused
+    /// frame leaves @p reading with a non-finite pose, which the controller
+    /// reports as kFrameInconsistent, and returns false with @p status saying
+    /// why. Allocates nothing.
+    virtual bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept = 0;
+    /// Writes the source's line of the run's summary to @p out, if it has one.
+    virtual void write_summary(std::FILE* out) const noexcept = 0;
+    /// Sources are owned through this interface.
+    virtual ~FrameSource() = default;
+
+protected:
+    FrameSource() = default;
+    FrameSource(const FrameSource&) = default;
+    FrameSource& operator=(const FrameSource&) = default;
+    FrameSource(FrameSource&&) = default;
+    FrameSource& operator=(FrameSource&&) = default;
+};
+
+/// A simulated sensor of the demo cell: every cycle it ray casts the demo's
+/// scene of that cycle, the reference scene (sim::reference_scene) with the
+/// scripted person (scenario.hpp) added, into its depth image
+/// (sim::render_depth_into): the image render_frame gives for that scene,
+/// bit for bit.
+class SimulatedFrameSource final : public FrameSource {
+public:
+    /// A source for @p spec; allocates its image (width x height) and scene.
+    explicit SimulatedFrameSource(const sim::SensorSpec& spec);
+
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
+    /// A simulated sensor has no summary line.
+    void write_summary(std::FILE* out) const noexcept override;
+
+    /// Images rendered so far.
+    [[nodiscard]] std::uint64_t renders() const noexcept { return renders_; }
+
+private:
+    sim::SensorSpec spec_;
+    sim::Scene reference_;  ///< the reference scene, made once
+    sim::Scene scene_;      ///< this cycle's scene, room for the reference's boxes and the person
+    sim::PreparedScene prepared_;
+    std::vector<float> depth_;
+    std::uint64_t renders_ = 0U;
+};
+
+}  // namespace cellguard::cell
+
+#endif  // CELLGUARD_HOST_CELL_FRAME_SOURCE_HPP

@@ -1,0 +1,145 @@
+/// @file workcell.hpp
+/// A simulated workcell in the paper's arrangement: a 4 m x 4 m x 2 m frame
+/// (x and y in [-2, 2] m, floor at z = 0), one sensor in each upper corner
+/// near the ceiling aimed at the centre, boxes on the floor. Depth images are
+/// ray cast exactly (ideal sensors); noise models are in noise.hpp, scene
+/// files in scene_file.hpp, the ideal ground truth in ground_truth.hpp.
+#ifndef CELLGUARD_HOST_SIM_WORKCELL_HPP
+#define CELLGUARD_HOST_SIM_WORKCELL_HPP
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cellguard/grid/sensor_frame.hpp"
+
+namespace cellguard::sim {
+
+/// A box standing in the cell, rotated about the vertical axis.
+struct Box {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< centre, metres
+    Eigen::Vector3d size = Eigen::Vector3d::Ones();    ///< edge lengths along its own axes, metres
+    double yaw = 0.0;                                  ///< rotation about +z, radians
+    bool background = true;                            ///< part of the static background
+};
+
+/// What the sensors look at: the floor plane z = 0 and boxes.
+struct Scene {
+    std::vector<Box> boxes;  ///< the boxes
+    bool floor = true;       ///< whether the floor plane reflects
+};
+
+/// A depth sensor: where it is, where it looks, its image.
+struct SensorSpec {
+    std::string name;                                   ///< a label for reports
+    Eigen::Vector3d position = Eigen::Vector3d::Zero(); ///< optical centre, workcell frame
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();   ///< point on the optical axis
+    std::int32_t width = 0;                             ///< image columns
+    std::int32_t height = 0;                            ///< image rows
+    double hfov_deg = 0.0;                              ///< horizontal field of view, degrees
+    double vfov_deg = 0.0;                              ///< vertical field of view, degrees
+    float max_range = 10.0F;                            ///< readings beyond are dropped by fusion
+    /// Sensor frame -> workcell frame (x right, y down, z along the optical axis).
+    [[nodiscard]] Eigen::Isometry3d pose() const;
+    /// Pinhole intrinsics matching the fields of view.
+    [[nodiscard]] PinholeIntrinsics intrinsics() const;
+};
+
+/// The paper's four sensors (BENCHMARKING.md's reference frame): two
+/// 176 x 144 flash lidars (43.6 x 34.6 deg) and two 320 x 240 stereo
+/// cameras (60 x 45 deg), one in each upper corner at (+-1.9, +-1.9, 1.9) m,
+/// aimed at the centre of the floor; max range 10 m. Every pixel meets the
+/// floor or a box: 204,288 rays a frame.
+std::vector<SensorSpec> paper_sensors();
+
+/// The reference scene: floor plus two boxes near the centre.
+Scene reference_scene();
+
+/// Ray casts @p scene into a depth image (z along the optical axis, metres;
+/// 0 where nothing is hit within max_range). @p depth gets width * height values.
+void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth);
+
+/// Distance along the ray origin + t * dir (dir unit length) to the first
+/// surface of @p scene, or +infinity.
+double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
+
+/// The first surface a ray meets: its distance and what it belongs to.
+struct RayHit {
+    double distance = 0.0;  ///< metres along the unit direction; +infinity when nothing is hit
+    int box = -1;           ///< index into Scene::boxes, or -1 for the floor or no hit
+};
+
+/// Like cast_ray (the same distance, bit for bit), and also which surface was hit.
+RayHit cast_ray_hit(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
+
+/// A scene prepared for casting many rays: each box's rotation is turned
+/// into a matrix once instead of once per ray. Gives the same distances as
+/// cast_ray, bit for bit (cast_ray's rotation does the same matrix product).
+class PreparedScene {
+public:
+    /// Prepares @p scene (copied).
+    explicit PreparedScene(const Scene& scene);
+    /// An empty scene (the floor, no boxes) with room for @p max_boxes boxes,
+    /// to be filled by assign() without allocating.
+    explicit PreparedScene(std::size_t max_boxes);
+    /// Prepares @p scene (copied) in place of the scene held, as the
+    /// constructor does (the same distances, bit for bit). Allocates nothing
+    /// when @p scene has at most capacity() boxes; with more it returns false
+    /// and keeps the scene it held.
+    bool assign(const Scene& scene) noexcept;
+    /// Boxes assign() takes without allocating.
+    [[nodiscard]] std::size_t capacity() const noexcept;
+    /// The first surface along origin + t * dir (dir unit length), as cast_ray_hit.
+    [[nodiscard]] RayHit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
+    /// The scene.
+    [[nodiscard]] const Scene& scene() const { return scene_; }
+
+private:
+    Scene scene_;
+    std::vector<Eigen::Matrix3d> inverse_rotation_;
+};
+
+/// render_depth with a prepared scene: the same image, faster.
+void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vector<float>& depth);
+
+/// render_depth into caller storage: @p depth must hold exactly width *
+/// height values (else false, nothing written). Allocates nothing; the same
+/// image, bit for bit (render_depth is this function on a vector).
+bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept;
+
+/// True when @p p lies inside or on @p box.
+bool box_contains(const Box& box, const Eigen::Vector3d& p);
+
+/// A rendered frame: depth images of every sensor and the SensorReading
+/// descriptions that point into them (valid while the frame lives).
+struct SimulatedFrame {
+    std::vector<std::vector<float>> depth;  ///< one image per sensor
+    std::vector<SensorReading> readings;    ///< one description per sensor
+};
+
+/// Appends to @p frame one depth-image reading per sensor of @p sensors,
+/// pointing into frame.depth (which must hold one image per sensor).
+void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame);
+
+/// Renders every sensor of @p sensors looking at @p scene.
+SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene);
+
+/// The depth-image reading of @p sensor over @p depth (its pose, intrinsics
+/// and max range), as add_readings and render_frame make it.
+SensorReading depth_reading(const SensorSpec& sensor, Span<const float> depth) noexcept;
+
+/// render_frame into caller storage, for a cycle that must not allocate:
+/// sensor i's image goes to @p depth[i] (exactly width * height values) and
+/// its reading, pointing into @p depth[i], to @p readings[i]. False, with
+/// nothing written, when @p depth or @p readings do not hold one entry per
+/// sensor or an image has the wrong size. Allocates nothing; the same images
+/// and readings as render_frame, bit for bit.
+bool render_frame_into(const std::vector<SensorSpec>& sensors, const PreparedScene& scene,
+                       Span<const Span<float>> depth, Span<SensorReading> readings) noexcept;
+
+}  // namespace cellguard::sim
+
+#endif  // CELLGUARD_HOST_SIM_WORKCELL_HPP

@@ -1,0 +1,445 @@
+// The monitor's TOML configuration loader (toml++).
+#include "cellguard/host/cell/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/fusion.hpp"
+#include "cellguard/grid/grid.hpp"
+#include "cellguard/host/io/toml_loader.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+
+namespace cellguard::cell {
+namespace {
+
+/// The loader's error: "file:line:column: key: what".
+using ConfigError = host::TomlError;
+
+/// The shared checked getters plus the monitor's own (arrays, vectors, positive numbers).
+class Loader : public host::TomlLoader {
+public:
+    using TomlLoader::TomlLoader;
+
+    /// An array of exactly @p count finite numbers.
+    std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+        const toml::array* a = n.as_array();
+        if (a == nullptr || a->size() != count) {
+            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+        }
+        std::vector<double> v;
+        for (const toml::node& e : *a) {
+            if (!e.is_number()) {
+                fail(e.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+            }
+            const double x = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
+            if (!std::isfinite(x)) {
+                fail(e.source(), key, "expected finite numbers");
+            }
+            v.push_back(x);
+        }
+        return v;
+    }
+
+    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
+        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
+        return {v[0], v[1], v[2]};
+    }
+
+    void positive(const toml::table& t, const std::string& path, const char* key, double v) const {
+        if (!(v > 0.0)) {
+            fail(t.get(key)->source(), join(path, key), "must be greater than 0");
+        }
+    }
+};
+
+std::uint64_t ms_to_us(double ms) { return static_cast<std::uint64_t>(std::llround(ms * 1000.0)); }
+
+void load_grid(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    const std::string p = "grid";
+    const toml::table& t = L.table(root, "", "grid");
+    L.check_keys(t, p, {"origin", "voxel_size", "dims"});
+    c.grid.origin = L.vec3(t, p, "origin");
+    c.grid.voxel_size = L.number(t, p, "voxel_size");
+    L.positive(t, p, "voxel_size", c.grid.voxel_size);
+    const toml::node& d = L.require(t, p, "dims");
+    const toml::array* a = d.as_array();
+    if (a == nullptr || a->size() != 3U) {
+        L.fail(d.source(), "grid.dims", "expected an array of 3 integers");
+    }
+    for (std::size_t i = 0U; i < 3U; ++i) {
+        const std::optional<std::int64_t> v = (*a)[i].value_exact<std::int64_t>();
+        if (!v || *v < 1 || *v > static_cast<std::int64_t>(kMaxDimension)) {
+            L.fail((*a)[i].source(), "grid.dims", "expected integers in 1.." + std::to_string(kMaxDimension));
+        }
+        c.grid.dims[i] = static_cast<int>(*v);
+    }
+    const Result<GridGeometry> g =
+        GridGeometry::make(c.grid.origin, c.grid.voxel_size,
+                           GridDims{static_cast<std::int32_t>(c.grid.dims[0]), static_cast<std::int32_t>(c.grid.dims[1]),
+                                    static_cast<std::int32_t>(c.grid.dims[2])});
+    if (!g.ok()) {
+        L.fail(t.source(), "grid", std::string("not a valid grid: ") + to_string(g.error()));
+    }
+}
+
+/// `pcd_files`: one or more paths of readable files (relative: to @p base_dir).
+std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, const std::string& p,
+                                        const std::string& base_dir) {
+    const toml::node& n = *t.get("pcd_files");
+    const toml::array* a = n.as_array();
+    if (a == nullptr || a->empty()) {
+        L.fail(n.source(), p + ".pcd_files", "expected an array of one or more PCD file paths");
+    }
+    std::vector<std::string> files;
+    for (std::size_t k = 0U; k < a->size(); ++k) {
+        const toml::node& e = *a->get(k);
+        const std::string key = p + ".pcd_files[" + std::to_string(k) + "]";
+        if (!e.is_string() || e.as_string()->get().empty()) {
+            L.fail(e.source(), key, "expected a non-empty path string");
+        }
+        std::string path = e.as_string()->get();
+        if (path[0] != '/') {
+            path = base_dir + "/" + path;
+        }
+        if (!std::ifstream(path, std::ios::binary)) {
+            L.fail(e.source(), key, "cannot open '" + path + "'");
+        }
+        files.push_back(path);
+    }
+    return files;
+}
+
+void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
+    const toml::node* n = root.get("sensors");
+    if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty()) {
+        L.fail(n != nullptr ? n->source() : root.source(), "sensors", "expected one or more [[sensors]] tables");
+    }
+    const toml::array& arr = *n->as_array();
+    if (arr.size() > kMaxSensors) {
+        L.fail(n->source(), "sensors", "at most " + std::to_string(kMaxSensors) + " sensors");
+    }
+    for (std::size_t i = 0U; i < arr.size(); ++i) {
+        const toml::table& t = *arr.get(i)->as_table();
+        const std::string p = "sensors[" + std::to_string(i) + "]";
+        L.check_keys(t, p, {"name", "position", "target", "rotation", "resolution", "fov", "max_range", "pcd_files"});
+        SensorSettings s;
+        s.line = static_cast<int>(t.source().begin.line);
+        s.name = L.string(t, p, "name");
+        s.position = L.vec3(t, p, "position");
+        const bool has_target = t.contains("target");
+        const bool has_rotation = t.contains("rotation");
+        if (has_target == has_rotation) {
+            L.fail(t.source(), p + ".target", "give exactly one of target and rotation");
+        }
+        if (has_target) {
+            s.has_target = true;
+            s.target = L.vec3(t, p, "target");
+            if ((s.target - s.position).norm() < 1e-6) {
+                L.fail(t.get("target")->source(), p + ".target", "must differ from the position");
+            }
+        } else {
+            const std::vector<double> q = L.numbers(*t.get("rotation"), p + ".rotation", 4U);
+            const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+            if (std::fabs(norm - 1.0) > 1e-3) {
+                L.fail(t.get("rotation")->source(), p + ".rotation", "expected a unit quaternion [w, x, y, z]");
+            }
+            s.rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
+        }
+        const toml::node& res = L.require(t, p, "resolution");
+        const toml::array* ra = res.as_array();
+        std::optional<std::int64_t> w, h;
+        if (ra != nullptr && ra->size() == 2U) {
+            w = (*ra)[0].value_exact<std::int64_t>();
+            h = (*ra)[1].value_exact<std::int64_t>();
+        }
+        if (!w || !h || *w < 1 || *h < 1 || *w * *h > static_cast<std::int64_t>(kMaxReadingsPerSensor)) {
+            L.fail(res.source(), p + ".resolution",
+                   "expected [width, height], positive integers, at most " + std::to_string(kMaxReadingsPerSensor) +
+                       " pixels");
+        }
+        s.width = static_cast<int>(*w);
+        s.height = static_cast<int>(*h);
+        const std::vector<double> fov = L.numbers(L.require(t, p, "fov"), p + ".fov", 2U);
+        if (!(fov[0] > 0.0 && fov[0] < 180.0 && fov[1] > 0.0 && fov[1] < 180.0)) {
+            L.fail(t.get("fov")->source(), p + ".fov", "expected [horizontal, vertical] degrees, each in (0, 180)");
+        }
+        s.hfov_deg = fov[0];
+        s.vfov_deg = fov[1];
+        s.max_range = L.number(t, p, "max_range");
+        if (!(s.max_range > 0.0 && s.max_range <= static_cast<double>(kMaxSensorRange))) {
+            L.fail(t.get("max_range")->source(), p + ".max_range",
+                   "expected metres in (0, " + std::to_string(kMaxSensorRange) + "]");
+        }
+        if (t.contains("pcd_files")) {
+            s.pcd_files = load_pcd_files(L, t, p, base_dir);
+        }
+        c.sensors.push_back(s);
+    }
+}
+
+void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    const toml::node* n = root.get("zones");
+    if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty()) {
+        L.fail(n != nullptr ? n->source() : root.source(), "zones", "expected one or more [[zones]] tables");
+    }
+    const toml::array& arr = *n->as_array();
+    if (arr.size() > kMaxZonesInFrame) {
+        L.fail(n->source(), "zones",
+               "at most " + std::to_string(kMaxZonesInFrame) + " zones (one safety CAN frame carries 16)");
+    }
+    for (std::size_t i = 0U; i < arr.size(); ++i) {
+        const toml::table& t = *arr.get(i)->as_table();
+        const std::string p = "zones[" + std::to_string(i) + "]";
+        L.check_keys(t, p, {"name", "kind", "shape", "min", "max", "polygon", "z_min", "z_max",
+                            "min_foreground_voxels", "max_unseen_voxels"});
+        ZoneSettings z;
+        z.line = static_cast<int>(t.source().begin.line);
+        z.name = L.string(t, p, "name");
+        const std::string kind = L.string(t, p, "kind");
+        if (kind == "protective") {
+            z.zone.kind = ZoneKind::kProtective;
+        } else if (kind == "warning") {
+            z.zone.kind = ZoneKind::kWarning;
+        } else {
+            L.fail(t.get("kind")->source(), p + ".kind", "expected \"protective\" or \"warning\", got \"" + kind + "\"");
+        }
+        const std::string shape = L.string(t, p, "shape");
+        if (shape == "box") {
+            z.zone.shape = ZoneShape::kBox;
+            z.zone.box_min = L.vec3(t, p, "min");
+            z.zone.box_max = L.vec3(t, p, "max");
+            if (!(z.zone.box_min.array() < z.zone.box_max.array()).all()) {
+                L.fail(t.get("max")->source(), p + ".max", "every coordinate must be greater than in min");
+            }
+        } else if (shape == "prism") {
+            z.zone.shape = ZoneShape::kPrism;
+            const toml::node& poly = L.require(t, p, "polygon");
+            const toml::array* pa = poly.as_array();
+            if (pa == nullptr || pa->size() < 3U || pa->size() > kMaxPolygonVertices) {
+                L.fail(poly.source(), p + ".polygon",
+                       "expected 3.." + std::to_string(kMaxPolygonVertices) + " vertices [x, y]");
+            }
+            for (std::size_t k = 0U; k < pa->size(); ++k) {
+                const std::vector<double> v = L.numbers(*pa->get(k), p + ".polygon[" + std::to_string(k) + "]", 2U);
+                z.zone.polygon[k] = PolygonVertex{v[0], v[1]};
+            }
+            z.zone.polygon_size = pa->size();
+            z.zone.z_min = L.number(t, p, "z_min");
+            z.zone.z_max = L.number(t, p, "z_max");
+            if (!(z.zone.z_min < z.zone.z_max)) {
+                L.fail(t.get("z_max")->source(), p + ".z_max", "must be greater than z_min");
+            }
+        } else {
+            L.fail(t.get("shape")->source(), p + ".shape", "expected \"box\" or \"prism\", got \"" + shape + "\"");
+        }
+        z.zone.min_foreground_voxels =
+            static_cast<std::uint32_t>(L.integer_or(t, p, "min_foreground_voxels", 1, 1000000, 1));
+        z.zone.max_unseen_voxels = static_cast<std::uint32_t>(L.integer_or(t, p, "max_unseen_voxels", 0, 1000000, 0));
+        c.zones.push_back(z);
+    }
+}
+
+void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
+    if (const toml::node* n = root.get("thresholds")) {
+        const toml::table& t = L.table(root, "", "thresholds");
+        (void)n;
+        L.check_keys(t, "thresholds", {"foreground", "accessible_min_prior"});
+        c.foreground_threshold = static_cast<std::int16_t>(L.integer_or(t, "thresholds", "foreground", -32767, 32767, 255));
+        c.accessible_min_prior =
+            static_cast<std::int16_t>(L.integer_or(t, "thresholds", "accessible_min_prior", -32767, 0, -754));
+    }
+    {
+        const toml::table& t = L.table(root, "", "prior");
+        L.check_keys(t, "prior", {"source", "file", "background_frames"});
+        const std::string src = L.string(t, "prior", "source");
+        if (src == "file") {
+            c.prior.source = PriorSource::kFile;
+            c.prior.file = L.string(t, "prior", "file");
+            if (c.prior.file.empty()) {
+                L.fail(t.get("file")->source(), "prior.file", "must not be empty");
+            }
+            if (c.prior.file[0] != '/') {
+                c.prior.file = base_dir + "/" + c.prior.file;
+            }
+        } else if (src == "simulated-background") {
+            c.prior.source = PriorSource::kSimulatedBackground;
+            c.prior.background_frames = static_cast<int>(L.integer_or(t, "prior", "background_frames", 1, 1000, 8));
+            // The monitor's prior is probabilistic: space seen free must fall below t_E (min_background_frames).
+            const std::uint32_t need = min_background_frames(AccessibilityParams{}, SensorModelTable{});
+            if (static_cast<std::uint32_t>(c.prior.background_frames) < need) {
+                L.fail(t.get("background_frames")->source(), "prior.background_frames",
+                       "at least " + std::to_string(need) + " frames for the probabilistic prior, got " +
+                           std::to_string(c.prior.background_frames));
+            }
+        } else {
+            L.fail(t.get("source")->source(), "prior.source",
+                   "expected \"file\" or \"simulated-background\", got \"" + src + "\"");
+        }
+    }
+    {
+        const toml::table& t = L.table(root, "", "can");
+        const std::string p = "can";
+        L.check_keys(t, p, {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
+                            "diagnostics_data_id", "data_id_mode"});
+        c.can.interface_name = L.string_or(t, p, "interface", "");
+        c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
+        c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
+        if (c.can.log_interface_name.empty() || c.can.log_interface_name.size() > 15U ||
+            c.can.log_interface_name.find_first_of(" ()#\t") != std::string::npos) {
+            L.fail(t.get("log_interface")->source(), "can.log_interface", "expected 1..15 characters without blanks, '(', ')' or '#'");
+        }
+        if (c.can.interface_name.empty() && c.can.log_file.empty()) {
+            L.fail(t.source(), "can.log_file", "give an interface or a log file");
+        }
+        SafetyChannelConfig& ch = c.can.channel;
+        ch.safety_can_id = static_cast<std::uint32_t>(L.integer_or(t, p, "safety_id", 0, 0x7FE, kDefaultSafetyCanId));
+        ch.diagnostics_can_id =
+            static_cast<std::uint32_t>(L.integer_or(t, p, "diagnostics_id", 0, 0x7FF, kDefaultDiagnosticsCanId));
+        ch.safety_data_id = static_cast<std::uint16_t>(L.integer_or(t, p, "safety_data_id", 0, 0xFFFF, kDefaultSafetyDataId));
+        ch.diagnostics_data_id =
+            static_cast<std::uint16_t>(L.integer_or(t, p, "diagnostics_data_id", 0, 0xFFFF, kDefaultDiagnosticsDataId));
+        const std::string mode = L.string_or(t, p, "data_id_mode", "both");
+        if (mode == "both") {
+            ch.data_id_mode = E2eP01DataIdMode::kBoth;
+        } else if (mode == "alt") {
+            ch.data_id_mode = E2eP01DataIdMode::kAlt;
+        } else if (mode == "low") {
+            ch.data_id_mode = E2eP01DataIdMode::kLow;
+        } else if (mode == "nibble") {
+            ch.data_id_mode = E2eP01DataIdMode::kNibble;
+        } else {
+            L.fail(t.get("data_id_mode")->source(), "can.data_id_mode",
+                   "expected \"both\", \"alt\", \"low\" or \"nibble\", got \"" + mode + "\"");
+        }
+        if (!check_channel_config(ch).ok()) {
+            L.fail(t.source(), "can",
+                   "invalid channel: the three CAN IDs (safety, safety + 1, diagnostics) must differ and the data IDs "
+                   "must be valid for the mode and distinguishable");
+        }
+    }
+    {
+        const toml::table& t = L.table(root, "", "cycle");
+        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
+                                  "background_match", "background_tolerance_m"});
+        const double period = L.number(t, "cycle", "period_ms");
+        if (!(period >= 1.0 && period <= 10000.0)) {
+            L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
+        }
+        c.period_us = ms_to_us(period);
+        const double budget = L.number_or(t, "cycle", "budget_ms", period);
+        if (!(budget > 0.0 && budget <= period)) {
+            L.fail(t.get("budget_ms")->source(), "cycle.budget_ms", "expected more than 0 and at most period_ms");
+        }
+        c.budget_us = ms_to_us(budget);
+        const double age = L.number_or(t, "cycle", "max_frame_age_ms", 2.0 * period);
+        if (!(age > 0.0 && age <= 60000.0)) {
+            L.fail(t.get("max_frame_age_ms")->source(), "cycle.max_frame_age_ms", "expected more than 0, at most 60000");
+        }
+        c.max_frame_age_us = ms_to_us(age);
+        c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
+        c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
+        c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
+        const double match = L.number_or(t, "cycle", "background_match", 0.0);
+        if (!(match >= 0.0 && match <= 1.0)) {
+            L.fail(t.get("background_match")->source(), "cycle.background_match", "expected 0 (off) to 1");
+        }
+        for (const SensorSettings& s : c.sensors) {
+            if (match > 0.0 && !s.pcd_files.empty()) {
+                L.fail(t.get("background_match")->source(), "cycle.background_match",
+                       "needs each sensor's view of the empty cell, which recorded sensors (pcd_files) do not have; "
+                       "set it to 0");
+            }
+        }
+        c.background_match = static_cast<float>(match);
+        const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
+        if (!(tolerance > 0.0 && tolerance <= 1.0)) {
+            L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
+                   "expected more than 0, at most 1 m");
+        }
+        c.background_tolerance_m = static_cast<float>(tolerance);
+    }
+    {
+        const toml::table& t = L.table(root, "", "restart_interlock");
+        const std::string p = "restart_interlock";
+        L.check_keys(t, p, {"delay_ms", "reset_required", "fault_recovery_cycles"});
+        const double delay = L.number(t, p, "delay_ms");
+        if (!(delay >= 0.0 && delay <= 600000.0)) {
+            L.fail(t.get("delay_ms")->source(), p + ".delay_ms", "expected 0..600000 ms");
+        }
+        c.restart_delay_us = ms_to_us(delay);
+        c.reset_required = L.boolean_or(t, p, "reset_required", false);
+        c.fault_recovery_cycles = static_cast<std::uint32_t>(L.integer_or(t, p, "fault_recovery_cycles", 1, 100000, 10));
+    }
+    if (root.contains("demo")) {
+        const toml::table& t = L.table(root, "", "demo");
+        L.check_keys(t, "demo", {"cycles"});
+        c.demo_cycles = static_cast<int>(L.integer_or(t, "demo", "cycles", 1, 1000000, 60));
+    }
+}
+
+}  // namespace
+
+ConfigLoad parse_monitor_config(const std::string& text, const std::string& source_name, const std::string& base_dir) {
+    ConfigLoad out;
+    try {
+        const toml::table root = toml::parse(text, source_name);
+        const Loader L(source_name);
+        L.check_keys(root, "", {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo"});
+        MonitorConfig c;
+        load_grid(L, root, c);
+        load_sensors(L, root, c, base_dir);
+        load_zones(L, root, c);
+        load_rest(L, root, c, base_dir);
+        out.config = c;
+        out.ok = true;
+    } catch (const toml::parse_error& e) {
+        out.error = host::toml_syntax_error(source_name, e);
+    } catch (const ConfigError& e) {
+        out.error = e.message;
+    }
+    return out;
+}
+
+ConfigLoad load_monitor_config(const std::string& path) {
+    std::string text;
+    std::string dir;
+    if (!host::read_text_file(path, text, dir)) {
+        ConfigLoad out;
+        out.error = path + ": cannot open the configuration file";
+        return out;
+    }
+    return parse_monitor_config(text, path, dir);
+}
+
+MonitorConfig demo_config() {
+    const ConfigLoad l = parse_monitor_config(demo_config_text(), "<built-in demo config>");
+    if (!l.ok) {  // the built-in text is tested by test_monitor_config.cpp
+        std::fprintf(stderr, "cellguard-monitor: built-in demo configuration: %s\n", l.error.c_str());
+        std::abort();
+    }
+    return l.config;
+}
+
+Eigen::Isometry3d sensor_pose(const SensorSettings& s) {
+    if (s.has_target) {
+        sim::SensorSpec spec;
+        spec.position = s.position;
+        spec.target = s.target;
+        return spec.pose();
+    }
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = s.rotation.normalized().toRotationMatrix();
+    pose.translation() = s.position;
+    return pose;
+}
+
+}  // namespace cellguard::cell

@@ -1,0 +1,48 @@
+// The simulated sensors of the demo cell as frame sources (frame_source.hpp).
+#include "cellguard/host/cell/frame_source.hpp"
+
+#include <limits>
+
+#include "cellguard/host/cell/scenario.hpp"
+
+namespace cellguard::cell {
+
+SimulatedFrameSource::SimulatedFrameSource(const sim::SensorSpec& spec)
+    : spec_(spec),
+      reference_(sim::reference_scene()),
+      prepared_(reference_.boxes.size() + 1U),
+      depth_(static_cast<std::size_t>(spec.width > 0 ? spec.width : 0) *
+             static_cast<std::size_t>(spec.height > 0 ? spec.height : 0)) {
+    scene_.boxes.reserve(reference_.boxes.size() + 1U);
+}
+
+bool SimulatedFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept {
+    status = FrameStatus{};
+    // The scene of the cycle, as the demo always made it: the reference
+    // scene plus the person. Within the reserved capacity nothing allocates.
+    const int k = cycle > static_cast<std::uint64_t>(std::numeric_limits<int>::max())
+                      ? std::numeric_limits<int>::max()
+                      : static_cast<int>(cycle);
+    scene_.floor = reference_.floor;
+    scene_.boxes.clear();
+    for (const sim::Box& b : reference_.boxes) {
+        scene_.boxes.push_back(b);
+    }
+    scene_.boxes.push_back(person_box(demo_person(k)));
+    if (!prepared_.assign(scene_) ||
+        !sim::render_depth_into(spec_, prepared_, Span<float>(depth_.data(), depth_.size()))) {
+        // Not reached: the buffers were sized for this scene and image.
+        reading = SensorReading{};
+        reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
+        std::snprintf(status.reason, sizeof status.reason, "the simulated frame does not fit its buffer");
+        return false;
+    }
+    ++renders_;
+    reading = sim::depth_reading(spec_, Span<const float>(depth_.data(), depth_.size()));
+    status.ok = true;
+    return true;
+}
+
+void SimulatedFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
+
+}  // namespace cellguard::cell

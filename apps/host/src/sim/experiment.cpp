@@ -1,0 +1,282 @@
+#include "cellguard/host/sim/experiment.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "cellguard/grid/log_odds.hpp"
+
+namespace cellguard::sim {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::size_t bin_of(std::int16_t v) { return static_cast<std::size_t>(static_cast<std::int32_t>(v) + 32768); }
+
+constexpr std::uint64_t kSeedStride = 1000003U;
+constexpr std::uint64_t kForegroundSeedOffset = 500000U;
+
+SimulatedFrame render(const SceneFile& file, const ExperimentConfig& cfg, const Scene& scene, std::uint64_t seed) {
+    if (cfg.ideal_sensors) {
+        return render_frame(file.sensors, scene);
+    }
+    return render_noisy_frame(file.sensors, file.noise, scene, seed);
+}
+}  // namespace
+
+OwnedGrid::OwnedGrid(const GridGeometry& g)
+    : log_odds(g.voxel_count(), 0), observed(g.voxel_count(), 0U), scratch(g.voxel_count(), 0) {
+    Result<EvidenceGrid> r = EvidenceGrid::make(g, Span<std::int16_t>(log_odds.data(), log_odds.size()),
+                                                Span<std::uint8_t>(observed.data(), observed.size()));
+    if (!r.ok()) {
+        std::fprintf(stderr, "OwnedGrid: invalid geometry (%s)\n", to_string(r.error()));
+        std::abort();
+    }
+    grid = r.value();
+    grid.clear();
+}
+
+const char* method_name(PriorMethod method) {
+    switch (method) {
+        case PriorMethod::kThresholded:
+            return "thresholded";
+        case PriorMethod::kProbabilistic:
+            return "probabilistic";
+        case PriorMethod::kThresholdedBaseline:
+            return "thresholded-baseline";
+        case PriorMethod::kProbabilisticBaseline:
+            return "probabilistic-baseline";
+    }
+    return "unknown";
+}
+
+std::vector<double> default_thresholds() {
+    std::vector<double> t = {0.001, 0.005};
+    for (int i = 1; i <= 99; ++i) {
+        t.push_back(i / 100.0);
+    }
+    t.push_back(0.995);
+    t.push_back(0.999);
+    return t;
+}
+
+std::vector<PrPoint> pr_curve(const ScoreHistogram& h, const std::vector<double>& thresholds) {
+    // Suffix sums: counts of values >= each raw value.
+    std::vector<std::uint64_t> fg_at_least(65537U, 0U);
+    std::vector<std::uint64_t> bg_at_least(65537U, 0U);
+    for (std::size_t i = 65536U; i-- > 0U;) {
+        fg_at_least[i] = fg_at_least[i + 1U] + h.foreground[i];
+        bg_at_least[i] = bg_at_least[i + 1U] + h.not_foreground[i];
+    }
+    const std::uint64_t fg_total = fg_at_least[0];
+    std::vector<PrPoint> curve;
+    for (const double t : thresholds) {
+        const std::int16_t raw = threshold_log_odds(t);
+        // The sentinel bin (0) is never foreground: thresholds are >= kLogOddsMin.
+        const std::size_t b = bin_of(raw);
+        PrPoint p;
+        p.t_f = t;
+        p.tp = fg_at_least[b];
+        p.fp = bg_at_least[b];
+        p.fn = fg_total - p.tp;
+        p.precision = (p.tp + p.fp) > 0U ? static_cast<double>(p.tp) / static_cast<double>(p.tp + p.fp) : 1.0;
+        p.recall = fg_total > 0U ? static_cast<double>(p.tp) / static_cast<double>(fg_total) : 0.0;
+        p.f1 = (p.precision + p.recall) > 0.0 ? 2.0 * p.precision * p.recall / (p.precision + p.recall) : 0.0;
+        curve.push_back(p);
+    }
+    return curve;
+}
+
+double precision_at_recall(const std::vector<PrPoint>& curve, double recall) {
+    double best = -1.0;
+    for (const PrPoint& p : curve) {
+        if (p.recall >= recall && p.precision > best) {
+            best = p.precision;
+        }
+    }
+    return best;
+}
+
+PrSummary summarize(const std::vector<PrPoint>& curve) {
+    PrSummary s;
+    for (const PrPoint& p : curve) {
+        if (p.f1 > s.best_f1) {
+            s.best_f1 = p.f1;
+            s.best_f1_t_f = p.t_f;
+        }
+        if (p.precision >= 0.9 && p.recall > s.recall_at_precision_90) {
+            s.recall_at_precision_90 = p.recall;
+        }
+        if (p.recall > s.max_recall) {
+            s.max_recall = p.recall;
+        }
+    }
+    s.precision_at_recall_90 = precision_at_recall(curve, 0.9);
+    return s;
+}
+
+void subtract_prior(const EvidenceGrid& frame, const std::vector<std::int16_t>& prior, std::vector<std::int16_t>& out) {
+    const Span<std::int16_t> lo = frame.log_odds();
+    out.resize(lo.size());
+    for (std::size_t i = 0; i < lo.size(); ++i) {
+        out[i] = add_saturating(lo[i], prior[i]);
+    }
+}
+
+void add_scores(ScoreHistogram& h, const std::vector<std::int16_t>& subtracted, const GroundTruth& truth) {
+    for (std::size_t i = 0; i < subtracted.size(); ++i) {
+        switch (truth.label[i]) {
+            case Truth::kForeground:
+                ++h.foreground[bin_of(subtracted[i])];
+                break;
+            case Truth::kNotForeground:
+                ++h.not_foreground[bin_of(subtracted[i])];
+                break;
+            case Truth::kUnknown:
+                break;
+        }
+    }
+}
+
+bool build_background(const SceneFile& file, const ExperimentConfig& cfg, EvidenceGrid& background,
+                      double* fuse_ms_total, double* render_ms_total) {
+    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    if (!model.ok()) {
+        return false;
+    }
+    OwnedGrid frame(background.geometry());
+    background.clear();
+    const Scene bg = background_of(file.scene);
+    for (int i = 0; i < cfg.background_frames; ++i) {
+        const Clock::time_point t0 = Clock::now();
+        const SimulatedFrame f = render(file, cfg, bg, file.seed * kSeedStride + static_cast<std::uint64_t>(i));
+        const Clock::time_point t1 = Clock::now();
+        const Result<FusionStats> r = fuse_background_frame(background, frame.grid, {f.readings.data(), f.readings.size()},
+                                                            model.value(), frame.fusion_scratch(), cfg.rasterization);
+        if (fuse_ms_total != nullptr) {
+            *fuse_ms_total += ms_since(t1);
+        }
+        if (render_ms_total != nullptr) {
+            *render_ms_total += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        }
+        if (!r.ok()) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool compute_prior(const EvidenceGrid& background, const AccessibilityParams& params, std::vector<std::int16_t>& prior) {
+    const AccessibilityScratchSize size = accessibility_scratch_size(background.geometry().dims(), params);
+    std::vector<std::uint32_t> words(size.words);
+    std::vector<std::uint8_t> bytes(size.bytes);
+    prior.assign(background.voxel_count(), 0);
+    AccessibilityScratch scratch;
+    scratch.words = Span<std::uint32_t>(words.data(), words.size());
+    scratch.bytes = Span<std::uint8_t>(bytes.data(), bytes.size());
+    return compute_accessibility_prior(background, params, scratch, Span<std::int16_t>(prior.data(), prior.size()), {})
+        .ok();
+}
+
+bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& out, std::string& error,
+               const EvidenceGrid* background) {
+    out.name = file.name;
+    out.background = background_of(file.scene);
+    double fuse_ms = 0.0;
+    double render_ms = 0.0;
+    int fused_frames = cfg.foreground_frames;
+    if (background != nullptr) {
+        if (!(background->geometry() == cfg.geometry)) {
+            error = "the given background grid has another geometry";
+            return false;
+        }
+        std::copy(background->log_odds().begin(), background->log_odds().end(), out.background_grid.log_odds.begin());
+        std::copy(background->observed().begin(), background->observed().end(), out.background_grid.observed.begin());
+    } else {
+        const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+        std::uint32_t need = 1U;
+        for (const PriorMethod m : kAllMethods) {
+            AccessibilityParams p = cfg.params;
+            p.method = m;
+            need = std::max(need, model.ok() ? min_background_frames(p, model.value()) : 1U);
+        }
+        if (cfg.background_frames < 0 || static_cast<std::uint32_t>(cfg.background_frames) < need) {
+            error = std::to_string(cfg.background_frames) + " background frames are too few: the probabilistic method needs " +
+                    "at least " + std::to_string(need) + " for space seen free to fall below t_E (min_background_frames)";
+            return false;
+        }
+        if (!build_background(file, cfg, out.background_grid.grid, &fuse_ms, &render_ms)) {
+            error = "building the background grid failed";
+            return false;
+        }
+        fused_frames += cfg.background_frames;
+    }
+    for (std::size_t m = 0; m < kAllMethods.size(); ++m) {
+        MethodResult& r = out.methods[m];
+        r.method = kAllMethods[m];
+        AccessibilityParams p = cfg.params;
+        p.method = r.method;
+        const Clock::time_point t0 = Clock::now();
+        if (!compute_prior(out.background_grid.grid, p, r.prior)) {
+            error = std::string("computing the prior failed: ") + method_name(r.method);
+            return false;
+        }
+        r.prior_ms = ms_since(t0);
+    }
+    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    if (!model.ok()) {
+        error = "invalid sensor model";
+        return false;
+    }
+    double subtract_ms = 0.0;
+    int subtractions = 0;
+    const bool moving = !file.people.empty();
+    for (int j = 0; j < cfg.foreground_frames; ++j) {
+        const double t = j * cfg.frame_interval_s;
+        const Scene scene = scene_at(file, t);
+        if (j == 0 || moving) {
+            const Clock::time_point t0 = Clock::now();
+            out.last_truth = ideal_ground_truth(cfg.geometry, file.sensors, scene, cfg.rasterization);
+            out.truth_ms += ms_since(t0);
+        }
+        const Clock::time_point t0 = Clock::now();
+        const SimulatedFrame f =
+            render(file, cfg, scene, file.seed * kSeedStride + kForegroundSeedOffset + static_cast<std::uint64_t>(j));
+        const Clock::time_point t1 = Clock::now();
+        render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        out.last_frame.grid.clear();
+        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
+                        out.last_frame.fusion_scratch(), cfg.rasterization)
+                 .ok()) {
+            error = "fusing a foreground frame failed";
+            return false;
+        }
+        fuse_ms += ms_since(t1);
+        for (MethodResult& r : out.methods) {
+            const Clock::time_point t2 = Clock::now();
+            subtract_prior(out.last_frame.grid, r.prior, r.last_subtracted);
+            subtract_ms += ms_since(t2);
+            ++subtractions;
+            add_scores(r.scores, r.last_subtracted, out.last_truth);
+        }
+        out.last_scene = scene;
+    }
+    const int frames = fused_frames;
+    out.fuse_ms_per_frame = frames > 0 ? fuse_ms / frames : 0.0;
+    out.render_ms_per_frame = frames > 0 ? render_ms / frames : 0.0;
+    out.subtract_ms_per_frame = subtractions > 0 ? subtract_ms / subtractions : 0.0;
+    const std::vector<double> thresholds = default_thresholds();
+    for (MethodResult& r : out.methods) {
+        r.curve = pr_curve(r.scores, thresholds);
+        r.summary = summarize(r.curve);
+    }
+    return true;
+}
+
+}  // namespace cellguard::sim

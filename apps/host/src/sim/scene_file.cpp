@@ -1,0 +1,377 @@
+// Scene files of the simulated workcell (TOML, toml++), and walking people.
+#include "cellguard/host/sim/scene_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+#include <utility>
+
+#include "cellguard/host/io/toml_loader.hpp"
+
+namespace cellguard::sim {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+/// The loader's error: "file:line:column: key: what".
+using SceneError = host::TomlError;
+
+/// The shared checked getters plus the scene files' own (ranges, arrays, vectors, [[tables]]).
+class Loader : public host::TomlLoader {
+public:
+    using TomlLoader::TomlLoader;
+
+    /// A number in [lo, hi] (or the fallback when absent).
+    double ranged_or(const toml::table& t, const std::string& path, const char* key, double lo, double hi,
+                     double fallback) const {
+        if (!t.contains(key)) {
+            return fallback;
+        }
+        const double v = number(t, path, key);
+        if (v < lo || v > hi) {
+            std::ostringstream m;
+            m << "expected a number in [" << lo << ", " << hi << "], got " << v;
+            fail(t.get(key)->source(), join(path, key), m.str());
+        }
+        return v;
+    }
+
+    std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+        const toml::array* a = n.as_array();
+        if (a == nullptr || a->size() != count) {
+            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+        }
+        std::vector<double> v;
+        for (const toml::node& e : *a) {
+            v.push_back(as_number(e, key));
+        }
+        return v;
+    }
+
+    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
+        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
+        return {v[0], v[1], v[2]};
+    }
+
+    const toml::array& tables(const toml::table& root, const char* key) const {
+        const toml::node* n = root.get(key);
+        if (!n->is_array_of_tables()) {
+            fail(n->source(), key, std::string("expected [[") + key + "]] tables");
+        }
+        return *n->as_array();
+    }
+
+};
+
+NoiseModel load_noise(const Loader& L, const toml::table& s, const std::string& path, SensorKind kind) {
+    NoiseModel m;
+    m.kind = kind;
+    const toml::node* n = s.get("noise");
+    if (n == nullptr) {
+        return m;
+    }
+    const std::string p = path + ".noise";
+    if (!n->is_table()) {
+        L.fail(n->source(), p, "expected a table");
+    }
+    const toml::table& t = *n->as_table();
+    if (kind == SensorKind::kFlashLidar) {
+        L.check_keys(t, p, {"range_sigma_base_m", "range_sigma_per_m", "mixed_pixel_edge_m", "mixed_pixel_probability"});
+        FlashLidarNoise& q = m.lidar;
+        q.range_sigma_base_m = L.ranged_or(t, p, "range_sigma_base_m", 0.0, 1.0, q.range_sigma_base_m);
+        q.range_sigma_per_m = L.ranged_or(t, p, "range_sigma_per_m", 0.0, 1.0, q.range_sigma_per_m);
+        q.mixed_pixel_edge_m = L.ranged_or(t, p, "mixed_pixel_edge_m", 0.0, 100.0, q.mixed_pixel_edge_m);
+        q.mixed_pixel_probability = L.ranged_or(t, p, "mixed_pixel_probability", 0.0, 1.0, q.mixed_pixel_probability);
+    } else if (kind == SensorKind::kStereo) {
+        L.check_keys(t, p, {"baseline_m", "disparity_sigma_px", "disparity_quantum_px", "min_disparity_px",
+                            "missing_probability", "edge_missing_m", "edge_missing_probability"});
+        StereoNoise& q = m.stereo;
+        q.baseline_m = L.ranged_or(t, p, "baseline_m", 1e-3, 10.0, q.baseline_m);
+        q.disparity_sigma_px = L.ranged_or(t, p, "disparity_sigma_px", 0.0, 100.0, q.disparity_sigma_px);
+        q.disparity_quantum_px = L.ranged_or(t, p, "disparity_quantum_px", 0.0, 100.0, q.disparity_quantum_px);
+        q.min_disparity_px = L.ranged_or(t, p, "min_disparity_px", 0.0, 10000.0, q.min_disparity_px);
+        q.missing_probability = L.ranged_or(t, p, "missing_probability", 0.0, 1.0, q.missing_probability);
+        q.edge_missing_m = L.ranged_or(t, p, "edge_missing_m", 0.0, 100.0, q.edge_missing_m);
+        q.edge_missing_probability = L.ranged_or(t, p, "edge_missing_probability", 0.0, 1.0, q.edge_missing_probability);
+    } else {
+        L.check_keys(t, p, {});
+    }
+    return m;
+}
+
+void load_sensors(const Loader& L, const toml::table& root, SceneFile& f) {
+    const toml::array& arr = L.tables(root, "sensor");
+    std::size_t i = 0U;
+    for (const toml::node& node : arr) {
+        const toml::table& s = *node.as_table();
+        const std::string p = "sensor[" + std::to_string(i++) + "]";
+        L.check_keys(s, p, {"name", "kind", "position", "target", "width", "height", "hfov_deg", "vfov_deg", "focal_px",
+                            "max_range", "noise"});
+        SensorSpec spec;
+        spec.name = L.string_or(s, p, "name", p);
+        const std::string kind_name = L.string_or(s, p, "kind", "");
+        SensorKind kind = SensorKind::kIdeal;
+        if (kind_name == "flash_lidar") {
+            kind = SensorKind::kFlashLidar;
+        } else if (kind_name == "stereo") {
+            kind = SensorKind::kStereo;
+        } else if (kind_name != "ideal") {
+            L.fail(s.source(), p + ".kind", "expected \"ideal\", \"flash_lidar\" or \"stereo\"");
+        }
+        spec.position = L.vec3(s, p, "position");
+        spec.target = L.vec3(s, p, "target");
+        if ((spec.target - spec.position).norm() < 1e-6 ||
+            (spec.target - spec.position).normalized().cross(Eigen::Vector3d::UnitZ()).norm() < 1e-6) {
+            L.fail(s.source(), p + ".target", "the optical axis must have a length and must not be vertical");
+        }
+        spec.width = static_cast<std::int32_t>(L.integer(s, p, "width", 1, 640));
+        spec.height = static_cast<std::int32_t>(L.integer(s, p, "height", 1, 480));
+        if (s.contains("focal_px")) {
+            if (s.contains("hfov_deg") || s.contains("vfov_deg")) {
+                L.fail(s.source(), p + ".focal_px", "give either focal_px or the fields of view, not both");
+            }
+            const double f_px = L.ranged_or(s, p, "focal_px", 1.0, 1e5, 1.0);
+            spec.hfov_deg = 2.0 * std::atan(0.5 * spec.width / f_px) * 180.0 / kPi;
+            spec.vfov_deg = 2.0 * std::atan(0.5 * spec.height / f_px) * 180.0 / kPi;
+        } else {
+            spec.hfov_deg = L.number(s, p, "hfov_deg");
+            spec.vfov_deg = L.number(s, p, "vfov_deg");
+            if (!(spec.hfov_deg > 0.0 && spec.hfov_deg < 170.0 && spec.vfov_deg > 0.0 && spec.vfov_deg < 170.0)) {
+                L.fail(s.source(), p, "fields of view must lie in (0, 170) degrees");
+            }
+        }
+        spec.max_range = static_cast<float>(L.ranged_or(s, p, "max_range", 0.01, 100.0, 10.0));
+        f.sensors.push_back(spec);
+        f.noise.push_back(load_noise(L, s, p, kind));
+    }
+}
+
+void load_boxes(const Loader& L, const toml::table& root, SceneFile& f) {
+    const toml::array& arr = L.tables(root, "box");
+    std::size_t i = 0U;
+    for (const toml::node& node : arr) {
+        const toml::table& t = *node.as_table();
+        const std::string p = "box[" + std::to_string(i++) + "]";
+        L.check_keys(t, p, {"center", "size", "yaw_deg", "role"});
+        Box b;
+        b.center = L.vec3(t, p, "center");
+        b.size = L.vec3(t, p, "size");
+        if (!(b.size.minCoeff() > 0.0)) {
+            L.fail(t.source(), p + ".size", "edge lengths must be greater than 0");
+        }
+        b.yaw = L.number_or(t, p, "yaw_deg", 0.0) * kPi / 180.0;
+        const std::string role = L.string_or(t, p, "role", "");
+        if (role != "background" && role != "foreground") {
+            L.fail(t.source(), p + ".role", "expected \"background\" or \"foreground\"");
+        }
+        b.background = role == "background";
+        f.scene.boxes.push_back(b);
+    }
+}
+
+void load_people(const Loader& L, const toml::table& root, SceneFile& f) {
+    const toml::array& arr = L.tables(root, "person");
+    std::size_t i = 0U;
+    for (const toml::node& node : arr) {
+        const toml::table& t = *node.as_table();
+        const std::string p = "person[" + std::to_string(i++) + "]";
+        L.check_keys(t, p, {"height_m", "speed_mps", "path", "loop"});
+        PersonSpec person;
+        person.height_m = L.ranged_or(t, p, "height_m", 0.3, 2.5, person.height_m);
+        person.speed_mps = L.ranged_or(t, p, "speed_mps", 0.0, 10.0, person.speed_mps);
+        person.loop = L.boolean_or(t, p, "loop", false);
+        const toml::node& path = L.require(t, p, "path");
+        const toml::array* pa = path.as_array();
+        if (pa == nullptr || pa->empty()) {
+            L.fail(path.source(), p + ".path", "expected an array of [x, y] waypoints");
+        }
+        for (const toml::node& w : *pa) {
+            const std::vector<double> xy = L.numbers(w, p + ".path", 2U);
+            person.path.emplace_back(xy[0], xy[1]);
+        }
+        f.people.push_back(person);
+    }
+}
+
+SceneLoad parse_scene_depth(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                            int depth);
+
+SceneLoad load_scene_file_depth(const std::string& path, int depth) {
+    std::string text;
+    std::string dir;
+    if (!host::read_text_file(path, text, dir)) {
+        SceneLoad out;
+        out.error = path + ": cannot open the scene file";
+        return out;
+    }
+    return parse_scene_depth(text, path, dir, depth);
+}
+
+SceneLoad parse_scene_depth(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                            int depth) {
+    SceneLoad out;
+    try {
+        const toml::table root = toml::parse(text, source_name);
+        const Loader L(source_name);
+        L.check_keys(root, "", {"name", "description", "seed", "include", "floor", "sensor", "box", "person"});
+        SceneFile& f = out.scene;
+        f.name = L.string_or(root, "", "name", "");
+        f.description = L.string_or(root, "", "description", "");
+        f.seed = root.contains("seed") ? static_cast<std::uint64_t>(L.integer(root, "", "seed", 0, INT64_MAX)) : 1U;
+        f.scene.floor = L.boolean_or(root, "", "floor", true);
+        SceneFile included;
+        bool have_included_sensors = false;
+        if (root.contains("include")) {
+            const toml::node& n = *root.get("include");
+            const toml::array* a = n.as_array();
+            if (a == nullptr) {
+                L.fail(n.source(), "include", "expected an array of file names");
+            }
+            if (depth >= 8) {
+                L.fail(n.source(), "include", "includes nested more than 8 deep");
+            }
+            for (const toml::node& e : *a) {
+                if (!e.is_string()) {
+                    L.fail(e.source(), "include", "expected an array of file names");
+                }
+                const std::string name = e.as_string()->get();
+                const std::string path = (!name.empty() && name[0] == '/') || base_dir.empty() ? name : base_dir + "/" + name;
+                const SceneLoad sub = load_scene_file_depth(path, depth + 1);
+                if (!sub.ok) {
+                    L.fail(e.source(), "include", sub.error);
+                }
+                for (const Box& b : sub.scene.scene.boxes) {
+                    included.scene.boxes.push_back(b);
+                }
+                for (const PersonSpec& person : sub.scene.people) {
+                    included.people.push_back(person);
+                }
+                if (!sub.scene.sensors.empty() && !have_included_sensors) {
+                    included.sensors = sub.scene.sensors;
+                    included.noise = sub.scene.noise;
+                    have_included_sensors = true;
+                }
+            }
+        }
+        f.scene.boxes = included.scene.boxes;
+        f.people = included.people;
+        if (root.contains("sensor")) {
+            load_sensors(L, root, f);
+        } else if (have_included_sensors) {
+            f.sensors = included.sensors;
+            f.noise = included.noise;
+        } else {
+            f.sensors = paper_sensors();
+            f.noise = paper_noise_models();
+        }
+        if (root.contains("box")) {
+            load_boxes(L, root, f);
+        }
+        if (root.contains("person")) {
+            load_people(L, root, f);
+        }
+        out.ok = true;
+    } catch (const toml::parse_error& e) {
+        out.error = host::toml_syntax_error(source_name, e);
+        out.scene = SceneFile{};
+    } catch (const SceneError& e) {
+        out.error = e.message;
+        out.scene = SceneFile{};
+    }
+    return out;
+}
+}  // namespace
+
+SceneLoad parse_scene(const std::string& text, const std::string& source_name, const std::string& base_dir) {
+    return parse_scene_depth(text, source_name, base_dir, 0);
+}
+
+SceneLoad load_scene_file(const std::string& path) { return load_scene_file_depth(path, 0); }
+
+std::vector<Box> person_boxes(const PersonSpec& person, double t) {
+    // Where along the path: arc length s = speed * t.
+    const std::vector<Eigen::Vector2d>& path = person.path;
+    Eigen::Vector2d pos = path.empty() ? Eigen::Vector2d::Zero() : path.front();
+    Eigen::Vector2d heading(1.0, 0.0);
+    double s = std::fmax(0.0, person.speed_mps * t);
+    const double stride_phase = s;
+    std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segments;
+    for (std::size_t i = 0; i + 1U < path.size(); ++i) {
+        segments.emplace_back(path[i], path[i + 1U]);
+    }
+    if (person.loop && path.size() > 2U) {
+        segments.emplace_back(path.back(), path.front());
+    }
+    double total = 0.0;
+    for (const auto& seg : segments) {
+        total += (seg.second - seg.first).norm();
+    }
+    if (total > 0.0) {
+        s = person.loop ? std::fmod(s, total) : std::fmin(s, total);
+        for (const auto& seg : segments) {
+            const double len = (seg.second - seg.first).norm();
+            if (len <= 0.0) {
+                continue;
+            }
+            heading = (seg.second - seg.first) / len;
+            if (s <= len) {
+                pos = seg.first + s * heading;
+                break;
+            }
+            s -= len;
+            pos = seg.second;
+        }
+    }
+    const double yaw = std::atan2(heading.y(), heading.x());
+    const double h = person.height_m;
+    const double k = h / 1.75;  // widths scale with height
+    // Gait: legs and arms swing along the heading, one stride every 1.4 m.
+    const double swing = 0.12 * k * std::sin(2.0 * kPi * stride_phase / 1.4);
+    const Eigen::Vector2d side(-heading.y(), heading.x());
+    std::vector<Box> boxes;
+    auto add = [&](double forward, double lateral, double z_low, double z_high, double sx, double sy) {
+        Box b;
+        const Eigen::Vector2d c = pos + forward * heading + lateral * side;
+        b.center = Eigen::Vector3d(c.x(), c.y(), 0.5 * (z_low + z_high));
+        b.size = Eigen::Vector3d(sx, sy, z_high - z_low);
+        b.yaw = yaw;
+        b.background = false;
+        boxes.push_back(b);
+    };
+    const double hip = 0.47 * h;
+    const double shoulder = 0.81 * h;
+    add(swing, 0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                     // left leg
+    add(-swing, -0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                   // right leg
+    add(0.0, 0.0, hip, shoulder, 0.22 * k, 0.38 * k);                       // torso
+    add(-0.8 * swing, 0.245 * k, 0.45 * h, shoulder, 0.09 * k, 0.09 * k);  // left arm
+    add(0.8 * swing, -0.245 * k, 0.45 * h, shoulder, 0.09 * k, 0.09 * k);  // right arm
+    add(0.0, 0.0, shoulder, 0.86 * h, 0.10 * k, 0.10 * k);                  // neck
+    add(0.01 * k, 0.0, 0.86 * h, h, 0.20 * k, 0.16 * k);                    // head
+    add(0.0, 0.0, 0.40 * h, hip, 0.20 * k, 0.36 * k);                       // hips
+    return boxes;
+}
+
+Scene scene_at(const SceneFile& file, double t) {
+    Scene s = file.scene;
+    for (const PersonSpec& p : file.people) {
+        for (const Box& b : person_boxes(p, t)) {
+            s.boxes.push_back(b);
+        }
+    }
+    return s;
+}
+
+Scene background_of(const Scene& scene) {
+    Scene s;
+    s.floor = scene.floor;
+    for (const Box& b : scene.boxes) {
+        if (b.background) {
+            s.boxes.push_back(b);
+        }
+    }
+    return s;
+}
+
+}  // namespace cellguard::sim

@@ -1,0 +1,252 @@
+#include "cellguard/host/sim/workcell.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cellguard::sim {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+double deg2rad(double d) { return d * kPi / 180.0; }
+
+// Pixels of the sensor's image (the size render_depth gives its vector).
+std::size_t image_size(const SensorSpec& sensor) noexcept {
+    return static_cast<std::size_t>(sensor.width) * static_cast<std::size_t>(sensor.height);
+}
+
+// Slab test of a ray against a box rotated by yaw about its centre, the
+// inverse rotation given as a matrix.
+double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, const Eigen::Vector3d& origin,
+                              const Eigen::Vector3d& dir) {
+    const Eigen::Vector3d o = inv_yaw * (origin - b.center);
+    const Eigen::Vector3d d = inv_yaw * dir;
+    const Eigen::Vector3d half = 0.5 * b.size;
+    double t0 = 0.0;
+    double t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        if (std::fabs(d[a]) < 1e-15) {
+            if (o[a] < -half[a] || o[a] > half[a]) {
+                return std::numeric_limits<double>::infinity();
+            }
+            continue;
+        }
+        double ta = (-half[a] - o[a]) / d[a];
+        double tb = (half[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::fmax(t0, ta);
+        t1 = std::fmin(t1, tb);
+        if (t0 > t1) {
+            return std::numeric_limits<double>::infinity();
+        }
+    }
+    return t0;
+}
+
+// intersect_box_prepared with the rotation made here (the product
+// AngleAxis * vector computes through the same matrix).
+double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    return intersect_box_prepared(b, Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(), origin,
+                                  dir);
+}
+}  // namespace
+
+PreparedScene::PreparedScene(const Scene& scene) : scene_(scene) {
+    for (const Box& b : scene_.boxes) {
+        inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+    }
+}
+
+PreparedScene::PreparedScene(std::size_t max_boxes) {
+    scene_.boxes.reserve(max_boxes);
+    inverse_rotation_.reserve(max_boxes);
+}
+
+bool PreparedScene::assign(const Scene& scene) noexcept {
+    if (scene.boxes.size() > capacity()) {
+        return false;
+    }
+    // Within the reserved capacity clear() and push_back() never reallocate.
+    scene_.floor = scene.floor;
+    scene_.boxes.clear();
+    inverse_rotation_.clear();
+    for (const Box& b : scene.boxes) {
+        scene_.boxes.push_back(b);
+        inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+    }
+    return true;
+}
+
+std::size_t PreparedScene::capacity() const noexcept {
+    return std::min(scene_.boxes.capacity(), inverse_rotation_.capacity());
+}
+
+RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
+    RayHit hit;
+    hit.distance = std::numeric_limits<double>::infinity();
+    if (scene_.floor && dir.z() < 0.0) {
+        hit.distance = -origin.z() / dir.z();
+    }
+    for (std::size_t i = 0; i < scene_.boxes.size(); ++i) {
+        const double t = intersect_box_prepared(scene_.boxes[i], inverse_rotation_[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = static_cast<int>(i);
+        }
+    }
+    return hit;
+}
+
+void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vector<float>& depth) {
+    depth.assign(image_size(sensor), 0.0F);
+    (void)render_depth_into(sensor, scene, Span<float>(depth.data(), depth.size()));
+}
+
+bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept {
+    if (depth.size() != image_size(sensor)) {
+        return false;
+    }
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    std::fill(depth.begin(), depth.end(), 0.0F);
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u) {
+            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+            const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
+            const double t = scene.cast(pose.translation(), dir).distance;
+            const double z = t / ray_cam.norm();
+            if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
+                depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u)] =
+                    static_cast<float>(z);
+            }
+        }
+    }
+    return true;
+}
+
+Eigen::Isometry3d SensorSpec::pose() const {
+    const Eigen::Vector3d forward = (target - position).normalized();
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear().col(0) = right;
+    t.linear().col(1) = down;
+    t.linear().col(2) = forward;
+    t.translation() = position;
+    return t;
+}
+
+PinholeIntrinsics SensorSpec::intrinsics() const {
+    PinholeIntrinsics k;
+    k.width = width;
+    k.height = height;
+    k.fx = 0.5 * width / std::tan(0.5 * deg2rad(hfov_deg));
+    k.fy = 0.5 * height / std::tan(0.5 * deg2rad(vfov_deg));
+    k.cx = 0.5 * (width - 1);
+    k.cy = 0.5 * (height - 1);
+    return k;
+}
+
+std::vector<SensorSpec> paper_sensors() {
+    const Eigen::Vector3d target(0.0, 0.0, 0.0);  // the centre of the floor: every pixel meets the floor within 10 m
+    std::vector<SensorSpec> s(4);
+    const double c = 1.9;
+    const double h = 1.9;
+    s[0] = SensorSpec{"lidar-a", {-c, -c, h}, target, 176, 144, 43.6, 34.6, 10.0F};
+    s[1] = SensorSpec{"lidar-b", {c, c, h}, target, 176, 144, 43.6, 34.6, 10.0F};
+    s[2] = SensorSpec{"stereo-a", {c, -c, h}, target, 320, 240, 60.0, 45.0, 10.0F};
+    s[3] = SensorSpec{"stereo-b", {-c, c, h}, target, 320, 240, 60.0, 45.0, 10.0F};
+    return s;
+}
+
+Scene reference_scene() {
+    Scene s;
+    s.boxes.push_back(Box{{-0.35, 0.2, 0.3}, {0.5, 0.4, 0.6}, 0.0, true});
+    s.boxes.push_back(Box{{0.4, -0.25, 0.2}, {0.4, 0.6, 0.4}, 0.3, true});
+    return s;
+}
+
+double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    double best = std::numeric_limits<double>::infinity();
+    if (scene.floor && dir.z() < 0.0) {
+        best = -origin.z() / dir.z();
+    }
+    for (const Box& b : scene.boxes) {
+        best = std::fmin(best, intersect_box(b, origin, dir));
+    }
+    return best;
+}
+
+RayHit cast_ray_hit(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+    RayHit hit;
+    hit.distance = std::numeric_limits<double>::infinity();
+    if (scene.floor && dir.z() < 0.0) {
+        hit.distance = -origin.z() / dir.z();
+    }
+    for (std::size_t i = 0; i < scene.boxes.size(); ++i) {
+        const double t = intersect_box(scene.boxes[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = static_cast<int>(i);
+        }
+    }
+    return hit;
+}
+
+bool box_contains(const Box& box, const Eigen::Vector3d& p) {
+    const Eigen::AngleAxisd inv_yaw(-box.yaw, Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d local = inv_yaw * (p - box.center);
+    const Eigen::Vector3d half = 0.5 * box.size;
+    return std::fabs(local.x()) <= half.x() && std::fabs(local.y()) <= half.y() && std::fabs(local.z()) <= half.z();
+}
+
+void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<float>& depth) {
+    // One ray caster: the prepared scene casts exactly the plain scene's distances (tested).
+    render_depth(sensor, PreparedScene(scene), depth);
+}
+
+SensorReading depth_reading(const SensorSpec& sensor, Span<const float> depth) noexcept {
+    SensorReading r;
+    r.pose = sensor.pose();
+    r.kind = SensorDataKind::kDepthImage;
+    r.depth = depth;
+    r.intrinsics = sensor.intrinsics();
+    r.max_range = sensor.max_range;
+    return r;
+}
+
+void add_readings(const std::vector<SensorSpec>& sensors, SimulatedFrame& frame) {
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        frame.readings.push_back(
+            depth_reading(sensors[i], Span<const float>(frame.depth[i].data(), frame.depth[i].size())));
+    }
+}
+
+SimulatedFrame render_frame(const std::vector<SensorSpec>& sensors, const Scene& scene) {
+    SimulatedFrame f;
+    f.depth.resize(sensors.size());
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        render_depth(sensors[i], scene, f.depth[i]);
+    }
+    add_readings(sensors, f);
+    return f;
+}
+
+bool render_frame_into(const std::vector<SensorSpec>& sensors, const PreparedScene& scene,
+                       Span<const Span<float>> depth, Span<SensorReading> readings) noexcept {
+    if (depth.size() != sensors.size() || readings.size() != sensors.size()) {
+        return false;
+    }
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        if (depth[i].size() != image_size(sensors[i])) {
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < sensors.size(); ++i) {
+        (void)render_depth_into(sensors[i], scene, depth[i]);
+        readings[i] = depth_reading(sensors[i], depth[i]);
+    }
+    return true;
+}
+
+}  // namespace cellguard::sim

@@ -1,0 +1,23 @@
+/// @file clock.hpp
+/// The Linux monotonic clock for the cycle executive: clock_gettime(CLOCK_MONOTONIC)
+/// in microseconds (not affected by wall-clock changes or NTP steps).
+#ifndef CELLGUARD_PORT_CLOCK_HPP
+#define CELLGUARD_PORT_CLOCK_HPP
+
+#include <cstdint>
+
+#include "cellguard/safety/clock.hpp"
+
+namespace cellguard::linux_port {
+
+/// CLOCK_MONOTONIC in microseconds; 0 if the call fails (the controller then sees
+/// a clock that does not advance and latches its clock fault).
+class LinuxMonotonicClock final : public MonotonicClock {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+public:
+    /// Microseconds of CLOCK_MONOTONIC.
+    std::uint64_t now_us() noexcept override;
+};
+
+}  // namespace cellguard::linux_port
+
+#endif  // CELLGUARD_PORT_CLOCK_HPP

@@ -1,0 +1,15 @@
+#include "cellguard/port/clock.hpp"
+
+#include <ctime>
+
+namespace cellguard::linux_port {
+
+std::uint64_t LinuxMonotonicClock::now_us() noexcept {
+    timespec ts{};
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0 || ts.tv_sec < 0 || ts.tv_nsec < 0) {
+        return 0U;
+    }
+    return static_cast<std::uint64_t>(ts.tv_sec) * 1000000U + static_cast<std::uint64_t>(ts.tv_nsec) / 1000U;
+}
+
+}  // namespace cellguard::linux_port
