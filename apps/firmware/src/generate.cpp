@@ -12,9 +12,9 @@
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/linux/prior_files.hpp"
+#include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/prior/prior_image.hpp"
-#include "cellguard/sim/workcell.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 

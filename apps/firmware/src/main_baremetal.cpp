@@ -2,9 +2,9 @@
 // (scenario.hpp) with the SysTick clock and the semihosting CAN backend.
 #include <cstdint>
 
-#include "cellguard/baremetal/semihosting.hpp"
-#include "cellguard/baremetal/semihosting_can.hpp"
-#include "cellguard/baremetal/systick_clock.hpp"
+#include "cellguard/port/semihosting.hpp"
+#include "cellguard/port/can.hpp"
+#include "cellguard/port/clock.hpp"
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/firmware/scenario.hpp"
 
