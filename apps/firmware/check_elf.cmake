@@ -1,8 +1,10 @@
 # Checks the linked firmware ELF against the design card and reports its size.
 # Run as: cmake -DNM=<arm-none-eabi-nm> -DSIZE=<arm-none-eabi-size> -DELF=<elf> [-DREPORT=<md>] -P check_elf.cmake
 # Fails when the image contains the allocator (malloc family, _sbrk),
-# operator new/delete or the exception runtime, or when the prior does not
-# lie entirely in the flash region (0x00000000 .. 0x003fffff on mps2-an500).
+# operator new/delete or the exception runtime, or when the prior image
+# (src/embedded_data.S: cellguard_firmware_prior_image, and the payload
+# symbol on the same bytes) does not lie entirely in the flash region
+# (0x00000000 .. 0x003fffff on mps2-an500).
 set(flash_begin 0)
 math(EXPR flash_end "0x00400000")
 execute_process(COMMAND ${NM} -S ${ELF} OUTPUT_VARIABLE symbols RESULT_VARIABLE rc ERROR_VARIABLE err)
@@ -40,15 +42,17 @@ foreach(line IN LISTS lines)
     continue()
   endif()
   math(EXPR sz "${size}")
-  if(name MATCHES "^_ZN18cellguard_firmware5prior(7kValues|6kImage)E$")
+  if(name MATCHES "^cellguard_firmware_prior_(image|values)$")
     math(EXPR a "${addr}")
     math(EXPR e "${addr} + ${sz}")
     if(a LESS flash_begin OR e GREATER flash_end)
       message(FATAL_ERROR "the prior ${name} lies at ${addr}..+${sz}, outside flash")
     endif()
     list(APPEND prior_parts "${name}@${addr}")
-    math(EXPR prior_bytes "${prior_bytes} + ${sz}")
-  elseif(name MATCHES "^_ZN18cellguard_firmware6canned")
+    if(name STREQUAL "cellguard_firmware_prior_image")  # the values are the image's payload, not more bytes
+      math(EXPR prior_bytes "${prior_bytes} + ${sz}")
+    endif()
+  elseif(name STREQUAL "cellguard_firmware_frames")  # not the _f32 symbol on the same bytes
     math(EXPR canned_bytes "${canned_bytes} + ${sz}")
   elseif(name MATCHES "g_grid")
     math(EXPR grid_bytes "${grid_bytes} + ${sz}")
@@ -62,7 +66,7 @@ if(found)
 endif()
 list(LENGTH prior_parts n_prior)
 if(NOT n_prior EQUAL 2)
-  message(FATAL_ERROR "expected the prior image and the prior values in the ELF, found: ${prior_parts}")
+  message(FATAL_ERROR "expected the prior image and its payload symbol in the ELF, found: ${prior_parts}")
 endif()
 message(STATUS "no heap, no exception runtime; prior in flash: ${prior_parts}")
 
@@ -89,8 +93,8 @@ string(APPEND md "from arm-none-eabi-nm -S and arm-none-eabi-size -A); copied he
 string(APPEND md "Grid: 34 x 30 x 30 = 30,600 voxels. Board: 4 MiB flash (SSRAM1 at 0x0), 4 MiB RAM (0x20000000).\n\n")
 string(APPEND md "| Region | Part | Bytes |\n|---|---|---:|\n")
 string(APPEND md "| flash | code (.isr_vector + .text: lib, port, firmware, libc/libm parts) | ${code} |\n")
-string(APPEND md "| flash | prior (image with header and CRCs, and the int16 values the controller reads) | ${prior_bytes} |\n")
-string(APPEND md "| flash | canned sensor frames (3 scenes x 4 depth images) and sensor descriptions | ${canned_bytes} |\n")
+string(APPEND md "| flash | prior image (header with CRCs and payload; the controller reads the payload in place) | ${prior_bytes} |\n")
+string(APPEND md "| flash | canned frames blob (3 scenes x 4 depth images, sensor descriptions, CRC) | ${canned_bytes} |\n")
 string(APPEND md "| flash | other read-only data (CRC table, strings, constants) | ${other_ro} |\n")
 string(APPEND md "| flash | .ARM.exidx/.ARM.extab/.init_array | ${tables} |\n")
 string(APPEND md "| flash | .data initial values | ${sec_data} |\n")

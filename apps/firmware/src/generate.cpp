@@ -1,12 +1,19 @@
 // cellguard-firmware-gen: renders the firmware's canned inputs on the host.
 // Usage: cellguard-firmware-gen OUTPUT_DIR (and --help, --version)
-// Writes firmware_prior.hpp (write_prior_source_file), prior_values.hpp (the
-// same prior as an int16 array) and canned_frames.hpp (four depth sensors at
-// half the paper's resolution, three scenes). Every double and float
-// is written as a hexadecimal literal, so the targets read the exact bits.
+// Writes prior.cgprior (the prior image, byte for byte the file cellguard-prior
+// writes: write_prior_image_file) and frames.bin (four depth sensors at half
+// the paper's resolution, three scenes; the format of
+// cellguard/firmware/canned_frames.hpp). Binary, little-endian, doubles and
+// floats as their bit patterns, so the targets read the exact bits.
+// src/embedded_data.S embeds both files as they are.
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
+
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/firmware/canned_frames.hpp"
 
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
@@ -35,23 +42,89 @@ sim::Scene with_person(double x, double y) {
     return s;
 }
 
-bool write_text(const std::string& path, const std::string& text) {
+bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (f == nullptr) return false;
-    const bool ok = std::fwrite(text.data(), 1U, text.size(), f) == text.size();
+    const bool ok = std::fwrite(bytes.data(), 1U, bytes.size(), f) == bytes.size();
     return std::fclose(f) == 0 && ok;
 }
 
-std::string hex_double(double v) {
-    char b[64];
-    std::snprintf(b, sizeof(b), "%a", v);
-    return b;
-}
+/// Appends values little-endian, doubles and floats as their bit patterns.
+class LeWriter {
+public:
+    void u32(std::uint32_t v) {
+        for (unsigned i = 0U; i < 4U; ++i) bytes_.push_back(static_cast<std::uint8_t>(v >> (8U * i)));
+    }
+    void u64(std::uint64_t v) {
+        u32(static_cast<std::uint32_t>(v));
+        u32(static_cast<std::uint32_t>(v >> 32U));
+    }
+    void f64(double v) {
+        std::uint64_t bits = 0U;
+        std::memcpy(&bits, &v, sizeof(bits));
+        u64(bits);
+    }
+    void f32(float v) {
+        std::uint32_t bits = 0U;
+        std::memcpy(&bits, &v, sizeof(bits));
+        u32(bits);
+    }
+    void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
+    void raw(const void* p, std::size_t n) {
+        const auto* b = static_cast<const std::uint8_t*>(p);
+        bytes_.insert(bytes_.end(), b, b + n);
+    }
+    void zeros(std::size_t n) { bytes_.insert(bytes_.end(), n, 0U); }
+    void put_u32(std::size_t offset, std::uint32_t v) {
+        for (unsigned i = 0U; i < 4U; ++i) bytes_[offset + i] = static_cast<std::uint8_t>(v >> (8U * i));
+    }
+    [[nodiscard]] std::size_t size() const { return bytes_.size(); }
+    [[nodiscard]] const std::vector<std::uint8_t>& bytes() const { return bytes_; }
 
-std::string hex_float(float v) {
-    char b[64];
-    std::snprintf(b, sizeof(b), "%aF", static_cast<double>(v));
-    return b;
+private:
+    std::vector<std::uint8_t> bytes_;
+};
+
+/// The frames blob (canned_frames.hpp): header, sensor records, scene
+/// names, depth images scene-major, CRC-32.
+std::vector<std::uint8_t> frames_blob(const std::vector<sim::SensorSpec>& sensors, const char* const* scene_names,
+                                      const std::vector<sim::SimulatedFrame>& frames) {
+    namespace L = cellguard::firmware::frames_layout;
+    LeWriter w;
+    w.raw(cellguard::firmware::kFramesMagic, sizeof(cellguard::firmware::kFramesMagic));
+    w.u32(cellguard::firmware::kFramesFormatVersion);
+    w.u32(static_cast<std::uint32_t>(sensors.size()));
+    w.u32(static_cast<std::uint32_t>(frames.size()));
+    w.u32(0U);  // the blob's size, set below
+    w.u32(0U);  // reserved
+    for (const sim::SensorSpec& s : sensors) {
+        const Eigen::Matrix4d m = s.pose().matrix();
+        const PinholeIntrinsics k = s.intrinsics();
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 4; ++c) w.f64(m(r, c));
+        }
+        w.f64(k.fx);
+        w.f64(k.fy);
+        w.f64(k.cx);
+        w.f64(k.cy);
+        w.i32(k.width);
+        w.i32(k.height);
+        w.f32(s.max_range);
+        w.zeros(4U);
+    }
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        char name[L::kSceneNameBytes] = {};
+        std::strncpy(name, scene_names[i], sizeof(name) - 1U);
+        w.raw(name, sizeof(name));
+    }
+    for (const sim::SimulatedFrame& f : frames) {
+        for (const std::vector<float>& depth : f.depth) {
+            for (const float d : depth) w.f32(d);
+        }
+    }
+    w.put_u32(L::kBlobSize, static_cast<std::uint32_t>(w.size() + L::kCrcBytes));
+    w.u32(crc32(Span<const std::uint8_t>(w.bytes().data(), w.size())));
+    return w.bytes();
 }
 
 /// Reads the command line: the output folder into @p dir and -1 to run, else
@@ -59,13 +132,12 @@ std::string hex_float(float v) {
 int parse_args(int argc, char** argv, std::string& dir) {
     host::CommandLine cli("cellguard-firmware-gen", "cellguard-firmware-gen OUTPUT_DIR",
                           "Renders the firmware's canned inputs on the host into the existing folder\n"
-                          "OUTPUT_DIR: firmware_prior.hpp (the prior image as flash source),\n"
-                          "prior_values.hpp (the same prior as an int16 array) and canned_frames.hpp\n"
-                          "(four depth sensors at half the paper's resolution, three scenes), every\n"
-                          "double and float as a hexadecimal literal. The checked-in copies are in\n"
-                          "apps/firmware/generated.",
+                          "OUTPUT_DIR: prior.cgprior (the prior image, as cellguard-prior writes it)\n"
+                          "and frames.bin (four depth sensors at half the paper's resolution, three\n"
+                          "scenes), binary, doubles and floats as their exact bits. The checked-in\n"
+                          "copies are in apps/firmware/generated.",
                           "Exit status: 0 written, 1 a computation or a write failed, 2 bad command line.");
-    cli.argument("OUTPUT_DIR", "the existing folder the three headers go into",
+    cli.argument("OUTPUT_DIR", "the existing folder the two files go into",
                  [&dir](const std::string& v) { dir = v; });
     return cli.parse(argc, argv);
 }
@@ -114,84 +186,19 @@ int main(int argc, char** argv) {
         return 1;
     }
     const Result<PriorImageView> view = load_prior_image({image.data(), image.size()}, g);
-    PriorSourceOptions options;
-    options.name_space = "cellguard_firmware::prior";
-    options.config_header = "cellguard/firmware/grid_config.hpp";
-    if (!view.ok() || !write_prior_source_file((dir + "/firmware_prior.hpp").c_str(), view.value(), options).ok()) {
-        std::fprintf(stderr, "writing firmware_prior.hpp failed\n");
-        return 1;
-    }
-
-    std::string values =
-        "// Generated by cellguard-firmware-gen (apps/firmware/src/generate.cpp). Do not edit.\n"
-        "// The prior of firmware_prior.hpp as int16 values (linear index order), a const\n"
-        "// array the SafetyController reads in place (flash on the MCU); run_scenario\n"
-        "// checks it value by value against the CRC-checked image at start-up.\n"
-        "#ifndef CELLGUARD_FIRMWARE_PRIOR_VALUES_HPP\n#define CELLGUARD_FIRMWARE_PRIOR_VALUES_HPP\n\n"
-        "#include <cstdint>\n\nnamespace cellguard_firmware::prior {\n\n"
-        "/// One prior value per voxel.\ninline constexpr std::int16_t kValues[" +
-        std::to_string(prior.size()) + "] = {\n";
-    for (std::size_t i = 0; i < prior.size(); ++i) {
-        values += (i % 16U == 0U ? "    " : " ") + std::to_string(prior[i]) + ",";
-        if (i % 16U == 15U || i + 1U == prior.size()) values += "\n";
-    }
-    values += "};\n\n}  // namespace cellguard_firmware::prior\n\n#endif  // CELLGUARD_FIRMWARE_PRIOR_VALUES_HPP\n";
-    if (!write_text(dir + "/prior_values.hpp", values)) {
-        std::fprintf(stderr, "writing prior_values.hpp failed\n");
+    if (!view.ok() || !write_prior_image_file((dir + "/prior.cgprior").c_str(), view.value()).ok()) {
+        std::fprintf(stderr, "writing prior.cgprior failed\n");
         return 1;
     }
 
     const char* scene_names[] = {"empty", "person-in-warning-zone", "person-in-protective-zone"};
     const sim::Scene scenes[] = {sim::reference_scene(), with_person(-0.6, 0.6), with_person(0.2, 0.4)};
-    std::string out =
-        "// Generated by cellguard-firmware-gen (apps/firmware/src/generate.cpp). Do not edit.\n"
-        "// The firmware's canned depth frames: the paper's four sensors at half\n"
-        "// their resolution, three scenes of the simulated workcell. Poses and\n"
-        "// intrinsics are binary64, depths binary32, as exact hexadecimal literals.\n"
-        "#ifndef CELLGUARD_FIRMWARE_CANNED_FRAMES_HPP\n#define CELLGUARD_FIRMWARE_CANNED_FRAMES_HPP\n\n"
-        "#include <cstddef>\n#include <cstdint>\n\nnamespace cellguard_firmware::canned {\n\n"
-        "/// A depth sensor: pose rows (3 x 4, sensor -> workcell), pinhole intrinsics, range.\n"
-        "struct CannedSensor {\n    double pose[12];\n    double fx, fy, cx, cy;\n    std::int32_t width, height;\n"
-        "    float max_range;\n};\n\n/// Number of sensors.\ninline constexpr std::size_t kSensorCount = " +
-        std::to_string(sensors.size()) + "U;\n/// Number of scenes.\ninline constexpr std::size_t kSceneCount = 3U;\n\n"
-        "/// The sensors.\ninline constexpr CannedSensor kSensors[kSensorCount] = {\n";
-    for (const sim::SensorSpec& s : sensors) {
-        const Eigen::Matrix4d m = s.pose().matrix();
-        const PinholeIntrinsics k = s.intrinsics();
-        out += "    {{";
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 4; ++c) out += hex_double(m(r, c)) + (r == 2 && c == 3 ? "" : ", ");
-        }
-        out += "}, " + hex_double(k.fx) + ", " + hex_double(k.fy) + ", " + hex_double(k.cx) + ", " + hex_double(k.cy) +
-               ", " + std::to_string(k.width) + ", " + std::to_string(k.height) + ", " + hex_float(s.max_range) + "},  // " +
-               s.name + "\n";
-    }
-    out += "};\n\n/// Scene names.\ninline constexpr const char* kSceneNames[kSceneCount] = {";
-    for (const char* n : scene_names) out += std::string("\"") + n + "\", ";
-    out += "};\n\n";
-    std::string table = "/// Depth image of sensor s in scene i: kDepth[i][s], width * height values, row-major.\n"
-                        "inline constexpr const float* kDepth[kSceneCount][kSensorCount] = {\n";
-    for (std::size_t i = 0; i < 3; ++i) {
-        const sim::SimulatedFrame f = sim::render_frame(sensors, scenes[i]);
-        table += "    {";
-        for (std::size_t s = 0; s < sensors.size(); ++s) {
-            const std::string name = "kDepth" + std::to_string(i) + "_" + std::to_string(s);
-            out += "/// Scene " + std::to_string(i) + " (" + scene_names[i] + "), sensor " + sensors[s].name + ".\n";
-            out += "inline constexpr float " + name + "[" + std::to_string(f.depth[s].size()) + "] = {\n";
-            for (std::size_t p = 0; p < f.depth[s].size(); ++p) {
-                out += (p % 8U == 0U ? "    " : " ") + hex_float(f.depth[s][p]) + ",";
-                if (p % 8U == 7U || p + 1U == f.depth[s].size()) out += "\n";
-            }
-            out += "};\n";
-            table += name + ", ";
-        }
-        table += "},\n";
-    }
-    out += table + "};\n\n}  // namespace cellguard_firmware::canned\n\n#endif  // CELLGUARD_FIRMWARE_CANNED_FRAMES_HPP\n";
-    if (!write_text(dir + "/canned_frames.hpp", out)) {
-        std::fprintf(stderr, "writing canned_frames.hpp failed\n");
+    std::vector<sim::SimulatedFrame> frames;
+    for (const sim::Scene& scene : scenes) frames.push_back(sim::render_frame(sensors, scene));
+    if (!write_bytes(dir + "/frames.bin", frames_blob(sensors, scene_names, frames))) {
+        std::fprintf(stderr, "writing frames.bin failed\n");
         return 1;
     }
-    std::printf("cellguard-firmware-gen: wrote firmware_prior.hpp, prior_values.hpp, canned_frames.hpp to %s\n", dir.c_str());
+    std::printf("cellguard-firmware-gen: wrote prior.cgprior and frames.bin to %s\n", dir.c_str());
     return 0;
 }

@@ -5,20 +5,16 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "canned_frames.hpp"
 #include "cellguard/base/crc32.hpp"
-#include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/grid_config.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/safety/zones.hpp"
-#include "firmware_prior.hpp"
-#include "prior_values.hpp"
+#include "embedded_data.hpp"
 
 namespace cellguard::firmware {
 namespace {
-
-namespace canned = cellguard_firmware::canned;
-namespace prior = cellguard_firmware::prior;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -27,13 +23,12 @@ GridStorage g_grid;                              // NOLINT(cppcoreguidelines-avo
 std::int16_t g_fusion_scratch[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): fusion's per-sensor working memory, in .bss by design
 std::uint32_t g_zone_mask[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
 
-static_assert(prior::kVoxelCount == GridStorage::kVoxels, "the prior was generated for another grid");
-static_assert(sizeof(prior::kValues) / sizeof(prior::kValues[0]) == GridStorage::kVoxels,
-              "the prior values were generated for another grid");
+// The controller reads the prior image's payload in place as int16 values.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the prior payload is little-endian int16");
 
 /// One cycle of the script.
 struct Step {
-    std::uint8_t scene;           // index into canned::kDepth
+    std::uint8_t scene;           // scene index in the frames blob
     std::uint8_t missing_sensors; // bit s: sensor s delivers no frame this cycle
     bool reset;                   // level of the reset input
 };
@@ -161,8 +156,8 @@ void digest_report(const CycleReport& r, Digest& d) noexcept {
     d.u32(r.safety.fault_zone_mask);
 }
 
-SensorReading canned_reading(std::size_t sensor, std::size_t scene) noexcept {
-    const canned::CannedSensor& s = canned::kSensors[sensor];
+SensorReading canned_reading(const CannedFrames& frames, std::size_t sensor, std::size_t scene) noexcept {
+    const CannedSensor& s = frames.sensor(sensor);
     SensorReading r;
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
     for (int row = 0; row < 3; ++row) {
@@ -172,8 +167,7 @@ SensorReading canned_reading(std::size_t sensor, std::size_t scene) noexcept {
     }
     r.pose.matrix() = m;
     r.kind = SensorDataKind::kDepthImage;
-    r.depth = Span<const float>(canned::kDepth[scene][sensor],
-                                static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height));
+    r.depth = frames.depth(scene, sensor);
     r.intrinsics = PinholeIntrinsics{s.fx, s.fy, s.cx, s.cy, s.width, s.height};
     r.max_range = s.max_range;
     return r;
@@ -230,16 +224,33 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     ScenarioSummary summary;
     const GridGeometry geometry = paper_grid_geometry();
 
-    // The prior: the image's CRCs and geometry, then the int16 copy in flash against the image.
-    const Result<PriorImageView> view =
-        load_prior_image(Span<const std::uint8_t>(prior::kImage, sizeof(prior::kImage)), geometry);
+    // The prior image in flash: every check of load_prior_image (CRCs,
+    // geometry, parameters, values); the controller then reads its payload
+    // in place, through the int16 symbol on the same bytes.
+    const Result<PriorImageView> view = load_prior_image(
+        Span<const std::uint8_t>(cellguard_firmware_prior_image, cellguard_firmware_prior_image_size), geometry);
     if (!view.ok()) {
         text.write("error: the prior image in flash fails its checks\n");
         return summary;
     }
-    for (std::size_t i = 0U; i < GridStorage::kVoxels; ++i) {
-        if (view.value()[i] != prior::kValues[i]) {
-            text.write("error: the prior values in flash differ from the prior image\n");
+    if (static_cast<const void*>(cellguard_firmware_prior_values) != static_cast<const void*>(view.value().payload().data()) ||
+        view.value().voxel_count() != GridStorage::kVoxels) {
+        text.write("error: the prior values symbol is not the image's payload\n");
+        return summary;
+    }
+    const Span<const std::int16_t> prior_values(cellguard_firmware_prior_values, GridStorage::kVoxels);
+    // The canned frames: magic, version, sizes, CRC; the script's scenes must exist.
+    const Result<CannedFrames> frames_result = CannedFrames::parse(
+        Span<const std::uint8_t>(cellguard_firmware_frames, cellguard_firmware_frames_size),
+        Span<const float>(cellguard_firmware_frames_f32, cellguard_firmware_frames_size / sizeof(float)));
+    if (!frames_result.ok()) {
+        text.write("error: the canned frames in flash fail their checks\n");
+        return summary;
+    }
+    const CannedFrames& frames = frames_result.value();
+    for (const Step& step : kScript) {
+        if (step.scene >= frames.scene_count()) {
+            text.write("error: the script needs a scene the canned frames do not hold\n");
             return summary;
         }
     }
@@ -259,18 +270,18 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     Digest digest;
     SafetyOutputConfig output_config;
     output_config.zone_count = kScenarioZones;
-    output_config.prior_crc = prior::kPayloadCrc;
+    output_config.prior_crc = view.value().header().payload_crc;
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 
-    const ControllerConfig config = scenario_controller_config(canned::kSensorCount);
+    const ControllerConfig config = scenario_controller_config(frames.sensor_count());
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of g_grid
     SafetyController controller(config, frame_grid, Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels),
-                                Span<const std::int16_t>(prior::kValues, GridStorage::kVoxels), zones.value(),
+                                prior_values, zones.value(),
                                 model, clock, &output);
     summary.prior_crc = controller.prior_crc();
-    if (!output.status().ok() || controller.prior_crc() != prior::kPayloadCrc) {
+    if (!output.status().ok() || controller.prior_crc() != output_config.prior_crc) {
         text.write("error: CAN output refused or prior CRC differs from the image's payload CRC\n");
         return summary;
     }
@@ -279,19 +290,19 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     for (std::uint32_t c = 0U; c < kScenarioCycles; ++c) {
         const Step& step = kScript[c];
         digest.start_cycle();
-        SensorInput inputs[canned::kSensorCount];
+        SensorInput inputs[kMaxCannedSensors];
         const std::uint64_t now = clock.now_us();
-        for (std::size_t s = 0U; s < canned::kSensorCount; ++s) {
-            inputs[s].reading = canned_reading(s, step.scene);
+        for (std::size_t s = 0U; s < frames.sensor_count(); ++s) {
+            inputs[s].reading = canned_reading(frames, s, step.scene);
             inputs[s].captured_us = now;
             inputs[s].present = ((step.missing_sensors >> s) & 1U) == 0U;
         }
         const CycleReport& r =
-            controller.run_cycle(Span<const SensorInput>(inputs, canned::kSensorCount), step.reset);
+            controller.run_cycle(Span<const SensorInput>(inputs, frames.sensor_count()), step.reset);
         digest_grid(frame_grid, digest);
         digest_report(r, digest);
         Line line;
-        line.text("cycle ").dec(r.cycle).text(" scene ").text(canned::kSceneNames[step.scene]);
+        line.text("cycle ").dec(r.cycle).text(" scene ").text(frames.scene_name(step.scene));
         line.text(" zones ");
         for (std::size_t z = 0U; z < r.zones.count; ++z) {
             line.text(z == 0U ? "" : "/").text(to_string(r.zones.zones[z].state));

@@ -1,7 +1,8 @@
 /// @file grid_config.hpp
 /// The grid the firmware is compiled for: the paper's 34 x 30 x 30 voxels
-/// at 5 cm (paper_grid_geometry, grid.hpp). The generated prior header
-/// checks its dimensions against these macros at compile time.
+/// at 5 cm (paper_grid_geometry, grid.hpp): the size of the static grid
+/// storage. The prior image's grid is checked against paper_grid_geometry
+/// at start-up (load_prior_image).
 #ifndef CELLGUARD_FIRMWARE_GRID_CONFIG_HPP
 #define CELLGUARD_FIRMWARE_GRID_CONFIG_HPP
 

@@ -1,9 +1,10 @@
 /// @file scenario.hpp
 /// The firmware's canned run, the same code on every target: the prior
-/// (generated/firmware_prior.hpp, a const array: flash on the MCU) is
-/// checked and bound, two zones are compiled, and the SafetyController
-/// runs a fixed script of cycles on canned depth frames
-/// (generated/canned_frames.hpp, rendered on the host by
+/// image (generated/prior.cgprior, embedded in read-only data: flash on the
+/// MCU) is checked with load_prior_image and its payload bound in place,
+/// two zones are compiled, and the SafetyController runs a fixed script of
+/// cycles on canned depth frames (generated/frames.bin, checked with
+/// CannedFrames::parse; both files rendered on the host by
 /// cellguard-firmware-gen). Every cycle's results are folded into a CRC-32
 /// digest, so that the x86-64, aarch64 and Cortex-M7 builds can be
 /// compared bit for bit.
