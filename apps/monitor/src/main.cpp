@@ -79,7 +79,7 @@ int parse_args(int argc, char** argv, Options& o) {
     log->excludes(can);
     cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
-                "cycle time budget, overriding the config's cycle.budget_ms; for tests on\n"
+                "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
                 "emulators or loaded hosts, where the real budget is not the point");
     cli.flag("--realtime", o.realtime, "SCHED_FIFO, mlockall and CPU affinity where permitted");
     cli.flag("--quiet", o.quiet, "no per-cycle status lines");

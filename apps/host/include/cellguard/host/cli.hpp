@@ -8,15 +8,13 @@
 /// named "--help".
 ///
 /// The programs parse with CLI11 through command_line.hpp. This header holds
-/// the few pieces that need no CLI11, for the programs that parse by hand:
-/// cellguard-firmware-digest (its one optional argument; it is also built
-/// for the cross targets) and cellguard-monitor (its parser is not on CLI11
-/// yet). Standard C++ only.
+/// the few pieces that need no CLI11, for command_line.cpp and for
+/// cellguard-firmware-digest, which parses its one optional argument by hand
+/// (it is also built for the cross targets). Standard C++ only.
 #ifndef CELLGUARD_HOST_CLI_HPP
 #define CELLGUARD_HOST_CLI_HPP
 
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "cellguard/host/version.hpp"
@@ -42,12 +40,6 @@ inline std::string usage_error_line(const std::string& program, const std::strin
 inline int usage_error(const char* program, const std::string& message) {
     std::fputs(usage_error_line(program, message).c_str(), stderr);
     return kExitUsage;
-}
-
-/// True when @p arg can be an option's value: it exists and does not start
-/// with "--" (that is the next option). Single-dash text such as "-0.5" is a value.
-inline bool is_option_value(const char* arg) noexcept {
-    return arg != nullptr && std::strncmp(arg, "--", 2U) != 0;
 }
 
 }  // namespace cellguard::host
