@@ -38,6 +38,8 @@ cmake --install "$work/cellguard" --prefix "$work/prefix" >"$work/cellguard-inst
 if grep -rl -e "$root" -e "$work/cellguard" "$work/prefix/lib/cmake/cellguard"; then
   die "the installed package configuration names the source or build tree"
 fi
+grep -q "cellguard::port_linux" "$work/prefix/lib/cmake/cellguard/cellguardTargets.cmake" ||
+  die "the package has no cellguard::port_linux (the configure step says why: $(grep 'is not installed' "$work/cellguard-configure.log" || true))"
 cmake -S tests/consumer -B "$work/consumer-package" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
   -DCELLGUARD_CONSUMER_MODE=package -DCMAKE_PREFIX_PATH="$work/prefix" >"$work/consumer-package.log" 2>&1 ||
   { cat "$work/consumer-package.log"; die "configuring the consumer against the installed package"; }

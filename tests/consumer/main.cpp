@@ -3,7 +3,8 @@
 // a PLC-side receiver up with frame pairs and checks it accepts the "no stop"
 // message, and uses a dynamic-size Eigen matrix of its own (which
 // EIGEN_NO_MALLOC, lib/'s private flag, would turn into an assertion failure
-// in this Debug build). Exit status 0 exactly when every check passed.
+// in this Debug build); with cellguard::port_linux, it reads the port's
+// clock. Exit status 0 exactly when every check passed.
 #include <Eigen/Dense>
 #include <cstdint>
 #include <cstdio>
@@ -11,6 +12,9 @@
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/grid/grid.hpp"
+#if CELLGUARD_CONSUMER_PORT_LINUX
+#include "cellguard/port/clock.hpp"
+#endif
 
 #ifdef EIGEN_NO_MALLOC
 #error "EIGEN_NO_MALLOC reached a consumer: it must stay private to cellguard's lib/"
@@ -92,6 +96,19 @@ int main() {
     m.col(5).setZero();
     m(5, 5) = 3.0;
     check(m.determinant() > 95.9 && m.determinant() < 96.1, "a dynamic-size Eigen matrix works in the consumer");
+
+#if CELLGUARD_CONSUMER_PORT_LINUX
+    // The Linux port's monotonic clock (cellguard::port_linux).
+    linux_port::LinuxMonotonicClock clock;
+    const std::uint64_t t0 = clock.now_us();
+    std::uint64_t t1 = t0;
+    for (int i = 0; i < 1000000 && t1 == t0; ++i) {
+        t1 = clock.now_us();
+    }
+    check(t1 > t0, "the Linux port's monotonic clock advances");
+#else
+    std::printf("note: no cellguard::port_linux in this package\n");
+#endif
 
     std::printf("%s\n", failures == 0 ? "consumer: PASS" : "consumer: FAIL");
     return failures == 0 ? 0 : 1;
