@@ -235,15 +235,12 @@ void probabilistic_baseline(const EvidenceGrid& g, Span<std::int16_t> prior, Spa
 
 // ---------------------------------------------------------------- thresholded
 
-void thresholded(const EvidenceGrid& g, const Layout& l, std::int32_t empty_below, AccessibilityScratch scratch,
-                 Span<std::int16_t> prior, Span<float> p_acc) noexcept {
-    Span<std::uint8_t> cur = scratch.bytes.subspan(0U, l.count);
-    Span<std::uint8_t> other = scratch.bytes.subspan(l.count, l.count);
+// E (eq. 1) into @p cur: kEmpty or kOccupied per array voxel; on the grid
+// from the log-odds, beyond it empty unless beyond a closed face.
+void empty_cells(const EvidenceGrid& g, const Layout& l, std::int32_t empty_below, Span<std::uint8_t> cur) noexcept {
     const Span<std::int16_t> lo = g.log_odds();  // read only
     const Span<std::uint8_t> ob = g.observed();  // read only
     const auto a0 = static_cast<std::size_t>(l.a[0]);
-
-    // E (eq. 1) on the grid; beyond it, empty unless beyond a closed face.
     for (std::int32_t z = 0; z < l.a[2]; ++z) {
         const Zone zz = l.zone(2U, z);
         for (std::int32_t y = 0; y < l.a[1]; ++y) {
@@ -268,18 +265,13 @@ void thresholded(const EvidenceGrid& g, const Layout& l, std::int32_t empty_belo
             }
         }
     }
-    std::copy(cur.begin(), cur.end(), other.begin());  // same boundary layer in both
+}
 
-    // E_R = E eroded by R (eq. 2): r erosions by the cross.
-    const PaddedRegion work = l.work_region();
-    for (std::int32_t k = 0; k < l.r; ++k) {
-        erode_cross(work, Span<const std::uint8_t>(cur.data(), cur.size()), other);
-        std::swap(cur, other);
-    }
-
-    // A_R (eq. 3): flood fill of E_R from the sources, 6-neighbour.
+// A_R (eq. 3) in @p cur: flood fill of the empty voxels (E_R) from the
+// sources, 6-neighbour; reached voxels become kAccessible. @p queue holds
+// the FIFO.
+void flood_from_sources(const Layout& l, Span<std::uint8_t> cur, Span<std::uint32_t> queue) noexcept {
     fill_outside_work_box(l, cur, kOccupied);
-    const Span<std::uint32_t> queue = scratch.words.subspan(0U, l.count);
     std::size_t head = 0U;
     std::size_t tail = 0U;
     l.for_each_source([&](std::size_t i) {
@@ -305,6 +297,43 @@ void thresholded(const EvidenceGrid& g, const Layout& l, std::int32_t empty_belo
         visit(i + l.sz);
         visit(i - l.sz);
     }
+}
+
+// P(fore) = 0.5 in A, 0 elsewhere (eq. 7), per grid voxel, from @p accessible (1 in A).
+void write_thresholded_prior(const Layout& l, Span<const std::uint8_t> accessible, Span<std::int16_t> prior,
+                             Span<float> p_acc) noexcept {
+    std::size_t gi = 0U;
+    for (std::int32_t z = 0; z < l.n[2]; ++z) {
+        for (std::int32_t y = 0; y < l.n[1]; ++y) {
+            const std::size_t row = l.index(l.g0[0], y + l.g0[1], z + l.g0[2]);
+            for (std::int32_t x = 0; x < l.n[0]; ++x, ++gi) {
+                const bool in_a = accessible[row + static_cast<std::size_t>(x)] != 0U;
+                prior[gi] = in_a ? kLogOddsUnknown : kNeverForeground;
+                if (!p_acc.empty()) {
+                    p_acc[gi] = in_a ? 1.0F : 0.0F;
+                }
+            }
+        }
+    }
+}
+
+// The thresholded method (section II): E, E_R, A_R, A, and the prior.
+void thresholded(const EvidenceGrid& g, const Layout& l, std::int32_t empty_below, AccessibilityScratch scratch,
+                 Span<std::int16_t> prior, Span<float> p_acc) noexcept {
+    Span<std::uint8_t> cur = scratch.bytes.subspan(0U, l.count);
+    Span<std::uint8_t> other = scratch.bytes.subspan(l.count, l.count);
+
+    empty_cells(g, l, empty_below, cur);
+    std::copy(cur.begin(), cur.end(), other.begin());  // same boundary layer in both
+
+    // E_R = E eroded by R (eq. 2): r erosions by the cross.
+    const PaddedRegion work = l.work_region();
+    for (std::int32_t k = 0; k < l.r; ++k) {
+        erode_cross(work, Span<const std::uint8_t>(cur.data(), cur.size()), other);
+        std::swap(cur, other);
+    }
+
+    flood_from_sources(l, cur, scratch.words.subspan(0U, l.count));
 
     // A = A_R dilated by R (eq. 4): r dilations by the cross.
     for (std::int32_t z = l.w0[2]; z < l.w1[2]; ++z) {
@@ -321,20 +350,7 @@ void thresholded(const EvidenceGrid& g, const Layout& l, std::int32_t empty_belo
         std::swap(cur, other);
     }
 
-    // P(fore) = 0.5 in A, 0 elsewhere (eq. 7).
-    std::size_t gi = 0U;
-    for (std::int32_t z = 0; z < l.n[2]; ++z) {
-        for (std::int32_t y = 0; y < l.n[1]; ++y) {
-            const std::size_t row = l.index(l.g0[0], y + l.g0[1], z + l.g0[2]);
-            for (std::int32_t x = 0; x < l.n[0]; ++x, ++gi) {
-                const bool accessible = cur[row + static_cast<std::size_t>(x)] != 0U;
-                prior[gi] = accessible ? kLogOddsUnknown : kNeverForeground;
-                if (!p_acc.empty()) {
-                    p_acc[gi] = accessible ? 1.0F : 0.0F;
-                }
-            }
-        }
-    }
+    write_thresholded_prior(l, Span<const std::uint8_t>(cur.data(), cur.size()), prior, p_acc);
 }
 
 // ---------------------------------------------------------------- probabilistic
@@ -406,21 +422,34 @@ void sum_shifted_rows(const std::uint32_t* base, const std::ptrdiff_t* plus, con
     }
 }
 
-void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_below, AccessibilityScratch scratch,
-                   Span<std::int16_t> prior, Span<float> p_acc) noexcept {
+// The probabilistic method's working arrays, all carved from the scratch words.
+struct ProbabilisticBuffers {
+    Span<std::uint32_t> dist;    // cell costs, then their prefix sums, then the labels G_AR
+    Span<std::uint32_t> ger;     // G_ER per configuration
+    Span<std::uint32_t> cap[3];  // move costs along +x, +y, +z; cap[0] is reused by the minimum filter
+    Span<std::uint32_t> next;    // the bucket queue's links (phase 1 of Dijkstra: its FIFO)
+    Span<std::uint32_t> prev;    // the bucket queue's back links
+};
+
+ProbabilisticBuffers probabilistic_buffers(const Layout& l, const AccessibilityScratch& scratch) noexcept {
     const std::size_t n = l.count;
     const std::size_t links = MonotoneBucketQueue::link_count(n);
-    const Span<std::uint32_t> dist = scratch.words.subspan(0U, n);  // cell costs, then prefix sums, then G_AR
-    const Span<std::uint32_t> ger = scratch.words.subspan(n, n);
-    const Span<std::uint32_t> cap[3] = {scratch.words.subspan(2U * n, n), scratch.words.subspan(3U * n, n),
-                                        scratch.words.subspan(4U * n, n)};
-    const Span<std::uint32_t> next = scratch.words.subspan(5U * n, links);
-    const Span<std::uint32_t> prev = scratch.words.subspan(5U * n + links, links);
+    ProbabilisticBuffers b;
+    b.dist = scratch.words.subspan(0U, n);
+    b.ger = scratch.words.subspan(n, n);
+    b.cap[0] = scratch.words.subspan(2U * n, n);
+    b.cap[1] = scratch.words.subspan(3U * n, n);
+    b.cap[2] = scratch.words.subspan(4U * n, n);
+    b.next = scratch.words.subspan(5U * n, links);
+    b.prev = scratch.words.subspan(5U * n + links, links);
+    return b;
+}
+
+// Cell costs L = -ln(1 - f) (eq. 13-14) in fixed point into @p dist; zero
+// outside the grid and where f = 0 (unobserved, or below the free threshold).
+void cell_costs(const EvidenceGrid& g, const Layout& l, std::int32_t free_below, Span<std::uint32_t> dist) noexcept {
     const Span<std::int16_t> lo = g.log_odds();  // read only
     const Span<std::uint8_t> ob = g.observed();  // read only
-    const auto a0 = static_cast<std::size_t>(l.a[0]);
-
-    // Cell costs L = -ln(1 - f) (eq. 13-14) in fixed point; zero outside the grid.
     std::fill(dist.begin(), dist.end(), 0U);
     std::int32_t memo_l = kLogOddsMax + 1;
     std::uint32_t memo_cost = 0U;
@@ -445,9 +474,12 @@ void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_bel
             }
         }
     }
+}
 
-    // Move costs along +x, +y, +z (eq. 17): for each configuration c, the sum
-    // of L over the cells that a move into c newly covers.
+// Move costs along +x, +y, +z (eq. 17) into @p cap: for each configuration
+// c, the sum of the cell costs @p dist over the cells that a move into c
+// newly covers.
+void move_costs(const Layout& l, Span<const std::uint32_t> dist, const Span<std::uint32_t> (&cap)[3]) noexcept {
     const auto width = static_cast<std::size_t>(l.w1[0] - l.w0[0]);
     std::ptrdiff_t offsets[3][kMaxDiamond] = {};
     std::size_t offset_count = 0U;
@@ -463,42 +495,85 @@ void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_bel
             }
         }
     }
+}
 
-    // G_ER (eq. 14) from inclusive prefix sums along x (modulo 2^32: every
-    // segment sum is far below 2^32, so differences are exact).
-    for (std::size_t row = 0U; row < n; row += a0) {
+// G_ER (eq. 14) into @p ger: the sum of the cell costs over R_c, from
+// inclusive prefix sums along x that replace the costs in @p dist (modulo
+// 2^32: every segment sum is far below 2^32, so differences are exact).
+void eroded_costs(const Layout& l, Span<std::uint32_t> dist, Span<std::uint32_t> ger) noexcept {
+    const auto a0 = static_cast<std::size_t>(l.a[0]);
+    for (std::size_t row = 0U; row < l.count; row += a0) {
         std::uint32_t sum = 0U;
         for (std::size_t x = 0U; x < a0; ++x) {
             sum += dist[row + x];
             dist[row + x] = sum;
         }
     }
-    {
-        const auto sy = static_cast<std::ptrdiff_t>(l.sy);
-        const auto sz = static_cast<std::ptrdiff_t>(l.sz);
-        std::ptrdiff_t high[kMaxDiamond] = {};
-        std::ptrdiff_t low[kMaxDiamond] = {};
-        std::size_t count = 0U;
-        for (std::int32_t dz = -l.r; dz <= l.r; ++dz) {
-            const std::int32_t rest = l.r - std::abs(dz);
-            for (std::int32_t dy = -rest; dy <= rest; ++dy) {
-                const std::int32_t w = rest - std::abs(dy);  // the row segment [x - w, x + w]
-                high[count] = dz * sz + dy * sy + w;
-                low[count] = dz * sz + dy * sy - w - 1;
-                ++count;
-            }
+    const auto width = static_cast<std::size_t>(l.w1[0] - l.w0[0]);
+    const auto sy = static_cast<std::ptrdiff_t>(l.sy);
+    const auto sz = static_cast<std::ptrdiff_t>(l.sz);
+    std::ptrdiff_t high[kMaxDiamond] = {};
+    std::ptrdiff_t low[kMaxDiamond] = {};
+    std::size_t count = 0U;
+    for (std::int32_t dz = -l.r; dz <= l.r; ++dz) {
+        const std::int32_t rest = l.r - std::abs(dz);
+        for (std::int32_t dy = -rest; dy <= rest; ++dy) {
+            const std::int32_t w = rest - std::abs(dy);  // the row segment [x - w, x + w]
+            high[count] = dz * sz + dy * sy + w;
+            low[count] = dz * sz + dy * sy - w - 1;
+            ++count;
         }
-        for (std::int32_t z = l.w0[2]; z < l.w1[2]; ++z) {
-            for (std::int32_t y = l.w0[1]; y < l.w1[1]; ++y) {
-                const std::size_t row = l.index(l.w0[0], y, z);
-                sum_shifted_rows(dist.data() + row, high, low, count, ger.subspan(row, width).data(), width);
+    }
+    for (std::int32_t z = l.w0[2]; z < l.w1[2]; ++z) {
+        for (std::int32_t y = l.w0[1]; y < l.w1[1]; ++y) {
+            const std::size_t row = l.index(l.w0[0], y, z);
+            sum_shifted_rows(dist.data() + row, high, low, count, ger.subspan(row, width).data(), width);
+        }
+    }
+}
+
+// Calls f(i) for every configuration i (the box [c0, c1)), row by row.
+template <typename F>
+void for_each_configuration(const Layout& l, F&& f) noexcept {
+    if (!l.configurations_exist()) {
+        return;
+    }
+    for (std::int32_t z = l.c0[2]; z < l.c1[2]; ++z) {
+        for (std::int32_t y = l.c0[1]; y < l.c1[1]; ++y) {
+            for (std::int32_t x = l.c0[0]; x < l.c1[0]; ++x) {
+                f(l.index(x, y, z));
             }
         }
     }
+}
 
-    // Dijkstra (eq. 18) from the sources, which start at G_ER. Phase 1 settles
-    // every configuration of cost 0 by a plain breadth-first flood (most of a
-    // workcell is free space); phase 2 runs the bucket queue on the rest.
+// Dijkstra's labels (eq. 18) and what it reads: labels d, G_ER gr, the move
+// costs cp along +x, +y, +z, the array strides.
+struct PathLabels {
+    std::uint32_t* d;
+    const std::uint32_t* gr;
+    const std::uint32_t* cp[3];
+    std::size_t stride[3];
+
+    // Relaxes the move u -> v of cost `move` from a settled u (cost du);
+    // returns true when v's label was lowered. A settled v has d[v] <= du.
+    [[nodiscard]] bool relax(std::uint32_t du, std::size_t v, std::uint32_t move) const noexcept {
+        const std::uint32_t nd = du + move;
+        if (nd < d[v] && nd < kAccessibilityCostSaturation) {
+            d[v] = nd;
+            return true;
+        }
+        return false;
+    }
+    // Cost of the move from u back to w = u - e along @p axis: cap_-(w) =
+    // cap_+(u) - G_ER(u) + G_ER(w) (both count R_u and R_w); exact modulo 2^32.
+    [[nodiscard]] std::uint32_t backward_move(std::size_t axis, std::size_t u, std::size_t w) const noexcept {
+        return cp[axis][u] - gr[u] + gr[w];
+    }
+};
+
+// Labels every array voxel kNoConfiguration, every configuration kUnreached.
+void reset_labels(const Layout& l, Span<std::uint32_t> dist) noexcept {
     std::fill(dist.begin(), dist.end(), kNoConfiguration);
     if (l.configurations_exist()) {
         for (std::int32_t z = l.c0[2]; z < l.c1[2]; ++z) {
@@ -509,14 +584,18 @@ void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_bel
             }
         }
     }
-    std::uint32_t* const d = dist.data();
-    const std::uint32_t* const gr = ger.data();
-    const std::uint32_t* const cp[3] = {cap[0].data(), cap[1].data(), cap[2].data()};
-    const std::size_t stride[3] = {1U, l.sy, l.sz};
-    const Span<std::uint32_t> fifo = next.subspan(0U, n);  // phase 1 only; phase 2 links there
+}
+
+// Dijkstra, phase 1: the sources start at G_ER; every configuration of cost
+// 0 is settled by a plain breadth-first flood (most of a workcell is free
+// space), with @p fifo as its queue. Returns true when there is a source
+// (then every configuration is reachable: they fill a box).
+bool settle_zero_cost(const Layout& l, const PathLabels& p, Span<std::uint32_t> fifo) noexcept {
+    std::uint32_t* const d = p.d;
+    const std::uint32_t* const gr = p.gr;
     std::size_t head = 0U;
     std::size_t tail = 0U;
-    bool any_source = false;  // then every configuration is reachable: they fill a box
+    bool any_source = false;
     l.for_each_source([&](std::size_t i) {
         any_source = true;
         if (gr[i] == 0U) {
@@ -526,103 +605,93 @@ void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_bel
             d[i] = gr[i];
         }
     });
-    // Relaxes the move u -> v of cost `move` from a settled u (cost du);
-    // returns true when v's label was lowered. A settled v has d[v] <= du.
-    auto relax = [&](std::uint32_t du, std::size_t v, std::uint32_t move) noexcept {
-        const std::uint32_t nd = du + move;
-        if (nd < d[v] && nd < kAccessibilityCostSaturation) {
-            d[v] = nd;
-            return true;
-        }
-        return false;
-    };
     while (head < tail) {
         const std::size_t u = fifo[head++];  // d[u] == 0
         for (std::size_t axis = 0U; axis < 3U; ++axis) {
-            const std::size_t v = u + stride[axis];
-            if (d[v] != 0U && d[v] != kNoConfiguration && relax(0U, v, cp[axis][v]) && d[v] == 0U) {
+            const std::size_t v = u + p.stride[axis];
+            if (d[v] != 0U && d[v] != kNoConfiguration && p.relax(0U, v, p.cp[axis][v]) && d[v] == 0U) {
                 fifo[tail++] = static_cast<std::uint32_t>(v);
             }
-            // Backward: cap_-(w) = cap_+(u) - G_ER(u) + G_ER(w) for w = u - e
-            // (both count R_u and R_w); exact modulo 2^32.
-            const std::size_t w = u - stride[axis];
-            if (d[w] != 0U && d[w] != kNoConfiguration && relax(0U, w, cp[axis][u] - gr[u] + gr[w]) && d[w] == 0U) {
+            const std::size_t w = u - p.stride[axis];
+            if (d[w] != 0U && d[w] != kNoConfiguration && p.relax(0U, w, p.backward_move(axis, u, w)) && d[w] == 0U) {
                 fifo[tail++] = static_cast<std::uint32_t>(w);
             }
         }
     }
-    MonotoneBucketQueue queue =
-        MonotoneBucketQueue::make(Span<const std::uint32_t>(dist.data(), dist.size()), next, prev).value();
-    if (l.configurations_exist()) {
-        for (std::int32_t z = l.c0[2]; z < l.c1[2]; ++z) {
-            for (std::int32_t y = l.c0[1]; y < l.c1[1]; ++y) {
-                for (std::int32_t x = l.c0[0]; x < l.c1[0]; ++x) {
-                    const std::size_t i = l.index(x, y, z);
-                    if (d[i] != 0U && d[i] < kAccessibilityCostSaturation) {
-                        queue.push(static_cast<std::uint32_t>(i));
-                    }
-                }
-            }
-        }
+    return any_source;
+}
+
+// After a relaxation lowered v's label from @p old: enters v into the queue
+// or moves it to its lower bucket.
+void requeue(MonotoneBucketQueue& queue, std::size_t v, std::uint32_t old) noexcept {
+    if (old == kUnreached) {
+        queue.push(static_cast<std::uint32_t>(v));
+    } else {
+        queue.decrease(static_cast<std::uint32_t>(v));
     }
+}
+
+// Dijkstra, phase 2: the bucket queue from every labelled configuration not
+// settled by phase 1 (links in @p next and @p prev).
+void settle_by_bucket_queue(const Layout& l, const PathLabels& p, Span<const std::uint32_t> dist,
+                            Span<std::uint32_t> next, Span<std::uint32_t> prev) noexcept {
+    std::uint32_t* const d = p.d;
+    MonotoneBucketQueue queue = MonotoneBucketQueue::make(dist, next, prev).value();
+    for_each_configuration(l, [&](std::size_t i) {
+        if (d[i] != 0U && d[i] < kAccessibilityCostSaturation) {
+            queue.push(static_cast<std::uint32_t>(i));
+        }
+    });
     while (!queue.empty()) {
         const std::uint32_t u = queue.pop();
         const std::uint32_t du = d[u];
         for (std::size_t axis = 0U; axis < 3U; ++axis) {
-            const std::size_t v = u + stride[axis];
+            const std::size_t v = u + p.stride[axis];
             const std::uint32_t dv = d[v];
-            if (dv > du && dv != kNoConfiguration && relax(du, v, cp[axis][v])) {
-                if (dv == kUnreached) {
-                    queue.push(static_cast<std::uint32_t>(v));
-                } else {
-                    queue.decrease(static_cast<std::uint32_t>(v));
-                }
+            if (dv > du && dv != kNoConfiguration && p.relax(du, v, p.cp[axis][v])) {
+                requeue(queue, v, dv);
             }
-            const std::size_t w = u - stride[axis];
+            const std::size_t w = u - p.stride[axis];
             const std::uint32_t dw = d[w];
-            if (dw > du && dw != kNoConfiguration && relax(du, w, cp[axis][u] - gr[u] + gr[w])) {
-                if (dw == kUnreached) {
-                    queue.push(static_cast<std::uint32_t>(w));
-                } else {
-                    queue.decrease(static_cast<std::uint32_t>(w));
-                }
+            if (dw > du && dw != kNoConfiguration && p.relax(du, w, p.backward_move(axis, u, w))) {
+                requeue(queue, w, dw);
             }
         }
     }
-    if (l.configurations_exist()) {
-        for (std::int32_t z = l.c0[2]; z < l.c1[2]; ++z) {
-            for (std::int32_t y = l.c0[1]; y < l.c1[1]; ++y) {
-                for (std::int32_t x = l.c0[0]; x < l.c1[0]; ++x) {
-                    // Not reached below saturation: reachable at >= 128 nats if there is a source.
-                    std::uint32_t& v = d[l.index(x, y, z)];
-                    if (v == kUnreached) {
-                        v = any_source ? kAccessibilityCostSaturation : kNoConfiguration;
-                    }
-                }
-            }
+}
+
+// G_AR by least-cost paths (eqs. 15-18) into b.dist: Dijkstra from the
+// sources, in two phases. A configuration not reached below saturation is
+// reachable at >= 128 nats if there is a source.
+void least_cost_paths(const Layout& l, const ProbabilisticBuffers& b) noexcept {
+    reset_labels(l, b.dist);
+    const PathLabels p{b.dist.data(),
+                       b.ger.data(),
+                       {b.cap[0].data(), b.cap[1].data(), b.cap[2].data()},
+                       {1U, l.sy, l.sz}};
+    const bool any_source = settle_zero_cost(l, p, b.next.subspan(0U, l.count));  // phase 2 links there after
+    settle_by_bucket_queue(l, p, Span<const std::uint32_t>(b.dist.data(), b.dist.size()), b.next, b.prev);
+    for_each_configuration(l, [&](std::size_t i) {
+        std::uint32_t& v = p.d[i];
+        if (v == kUnreached) {
+            v = any_source ? kAccessibilityCostSaturation : kNoConfiguration;
         }
-    }
+    });
+}
 
-    // min over R_c of G_AR (eq. 21): r passes of the cross minimum filter.
-    Span<std::uint32_t> cur = dist;
-    Span<std::uint32_t> other = cap[0];
-    fill_outside_work_box(l, other, kNoConfiguration);
-    const PaddedRegion work = l.work_region();
-    for (std::int32_t k = 0; k < l.r; ++k) {
-        min_cross(work, Span<const std::uint32_t>(cur.data(), cur.size()), other);
-        std::swap(cur, other);
-    }
-
-    // P(acc) = exp(-G), P(fore) = P(acc) / 2 (eq. 6).
+// P(acc) = exp(-G), P(fore) = P(acc) / 2 (eq. 6) per grid voxel, from the
+// filtered costs @p cost.
+void write_probabilistic_prior(const Layout& l, Span<const std::uint32_t> cost, Span<std::int16_t> prior,
+                               Span<float> p_acc) noexcept {
     std::uint32_t memo_g = 0U;
     std::int16_t memo_prior = kLogOddsUnknown;
     float memo_p = 1.0F;
-    gi = 0U;
+    std::size_t gi = 0U;
     for (std::int32_t z = 0; z < l.n[2]; ++z) {
         for (std::int32_t y = 0; y < l.n[1]; ++y) {
             const std::size_t row = l.index(l.g0[0], y + l.g0[1], z + l.g0[2]);
             for (std::int32_t x = 0; x < l.n[0]; ++x, ++gi) {
-                const std::uint32_t gv = cur[row + static_cast<std::size_t>(x)];
+                const std::uint32_t gv = cost[row + static_cast<std::size_t>(x)];
                 if (gv != memo_g) {
                     memo_g = gv;
                     if (gv == kNoConfiguration) {
@@ -641,6 +710,28 @@ void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_bel
             }
         }
     }
+}
+
+// The probabilistic method (section III): cell costs, move costs, G_ER,
+// least-cost paths to G_AR, the minimum over R_c, and the prior.
+void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_below,
+                   const AccessibilityScratch& scratch, Span<std::int16_t> prior, Span<float> p_acc) noexcept {
+    const ProbabilisticBuffers b = probabilistic_buffers(l, scratch);
+    cell_costs(g, l, free_below, b.dist);
+    move_costs(l, Span<const std::uint32_t>(b.dist.data(), b.dist.size()), b.cap);
+    eroded_costs(l, b.dist, b.ger);
+    least_cost_paths(l, b);
+
+    // min over R_c of G_AR (eq. 21): r passes of the cross minimum filter.
+    Span<std::uint32_t> cur = b.dist;
+    Span<std::uint32_t> other = b.cap[0];
+    fill_outside_work_box(l, other, kNoConfiguration);
+    const PaddedRegion work = l.work_region();
+    for (std::int32_t k = 0; k < l.r; ++k) {
+        min_cross(work, Span<const std::uint32_t>(cur.data(), cur.size()), other);
+        std::swap(cur, other);
+    }
+    write_probabilistic_prior(l, Span<const std::uint32_t>(cur.data(), cur.size()), prior, p_acc);
 }
 
 }  // namespace
