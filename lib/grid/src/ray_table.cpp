@@ -130,6 +130,93 @@ inline std::int32_t key_limit(const CompactEntries& /*kind*/, float x, float ste
 }
 inline float key_limit(const WideEntries& /*kind*/, float x, float /*steps_per_metre*/) noexcept { return x; }
 
+/// True when @p storage holds the per-pixel arrays of @p pixels pixels and
+/// the per-voxel arrays of @p grid.
+bool storage_fits(const GridGeometry& grid, std::size_t pixels, const RayTableStorage& storage) noexcept {
+    return storage.pixel_begin.size() >= pixels + 1U && storage.pixel_enter.size() >= pixels &&
+           storage.pixel_exit.size() >= pixels && storage.pixel_norm.size() >= pixels &&
+           storage.pixel_walked.size() >= pixels && storage.full_hits.size() >= grid.voxel_count() &&
+           storage.crossed_voxels.size() >= grid.voxel_count() && storage.hit_count.size() >= grid.voxel_count() &&
+           storage.sensor_opinion.size() >= grid.voxel_count();
+}
+
+/// How a table stores its entries: compact or wide, how many fit, the
+/// exit step of a compact table.
+struct EntryFormat {
+    bool compact = false;
+    std::size_t capacity = 0U;
+    float exit_step = 0.0F;
+};
+
+/// Walks the ray of @p pixel from @p origin and appends its entries from
+/// entry @p n on (entries beyond the capacity are counted, not written);
+/// sets the pixel's begin, norm, enter and exit distances. Returns the entry
+/// count after the pixel.
+std::size_t add_pixel_entries(const GridGeometry& grid, const RayTableStorage& storage, const EntryFormat& format,
+                              Rasterization rasterization, const Eigen::Vector3d& origin, std::size_t pixel,
+                              const PixelRay& ray, std::size_t n) noexcept {
+    constexpr float kNone = std::numeric_limits<float>::infinity();
+    storage.pixel_begin[pixel] = static_cast<std::uint32_t>(n);
+    storage.pixel_norm[pixel] = static_cast<float>(ray.norm);
+    storage.pixel_enter[pixel] = kNone;
+    storage.pixel_exit[pixel] = kNone;
+    double enter = -1.0;
+    float last_exit = -kNone;
+    (void)traverse(rasterization, grid, origin, ray.far_point, [&](const TraversedVoxel& t) {
+        if (enter < 0.0) {
+            enter = t.t_enter;
+            storage.pixel_enter[pixel] = static_cast<float>(t.t_enter);
+        }
+        if (n < format.capacity) {
+            if (format.compact) {
+                const double steps = std::round(t.t_exit / static_cast<double>(format.exit_step));
+                storage.compact_voxels[n] = static_cast<std::uint16_t>(t.index);
+                storage.compact_exit_steps[n] =
+                    static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps);
+            } else {
+                storage.wide_voxels[n] = static_cast<std::uint32_t>(t.index);
+                storage.wide_exits[n] = static_cast<float>(t.t_exit);
+            }
+        }
+        ++n;
+    });
+    // The exit distances as fuse() compares them: they must not
+    // decrease (it searches them), and the last is the ray's exit.
+    const std::size_t first = storage.pixel_begin[pixel];
+    for (std::size_t k = first; k < n && k < format.capacity; ++k) {
+        const float e = format.compact ? static_cast<float>(storage.compact_exit_steps[k]) * format.exit_step
+                                       : storage.wide_exits[k];
+        CG_ENFORCE(e >= last_exit, "ray table exit distances must not decrease");
+        last_exit = e;
+    }
+    if (n > first && n <= format.capacity) {
+        storage.pixel_exit[pixel] = last_exit;
+    }
+    return n;
+}
+
+/// How many of the table's @p n entries cross each voxel (full_hits; a ray
+/// crosses a voxel at most once, so a count is at most the pixel count) and
+/// the voxels some ray crosses, ascending (crossed_voxels: fuse() sets and
+/// sums only these). Returns how many voxels are crossed.
+std::size_t count_crossings(const GridGeometry& grid, const RayTableStorage& storage, bool compact,
+                            std::size_t n) noexcept {
+    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
+        storage.full_hits[v] = 0U;
+    }
+    for (std::size_t k = 0U; k < n; ++k) {
+        ++storage.full_hits[compact ? storage.compact_voxels[k] : storage.wide_voxels[k]];
+    }
+    std::size_t crossed = 0U;
+    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
+        if (storage.full_hits[v] != 0U) {
+            storage.crossed_voxels[crossed] = static_cast<std::uint32_t>(v);
+            ++crossed;
+        }
+    }
+    return crossed;
+}
+
 }  // namespace
 
 Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& sensor, RayTableStorage storage,
@@ -140,20 +227,18 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     }
     const std::size_t pixels =
         static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
-    if (storage.pixel_begin.size() < pixels + 1U || storage.pixel_enter.size() < pixels ||
-        storage.pixel_exit.size() < pixels || storage.pixel_norm.size() < pixels ||
-        storage.pixel_walked.size() < pixels || storage.full_hits.size() < grid.voxel_count() ||
-        storage.crossed_voxels.size() < grid.voxel_count() ||
-        storage.hit_count.size() < grid.voxel_count() || storage.sensor_opinion.size() < grid.voxel_count()) {
+    if (!storage_fits(grid, pixels, storage)) {
         return ErrorCode::kStorageTooSmall;
     }
-    const bool compact = ray_table_is_compact(grid, sensor);
-    const std::size_t capacity = compact ? std::min(storage.compact_voxels.size(), storage.compact_exit_steps.size())
-                                         : std::min(storage.wide_voxels.size(), storage.wide_exits.size());
+    EntryFormat format;
+    format.compact = ray_table_is_compact(grid, sensor);
+    format.capacity = format.compact ? std::min(storage.compact_voxels.size(), storage.compact_exit_steps.size())
+                                     : std::min(storage.wide_voxels.size(), storage.wide_exits.size());
     // Exit distances of a compact table, in steps of a power of two metres.
-    const float exit_step = compact ? compact_exit_step(grid, sensor) : 0.0F;
+    format.exit_step = format.compact ? compact_exit_step(grid, sensor) : 0.0F;
+    const bool compact = format.compact;
+    const float exit_step = format.exit_step;
     const Eigen::Vector3d origin = sensor.pose.translation();
-    constexpr float kNone = std::numeric_limits<float>::infinity();
     std::size_t n = 0U;
     std::size_t pixel = 0U;
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
@@ -162,67 +247,17 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
             if (n > std::numeric_limits<std::uint32_t>::max()) {
                 return ErrorCode::kCapacityExceeded;
             }
-            storage.pixel_begin[pixel] = static_cast<std::uint32_t>(n);
-            storage.pixel_norm[pixel] = static_cast<float>(ray.norm);
-            storage.pixel_enter[pixel] = kNone;
-            storage.pixel_exit[pixel] = kNone;
-            double enter = -1.0;
-            float last_exit = -kNone;
-            (void)traverse(rasterization, grid, origin, ray.far_point, [&](const TraversedVoxel& t) {
-                if (enter < 0.0) {
-                    enter = t.t_enter;
-                    storage.pixel_enter[pixel] = static_cast<float>(t.t_enter);
-                }
-                if (n < capacity) {
-                    if (compact) {
-                        const double steps = std::round(t.t_exit / static_cast<double>(exit_step));
-                        storage.compact_voxels[n] = static_cast<std::uint16_t>(t.index);
-                        storage.compact_exit_steps[n] =
-                            static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps);
-                    } else {
-                        storage.wide_voxels[n] = static_cast<std::uint32_t>(t.index);
-                        storage.wide_exits[n] = static_cast<float>(t.t_exit);
-                    }
-                }
-                ++n;
-            });
-            // The exit distances as fuse() compares them: they must not
-            // decrease (it searches them), and the last is the ray's exit.
-            const std::size_t first = storage.pixel_begin[pixel];
-            for (std::size_t k = first; k < n && k < capacity; ++k) {
-                const float e = compact ? static_cast<float>(storage.compact_exit_steps[k]) * exit_step
-                                        : storage.wide_exits[k];
-                CG_ENFORCE(e >= last_exit, "ray table exit distances must not decrease");
-                last_exit = e;
-            }
-            if (n > first && n <= capacity) {
-                storage.pixel_exit[pixel] = last_exit;
-            }
+            n = add_pixel_entries(grid, storage, format, rasterization, origin, pixel, ray, n);
         }
     }
     if (n > std::numeric_limits<std::uint32_t>::max()) {
         return ErrorCode::kCapacityExceeded;
     }
-    if (n > capacity) {
+    if (n > format.capacity) {
         return ErrorCode::kStorageTooSmall;
     }
     storage.pixel_begin[pixels] = static_cast<std::uint32_t>(n);
-    // How many of the table's rays cross each voxel (a ray crosses a voxel
-    // at most once, so a count is at most the pixel count).
-    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
-        storage.full_hits[v] = 0U;
-    }
-    for (std::size_t k = 0U; k < n; ++k) {
-        ++storage.full_hits[compact ? storage.compact_voxels[k] : storage.wide_voxels[k]];
-    }
-    // The voxels some ray crosses, ascending: fuse() sets and sums only these.
-    std::size_t crossed = 0U;
-    for (std::size_t v = 0U; v < grid.voxel_count(); ++v) {
-        if (storage.full_hits[v] != 0U) {
-            storage.crossed_voxels[crossed] = static_cast<std::uint32_t>(v);
-            ++crossed;
-        }
-    }
+    const std::size_t crossed = count_crossings(grid, storage, compact, n);
     RayTable table;
     table.geometry_ = grid;
     table.crossed_count_ = crossed;
@@ -559,6 +594,130 @@ bool near_a_face(const Entries& entries, const FuseView& t, float range, std::ui
     return near_before || near_after;
 }
 
+/// Pass 1a for pixels [@p batch_begin, @p batch_end): sets each pixel's walk
+/// end to begin[i], counts the skipped readings in @p s, settles the pixels
+/// whose reading lies a ramp or more beyond the grid (every entry constant),
+/// and puts the others into @p batch for the search. Returns how many.
+template <typename Entries, typename Limit>
+std::size_t classify_batch(const Entries& entries, const FuseView& t, Span<const float> depth, float ramp,
+                           std::size_t batch_begin, std::size_t batch_end,
+                           std::array<SearchSlot<Limit>, kSearchBatch>& batch, FusionStats& s) noexcept {
+    std::size_t searched = 0U;
+    for (std::size_t i = batch_begin; i < batch_end; ++i) {
+        t.walked[i] = t.begin[i];
+        const float d = depth[i];
+        if (std::isnan(d)) {
+            ++s.skipped_nan;
+            continue;
+        }
+        if (std::isinf(d)) {
+            ++s.skipped_infinite;
+            continue;
+        }
+        if (d == 0.0F) {
+            ++s.skipped_zero;
+            continue;
+        }
+        if (d < 0.0F) {
+            ++s.skipped_behind;
+            continue;
+        }
+        const float range = d * t.norm[i];
+        if (range < t.min_range || range > t.max_range) {
+            ++s.skipped_out_of_range;
+            continue;
+        }
+        ++s.rays_fused;
+        if (range < t.enter[i]) {
+            continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
+        }
+        // The ray enters the grid, so it has at least one entry.
+        const std::uint32_t first = t.begin[i];
+        const std::uint32_t end = t.begin[i + 1U];
+        // The constant part of the profile: the voxels left at least one
+        // ramp before the reading, entries [first, free_end).
+        const float free_until = range - ramp;
+        if (free_until >= t.exit[i]) {
+            // The reading lies at least one ramp beyond where the ray
+            // leaves the grid: every entry gets the constant, no ramp, no peak.
+            t.walked[i] = end;
+            s.voxel_updates += static_cast<std::uint64_t>(end - first);
+            continue;
+        }
+        batch[searched] = SearchSlot<Limit>{static_cast<std::uint32_t>(i), first, end - first,
+                                            key_limit(entries, free_until, t.steps_per_metre),
+                                            key_limit(entries, range, t.steps_per_metre), range};
+        ++searched;
+    }
+    return searched;
+}
+
+/// Pass 1b for the searched pixels of @p batch: the ramp, voxels left
+/// before the reading; then the voxel holding the reading, if it lies inside
+/// the grid. A walked voxel's opinion is the constant unless a ray's ramp or
+/// reading lies in it: then it is the largest of their opinions (the weakest
+/// free, or the hit), as fuse_sensor keeps it.
+template <typename Entries, typename Limit>
+void take_ramps(const Entries& entries, const FuseView& t, Span<const float> depth, const SensorModelTable& model,
+                const std::array<SearchSlot<Limit>, kSearchBatch>& batch, std::size_t searched,
+                FusionStats& s) noexcept {
+    const std::int16_t peak = model.reading_evidence();
+    for (std::size_t j = 0U; j < searched; ++j) {
+        const SearchSlot<Limit>& slot = batch[j];
+        const std::uint32_t first = t.begin[slot.pixel];
+        const std::uint32_t end = t.begin[slot.pixel + 1U];
+        // The table's own entry of the reading: the first whose exit
+        // lies beyond it (end: beyond the grid). Near a face,
+        // fuse_sensor's rule decides instead (at most kSettleReach
+        // entries away, or out of the grid).
+        std::uint32_t own = slot.base;
+        while (own < end && keys(entries)[own] <= slot.range_limit) {
+            ++own;
+        }
+        const std::uint32_t hit = near_a_face(entries, t, slot.range, first, end, own)
+                                      ? settle_reading(entries, t, slot.pixel, depth[slot.pixel], first, end, own)
+                                      : own;
+        // The entries before the reading's are crossed: the ramp (the
+        // constant before slot.base is set already). A reading outside
+        // the grid leaves every entry to the box crossed.
+        const std::uint32_t crossed_end = hit < end ? hit : end;
+        std::uint32_t k = slot.base;
+        for (; k < crossed_end; ++k) {
+            const float exit = exit_of(entries, k, t.exit_step);
+            const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
+            std::int16_t& o = t.opinion[voxels(entries)[k]];
+            o = e > o ? e : o;
+        }
+        if (hit < end) {
+            t.opinion[voxels(entries)[hit]] = peak;  // above every free opinion
+            k = hit + 1U;
+            ++s.readings_in_grid;
+        }
+        t.walked[slot.pixel] = k;
+        s.voxel_updates += static_cast<std::uint64_t>(k - first);
+    }
+}
+
+/// Pass 2: the hits per crossed voxel. Counts the walked entries, or, when
+/// more than half of the table was walked (@p voxel_updates), starts from
+/// the table's full counts and takes off the entries not walked: at most
+/// half the table either way.
+template <typename Entries>
+void count_hits(const Entries& entries, const FuseView& t, std::uint64_t voxel_updates) noexcept {
+    if (2U * voxel_updates <= static_cast<std::uint64_t>(t.steps)) {
+        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+            t.hits[t.crossed[j]] = 0U;
+        }
+        count_segments(voxels(entries), t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
+    } else {
+        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
+            t.hits[t.crossed[j]] = t.full_hits[t.crossed[j]];
+        }
+        count_segments(voxels(entries), t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
+                       Span<std::uint32_t>(t.hits, t.voxels));
+    }
+}
+
 /// RayTable::fuse for one entry kind (the checks are done by the caller).
 template <typename Entries>
 FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid& grid, Span<const float> depth,
@@ -566,7 +725,6 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
     std::int16_t* const lo = grid.log_odds().data();
     std::uint8_t* const obs = grid.observed().data();
     const std::int16_t constant = model.constant_free_evidence();
-    const std::int16_t peak = model.reading_evidence();
     const auto ramp = static_cast<float>(model.ramp_length());
     for (std::size_t j = 0U; j < t.crossed_count; ++j) {
         t.opinion[t.crossed[j]] = constant;
@@ -580,109 +738,11 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
     FusionStats s;
     for (std::size_t batch_begin = 0U; batch_begin < t.pixels; batch_begin += kSearchBatch) {
         const std::size_t batch_end = std::min(t.pixels, batch_begin + kSearchBatch);
-        std::size_t searched = 0U;
-        for (std::size_t i = batch_begin; i < batch_end; ++i) {
-            t.walked[i] = t.begin[i];
-            const float d = depth[i];
-            if (std::isnan(d)) {
-                ++s.skipped_nan;
-                continue;
-            }
-            if (std::isinf(d)) {
-                ++s.skipped_infinite;
-                continue;
-            }
-            if (d == 0.0F) {
-                ++s.skipped_zero;
-                continue;
-            }
-            if (d < 0.0F) {
-                ++s.skipped_behind;
-                continue;
-            }
-            const float range = d * t.norm[i];
-            if (range < t.min_range || range > t.max_range) {
-                ++s.skipped_out_of_range;
-                continue;
-            }
-            ++s.rays_fused;
-            if (range < t.enter[i]) {
-                continue;  // the ray misses the grid (enter = +inf), or the reading lies before it
-            }
-            // The ray enters the grid, so it has at least one entry.
-            const std::uint32_t first = t.begin[i];
-            const std::uint32_t end = t.begin[i + 1U];
-            // The constant part of the profile: the voxels left at least one
-            // ramp before the reading, entries [first, free_end).
-            const float free_until = range - ramp;
-            if (free_until >= t.exit[i]) {
-                // The reading lies at least one ramp beyond where the ray
-                // leaves the grid: every entry gets the constant, no ramp, no peak.
-                t.walked[i] = end;
-                s.voxel_updates += static_cast<std::uint64_t>(end - first);
-                continue;
-            }
-            batch[searched] = SearchSlot<Limit>{static_cast<std::uint32_t>(i), first, end - first,
-                                                key_limit(entries, free_until, t.steps_per_metre),
-                                                key_limit(entries, range, t.steps_per_metre), range};
-            ++searched;
-        }
+        const std::size_t searched = classify_batch(entries, t, depth, ramp, batch_begin, batch_end, batch, s);
         find_free_ends(keys(entries), t.steps, Span<SearchSlot<Limit>>(batch.data(), searched));
-        // The ramp: voxels left before the reading; then the voxel holding
-        // the reading, if it lies inside the grid. A walked voxel's opinion
-        // is the constant unless a ray's ramp or reading lies in it: then it
-        // is the largest of their opinions (the weakest free, or the hit),
-        // as fuse_sensor keeps it.
-        for (std::size_t j = 0U; j < searched; ++j) {
-            const SearchSlot<Limit>& slot = batch[j];
-            const std::uint32_t first = t.begin[slot.pixel];
-            const std::uint32_t end = t.begin[slot.pixel + 1U];
-            // The table's own entry of the reading: the first whose exit
-            // lies beyond it (end: beyond the grid). Near a face,
-            // fuse_sensor's rule decides instead (at most kSettleReach
-            // entries away, or out of the grid).
-            std::uint32_t own = slot.base;
-            while (own < end && keys(entries)[own] <= slot.range_limit) {
-                ++own;
-            }
-            const std::uint32_t hit = near_a_face(entries, t, slot.range, first, end, own)
-                                          ? settle_reading(entries, t, slot.pixel, depth[slot.pixel], first, end, own)
-                                          : own;
-            // The entries before the reading's are crossed: the ramp (the
-            // constant before slot.base is set already). A reading outside
-            // the grid leaves every entry to the box crossed.
-            const std::uint32_t crossed_end = hit < end ? hit : end;
-            std::uint32_t k = slot.base;
-            for (; k < crossed_end; ++k) {
-                const float exit = exit_of(entries, k, t.exit_step);
-                const std::int16_t e = model.free_evidence(static_cast<double>(slot.range - exit));
-                std::int16_t& o = t.opinion[voxels(entries)[k]];
-                o = e > o ? e : o;
-            }
-            if (hit < end) {
-                t.opinion[voxels(entries)[hit]] = peak;  // above every free opinion
-                k = hit + 1U;
-                ++s.readings_in_grid;
-            }
-            t.walked[slot.pixel] = k;
-            s.voxel_updates += static_cast<std::uint64_t>(k - first);
-        }
+        take_ramps(entries, t, depth, model, batch, searched, s);
     }
-    // Pass 2: the hits per voxel. Count the walked entries, or, when more
-    // than half of the table was walked, start from the table's full counts
-    // and take off the entries not walked: at most half the table either way.
-    if (2U * s.voxel_updates <= static_cast<std::uint64_t>(t.steps)) {
-        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
-            t.hits[t.crossed[j]] = 0U;
-        }
-        count_segments(voxels(entries), t.begin, t.walked, t.pixels, true, 1U, Span<std::uint32_t>(t.hits, t.voxels));
-    } else {
-        for (std::size_t j = 0U; j < t.crossed_count; ++j) {
-            t.hits[t.crossed[j]] = t.full_hits[t.crossed[j]];
-        }
-        count_segments(voxels(entries), t.begin, t.walked, t.pixels, false, std::numeric_limits<std::uint32_t>::max(),
-                       Span<std::uint32_t>(t.hits, t.voxels));
-    }
+    count_hits(entries, t, s.voxel_updates);
     // Pass 3: each voxel a walk reached gets the sensor's one opinion, pooled.
     for (std::size_t j = 0U; j < t.crossed_count; ++j) {
         const std::uint32_t v = t.crossed[j];

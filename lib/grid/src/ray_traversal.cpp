@@ -176,6 +176,89 @@ VoxelCoord to_coord(const Int3& c) noexcept { return VoxelCoord{c[0], c[1], c[2]
 /// ceil(a / b) for b > 0.
 std::int64_t ceil_div(std::int64_t a, std::int64_t b) noexcept { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
 
+/// The first and last voxel of the clipped segment @p s (clip @p c, grid
+/// @p n) on each axis, and where it enters and leaves the grid (plan.t_in,
+/// plan.t_out).
+void plan_end_voxels(const VoxelSegment& s, const BoxClip& c, const Int3& n, Int3& first, Int3& last,
+                     detail::ExactTraversalPlan& plan) noexcept {
+    if (!c.positive) {
+        // Only an endpoint touches the grid (or the segment has zero length).
+        const Vec3& u = c.start_inside ? s.u0 : s.u1;
+        for (std::size_t a = 0U; a < 3U; ++a) {
+            first[a] = floor_index(u[a]);
+            last[a] = first[a];
+        }
+        plan.t_in = c.start_inside ? 0.0 : s.length;
+        plan.t_out = plan.t_in;
+    } else {
+        for (std::size_t a = 0U; a < 3U; ++a) {
+            if (s.du[a] == 0.0) {
+                first[a] = floor_index(s.u0[a]);  // in [0, n) by clip_to_box
+                last[a] = first[a];
+                continue;
+            }
+            const bool up = s.du[a] > 0.0;
+            first[a] = c.start_inside ? floor_index(s.u0[a]) : entry_voxel(s, a, n[a], c.f_in);
+            last[a] = c.end_inside ? floor_index(s.u1[a]) : exit_voxel(s, a, n[a], c.f_out);
+            // Rounding at a clipped end can put last behind first; the
+            // endpoint in the grid (if any) keeps its exact voxel.
+            if (up ? last[a] < first[a] : last[a] > first[a]) {
+                if (c.end_inside) {
+                    first[a] = last[a];
+                } else {
+                    last[a] = first[a];
+                }
+            }
+        }
+        plan.t_in = c.f_in * s.length;
+        plan.t_out = c.end_inside ? s.length : c.f_out * s.length;
+    }
+}
+
+/// The exact traversal's fixed-point crossings of @p s from voxel @p first
+/// to @p last: plan.step, stride, tau, tau_delta, tau_last and metres_per_tau.
+void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, const Int3& last,
+                    detail::ExactTraversalPlan& plan) noexcept {
+    // Crossings are compared as tau = f * W, W = product of |du| over the stepping axes: the
+    // crossing of face k on axis a is at tau = |k - u0| * (W / |du_a|). For whole (or
+    // half) voxel coordinates every tau is an integer, so crossings that coincide at an
+    // edge or a corner compare equal. A stepping axis crosses an inner face, so its |du| is
+    // at least ~2^-52 and W stays far from under- and overflow. tau is then scaled by 2^k
+    // (exact) so that W * 2^k < 2^61 and rounded to 64-bit fixed point: the loop adds and
+    // compares integers, exactly. Crossings lie within the segment (tau <= ~W * 2^k), and an
+    // axis with two or more steps has |du| >= ~1, so tau_delta <= ~W * 2^k: no sum reaches
+    // 2^63.
+    Vec3 w{};
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        w[a] = first[a] != last[a] ? std::fabs(s.du[a]) : 1.0;
+    }
+    const double big_w = w[0] * w[1] * w[2];
+    int exponent = 0;
+    (void)std::frexp(big_w, &exponent);  // big_w = m * 2^exponent, m in [0.5, 1)
+    const double scale = std::ldexp(1.0, 61 - exponent);
+    // Kept positive (also for a zero-length segment) so that kTauNever maps beyond t_out.
+    plan.metres_per_tau = std::max(s.length / (big_w * scale), std::numeric_limits<double>::min());
+    const std::array<std::ptrdiff_t, 3> stride = strides_of(n);
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        const std::int32_t step = s.du[a] > 0.0 ? 1 : (s.du[a] < 0.0 ? -1 : 0);
+        plan.step[a] = step;
+        plan.stride[a] = step * stride[a];
+        const std::int32_t steps = step * (last[a] - first[a]);
+        if (steps == 0) {
+            plan.tau[a] = kTauNever;
+            plan.tau_delta[a] = 1U;
+            plan.tau_last[a] = 0U;
+        } else {
+            const double delta = w[(a + 1U) % 3U] * w[(a + 2U) % 3U];
+            const auto face = static_cast<double>(first[a] + (step > 0 ? 1 : 0));
+            plan.tau[a] = to_fixed(std::fabs(face - s.u0[a]) * delta * scale);
+            // delta * scale >= 2^30 (|du| <= 2^30); after a single step the delta only has to retire the axis.
+            plan.tau_delta[a] = steps > 1 ? std::max(to_fixed(delta * scale), std::uint64_t{1}) : 1U;
+            plan.tau_last[a] = plan.tau[a] + static_cast<std::uint64_t>(steps - 1) * plan.tau_delta[a];
+        }
+    }
+}
+
 }  // namespace
 
 ClippedSegment clip_segment_to_grid(const GridGeometry& g, const Eigen::Vector3d& start,
@@ -215,80 +298,12 @@ ExactTraversalPlan plan_exact_traversal(const GridGeometry& g, const Eigen::Vect
     }
     Int3 first{};
     Int3 last{};
-    if (!c.positive) {
-        // Only an endpoint touches the grid (or the segment has zero length).
-        const Vec3& u = c.start_inside ? s.u0 : s.u1;
-        for (std::size_t a = 0U; a < 3U; ++a) {
-            first[a] = floor_index(u[a]);
-            last[a] = first[a];
-        }
-        plan.t_in = c.start_inside ? 0.0 : s.length;
-        plan.t_out = plan.t_in;
-    } else {
-        for (std::size_t a = 0U; a < 3U; ++a) {
-            if (s.du[a] == 0.0) {
-                first[a] = floor_index(s.u0[a]);  // in [0, n) by clip_to_box
-                last[a] = first[a];
-                continue;
-            }
-            const bool up = s.du[a] > 0.0;
-            first[a] = c.start_inside ? floor_index(s.u0[a]) : entry_voxel(s, a, n[a], c.f_in);
-            last[a] = c.end_inside ? floor_index(s.u1[a]) : exit_voxel(s, a, n[a], c.f_out);
-            // Rounding at a clipped end can put last behind first; the
-            // endpoint in the grid (if any) keeps its exact voxel.
-            if (up ? last[a] < first[a] : last[a] > first[a]) {
-                if (c.end_inside) {
-                    first[a] = last[a];
-                } else {
-                    last[a] = first[a];
-                }
-            }
-        }
-        plan.t_in = c.f_in * s.length;
-        plan.t_out = c.end_inside ? s.length : c.f_out * s.length;
-    }
+    plan_end_voxels(s, c, n, first, last, plan);
     plan.first = to_coord(first);
     plan.last = to_coord(last);
     CG_ENFORCE(g.contains(plan.first) && g.contains(plan.last), "traversal end voxels outside the grid");
     plan.first_index = static_cast<std::ptrdiff_t>(g.index_of(plan.first));
-    // Crossings are compared as tau = f * W, W = product of |du| over the stepping axes: the
-    // crossing of face k on axis a is at tau = |k - u0| * (W / |du_a|). For whole (or
-    // half) voxel coordinates every tau is an integer, so crossings that coincide at an
-    // edge or a corner compare equal. A stepping axis crosses an inner face, so its |du| is
-    // at least ~2^-52 and W stays far from under- and overflow. tau is then scaled by 2^k
-    // (exact) so that W * 2^k < 2^61 and rounded to 64-bit fixed point: the loop adds and
-    // compares integers, exactly. Crossings lie within the segment (tau <= ~W * 2^k), and an
-    // axis with two or more steps has |du| >= ~1, so tau_delta <= ~W * 2^k: no sum reaches
-    // 2^63.
-    Vec3 w{};
-    for (std::size_t a = 0U; a < 3U; ++a) {
-        w[a] = first[a] != last[a] ? std::fabs(s.du[a]) : 1.0;
-    }
-    const double big_w = w[0] * w[1] * w[2];
-    int exponent = 0;
-    (void)std::frexp(big_w, &exponent);  // big_w = m * 2^exponent, m in [0.5, 1)
-    const double scale = std::ldexp(1.0, 61 - exponent);
-    // Kept positive (also for a zero-length segment) so that kTauNever maps beyond t_out.
-    plan.metres_per_tau = std::max(s.length / (big_w * scale), std::numeric_limits<double>::min());
-    const std::array<std::ptrdiff_t, 3> stride = strides_of(n);
-    for (std::size_t a = 0U; a < 3U; ++a) {
-        const std::int32_t step = s.du[a] > 0.0 ? 1 : (s.du[a] < 0.0 ? -1 : 0);
-        plan.step[a] = step;
-        plan.stride[a] = step * stride[a];
-        const std::int32_t steps = step * (last[a] - first[a]);
-        if (steps == 0) {
-            plan.tau[a] = kTauNever;
-            plan.tau_delta[a] = 1U;
-            plan.tau_last[a] = 0U;
-        } else {
-            const double delta = w[(a + 1U) % 3U] * w[(a + 2U) % 3U];
-            const auto face = static_cast<double>(first[a] + (step > 0 ? 1 : 0));
-            plan.tau[a] = to_fixed(std::fabs(face - s.u0[a]) * delta * scale);
-            // delta * scale >= 2^30 (|du| <= 2^30); after a single step the delta only has to retire the axis.
-            plan.tau_delta[a] = steps > 1 ? std::max(to_fixed(delta * scale), std::uint64_t{1}) : 1U;
-            plan.tau_last[a] = plan.tau[a] + static_cast<std::uint64_t>(steps - 1) * plan.tau_delta[a];
-        }
-    }
+    plan_crossings(s, n, first, last, plan);
     plan.visits = true;
     return plan;
 }
