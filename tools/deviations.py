@@ -28,7 +28,7 @@ import subprocess
 import sys
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-SCOPE = ["lib", "port"]
+SCOPE = ["lib", "port", "apps"]
 EXTS = (".cpp", ".hpp", ".h", ".cc", ".c")
 
 

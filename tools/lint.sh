@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Static analysis of lib/ and port/: cppcheck and clang-tidy, findings are errors.
+# Static analysis of lib/, port/ and apps/: cppcheck and clang-tidy, findings are errors.
+# apps/.clang-tidy adapts the checks to host code (heap, exceptions, iostreams allowed).
 # Usage: tools/lint.sh [build-dir]   (the build dir must have compile_commands.json)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,6 +23,12 @@ fi
 
 [ -f "$build/compile_commands.json" ] || { echo "lint: no $build/compile_commands.json; configure first" >&2; exit 2; }
 mapfile -t sources < <(find lib port -name '*.cpp' | sort)
+# apps/: the host programs and the host floor, as compiled on the host (in the
+# compile database: not the firmware's bare-metal main, not generated data).
+mapfile -t app_sources < <(find apps -name '*.cpp' -not -path 'apps/firmware/generated/*' | sort |
+                           while read -r f; do grep -q "\"file\": \"$PWD/$f\"" "$build/compile_commands.json" && echo "$f"; done)
+app_includes=()
+for d in apps/*/include; do app_includes+=(-I "$d"); done
 # Every lib/ module's include root (lib/<module>/include, lib/<module>/<part>/include).
 lib_includes=()
 for d in lib/*/include lib/*/*/include; do lib_includes+=(-I "$d"); done
@@ -32,11 +39,16 @@ cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portabili
   --suppressions-list=tools/cppcheck-suppressions.txt \
   "${lib_includes[@]}" -I port/linux/include -D__GNUC__ -DEIGEN_NO_MALLOC \
   "${sources[@]}"
+cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portability \
+  --inline-suppr --error-exitcode=1 --quiet \
+  --suppressions-list=tools/cppcheck-suppressions.txt \
+  "${lib_includes[@]}" -I port/linux/include "${app_includes[@]}" -I "$build/apps/host" -D__GNUC__ \
+  "${app_sources[@]}"
 
 echo "== clang-tidy $(clang-tidy --version | head -n 2 | tail -n 1)"
 # One clang-tidy per file, as many at once as there are cores; any finding fails.
 # lib/ and port/linux: with the host build's compile database.
-mapfile -t host_sources < <(printf '%s\n' "${sources[@]}" | grep -v '^port/baremetal/')
+mapfile -t host_sources < <(printf '%s\n' "${sources[@]}" "${app_sources[@]}" | grep -v '^port/baremetal/')
 log=$(mktemp)
 status=0
 printf '%s\n' "${host_sources[@]}" | xargs -P "$(nproc)" -n 1 sh -c 'out=$(clang-tidy -p "$0" --quiet "$1" 2>&1) || { printf "%s\n" "$out"; echo "clang-tidy: findings in $1"; exit 1; }' "$build" >"$log" 2>&1 || status=1
