@@ -8,6 +8,8 @@
 # architecture to dpkg).
 # --vcan also installs what tools/vcan-integration.sh needs: qemu-system-x86,
 # Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
+# --lint also installs what tools/lint.sh needs beyond the default set:
+# reuse (the licence check of every file) and clang-format (the style check).
 set -euo pipefail
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
 # libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
@@ -21,7 +23,8 @@ for arg in "$@"; do
                     libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm libpng-dev:arm64)
              arm64=1 ;;
     --vcan) pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static can-utils cpio iproute2) ;;
-    *) echo "usage: $0 [--cross] [--vcan]" >&2; exit 2 ;;
+    --lint) pkgs+=(reuse clang-format) ;;
+    *) echo "usage: $0 [--cross] [--vcan] [--lint]" >&2; exit 2 ;;
   esac
 done
 missing=()
