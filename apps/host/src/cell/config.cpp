@@ -30,7 +30,7 @@ public:
     using TomlLoader::TomlLoader;
 
     /// An array of exactly @p count finite numbers.
-    std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
         const toml::array* a = n.as_array();
         if (a == nullptr || a->size() != count) {
             fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
@@ -423,7 +423,8 @@ ConfigLoad load_monitor_config(const std::string& path) {
 MonitorConfig demo_config() {
     const ConfigLoad l = parse_monitor_config(demo_config_text(), "<built-in demo config>");
     if (!l.ok) {  // the built-in text is tested by test_monitor_config.cpp
-        std::fprintf(stderr, "cellguard-monitor: built-in demo configuration: %s\n", l.error.c_str());
+        static_cast<void>(
+            std::fprintf(stderr, "cellguard-monitor: built-in demo configuration: %s\n", l.error.c_str()));
         std::abort();
     }
     return l.config;

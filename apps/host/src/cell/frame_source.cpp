@@ -34,7 +34,8 @@ bool SimulatedFrameSource::load_frame(std::uint64_t cycle, SensorReading& readin
         // Not reached: the buffers were sized for this scene and image.
         reading = SensorReading{};
         reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
-        std::snprintf(status.reason, sizeof status.reason, "the simulated frame does not fit its buffer");
+        static_cast<void>(
+            std::snprintf(status.reason, sizeof status.reason, "the simulated frame does not fit its buffer"));
         return false;
     }
     ++renders_;

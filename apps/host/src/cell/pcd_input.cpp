@@ -118,20 +118,20 @@ bool PcdFrameSource::check_frame(const IoStatus& read, const PcdCloudInfo& info,
     char* const reason = status.reason;
     const std::size_t size = sizeof status.reason;
     if (info.points > capacity) {  // whether the read failed on it or not
-        std::snprintf(reason, size, "%llu points, more than sensor '%s' delivers (%d x %d)",
-                      static_cast<unsigned long long>(info.points), name_.c_str(), width_, height_);
+        static_cast<void>(std::snprintf(reason, size, "%llu points, more than sensor '%s' delivers (%d x %d)",
+                                        static_cast<unsigned long long>(info.points), name_.c_str(), width_, height_));
     } else if (!read.ok()) {
-        std::snprintf(reason, size, "%s", read.message());
+        static_cast<void>(std::snprintf(reason, size, "%s", read.message()));
     } else if (info.height > 1U && (info.width != static_cast<std::uint32_t>(width_) ||
                                     info.height != static_cast<std::uint32_t>(height_))) {
-        std::snprintf(reason, size, "organised cloud of %u x %u, but sensor '%s' has %d x %d pixels",
-                      static_cast<unsigned>(info.width), static_cast<unsigned>(info.height), name_.c_str(), width_,
-                      height_);
+        static_cast<void>(std::snprintf(reason, size, "organised cloud of %u x %u, but sensor '%s' has %d x %d pixels",
+                                        static_cast<unsigned>(info.width), static_cast<unsigned>(info.height),
+                                        name_.c_str(), width_, height_));
     } else if (!is_unplaced_viewpoint(info.viewpoint) && !viewpoint_matches(info.viewpoint, pose_)) {
         char buf[160];  // the message as it always was, at most 159 characters
-        std::snprintf(buf, sizeof buf, "VIEWPOINT (%.3f, %.3f, %.3f) is not the pose of sensor '%s'",
-                      info.viewpoint.tx, info.viewpoint.ty, info.viewpoint.tz, name_.c_str());
-        std::snprintf(reason, size, "%s", buf);
+        static_cast<void>(std::snprintf(buf, sizeof buf, "VIEWPOINT (%.3f, %.3f, %.3f) is not the pose of sensor '%s'",
+                                        info.viewpoint.tx, info.viewpoint.ty, info.viewpoint.tz, name_.c_str()));
+        static_cast<void>(std::snprintf(reason, size, "%s", buf));
     } else {
         return true;
     }
@@ -148,7 +148,7 @@ bool PcdFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, Fra
     reading.max_range = max_range_;
     points_.clear();
     if (files_.empty()) {
-        std::snprintf(status.reason, sizeof status.reason, "no recorded frames");
+        static_cast<void>(std::snprintf(status.reason, sizeof status.reason, "no recorded frames"));
         ++refused_;
         return false;
     }
@@ -177,8 +177,9 @@ bool PcdFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, Fra
 }
 
 void PcdFrameSource::write_summary(std::FILE* out) const noexcept {
-    std::fprintf(out, "summary: sensor '%s': %llu recorded frames used, %llu refused (frame inconsistent)\n",
-                 name_.c_str(), static_cast<unsigned long long>(used_), static_cast<unsigned long long>(refused_));
+    static_cast<void>(
+        std::fprintf(out, "summary: sensor '%s': %llu recorded frames used, %llu refused (frame inconsistent)\n",
+                     name_.c_str(), static_cast<unsigned long long>(used_), static_cast<unsigned long long>(refused_)));
 }
 
 }  // namespace cellguard::cell

@@ -73,7 +73,7 @@ private:
 /// ArgumentMismatch options of one value per occurrence raise) is "--out
 /// needs a value", like a value that is the next option.
 std::string message_of(const CLI::ParseError& e) {
-    const std::string what = e.what();
+    std::string what = e.what();
     const std::string missing = " missing";
     const std::size_t colon = what.find(": ");
     if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && colon != std::string::npos &&
@@ -147,8 +147,8 @@ CLI::Option* CommandLine::flag(const std::string& names, bool& target, const std
     return app_.add_flag(names, target, help);
 }
 
-CLI::Option* CommandLine::argument(const std::string& name, const std::string& help, Take take, bool required) {
-    CLI::Option* o = app_.add_option_function<std::string>(name, std::move(take), help)->group("arguments");
+CLI::Option* CommandLine::argument(const std::string& name, const std::string& help, const Take& take, bool required) {
+    CLI::Option* o = app_.add_option_function<std::string>(name, take, help)->group("arguments");
     return required ? o->required() : o;
 }
 

@@ -7,6 +7,8 @@
 // skips no destructor.
 #include "cellguard/host/io/png.hpp"
 
+#include "cellguard/host/io/file.hpp"
+
 #include <png.h>
 
 #include <cerrno>
@@ -26,7 +28,7 @@ struct WriteState {
 
 void on_error(png_structp png, png_const_charp message) {
     auto* state = static_cast<WriteState*>(png_get_error_ptr(png));
-    std::snprintf(state->error, sizeof(state->error), "%s", message);
+    static_cast<void>(std::snprintf(state->error, sizeof(state->error), "%s", message));
     png_longjmp(png, 1);
 }
 
@@ -68,7 +70,7 @@ bool write_with_libpng(const Pixels& p, WriteState& state) {
     png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
     if (info == nullptr) {
         png_destroy_write_struct(&png, nullptr);
-        std::snprintf(state.error, sizeof(state.error), "%s", "out of memory");
+        static_cast<void>(std::snprintf(state.error, sizeof(state.error), "%s", "out of memory"));
         return false;
     }
     if (setjmp(png_jmpbuf(png)) != 0) {  // NOLINT(cert-err52-cpp): libpng's error handling
@@ -149,13 +151,13 @@ bool encode_indexed(const IndexedImage& image, std::vector<std::uint8_t>& out, s
 }
 
 bool write_bytes(const std::string& path, const std::vector<std::uint8_t>& png, std::string& error) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (f == nullptr) {
+    FilePtr f = open_file(path.c_str(), "wb");
+    if (!f) {
         error = path + ": " + std::strerror(errno);
         return false;
     }
-    const bool ok = std::fwrite(png.data(), 1U, png.size(), f) == png.size();
-    const bool closed = std::fclose(f) == 0;
+    const bool ok = std::fwrite(png.data(), 1U, png.size(), f.get()) == png.size();
+    const bool closed = close_file(f);
     if (!ok || !closed) {
         error = path + ": write failed";
         return false;

@@ -32,7 +32,7 @@ TomlLoader::TomlLoader(std::string source) : source_(std::move(source)) {}
 void TomlLoader::fail(const toml::source_region& where, const std::string& key, const std::string& what) const {
     std::ostringstream m;
     m << source_ << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << what;
-    throw TomlError{m.str()};
+    throw TomlError(m.str());
 }
 
 void TomlLoader::check_keys(const toml::table& t, const std::string& path,

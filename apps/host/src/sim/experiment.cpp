@@ -17,7 +17,11 @@ double ms_since(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-std::size_t bin_of(std::int16_t v) { return static_cast<std::size_t>(static_cast<std::int32_t>(v) + 32768); }
+/// The histogram bin of a log-odds value: -32768 .. 32767 to 0 .. 65535 (no overflow in int32).
+std::size_t bin_of(std::int16_t v) {
+    const std::int32_t shifted = static_cast<std::int32_t>(v) + 32768;
+    return static_cast<std::size_t>(shifted);
+}
 
 constexpr std::uint64_t kSeedStride = 1000003U;
 constexpr std::uint64_t kForegroundSeedOffset = 500000U;
@@ -35,7 +39,7 @@ OwnedGrid::OwnedGrid(const GridGeometry& g)
     Result<EvidenceGrid> r = EvidenceGrid::make(g, Span<std::int16_t>(log_odds.data(), log_odds.size()),
                                                 Span<std::uint8_t>(observed.data(), observed.size()));
     if (!r.ok()) {
-        std::fprintf(stderr, "OwnedGrid: invalid geometry (%s)\n", to_string(r.error()));
+        static_cast<void>(std::fprintf(stderr, "OwnedGrid: invalid geometry (%s)\n", to_string(r.error())));
         std::abort();
     }
     grid = r.value();

@@ -14,8 +14,11 @@ bool overlaps_foreground(const GridGeometry& g, const Scene& scene, const VoxelC
         if (b.background) {
             continue;
         }
-        for (int i = 0; i < 27; ++i) {
-            const Eigen::Vector3d p = lo + half * Eigen::Vector3d(i % 3, (i / 3) % 3, i / 9);
+        for (int i = 0; i < 27; ++i) {  // the 3 x 3 x 3 lattice of corners, edge and face centres, centre
+            const int ix = i % 3;
+            const int iy = (i / 3) % 3;
+            const int iz = i / 9;
+            const Eigen::Vector3d p = lo + half * Eigen::Vector3d(ix, iy, iz);
             if (box_contains(b, p)) {
                 return true;
             }
@@ -86,8 +89,8 @@ std::vector<std::uint8_t> background_interior_mask(const GridGeometry& g, const 
                 continue;
             }
             bool inside = true;
-            for (int k = 0; k < 8 && inside; ++k) {
-                const Eigen::Vector3d p = lo + extent * Eigen::Vector3d(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+            for (unsigned k = 0U; k < 8U && inside; ++k) {  // the eight corners
+                const Eigen::Vector3d p = lo + extent * Eigen::Vector3d(k & 1U, (k >> 1U) & 1U, (k >> 2U) & 1U);
                 inside = box_contains(b, p);
             }
             if (inside) {

@@ -59,7 +59,7 @@ void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, std::vector
             const double mix_draw = rng.uniform();
             const double weight = rng.uniform();
             const double n = rng.normal();
-            const double z = static_cast<double>(ideal[i]);
+            const auto z = static_cast<double>(ideal[i]);
             if (!(z > 0.0)) {
                 continue;
             }
@@ -89,7 +89,7 @@ void apply_stereo(const SensorSpec& sensor, const StereoNoise& p, std::vector<fl
             const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u);
             const double miss_draw = rng.uniform();
             const double n = rng.normal();
-            const double z = static_cast<double>(ideal[i]);
+            const auto z = static_cast<double>(ideal[i]);
             if (!(z > 0.0)) {
                 continue;
             }

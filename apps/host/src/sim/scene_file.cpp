@@ -38,7 +38,7 @@ public:
         return v;
     }
 
-    std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
         const toml::array* a = n.as_array();
         if (a == nullptr || a->size() != count) {
             fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");

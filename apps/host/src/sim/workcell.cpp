@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace cellguard::sim {
 
@@ -33,7 +34,9 @@ double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, cons
         }
         double ta = (-half[a] - o[a]) / d[a];
         double tb = (half[a] - o[a]) / d[a];
-        if (ta > tb) std::swap(ta, tb);
+        if (ta > tb) {
+            std::swap(ta, tb);
+        }
         t0 = std::fmax(t0, ta);
         t1 = std::fmin(t1, tb);
         if (t0 > t1) {
@@ -51,7 +54,7 @@ double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::V
 }
 }  // namespace
 
-PreparedScene::PreparedScene(const Scene& scene) : scene_(scene) {
+PreparedScene::PreparedScene(Scene scene) : scene_(std::move(scene)) {
     for (const Box& b : scene_.boxes) {
         inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
     }

@@ -38,7 +38,7 @@ inline std::string usage_error_line(const std::string& program, const std::strin
 
 /// Prints usage_error_line(@p program, @p message) to stderr; returns kExitUsage.
 inline int usage_error(const char* program, const std::string& message) {
-    std::fputs(usage_error_line(program, message).c_str(), stderr);
+    static_cast<void>(std::fputs(usage_error_line(program, message).c_str(), stderr));
     return kExitUsage;
 }
 

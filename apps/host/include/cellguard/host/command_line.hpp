@@ -75,7 +75,7 @@ public:
     /// last one counts) that sets @p target.
     CLI::Option* flag(const std::string& names, bool& target, const std::string& help);
     /// A positional argument NAME (upper case), required unless @p required is false.
-    CLI::Option* argument(const std::string& name, const std::string& help, Take take, bool required = true);
+    CLI::Option* argument(const std::string& name, const std::string& help, const Take& take, bool required = true);
 
     /// Parses @p args (without the program name): -1 to run; else the exit
     /// status, after printing the usage or version to @p out (0) or the

@@ -9,13 +9,16 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 
 namespace cellguard::host {
 
 /// Thrown by TomlLoader::fail, caught by the loader's entry point: the first
 /// error, already formatted as "source:line:column: key: what".
-struct TomlError {
+struct TomlError : std::runtime_error {
+    /// An error that says @p text.
+    explicit TomlError(const std::string& text) : std::runtime_error(text), message(text) {}
     std::string message;  ///< the formatted error
 };
 
@@ -53,7 +56,7 @@ public:
     const toml::node& require(const toml::table& t, const std::string& path, const char* key) const;
 
     /// @p n as a finite number (an integer or a float), reported as @p key.
-    double as_number(const toml::node& n, const std::string& key) const;
+    [[nodiscard]] double as_number(const toml::node& n, const std::string& key) const;
 
     /// The finite number @p key of @p t.
     double number(const toml::table& t, const std::string& path, const char* key) const;

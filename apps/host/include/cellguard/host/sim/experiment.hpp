@@ -48,6 +48,7 @@ struct OwnedGrid {
     OwnedGrid(OwnedGrid&&) noexcept = default;
     /// Moves the storage; the views stay valid.
     OwnedGrid& operator=(OwnedGrid&&) noexcept = default;
+    ~OwnedGrid() = default;
     std::vector<std::int16_t> log_odds;  ///< storage of the log-odds
     std::vector<std::uint8_t> observed;  ///< storage of the observed flags
     std::vector<std::int16_t> scratch;   ///< fusion's per-sensor working memory (fuse_frame), one per voxel

@@ -81,7 +81,7 @@ RayHit cast_ray_hit(const Scene& scene, const Eigen::Vector3d& origin, const Eig
 class PreparedScene {
 public:
     /// Prepares @p scene (copied).
-    explicit PreparedScene(const Scene& scene);
+    explicit PreparedScene(Scene scene);
     /// An empty scene (the floor, no boxes) with room for @p max_boxes boxes,
     /// to be filled by assign() without allocating.
     explicit PreparedScene(std::size_t max_boxes);
