@@ -10,6 +10,7 @@
 #include <cstdint>
 
 extern "C" {
+// NOLINTBEGIN(bugprone-dynamic-static-initializers): declarations of symbols defined in embedded_data.S, no initialiser at all (false positive in clang-tidy 14)
 /// The prior image (prior_image.hpp's format), byte for byte as the host tools write it.
 extern const std::uint8_t cellguard_firmware_prior_image[];
 /// Bytes in cellguard_firmware_prior_image.
@@ -23,6 +24,7 @@ extern const std::uint8_t cellguard_firmware_frames[];
 extern const float cellguard_firmware_frames_f32[];
 /// Bytes in cellguard_firmware_frames.
 extern const std::uint32_t cellguard_firmware_frames_size;
+// NOLINTEND(bugprone-dynamic-static-initializers)
 }
 
 #endif  // CELLGUARD_FIRMWARE_EMBEDDED_DATA_HPP

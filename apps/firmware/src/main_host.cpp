@@ -19,7 +19,9 @@
 namespace {
 
 /// A deterministic clock: one microsecond per reading.
-class CountingClock final : public cellguard::MonotonicClock {
+class CountingClock final
+    : public cellguard::
+          MonotonicClock {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 public:
     std::uint64_t now_us() noexcept override { return t_ += 1U; }
 
@@ -27,18 +29,25 @@ private:
     std::uint64_t t_ = 1000000U;
 };
 
-class StdoutText final : public cellguard::firmware::TextSink {
+class StdoutText final
+    : public cellguard::firmware::
+          TextSink {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 public:
-    void write(const char* text) noexcept override { std::fputs(text, stdout); }
+    void write(const char* text) noexcept override { static_cast<void>(std::fputs(text, stdout)); }
 };
 
 /// Prints frames like the board's semihosting CAN backend.
-class PrintingCan final : public cellguard::CanSender {
+class PrintingCan final
+    : public cellguard::
+          CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 public:
     bool send(const cellguard::CanFrame& frame) noexcept override {
-        std::printf("can 0x%03x [%u]", static_cast<unsigned>(frame.id), static_cast<unsigned>(frame.dlc));
-        for (unsigned i = 0U; i < frame.dlc && i < 8U; ++i) std::printf(" %02x", static_cast<unsigned>(frame.data[i]));
-        std::printf("\n");
+        static_cast<void>(
+            std::printf("can 0x%03x [%u]", static_cast<unsigned>(frame.id), static_cast<unsigned>(frame.dlc)));
+        for (unsigned i = 0U; i < frame.dlc && i < 8U; ++i) {
+            static_cast<void>(std::printf(" %02x", static_cast<unsigned>(frame.data[i])));
+        }
+        static_cast<void>(std::printf("\n"));
         return true;
     }
 };
@@ -80,7 +89,7 @@ int parse_args(int argc, char** argv, const char*& expected_text, unsigned long&
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
-            std::fputs(kUsage, stdout);
+            static_cast<void>(std::fputs(kUsage, stdout));
             return 0;
         }
         if (std::strcmp(a, "--version") == 0) {
@@ -115,7 +124,9 @@ int main(int argc, char** argv) {
     StdoutText text;
     PrintingCan can;
     const cellguard::firmware::ScenarioSummary s = cellguard::firmware::run_scenario(clock, can, text);
-    if (!s.setup_ok || s.cycles != cellguard::firmware::kScenarioCycles) return 1;
+    if (!s.setup_ok || s.cycles != cellguard::firmware::kScenarioCycles) {
+        return 1;
+    }
     if (expected_text != nullptr) {
         if (expected != s.digest) {
             std::printf("digest 0x%08x differs from the expected %s\n", static_cast<unsigned>(s.digest), expected_text);

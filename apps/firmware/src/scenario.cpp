@@ -64,7 +64,8 @@ private:
 };
 
 /// Digests every frame (diagnostics timing masked) and forwards it.
-class DigestingSender final : public CanSender {
+class DigestingSender final
+    : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 public:
     DigestingSender(CanSender& inner, std::uint32_t diagnostics_id, Digest& digest) noexcept
         : inner_(&inner), diagnostics_id_(diagnostics_id), digest_(&digest) {}
@@ -220,40 +221,112 @@ ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept {
     return config;
 }
 
-ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
-    ScenarioSummary summary;
-    const GridGeometry geometry = paper_grid_geometry();
+namespace {
 
-    // The prior image in flash: every check of load_prior_image (CRCs,
-    // geometry, parameters, values); the controller then reads its payload
-    // in place, through the int16 symbol on the same bytes.
-    const Result<PriorImageView> view = load_prior_image(
-        Span<const std::uint8_t>(cellguard_firmware_prior_image, cellguard_firmware_prior_image_size), geometry);
+/// The prior image in flash: every check of load_prior_image (CRCs,
+/// geometry, parameters, values), and the int16 symbol the controller reads
+/// in place must be its payload. False (said on @p text) when not.
+bool prior_in_flash_ok(const Result<PriorImageView>& view, TextSink& text) noexcept {
     if (!view.ok()) {
         text.write("error: the prior image in flash fails its checks\n");
-        return summary;
+        return false;
     }
     if (static_cast<const void*>(cellguard_firmware_prior_values) != static_cast<const void*>(view.value().payload().data()) ||
         view.value().voxel_count() != GridStorage::kVoxels) {
         text.write("error: the prior values symbol is not the image's payload\n");
+        return false;
+    }
+    return true;
+}
+
+/// The canned frames: magic, version, sizes, CRC; the script's scenes must
+/// exist. False (said on @p text) when not.
+bool canned_frames_ok(const Result<CannedFrames>& frames, TextSink& text) noexcept {
+    if (!frames.ok()) {
+        text.write("error: the canned frames in flash fail their checks\n");
+        return false;
+    }
+    for (const Step& step : kScript) {
+        if (step.scene >= frames.value().scene_count()) {
+            text.write("error: the script needs a scene the canned frames do not hold\n");
+            return false;
+        }
+    }
+    return true;
+}
+
+/// One line per cycle: scene, zone states with their counts, stop, warning, faults, the cycle's digest.
+void write_cycle_line(const CycleReport& r, const char* scene_name, std::uint32_t cycle_crc, TextSink& text) noexcept {
+    Line line;
+    line.text("cycle ").dec(r.cycle).text(" scene ").text(scene_name);
+    line.text(" zones ");
+    for (std::size_t z = 0U; z < r.zones.count; ++z) {
+        line.text(z == 0U ? "" : "/").text(to_string(r.zones.zones[z].state));
+        line.text("(fg ").dec(r.zones.zones[z].foreground).text(" unseen ").dec(r.zones.zones[z].unseen).text(")");
+    }
+    line.text(" stop ").dec(r.safety.stop_requested ? 1U : 0U);
+    line.text(" warning ").dec(r.safety.warning ? 1U : 0U);
+    line.text(" faults ").hex(r.safety.latched_faults);
+    line.text(" crc ").hex(cycle_crc).text("\n");
+    text.write(line.c_str());
+}
+
+/// What one step of the script runs on.
+struct ScriptRun {
+    SafetyController& controller;
+    const CannedFrames& frames;
+    const EvidenceGrid& frame_grid;
+    MonotonicClock& clock;
+    Digest& digest;
+    TextSink& text;
+};
+
+/// One cycle of the script: the step's frames (missing sensors absent), the
+/// controller's cycle, the digest of its grid and report, the cycle's line.
+void run_step(const ScriptRun& run, const Step& step) noexcept {
+    run.digest.start_cycle();
+    SensorInput inputs[kMaxCannedSensors];
+    const std::uint64_t now = run.clock.now_us();
+    for (std::size_t s = 0U; s < run.frames.sensor_count(); ++s) {
+        inputs[s].reading = canned_reading(run.frames, s, step.scene);
+        inputs[s].captured_us = now;
+        inputs[s].present = ((static_cast<unsigned>(step.missing_sensors) >> s) & 1U) == 0U;
+    }
+    const CycleReport& r = run.controller.run_cycle(Span<const SensorInput>(inputs, run.frames.sensor_count()),
+                                                    step.reset);
+    digest_grid(run.frame_grid, run.digest);
+    digest_report(r, run.digest);
+    write_cycle_line(r, run.frames.scene_name(step.scene), run.digest.cycle(), run.text);
+}
+
+/// The closing lines: frames sent, the prior's CRC, the run's digest.
+void write_totals(const ScenarioSummary& summary, std::uint32_t frames_sent, TextSink& text) noexcept {
+    Line last;
+    last.text("frames ").dec(frames_sent).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    text.write(last.c_str());
+    Line result;
+    result.text("digest ").hex(summary.digest).text("\n");
+    text.write(result.c_str());
+}
+
+}  // namespace
+
+ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
+    ScenarioSummary summary;
+    const GridGeometry geometry = paper_grid_geometry();
+    const Result<PriorImageView> view = load_prior_image(
+        Span<const std::uint8_t>(cellguard_firmware_prior_image, cellguard_firmware_prior_image_size), geometry);
+    if (!prior_in_flash_ok(view, text)) {
         return summary;
     }
     const Span<const std::int16_t> prior_values(cellguard_firmware_prior_values, GridStorage::kVoxels);
-    // The canned frames: magic, version, sizes, CRC; the script's scenes must exist.
     const Result<CannedFrames> frames_result = CannedFrames::parse(
         Span<const std::uint8_t>(cellguard_firmware_frames, cellguard_firmware_frames_size),
         Span<const float>(cellguard_firmware_frames_f32, cellguard_firmware_frames_size / sizeof(float)));
-    if (!frames_result.ok()) {
-        text.write("error: the canned frames in flash fail their checks\n");
+    if (!canned_frames_ok(frames_result, text)) {
         return summary;
     }
     const CannedFrames& frames = frames_result.value();
-    for (const Step& step : kScript) {
-        if (step.scene >= frames.scene_count()) {
-            text.write("error: the script needs a scene the canned frames do not hold\n");
-            return summary;
-        }
-    }
 
     const Result<EvidenceGrid> grid =
         EvidenceGrid::make(geometry, Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
@@ -287,41 +360,13 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     }
     summary.setup_ok = true;
 
-    for (std::uint32_t c = 0U; c < kScenarioCycles; ++c) {
-        const Step& step = kScript[c];
-        digest.start_cycle();
-        SensorInput inputs[kMaxCannedSensors];
-        const std::uint64_t now = clock.now_us();
-        for (std::size_t s = 0U; s < frames.sensor_count(); ++s) {
-            inputs[s].reading = canned_reading(frames, s, step.scene);
-            inputs[s].captured_us = now;
-            inputs[s].present = ((step.missing_sensors >> s) & 1U) == 0U;
-        }
-        const CycleReport& r =
-            controller.run_cycle(Span<const SensorInput>(inputs, frames.sensor_count()), step.reset);
-        digest_grid(frame_grid, digest);
-        digest_report(r, digest);
-        Line line;
-        line.text("cycle ").dec(r.cycle).text(" scene ").text(frames.scene_name(step.scene));
-        line.text(" zones ");
-        for (std::size_t z = 0U; z < r.zones.count; ++z) {
-            line.text(z == 0U ? "" : "/").text(to_string(r.zones.zones[z].state));
-            line.text("(fg ").dec(r.zones.zones[z].foreground).text(" unseen ").dec(r.zones.zones[z].unseen).text(")");
-        }
-        line.text(" stop ").dec(r.safety.stop_requested ? 1U : 0U);
-        line.text(" warning ").dec(r.safety.warning ? 1U : 0U);
-        line.text(" faults ").hex(r.safety.latched_faults);
-        line.text(" crc ").hex(digest.cycle()).text("\n");
-        text.write(line.c_str());
+    const ScriptRun run{controller, frames, frame_grid, clock, digest, text};
+    for (const Step& step : kScript) {
+        run_step(run, step);
         ++summary.cycles;
     }
     summary.digest = digest.total();
-    Line last;
-    last.text("frames ").dec(sender.frames()).text(" prior_crc ").hex(summary.prior_crc).text("\n");
-    text.write(last.c_str());
-    Line result;
-    result.text("digest ").hex(summary.digest).text("\n");
-    text.write(result.c_str());
+    write_totals(summary, sender.frames(), text);
     return summary;
 }
 
