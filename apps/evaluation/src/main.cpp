@@ -47,17 +47,26 @@ std::string fmt(double v, int digits = 3) {
         return "n/a";
     }
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    static_cast<void>(std::snprintf(buf, sizeof buf, "%.*f", digits, v));
     return buf;
 }
 
-bool write_text(const std::string& path, const std::string& text) {
+/// Writes @p text to the file @p path; false (and says so) when that fails.
+[[nodiscard]] bool write_text(const std::string& path, const std::string& text) {
     std::ofstream f(path, std::ios::binary);
     f << text;
-    return static_cast<bool>(f);
+    f.close();
+    if (!f) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str()));
+        return false;
+    }
+    return true;
 }
 
-bool have_gnuplot() { return std::system("command -v gnuplot > /dev/null 2>&1") == 0; }
+bool have_gnuplot() {
+    // NOLINTNEXTLINE(cert-env33-c): a fixed command string that asks the shell whether gnuplot is installed
+    return std::system("command -v gnuplot > /dev/null 2>&1") == 0;
+}
 
 std::string csv_of(const sim::SceneResult& r) {
     std::ostringstream s;
@@ -65,9 +74,10 @@ std::string csv_of(const sim::SceneResult& r) {
     for (const sim::MethodResult& m : r.methods) {
         for (const sim::PrPoint& p : m.curve) {
             char line[256];
-            std::snprintf(line, sizeof line, "%s,%.3f,%llu,%llu,%llu,%.6f,%.6f,%.6f\n", sim::method_name(m.method), p.t_f,
-                          static_cast<unsigned long long>(p.tp), static_cast<unsigned long long>(p.fp),
-                          static_cast<unsigned long long>(p.fn), p.precision, p.recall, p.f1);
+            static_cast<void>(std::snprintf(line, sizeof line, "%s,%.3f,%llu,%llu,%llu,%.6f,%.6f,%.6f\n",
+                                            sim::method_name(m.method), p.t_f, static_cast<unsigned long long>(p.tp),
+                                            static_cast<unsigned long long>(p.fp),
+                                            static_cast<unsigned long long>(p.fn), p.precision, p.recall, p.f1));
             s << line;
         }
     }
@@ -99,7 +109,8 @@ std::string table_of(const sim::SceneResult& r) {
     return s.str();
 }
 
-void write_plot(const Options& o, const std::string& scene, const std::string& title) {
+/// Writes pr-<scene>.gp and runs gnuplot on it; false when the script cannot be written.
+[[nodiscard]] bool write_plot(const Options& o, const std::string& scene, const std::string& title) {
     const std::string gp = o.out_dir + "/pr-" + scene + ".gp";
     std::ostringstream s;
     s << "# gnuplot script written by cellguard-eval: precision-recall curves of pr-" << scene << ".csv\n"
@@ -120,11 +131,15 @@ void write_plot(const Options& o, const std::string& scene, const std::string& t
           << " title '" << names[i] << "'";
     }
     s << "\n";
-    write_text(gp, s.str());
-    const std::string cmd = "gnuplot '" + gp + "'";
-    if (std::system(cmd.c_str()) != 0) {
-        std::fprintf(stderr, "cellguard-eval: gnuplot failed on %s\n", gp.c_str());
+    if (!write_text(gp, s.str())) {
+        return false;
     }
+    const std::string cmd = "gnuplot '" + gp + "'";
+    // NOLINTNEXTLINE(cert-env33-c): gnuplot on the script just written; the command is this tool's own, for the user who runs it
+    if (std::system(cmd.c_str()) != 0) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: gnuplot failed on %s\n", gp.c_str()));
+    }
+    return true;
 }
 
 std::vector<eval::VoxelClass> classes_for(const sim::SceneResult& r, const std::vector<std::int16_t>* subtracted,
@@ -159,14 +174,14 @@ void write_renders(const Options& o, const sim::SceneResult& r, const sim::Senso
         std::string error;
         if (!host::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480),
                              error)) {
-            std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
+            static_cast<void>(std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str()));
         }
     }
     const std::string path = o.out_dir + "/render-" + r.name + "-truth.png";
     std::string error;
     if (!host::write_png(path, eval::render_voxels(g, classes_for(r, nullptr, &r.last_truth, 0.73), camera, 640, 480),
                          error)) {
-        std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str());
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str()));
     }
 }
 
@@ -194,15 +209,15 @@ bool run(const Options& o, const std::string& scene_name, const sim::ExperimentC
     const std::string path = o.scenes_dir + "/" + scene_name + ".toml";
     const sim::SceneLoad load = sim::load_scene_file(path);
     if (!load.ok) {
-        std::fprintf(stderr, "cellguard-eval: %s\n", load.error.c_str());
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: %s\n", load.error.c_str()));
         return false;
     }
     file = load.scene;
     std::printf("scene %s: %s\n", file.name.c_str(), file.description.c_str());
-    std::fflush(stdout);
+    static_cast<void>(std::fflush(stdout));
     std::string error;
     if (!sim::run_scene(file, cfg, result, error, background)) {
-        std::fprintf(stderr, "cellguard-eval: scene %s: %s\n", scene_name.c_str(), error.c_str());
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: scene %s: %s\n", scene_name.c_str(), error.c_str()));
         return false;
     }
     std::printf("  truth: %zu foreground, %zu not foreground, %zu unknown voxels (last frame)\n",
@@ -215,7 +230,7 @@ bool run(const Options& o, const std::string& scene_name, const sim::ExperimentC
                     fmt(m.summary.precision_at_recall_90).c_str(), fmt(m.summary.recall_at_precision_90).c_str(),
                     m.summary.max_recall);
     }
-    std::fflush(stdout);
+    static_cast<void>(std::fflush(stdout));
     return true;
 }
 
@@ -288,28 +303,28 @@ int parse_args(int argc, char** argv, Options& o) {
     return status;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Options o;
-    const int parse_status = parse_args(argc, argv, o);
-    if (parse_status >= 0) {
-        return parse_status;
-    }
-    ::mkdir(o.out_dir.c_str(), 0777);
+/// Creates the output folder @p dir if missing; false when it is not a folder afterwards.
+bool make_output_folder(const std::string& dir) {
+    static_cast<void>(::mkdir(dir.c_str(), 0777));  // EEXIST is fine: the stat below decides
     struct stat st {};
-    if (::stat(o.out_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
-        std::fprintf(stderr, "cellguard-eval: cannot create the output folder %s\n", o.out_dir.c_str());
-        return 1;
+    if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: cannot create the output folder %s\n", dir.c_str()));
+        return false;
     }
+    return true;
+}
 
+sim::ExperimentConfig experiment_config(const Options& o) {
     sim::ExperimentConfig cfg;
     cfg.background_frames = o.background_frames;
     cfg.foreground_frames = o.foreground_frames;
     cfg.ideal_sensors = o.ideal;
     cfg.rasterization = o.exact ? Rasterization::kExact : Rasterization::kBresenham3d;
+    return cfg;
+}
 
-    std::ostringstream md;
+/// The opening paragraph of results.md: grid, parameters, sensors, how the scores are read.
+void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std::ostringstream& md) {
     md << "# cellguard-eval results\n\n"
        << "Written by `cellguard-eval` (apps/evaluation). Grid: the paper's 34 x 30 x 30 voxels of 5 cm; r = 10 cm "
           "(2 voxels), t_B = "
@@ -322,99 +337,155 @@ int main(int argc, char** argv) {
           "recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 likewise. P / R at t_f 0.45 "
           "and 0.2: precision and recall where the thresholded (below 0.5) and the probabilistic (below 0.25) "
           "baselines keep the interiors of the background boxes.\n\n";
+}
 
+/// Whether the plots are drawn: asked for and gnuplot installed (else says so).
+bool plots_wanted(const Options& o) {
     const bool plots = o.plots && have_gnuplot();
     if (o.plots && !plots) {
-        std::fprintf(stderr,
-                     "cellguard-eval: gnuplot not found: the precision-recall plots (pr-<scene>.png) are NOT drawn; "
-                     "the CSVs, tables and renders are written. Install gnuplot-nox (tools/install-deps.sh does) "
-                     "or pass --no-plots.\n");
+        static_cast<void>(std::fprintf(
+            stderr,
+            "cellguard-eval: gnuplot not found: the precision-recall plots (pr-<scene>.png) are NOT drawn; "
+            "the CSVs, tables and renders are written. Install gnuplot-nox (tools/install-deps.sh does) "
+            "or pass --no-plots.\n"));
     }
-    int status = 0;
-    sim::OwnedGrid background(cfg.geometry);
-    if (o.paper_scenes) {
-        // One G_B for every scene, from the background file they all include.
-        const sim::SceneLoad bg_file = sim::load_scene_file(o.scenes_dir + "/background.toml");
-        if (!bg_file.ok) {
-            std::fprintf(stderr, "cellguard-eval: %s\n", bg_file.error.c_str());
-            return 1;
-        }
-        double fuse_ms = 0.0;
-        double render_ms = 0.0;
-        const auto t0 = std::chrono::steady_clock::now();
-        if (!sim::build_background(bg_file.scene, cfg, background.grid, &fuse_ms, &render_ms)) {
-            std::fprintf(stderr, "cellguard-eval: building G_B failed\n");
-            return 1;
-        }
-        const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("G_B: %d frames in %.1f s (simulation %.1f ms/frame, fusion %.1f ms/frame), %zu of %zu voxels observed\n",
-                    cfg.background_frames, total_s, render_ms / cfg.background_frames, fuse_ms / cfg.background_frames,
-                    background.grid.observed_count(), background.grid.voxel_count());
-        md << "G_B: " << cfg.background_frames << " frames; " << background.grid.observed_count() << " of "
-           << background.grid.voxel_count() << " voxels observed.\n\n";
+    return plots;
+}
+
+/// Builds the one G_B every paper scene shares, from the background file they all include.
+bool build_shared_background(const Options& o, const sim::ExperimentConfig& cfg, sim::OwnedGrid& background,
+                             std::ostringstream& md) {
+    const sim::SceneLoad bg_file = sim::load_scene_file(o.scenes_dir + "/background.toml");
+    if (!bg_file.ok) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: %s\n", bg_file.error.c_str()));
+        return false;
     }
-    if (o.paper_scenes) {
-        const char* scenes[] = {"large", "small", "person"};
-        const char* titles[] = {"Precision-recall, large object (one more box)",
-                                "Precision-recall, small object (a 2x4 on a box)",
-                                "Precision-recall, a walking person (not in the paper)"};
-        for (int s = 0; s < 3; ++s) {
-            sim::SceneFile file;
-            sim::SceneResult result(cfg.geometry);
-            if (!run(o, scenes[s], cfg, file, result, &background.grid)) {
-                return 1;
-            }
-            write_text(o.out_dir + "/pr-" + result.name + ".csv", csv_of(result));
-            md << "## Scene \"" << result.name << "\": " << file.description << "\n\n"
-               << "Ground truth (last frame): " << result.last_truth.foreground << " foreground, "
-               << result.last_truth.not_foreground << " not foreground, " << result.last_truth.unknown
-               << " unknown (not scored) voxels.\n\n"
-               << table_of(result) << "\n";
-            if (plots) {
-                write_plot(o, result.name, titles[s]);
-            }
-            if (s < 2) {
-                write_renders(o, result, file.sensors.size() > 2 ? file.sensors[2] : file.sensors.front());
-            }
-            if (s == 0) {
-                md << "Timing (paper grid, one core): simulation " << fmt(result.render_ms_per_frame, 1)
-                   << " ms/frame, fusion " << fmt(result.fuse_ms_per_frame, 1) << " ms/frame, subtraction "
-                   << fmt(result.subtract_ms_per_frame, 3) << " ms/frame, priors: ";
-                for (const sim::MethodResult& m : result.methods) {
-                    md << sim::method_name(m.method) << " " << fmt(m.prior_ms, 1) << " ms; ";
-                }
-                md << "ground truth " << fmt(result.truth_ms, 0) << " ms.\n\n";
-            }
-        }
-        // The empty scene: after subtraction nothing inside a background box may be foreground.
+    double fuse_ms = 0.0;
+    double render_ms = 0.0;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!sim::build_background(bg_file.scene, cfg, background.grid, &fuse_ms, &render_ms)) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-eval: building G_B failed\n"));
+        return false;
+    }
+    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    static_cast<void>(std::printf(
+        "G_B: %d frames in %.1f s (simulation %.1f ms/frame, fusion %.1f ms/frame), %zu of %zu voxels observed\n",
+        cfg.background_frames, total_s, render_ms / cfg.background_frames, fuse_ms / cfg.background_frames,
+        background.grid.observed_count(), background.grid.voxel_count()));
+    md << "G_B: " << cfg.background_frames << " frames; " << background.grid.observed_count() << " of "
+       << background.grid.voxel_count() << " voxels observed.\n\n";
+    return true;
+}
+
+/// The paper grid's timings of one scene, for results.md.
+void write_timing(const sim::SceneResult& result, std::ostringstream& md) {
+    md << "Timing (paper grid, one core): simulation " << fmt(result.render_ms_per_frame, 1) << " ms/frame, fusion "
+       << fmt(result.fuse_ms_per_frame, 1) << " ms/frame, subtraction " << fmt(result.subtract_ms_per_frame, 3)
+       << " ms/frame, priors: ";
+    for (const sim::MethodResult& m : result.methods) {
+        md << sim::method_name(m.method) << " " << fmt(m.prior_ms, 1) << " ms; ";
+    }
+    md << "ground truth " << fmt(result.truth_ms, 0) << " ms.\n\n";
+}
+
+/// The scenes with a foreground: CSV, table, plot, renders (large and small),
+/// the timing (large); false when a scene fails. Clears @p written when an
+/// output file cannot be written.
+bool run_foreground_scenes(const Options& o, const sim::ExperimentConfig& cfg, const EvidenceGrid& background,
+                           bool plots, std::ostringstream& md, bool& written) {
+    const char* scenes[] = {"large", "small", "person"};
+    const char* titles[] = {"Precision-recall, large object (one more box)",
+                            "Precision-recall, small object (a 2x4 on a box)",
+                            "Precision-recall, a walking person (not in the paper)"};
+    for (int s = 0; s < 3; ++s) {
         sim::SceneFile file;
         sim::SceneResult result(cfg.geometry);
-        if (!run(o, "empty", cfg, file, result, &background.grid)) {
-            return 1;
+        if (!run(o, scenes[s], cfg, file, result, &background)) {
+            return false;
         }
-        md << "## Scene \"empty\": the background alone\n\n"
-           << "Foreground voxels of the last frame after subtraction, inside background boxes (voxels wholly inside) "
-              "and anywhere, at t_f = 0.001 and at the figures' t_f = 0.73.\n\n"
-           << "| method | inside, t_f 0.001 | anywhere, t_f 0.001 | inside, t_f 0.73 | anywhere, t_f 0.73 |\n"
-           << "|---|---|---|---|---|\n";
-        for (const sim::MethodResult& m : result.methods) {
-            const EmptyCheck lo = empty_check(result, m, 0.001);
-            const EmptyCheck hi = empty_check(result, m, 0.73);
-            md << "| " << sim::method_name(m.method) << " | " << lo.inside << " | " << lo.anywhere << " | " << hi.inside
-               << " | " << hi.anywhere << " |\n";
-            std::printf("  empty %-24s foreground inside boxes %zu (t_f 0.001) %zu (t_f 0.73), anywhere %zu / %zu\n",
-                        sim::method_name(m.method), lo.inside, hi.inside, lo.anywhere, hi.anywhere);
+        written = write_text(o.out_dir + "/pr-" + result.name + ".csv", csv_of(result)) && written;
+        md << "## Scene \"" << result.name << "\": " << file.description << "\n\n"
+           << "Ground truth (last frame): " << result.last_truth.foreground << " foreground, "
+           << result.last_truth.not_foreground << " not foreground, " << result.last_truth.unknown
+           << " unknown (not scored) voxels.\n\n"
+           << table_of(result) << "\n";
+        if (plots) {
+            written = write_plot(o, result.name, titles[s]) && written;
         }
-        md << "\n";
+        if (s < 2) {
+            write_renders(o, result, file.sensors.size() > 2 ? file.sensors[2] : file.sensors.front());
+        }
+        if (s == 0) {
+            write_timing(result, md);
+        }
     }
+    return true;
+}
+
+/// The empty scene: after subtraction nothing inside a background box may be foreground.
+bool run_empty_scene(const Options& o, const sim::ExperimentConfig& cfg, const EvidenceGrid& background,
+                     std::ostringstream& md) {
+    sim::SceneFile file;
+    sim::SceneResult result(cfg.geometry);
+    if (!run(o, "empty", cfg, file, result, &background)) {
+        return false;
+    }
+    md << "## Scene \"empty\": the background alone\n\n"
+       << "Foreground voxels of the last frame after subtraction, inside background boxes (voxels wholly inside) "
+          "and anywhere, at t_f = 0.001 and at the figures' t_f = 0.73.\n\n"
+       << "| method | inside, t_f 0.001 | anywhere, t_f 0.001 | inside, t_f 0.73 | anywhere, t_f 0.73 |\n"
+       << "|---|---|---|---|---|\n";
+    for (const sim::MethodResult& m : result.methods) {
+        const EmptyCheck lo = empty_check(result, m, 0.001);
+        const EmptyCheck hi = empty_check(result, m, 0.73);
+        md << "| " << sim::method_name(m.method) << " | " << lo.inside << " | " << lo.anywhere << " | " << hi.inside
+           << " | " << hi.anywhere << " |\n";
+        static_cast<void>(
+            std::printf("  empty %-24s foreground inside boxes %zu (t_f 0.001) %zu (t_f 0.73), anywhere %zu / %zu\n",
+                        sim::method_name(m.method), lo.inside, hi.inside, lo.anywhere, hi.anywhere));
+    }
+    md << "\n";
+    return true;
+}
+
+/// The paper's scenes on one shared G_B, appended to @p md; false when one fails.
+bool run_paper_scenes(const Options& o, const sim::ExperimentConfig& cfg, bool plots, std::ostringstream& md,
+                      bool& written) {
+    sim::OwnedGrid background(cfg.geometry);
+    return build_shared_background(o, cfg, background, md) &&
+           run_foreground_scenes(o, cfg, background.grid, plots, md, written) &&
+           run_empty_scene(o, cfg, background.grid, md);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    const int parse_status = parse_args(argc, argv, o);
+    if (parse_status >= 0) {
+        return parse_status;
+    }
+    if (!make_output_folder(o.out_dir)) {
+        return 1;
+    }
+    const sim::ExperimentConfig cfg = experiment_config(o);
+    std::ostringstream md;
+    write_results_intro(o, cfg, md);
+    const bool plots = plots_wanted(o);
+    bool written = true;  // every output file written
+    if (o.paper_scenes && !run_paper_scenes(o, cfg, plots, md, written)) {
+        return 1;
+    }
+    int status = 0;
     if (o.scale) {
         std::ostringstream scale_md;
         status = run_scale(o, cfg, scale_md);
-        write_text(o.out_dir + "/scale.md", scale_md.str());
+        written = write_text(o.out_dir + "/scale.md", scale_md.str()) && written;
     }
     if (o.paper_scenes) {
-        write_text(o.out_dir + "/results.md", md.str());
-        std::printf("wrote %s/results.md, pr-*.csv%s, render-*.png\n", o.out_dir.c_str(), plots ? ", pr-*.png" : "");
+        written = write_text(o.out_dir + "/results.md", md.str()) && written;
+        static_cast<void>(std::printf("wrote %s/results.md, pr-*.csv%s, render-*.png\n", o.out_dir.c_str(),
+                                      plots ? ", pr-*.png" : ""));
     }
-    return status;
+    return written ? status : 1;
 }
