@@ -42,7 +42,7 @@ cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portabili
 cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portability \
   --inline-suppr --error-exitcode=1 --quiet \
   --suppressions-list=tools/cppcheck-suppressions.txt \
-  "${lib_includes[@]}" -I port/linux/include "${app_includes[@]}" -I "$build/apps/host" -D__GNUC__ \
+  "${lib_includes[@]}" -I port/linux/include "${app_includes[@]}" -I "$build/apps/host/include" -D__GNUC__ \
   "${app_sources[@]}"
 
 echo "== clang-tidy $(clang-tidy --version | head -n 2 | tail -n 1)"
