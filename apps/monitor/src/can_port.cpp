@@ -71,16 +71,14 @@ bool CanPort::close() noexcept {
 void CanPort::write_summary(std::FILE* out, bool log_ok) const noexcept {
     switch (kind_) {
         case Kind::kInterface:
-            std::fprintf(out, "summary: CAN frames sent on %s\n", target_.c_str());
+            static_cast<void>(std::fprintf(out, "summary: CAN frames sent on %s\n", target_.c_str()));
             break;
         case Kind::kLog:
-            std::fprintf(out, "summary: %zu CAN frames written to %s%s\n", log_.lines(), target_.c_str(),
-                         log_ok ? "" : " (WRITE ERROR)");
+            static_cast<void>(std::fprintf(out, "summary: %zu CAN frames written to %s%s\n", log_.lines(),
+                                           target_.c_str(), log_ok ? "" : " (WRITE ERROR)"));
             break;
         case Kind::kSender:
-        case Kind::kNone:
-            std::fprintf(out, "summary: %zu CAN frames sent\n", sent_);
-            break;
+        case Kind::kNone: static_cast<void>(std::fprintf(out, "summary: %zu CAN frames sent\n", sent_)); break;
     }
 }
 

@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     }
     const DemoLogCheck r = check_demo_log_file(log, cycles, demo_config());
     for (const std::string& f : r.failures) {
-        std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str());
+        static_cast<void>(std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str()));
     }
     if (!r.input_ok) {
         return host::kExitUsage;

@@ -18,14 +18,14 @@ namespace {
 /// @p us as seconds with six decimals, as candump writes time stamps.
 std::string seconds_text(std::uint64_t us) {
     char text[32];
-    std::snprintf(text, sizeof(text), "%" PRIu64 ".%06" PRIu64, us / 1000000U, us % 1000000U);
+    static_cast<void>(std::snprintf(text, sizeof(text), "%" PRIu64 ".%06" PRIu64, us / 1000000U, us % 1000000U));
     return text;
 }
 
 /// @p us as milliseconds ("50 ms", "0.5 ms").
 std::string ms_text(std::uint64_t us) {
     char text[32];
-    std::snprintf(text, sizeof(text), "%g ms", static_cast<double>(us) / 1000.0);
+    static_cast<void>(std::snprintf(text, sizeof(text), "%g ms", static_cast<double>(us) / 1000.0));
     return text;
 }
 

@@ -132,7 +132,7 @@ void enter_realtime() {
 
 /// Prints why a start-up step stopped; returns its exit status.
 int fail(const SetupError& e) {
-    std::fprintf(stderr, "cellguard-monitor: %s\n", e.message.c_str());
+    static_cast<void>(std::fprintf(stderr, "cellguard-monitor: %s\n", e.message.c_str()));
     return e.exit_status;
 }
 
@@ -190,7 +190,7 @@ int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCel
         "cellguard zones: " + (opt.demo ? std::string("built-in demo (paper-cell.toml)") : opt.config_path);
     if (!write_config_picture(opt.picture, title, cfg, cell.grid, cell.zones, cell.specs,
                               {cell.prior.data(), cell.prior.size()}, opt.picture_sensor, error)) {
-        std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str());
+        static_cast<void>(std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str()));
         return 1;
     }
     std::printf("picture: %s\n", opt.picture.c_str());
@@ -223,7 +223,8 @@ int main(int argc, char** argv) {
     // Every prior and ray-table check reads these tables; a corrupt table would pass a
     // bad prior or fail a good one (hazard H-MEM-2), so they are checked before anything else.
     if (!cellguard::crc32_table_self_test()) {
-        std::fprintf(stderr, "cellguard-monitor: start-up self-test: the CRC-32 tables in memory are corrupt\n");
+        static_cast<void>(
+            std::fprintf(stderr, "cellguard-monitor: start-up self-test: the CRC-32 tables in memory are corrupt\n"));
         return 1;
     }
     MonitorConfig cfg;
@@ -231,8 +232,8 @@ int main(int argc, char** argv) {
     if (e.failed()) {
         return fail(e);
     }
-    std::signal(SIGINT, on_stop_signal);
-    std::signal(SIGTERM, on_stop_signal);
+    static_cast<void>(std::signal(SIGINT, on_stop_signal));
+    static_cast<void>(std::signal(SIGTERM, on_stop_signal));
     if (opt.realtime) {
         enter_realtime();
     }
@@ -262,7 +263,8 @@ int main(int argc, char** argv) {
     }
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout);
     if (!loop.status().ok()) {
-        std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error()));
+        static_cast<void>(
+            std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));
         return 2;
     }
     std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", loop.controller().prior_crc(),

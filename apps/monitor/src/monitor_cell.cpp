@@ -20,7 +20,7 @@ __attribute__((format(printf, 2, 3))) void say(std::FILE* out, const char* forma
     }
     va_list args;
     va_start(args, format);
-    std::vfprintf(out, format, args);
+    static_cast<void>(std::vfprintf(out, format, args));
     va_end(args);
 }
 
@@ -33,7 +33,7 @@ __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char*
     const int n = std::vsnprintf(nullptr, 0, format, args);
     va_end(args);
     std::string text(n > 0 ? static_cast<std::size_t>(n) : 0U, '\0');
-    std::vsnprintf(&text[0], text.size() + 1U, format, again);
+    static_cast<void>(std::vsnprintf(&text[0], text.size() + 1U, format, again));
     va_end(again);
     return SetupError{status, text};
 }

@@ -66,7 +66,7 @@ const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capaci
     }
     out[0] = '\0';
     if (mask == 0U) {
-        std::snprintf(out, capacity, "-");
+        static_cast<void>(std::snprintf(out, capacity, "-"));
         return out;
     }
     std::size_t length = 0U;
@@ -123,8 +123,8 @@ void MonitorLoop::load_frames(int k) noexcept {
     for (std::size_t s = 0U; s < inputs_.size(); ++s) {
         if (!sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_) &&
             out_ != nullptr) {
-            std::fprintf(out_, "input: cycle %d sensor '%s': frame %s refused: %s\n", k,
-                         cfg_->sensors[s].name.c_str(), frame_status_.file, frame_status_.reason);
+            static_cast<void>(std::fprintf(out_, "input: cycle %d sensor '%s': frame %s refused: %s\n", k,
+                                           cfg_->sensors[s].name.c_str(), frame_status_.file, frame_status_.reason));
         }
     }
 }
@@ -143,8 +143,8 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     }
     format_status(k, r);
     if (out_ != nullptr) {
-        std::fputs(line_.data(), out_);
-        std::fflush(out_);
+        static_cast<void>(std::fputs(line_.data(), out_));
+        static_cast<void>(std::fflush(out_));
     }
     return r;
 }
@@ -187,10 +187,10 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     char scene_text[64];
     if (show_person_) {
         const cell::PersonPosition person = cell::demo_person(k);
-        std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
-                      cell::demo_phase(k));
+        static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
+                                        cell::demo_phase(k)));
     } else {
-        std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", "");
+        static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", ""));
     }
     append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
     for (std::size_t z = 0U; z < zone_count_; ++z) {
@@ -203,20 +203,22 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
 }
 
 void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_ok) const noexcept {
-    std::fprintf(out, "\nsummary: %d cycles%s, stop requested in %d, warning in %d", stats_.cycles_run,
-                 run.stopped_by_signal ? " (stopped by signal)" : "", stats_.stop_cycles, stats_.warning_cycles);
+    static_cast<void>(std::fprintf(out, "\nsummary: %d cycles%s, stop requested in %d, warning in %d",
+                                   stats_.cycles_run, run.stopped_by_signal ? " (stopped by signal)" : "",
+                                   stats_.stop_cycles, stats_.warning_cycles));
     if (stats_.first_stop_after_release >= 0) {
-        std::fprintf(out, ", first stop after release in cycle %d", stats_.first_stop_after_release);
+        static_cast<void>(std::fprintf(out, ", first stop after release in cycle %d", stats_.first_stop_after_release));
     }
     char faults[256];
-    std::fprintf(out,
-                 "\nsummary: faults latched during the run: %s; longest cycle %.2f ms (budget %.1f ms), overruns %llu\n",
-                 format_fault_names(stats_.faults_seen, faults, sizeof faults),
-                 static_cast<double>(stats_.max_cycle_us) / 1000.0, static_cast<double>(cfg_->budget_us) / 1000.0,
-                 static_cast<unsigned long long>(controller_.monitor().overruns()));
+    static_cast<void>(std::fprintf(
+        out, "\nsummary: faults latched during the run: %s; longest cycle %.2f ms (budget %.1f ms), overruns %llu\n",
+        format_fault_names(stats_.faults_seen, faults, sizeof faults),
+        static_cast<double>(stats_.max_cycle_us) / 1000.0, static_cast<double>(cfg_->budget_us) / 1000.0,
+        static_cast<unsigned long long>(controller_.monitor().overruns())));
     if (run.paced) {
-        std::fprintf(out, "summary: paced: %llu periods skipped after cycles that ran past their period\n",
-                     static_cast<unsigned long long>(run.skipped_periods));
+        static_cast<void>(std::fprintf(out,
+                                       "summary: paced: %llu periods skipped after cycles that ran past their period\n",
+                                       static_cast<unsigned long long>(run.skipped_periods)));
     }
     for (const cell::FrameSource* s : sources_) {
         if (s != nullptr) {
@@ -228,14 +230,15 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
 
 int MonitorLoop::exit_status(std::FILE* err, bool log_ok) const noexcept {
     if (!log_ok || stats_.send_failures != 0) {
-        std::fprintf(err, "cellguard-monitor: writing the CAN log failed\n");
+        static_cast<void>(std::fprintf(err, "cellguard-monitor: writing the CAN log failed\n"));
         return 1;
     }
     if (stats_.can_fault_cycles != 0) {
         // A supervisor (systemd, the commissioning script) must not read
         // this run as clean: the safe state held, but frames were lost.
-        std::fprintf(err, "cellguard-monitor: the CAN output failed: CAN-error fault latched in %d of %d cycles\n",
-                     stats_.can_fault_cycles, stats_.cycles_run);
+        static_cast<void>(
+            std::fprintf(err, "cellguard-monitor: the CAN output failed: CAN-error fault latched in %d of %d cycles\n",
+                         stats_.can_fault_cycles, stats_.cycles_run));
         return 3;
     }
     return 0;

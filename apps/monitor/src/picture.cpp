@@ -127,7 +127,7 @@ void label(RgbImage& img, int x, int y, const std::string& text, PictureColour c
 /// "(a, b)" with two decimals.
 std::string pair_text(double a, double b) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "(%.2f, %.2f)", a, b);
+    static_cast<void>(std::snprintf(buf, sizeof buf, "(%.2f, %.2f)", a, b));
     return buf;
 }
 
@@ -385,14 +385,15 @@ std::string zone_line(const PictureInput& in, std::size_t z) {
     char buf[256];
     const std::string name = z < in.zone_names.size() ? in.zone_names[z] : std::string("zone");
     if (c.shape == ZoneShape::kBox) {
-        std::snprintf(buf, sizeof buf, "%2zu %-14s %-10s box    x %.2f..%.2f  y %.2f..%.2f  z %.2f..%.2f m  %u voxels",
-                      z + 1U, name.c_str(), c.kind == ZoneKind::kProtective ? "protective" : "warning",
-                      c.box_min.x(), c.box_max.x(), c.box_min.y(), c.box_max.y(), c.box_min.z(), c.box_max.z(),
-                      in.zones->voxel_count(z));
+        static_cast<void>(std::snprintf(
+            buf, sizeof buf, "%2zu %-14s %-10s box    x %.2f..%.2f  y %.2f..%.2f  z %.2f..%.2f m  %u voxels", z + 1U,
+            name.c_str(), c.kind == ZoneKind::kProtective ? "protective" : "warning", c.box_min.x(), c.box_max.x(),
+            c.box_min.y(), c.box_max.y(), c.box_min.z(), c.box_max.z(), in.zones->voxel_count(z)));
     } else {
-        std::snprintf(buf, sizeof buf, "%2zu %-14s %-10s prism  %zu vertices  z %.2f..%.2f m  %u voxels", z + 1U,
-                      name.c_str(), c.kind == ZoneKind::kProtective ? "protective" : "warning", c.polygon_size,
-                      c.z_min, c.z_max, in.zones->voxel_count(z));
+        static_cast<void>(std::snprintf(buf, sizeof buf,
+                                        "%2zu %-14s %-10s prism  %zu vertices  z %.2f..%.2f m  %u voxels", z + 1U,
+                                        name.c_str(), c.kind == ZoneKind::kProtective ? "protective" : "warning",
+                                        c.polygon_size, c.z_min, c.z_max, in.zones->voxel_count(z)));
     }
     return buf;
 }
@@ -456,9 +457,9 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
     // Header.
     draw_text(img, kMargin, kMargin, in.title, kText, kTextScale);
     char buf[200];
-    std::snprintf(buf, sizeof buf, "grid %d x %d x %d voxels of %.3f m from (%.2f, %.2f, %.2f); %zu zones", d.nx, d.ny,
-                  d.nz, in.grid.voxel_size(), in.grid.origin().x(), in.grid.origin().y(), in.grid.origin().z(),
-                  in.zones->size());
+    static_cast<void>(std::snprintf(
+        buf, sizeof buf, "grid %d x %d x %d voxels of %.3f m from (%.2f, %.2f, %.2f); %zu zones", d.nx, d.ny, d.nz,
+        in.grid.voxel_size(), in.grid.origin().x(), in.grid.origin().y(), in.grid.origin().z(), in.zones->size()));
     draw_text(img, kMargin, kMargin + kLineHeight, buf, kText, kTextScale);
     const int heading_y = kMargin + 2 * kLineHeight + 10;
     draw_text(img, L.top_x, heading_y, "top view (x right, y up)", kText, kTextScale);
@@ -467,11 +468,13 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
     draw_top_view(img, in, L);
     if (has_view) {
         const PictureSensor& s = in.sensors[in.view_sensor];
-        std::snprintf(buf, sizeof buf, "view of sensor %zu '%s'", in.view_sensor + 1U, s.name.c_str());
+        static_cast<void>(
+            std::snprintf(buf, sizeof buf, "view of sensor %zu '%s'", in.view_sensor + 1U, s.name.c_str()));
         draw_text(img, L.view_x, heading_y, buf, kText, kTextScale);
-        std::snprintf(buf, sizeof buf, "%d x %d pixels from (%.2f, %.2f, %.2f) m; zones tinted, grid edges black",
-                      s.intrinsics.width, s.intrinsics.height, s.pose.translation().x(), s.pose.translation().y(),
-                      s.pose.translation().z());
+        static_cast<void>(std::snprintf(buf, sizeof buf,
+                                        "%d x %d pixels from (%.2f, %.2f, %.2f) m; zones tinted, grid edges black",
+                                        s.intrinsics.width, s.intrinsics.height, s.pose.translation().x(),
+                                        s.pose.translation().y(), s.pose.translation().z()));
         draw_text(img, L.view_x, heading_y + kLineHeight, buf, kText, 1);
         draw_sensor_view(img, in, L);
     }

@@ -309,7 +309,7 @@ public:
             do {
                 const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
                 char buf[64];
-                std::snprintf(buf, sizeof(buf), " ... %.1f s   ", s);
+                static_cast<void>(std::snprintf(buf, sizeof(buf), " ... %.1f s   ", s));
                 err_ << "\r" << stage << buf << std::flush;
             } while (!cv_.wait_for(lock, std::chrono::milliseconds(200), [this] { return stop_; }));
             err_ << "\r" << stage << " ... done" << std::string(12, ' ') << "\n" << std::flush;
@@ -339,15 +339,15 @@ private:
 
 std::string milliseconds_text(double seconds) {
     char buf[64];
-    std::snprintf(buf, sizeof(buf), "%.1f ms", seconds * 1e3);
+    static_cast<void>(std::snprintf(buf, sizeof(buf), "%.1f ms", seconds * 1e3));
     return buf;
 }
 
 std::string geometry_text(const GridGeometry& g) {
     const GridDims d = g.dims();
     char buf[200];
-    std::snprintf(buf, sizeof(buf), "%d x %d x %d voxels of %g m from (%g, %g, %g)", d.nx, d.ny, d.nz, g.voxel_size(),
-                  g.origin().x(), g.origin().y(), g.origin().z());
+    static_cast<void>(std::snprintf(buf, sizeof(buf), "%d x %d x %d voxels of %g m from (%g, %g, %g)", d.nx, d.ny, d.nz,
+                                    g.voxel_size(), g.origin().x(), g.origin().y(), g.origin().z()));
     return buf;
 }
 
@@ -554,7 +554,8 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     const PriorImageHeader& h = written.header;
     char crc[96];
-    std::snprintf(crc, sizeof(crc), "payload CRC-32 0x%08X, header CRC-32 0x%08X", h.payload_crc, h.header_crc);
+    static_cast<void>(
+        std::snprintf(crc, sizeof(crc), "payload CRC-32 0x%08X, header CRC-32 0x%08X", h.payload_crc, h.header_crc));
     out << kToolName << ": wrote " << written.image_path << " (" << written.image_bytes << " bytes), "
         << written.source_path << ", " << written.p_acc_path << ", " << written.p_fore_path << "\n";
     out << kToolName << ": verified: " << written.image_path << " loads with load_prior_image: format "
@@ -562,9 +563,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         << " m from (" << h.origin().x() << ", " << h.origin().y() << ", " << h.origin().z() << "), " << crc
         << "; flash source and .npy files read back equal\n";
     char times[160];
-    std::snprintf(times, sizeof(times), "time: background and set-up %.2f s, analysis %.1f ms, outputs written and verified %.2f s",
-                  std::chrono::duration<double>(t_analysed - t_start).count() - result.seconds, result.seconds * 1e3,
-                  std::chrono::duration<double>(t_written - t_analysed).count());
+    static_cast<void>(
+        std::snprintf(times, sizeof(times),
+                      "time: background and set-up %.2f s, analysis %.1f ms, outputs written and verified %.2f s",
+                      std::chrono::duration<double>(t_analysed - t_start).count() - result.seconds,
+                      result.seconds * 1e3, std::chrono::duration<double>(t_written - t_analysed).count()));
     out << kToolName << ": " << times << "\n";
     out << std::flush;
     return kExitOk;

@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
                                                             {scratch.data(), scratch.size()}, raster);
         fuse_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (!r.ok()) {
-            std::fprintf(stderr, "cellguard-sim: fusing the background failed: %s\n", to_string(r.error()));
+            static_cast<void>(
+                std::fprintf(stderr, "cellguard-sim: fusing the background failed: %s\n", to_string(r.error())));
             return 1;
         }
         stats = r.value();
