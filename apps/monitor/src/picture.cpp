@@ -133,11 +133,34 @@ std::string pair_text(double a, double b) {
 
 // ---- top view -------------------------------------------------------------
 
-void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+/// Each voxel column's zone membership bits (the OR over its height), 0 outside the grid.
+class ColumnBits {
+public:
+    ColumnBits(int nx, int ny) : nx_(nx), ny_(ny), bits_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0U) {}
+    void set(int ix, int iy, std::uint32_t bits) { bits_[index(ix, iy)] = bits; }
+    [[nodiscard]] std::uint32_t at(int ix, int iy) const {
+        if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) {
+            return 0U;
+        }
+        return bits_[index(ix, iy)];
+    }
+    [[nodiscard]] bool in_zone(int ix, int iy, std::size_t z) const { return (at(ix, iy) >> z & 1U) != 0U; }
+
+private:
+    [[nodiscard]] std::size_t index(int ix, int iy) const {
+        return static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(ix);
+    }
+    int nx_;
+    int ny_;
+    std::vector<std::uint32_t> bits_;
+};
+
+/// The top view's voxel columns: background grey by height, zones tinted; returns each column's zone bits.
+ColumnBits draw_top_columns(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
     const GridDims d = in.grid.dims();
     const int s = L.voxel_px;
     const Span<const std::uint32_t> mask = in.zones->membership();
-    std::vector<std::uint32_t> column_bits(static_cast<std::size_t>(d.nx) * static_cast<std::size_t>(d.ny), 0U);
+    ColumnBits columns(d.nx, d.ny);
     for (int iy = 0; iy < d.ny; ++iy) {
         for (int ix = 0; ix < d.nx; ++ix) {
             int top = -1;
@@ -149,8 +172,7 @@ void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L
                 }
                 bits |= mask[i];
             }
-            column_bits[static_cast<std::size_t>(iy) * static_cast<std::size_t>(d.nx) + static_cast<std::size_t>(ix)] =
-                bits;
+            columns.set(ix, iy, bits);
             // Background: grey by the height of its highest voxel (darker = higher).
             PictureColour c = kFree;
             if (top >= 0) {
@@ -171,7 +193,13 @@ void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L
             fill_rect(img, px, py, s, s, c);
         }
     }
-    // Light lines every 0.5 m (every voxel when voxels are larger).
+    return columns;
+}
+
+/// Light lines every 0.5 m (every voxel when voxels are larger).
+void draw_top_grid_lines(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const GridDims d = in.grid.dims();
+    const int s = L.voxel_px;
     const double vs = in.grid.voxel_size();
     const int every = std::max(1, static_cast<int>(std::lround(0.5 / vs)));
     for (int ix = 0; ix <= d.nx; ix += every) {
@@ -186,45 +214,48 @@ void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L
             put(img, L.top_x + x, y, blend(get(img, L.top_x + x, std::min(y, img.height - 1)), kGridLine, 0.6));
         }
     }
-    // Zone borders: where a voxel column's membership differs from its neighbour's.
-    auto bits_at = [&](int ix, int iy) -> std::uint32_t {
-        if (ix < 0 || iy < 0 || ix >= d.nx || iy >= d.ny) {
-            return 0U;
-        }
-        return column_bits[static_cast<std::size_t>(iy) * static_cast<std::size_t>(d.nx) + static_cast<std::size_t>(ix)];
-    };
+}
+
+/// Zone borders: where a voxel column's membership differs from its neighbour's.
+void draw_zone_borders(RgbImage& img, const PictureInput& in, const PictureLayout& L, const ColumnBits& columns) {
+    const GridDims d = in.grid.dims();
+    const int s = L.voxel_px;
     for (std::size_t z = 0U; z < in.zones->size(); ++z) {
         const PictureColour ec = edge_colour(in.zones->config(z));
         for (int iy = 0; iy < d.ny; ++iy) {
             for (int ix = 0; ix < d.nx; ++ix) {
-                if ((bits_at(ix, iy) >> z & 1U) == 0U) {
+                if (!columns.in_zone(ix, iy, z)) {
                     continue;
                 }
                 const int px = L.top_x + ix * s;
                 const int py = L.top_y + (d.ny - 1 - iy) * s;
-                if ((bits_at(ix - 1, iy) >> z & 1U) == 0U) {
+                if (!columns.in_zone(ix - 1, iy, z)) {
                     fill_rect(img, px, py, 2, s, ec);
                 }
-                if ((bits_at(ix + 1, iy) >> z & 1U) == 0U) {
+                if (!columns.in_zone(ix + 1, iy, z)) {
                     fill_rect(img, px + s - 2, py, 2, s, ec);
                 }
-                if ((bits_at(ix, iy + 1) >> z & 1U) == 0U) {
+                if (!columns.in_zone(ix, iy + 1, z)) {
                     fill_rect(img, px, py, s, 2, ec);
                 }
-                if ((bits_at(ix, iy - 1) >> z & 1U) == 0U) {
+                if (!columns.in_zone(ix, iy - 1, z)) {
                     fill_rect(img, px, py + s - 2, s, 2, ec);
                 }
             }
         }
     }
-    // Zone numbers at the centre of their footprints.
+}
+
+/// Zone numbers at the centre of their footprints.
+void draw_zone_numbers(RgbImage& img, const PictureInput& in, const PictureLayout& L, const ColumnBits& columns) {
+    const GridDims d = in.grid.dims();
     for (std::size_t z = 0U; z < in.zones->size(); ++z) {
         double sx = 0.0;
         double sy = 0.0;
         int n = 0;
         for (int iy = 0; iy < d.ny; ++iy) {
             for (int ix = 0; ix < d.nx; ++ix) {
-                if ((bits_at(ix, iy) >> z & 1U) != 0U) {
+                if (columns.in_zone(ix, iy, z)) {
                     sx += ix;
                     sy += iy;
                     ++n;
@@ -240,6 +271,15 @@ void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L
             label(img, px - static_cast<int>(t.size()) * 6, py - 8, t, edge_colour(in.zones->config(z)), 2);
         }
     }
+}
+
+void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const GridDims d = in.grid.dims();
+    const int s = L.voxel_px;
+    const ColumnBits columns = draw_top_columns(img, in, L);
+    draw_top_grid_lines(img, in, L);
+    draw_zone_borders(img, in, L, columns);
+    draw_zone_numbers(img, in, L, columns);
     frame_rect(img, L.top_x, L.top_y, d.nx * s, d.ny * s, 2, kBlack);
     // Corner coordinates and axes.
     const Eigen::Vector3d lo = in.grid.origin();
@@ -422,39 +462,34 @@ void top_view_pixel(const PictureLayout& layout, const GridGeometry& grid, int i
     py = layout.top_y + (grid.dims().ny - 1 - iy) * layout.voxel_px + layout.voxel_px / 2;
 }
 
-RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out) {
+namespace {
+
+constexpr int kHeaderHeight = kMargin + 4 * kLineHeight + 12;
+
+/// Where the top view and the sensor view go: the top view about 420 pixels on its longer side, the sensor view as
+/// tall as the top view, both below the header.
+PictureLayout plan_layout(const PictureInput& in) {
     const GridDims d = in.grid.dims();
     PictureLayout L;
-    // Top view: about 420 pixels on its longer side.
     L.voxel_px = std::clamp(420 / std::max(d.nx, d.ny), 2, 24);
     const int top_w = d.nx * L.voxel_px;
     const int top_h = d.ny * L.voxel_px;
-    const bool has_view = in.view_sensor < in.sensors.size();
-    // Sensor view: as tall as the top view.
-    if (has_view) {
+    if (in.view_sensor < in.sensors.size()) {
         const PinholeIntrinsics& k = in.sensors[in.view_sensor].intrinsics;
         L.view_scale = static_cast<double>(std::max(top_h, 300)) / std::max(1, k.height);
         L.view_w = static_cast<int>(std::lround(k.width * L.view_scale));
         L.view_h = static_cast<int>(std::lround(k.height * L.view_scale));
     }
-    const int header = kMargin + 4 * kLineHeight + 12;
     L.top_x = kMargin + 8;
-    L.top_y = header;
+    L.top_y = kHeaderHeight;
     L.view_x = L.top_x + top_w + 48;
-    L.view_y = header;
-    const std::size_t legend_lines = 4U + in.zones->size();
-    const int body_h = std::max(top_h, L.view_h) + 30;
-    std::vector<std::string> zone_lines;
-    int widest = 0;
-    for (std::size_t z = 0U; z < in.zones->size(); ++z) {
-        zone_lines.push_back(zone_line(in, z));
-        widest = std::max(widest, static_cast<int>(zone_lines.back().size()) * 6 * kTextScale + 40);
-    }
-    const int width = std::max({L.view_x + L.view_w + kMargin, widest + 2 * kMargin, 900});
-    const int height = header + body_h + static_cast<int>(legend_lines) * kLineHeight + 2 * kMargin;
-    RgbImage img = RgbImage::filled(width, height, kPanel.r, kPanel.g, kPanel.b);
+    L.view_y = kHeaderHeight;
+    return L;
+}
 
-    // Header.
+/// The title, the grid line, and the two views with their headings.
+void draw_views(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const GridDims d = in.grid.dims();
     draw_text(img, kMargin, kMargin, in.title, kText, kTextScale);
     char buf[200];
     static_cast<void>(std::snprintf(
@@ -466,7 +501,7 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
     draw_text(img, L.top_x, heading_y + kLineHeight, "grey: background (prior: not accessible), darker = higher", kText,
               1);
     draw_top_view(img, in, L);
-    if (has_view) {
+    if (in.view_sensor < in.sensors.size()) {
         const PictureSensor& s = in.sensors[in.view_sensor];
         static_cast<void>(
             std::snprintf(buf, sizeof buf, "view of sensor %zu '%s'", in.view_sensor + 1U, s.name.c_str()));
@@ -478,9 +513,10 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
         draw_text(img, L.view_x, heading_y + kLineHeight, buf, kText, 1);
         draw_sensor_view(img, in, L);
     }
+}
 
-    // Legend.
-    int y = header + body_h;
+/// The colour swatches and the zone table from @p y down.
+void draw_legend(RgbImage& img, const PictureInput& in, const std::vector<std::string>& zone_lines, int y) {
     int x = kMargin;
     auto swatch = [&](PictureColour c, const char* text) {
         fill_rect(img, x, y, 8 * kTextScale, 8 * kTextScale - 2, c);
@@ -503,6 +539,27 @@ RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out
         draw_text(img, kMargin + 12, y, zone_lines[z], kText, kTextScale);
         y += kLineHeight;
     }
+}
+
+}  // namespace
+
+RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out) {
+    const PictureLayout L = plan_layout(in);
+    const int top_h = in.grid.dims().ny * L.voxel_px;
+    const std::size_t legend_lines = 4U + in.zones->size();
+    const int body_h = std::max(top_h, L.view_h) + 30;
+    std::vector<std::string> zone_lines;
+    zone_lines.reserve(in.zones->size());
+    int widest = 0;
+    for (std::size_t z = 0U; z < in.zones->size(); ++z) {
+        zone_lines.push_back(zone_line(in, z));
+        widest = std::max(widest, static_cast<int>(zone_lines.back().size()) * 6 * kTextScale + 40);
+    }
+    const int width = std::max({L.view_x + L.view_w + kMargin, widest + 2 * kMargin, 900});
+    const int height = kHeaderHeight + body_h + static_cast<int>(legend_lines) * kLineHeight + 2 * kMargin;
+    RgbImage img = RgbImage::filled(width, height, kPanel.r, kPanel.g, kPanel.b);
+    draw_views(img, in, L);
+    draw_legend(img, in, zone_lines, kHeaderHeight + body_h);
     if (layout_out != nullptr) {
         *layout_out = L;
     }

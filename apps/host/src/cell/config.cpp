@@ -248,7 +248,8 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
     }
 }
 
-void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
+/// The [thresholds] table (optional): foreground and accessible-space log-odds thresholds.
+void load_thresholds(const Loader& L, const toml::table& root, MonitorConfig& c) {
     if (const toml::node* n = root.get("thresholds")) {
         const toml::table& t = L.table(root, "", "thresholds");
         (void)n;
@@ -257,133 +258,155 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
         c.accessible_min_prior =
             static_cast<std::int16_t>(L.integer_or(t, "thresholds", "accessible_min_prior", -32767, 0, -754));
     }
-    {
-        const toml::table& t = L.table(root, "", "prior");
-        L.check_keys(t, "prior", {"source", "file", "background_frames"});
-        const std::string src = L.string(t, "prior", "source");
-        if (src == "file") {
-            c.prior.source = PriorSource::kFile;
-            c.prior.file = L.string(t, "prior", "file");
-            if (c.prior.file.empty()) {
-                L.fail(t.get("file")->source(), "prior.file", "must not be empty");
-            }
-            if (c.prior.file[0] != '/') {
-                c.prior.file = base_dir + "/" + c.prior.file;
-            }
-        } else if (src == "simulated-background") {
-            c.prior.source = PriorSource::kSimulatedBackground;
-            c.prior.background_frames = static_cast<int>(L.integer_or(t, "prior", "background_frames", 1, 1000, 8));
-            // The monitor's prior is probabilistic: space seen free must fall below t_E (min_background_frames).
-            const std::uint32_t need = min_background_frames(AccessibilityParams{}, SensorModelTable{});
-            if (static_cast<std::uint32_t>(c.prior.background_frames) < need) {
-                L.fail(t.get("background_frames")->source(), "prior.background_frames",
-                       "at least " + std::to_string(need) + " frames for the probabilistic prior, got " +
-                           std::to_string(c.prior.background_frames));
-            }
-        } else {
-            L.fail(t.get("source")->source(), "prior.source",
-                   "expected \"file\" or \"simulated-background\", got \"" + src + "\"");
+}
+
+/// The [prior] table: a prior image file or a prior built from simulated background frames.
+void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
+    const toml::table& t = L.table(root, "", "prior");
+    L.check_keys(t, "prior", {"source", "file", "background_frames"});
+    const std::string src = L.string(t, "prior", "source");
+    if (src == "file") {
+        c.prior.source = PriorSource::kFile;
+        c.prior.file = L.string(t, "prior", "file");
+        if (c.prior.file.empty()) {
+            L.fail(t.get("file")->source(), "prior.file", "must not be empty");
+        }
+        if (c.prior.file[0] != '/') {
+            c.prior.file = base_dir + "/" + c.prior.file;
+        }
+    } else if (src == "simulated-background") {
+        c.prior.source = PriorSource::kSimulatedBackground;
+        c.prior.background_frames = static_cast<int>(L.integer_or(t, "prior", "background_frames", 1, 1000, 8));
+        // The monitor's prior is probabilistic: space seen free must fall below t_E (min_background_frames).
+        const std::uint32_t need = min_background_frames(AccessibilityParams{}, SensorModelTable{});
+        if (static_cast<std::uint32_t>(c.prior.background_frames) < need) {
+            L.fail(t.get("background_frames")->source(), "prior.background_frames",
+                   "at least " + std::to_string(need) + " frames for the probabilistic prior, got " +
+                       std::to_string(c.prior.background_frames));
+        }
+    } else {
+        L.fail(t.get("source")->source(), "prior.source",
+               "expected \"file\" or \"simulated-background\", got \"" + src + "\"");
+    }
+}
+
+/// The [can] table: the CAN interface or log and the safety channel's IDs.
+void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    const toml::table& t = L.table(root, "", "can");
+    const std::string p = "can";
+    L.check_keys(t, p, {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
+                        "diagnostics_data_id", "data_id_mode"});
+    c.can.interface_name = L.string_or(t, p, "interface", "");
+    c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
+    c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
+    if (c.can.log_interface_name.empty() || c.can.log_interface_name.size() > 15U ||
+        c.can.log_interface_name.find_first_of(" ()#\t") != std::string::npos) {
+        L.fail(t.get("log_interface")->source(), "can.log_interface", "expected 1..15 characters without blanks, '(', ')' or '#'");
+    }
+    if (c.can.interface_name.empty() && c.can.log_file.empty()) {
+        L.fail(t.source(), "can.log_file", "give an interface or a log file");
+    }
+    SafetyChannelConfig& ch = c.can.channel;
+    ch.safety_can_id = static_cast<std::uint32_t>(L.integer_or(t, p, "safety_id", 0, 0x7FE, kDefaultSafetyCanId));
+    ch.diagnostics_can_id =
+        static_cast<std::uint32_t>(L.integer_or(t, p, "diagnostics_id", 0, 0x7FF, kDefaultDiagnosticsCanId));
+    ch.safety_data_id = static_cast<std::uint16_t>(L.integer_or(t, p, "safety_data_id", 0, 0xFFFF, kDefaultSafetyDataId));
+    ch.diagnostics_data_id =
+        static_cast<std::uint16_t>(L.integer_or(t, p, "diagnostics_data_id", 0, 0xFFFF, kDefaultDiagnosticsDataId));
+    const std::string mode = L.string_or(t, p, "data_id_mode", "both");
+    if (mode == "both") {
+        ch.data_id_mode = E2eP01DataIdMode::kBoth;
+    } else if (mode == "alt") {
+        ch.data_id_mode = E2eP01DataIdMode::kAlt;
+    } else if (mode == "low") {
+        ch.data_id_mode = E2eP01DataIdMode::kLow;
+    } else if (mode == "nibble") {
+        ch.data_id_mode = E2eP01DataIdMode::kNibble;
+    } else {
+        L.fail(t.get("data_id_mode")->source(), "can.data_id_mode",
+               "expected \"both\", \"alt\", \"low\" or \"nibble\", got \"" + mode + "\"");
+    }
+    if (!check_channel_config(ch).ok()) {
+        L.fail(t.source(), "can",
+               "invalid channel: the three CAN IDs (safety, safety + 1, diagnostics) must differ and the data IDs "
+               "must be valid for the mode and distinguishable");
+    }
+}
+
+/// The [cycle] table: period, budget, frame age, background checks (after [sensors]: it checks them).
+void load_cycle(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    const toml::table& t = L.table(root, "", "cycle");
+    L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
+                              "background_match", "background_tolerance_m"});
+    const double period = L.number(t, "cycle", "period_ms");
+    if (!(period >= 1.0 && period <= 10000.0)) {
+        L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
+    }
+    c.period_us = ms_to_us(period);
+    const double budget = L.number_or(t, "cycle", "budget_ms", period);
+    if (!(budget > 0.0 && budget <= period)) {
+        L.fail(t.get("budget_ms")->source(), "cycle.budget_ms", "expected more than 0 and at most period_ms");
+    }
+    c.budget_us = ms_to_us(budget);
+    const double age = L.number_or(t, "cycle", "max_frame_age_ms", 2.0 * period);
+    if (!(age > 0.0 && age <= 60000.0)) {
+        L.fail(t.get("max_frame_age_ms")->source(), "cycle.max_frame_age_ms", "expected more than 0, at most 60000");
+    }
+    c.max_frame_age_us = ms_to_us(age);
+    c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
+    c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
+    c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
+    const double match = L.number_or(t, "cycle", "background_match", 0.0);
+    if (!(match >= 0.0 && match <= 1.0)) {
+        L.fail(t.get("background_match")->source(), "cycle.background_match", "expected 0 (off) to 1");
+    }
+    for (const SensorSettings& s : c.sensors) {
+        if (match > 0.0 && !s.pcd_files.empty()) {
+            L.fail(t.get("background_match")->source(), "cycle.background_match",
+                   "needs each sensor's view of the empty cell, which recorded sensors (pcd_files) do not have; "
+                   "set it to 0");
         }
     }
-    {
-        const toml::table& t = L.table(root, "", "can");
-        const std::string p = "can";
-        L.check_keys(t, p, {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
-                            "diagnostics_data_id", "data_id_mode"});
-        c.can.interface_name = L.string_or(t, p, "interface", "");
-        c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
-        c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
-        if (c.can.log_interface_name.empty() || c.can.log_interface_name.size() > 15U ||
-            c.can.log_interface_name.find_first_of(" ()#\t") != std::string::npos) {
-            L.fail(t.get("log_interface")->source(), "can.log_interface", "expected 1..15 characters without blanks, '(', ')' or '#'");
-        }
-        if (c.can.interface_name.empty() && c.can.log_file.empty()) {
-            L.fail(t.source(), "can.log_file", "give an interface or a log file");
-        }
-        SafetyChannelConfig& ch = c.can.channel;
-        ch.safety_can_id = static_cast<std::uint32_t>(L.integer_or(t, p, "safety_id", 0, 0x7FE, kDefaultSafetyCanId));
-        ch.diagnostics_can_id =
-            static_cast<std::uint32_t>(L.integer_or(t, p, "diagnostics_id", 0, 0x7FF, kDefaultDiagnosticsCanId));
-        ch.safety_data_id = static_cast<std::uint16_t>(L.integer_or(t, p, "safety_data_id", 0, 0xFFFF, kDefaultSafetyDataId));
-        ch.diagnostics_data_id =
-            static_cast<std::uint16_t>(L.integer_or(t, p, "diagnostics_data_id", 0, 0xFFFF, kDefaultDiagnosticsDataId));
-        const std::string mode = L.string_or(t, p, "data_id_mode", "both");
-        if (mode == "both") {
-            ch.data_id_mode = E2eP01DataIdMode::kBoth;
-        } else if (mode == "alt") {
-            ch.data_id_mode = E2eP01DataIdMode::kAlt;
-        } else if (mode == "low") {
-            ch.data_id_mode = E2eP01DataIdMode::kLow;
-        } else if (mode == "nibble") {
-            ch.data_id_mode = E2eP01DataIdMode::kNibble;
-        } else {
-            L.fail(t.get("data_id_mode")->source(), "can.data_id_mode",
-                   "expected \"both\", \"alt\", \"low\" or \"nibble\", got \"" + mode + "\"");
-        }
-        if (!check_channel_config(ch).ok()) {
-            L.fail(t.source(), "can",
-                   "invalid channel: the three CAN IDs (safety, safety + 1, diagnostics) must differ and the data IDs "
-                   "must be valid for the mode and distinguishable");
-        }
+    c.background_match = static_cast<float>(match);
+    const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
+    if (!(tolerance > 0.0 && tolerance <= 1.0)) {
+        L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
+               "expected more than 0, at most 1 m");
     }
-    {
-        const toml::table& t = L.table(root, "", "cycle");
-        L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
-                                  "background_match", "background_tolerance_m"});
-        const double period = L.number(t, "cycle", "period_ms");
-        if (!(period >= 1.0 && period <= 10000.0)) {
-            L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
-        }
-        c.period_us = ms_to_us(period);
-        const double budget = L.number_or(t, "cycle", "budget_ms", period);
-        if (!(budget > 0.0 && budget <= period)) {
-            L.fail(t.get("budget_ms")->source(), "cycle.budget_ms", "expected more than 0 and at most period_ms");
-        }
-        c.budget_us = ms_to_us(budget);
-        const double age = L.number_or(t, "cycle", "max_frame_age_ms", 2.0 * period);
-        if (!(age > 0.0 && age <= 60000.0)) {
-            L.fail(t.get("max_frame_age_ms")->source(), "cycle.max_frame_age_ms", "expected more than 0, at most 60000");
-        }
-        c.max_frame_age_us = ms_to_us(age);
-        c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
-        c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
-        c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
-        const double match = L.number_or(t, "cycle", "background_match", 0.0);
-        if (!(match >= 0.0 && match <= 1.0)) {
-            L.fail(t.get("background_match")->source(), "cycle.background_match", "expected 0 (off) to 1");
-        }
-        for (const SensorSettings& s : c.sensors) {
-            if (match > 0.0 && !s.pcd_files.empty()) {
-                L.fail(t.get("background_match")->source(), "cycle.background_match",
-                       "needs each sensor's view of the empty cell, which recorded sensors (pcd_files) do not have; "
-                       "set it to 0");
-            }
-        }
-        c.background_match = static_cast<float>(match);
-        const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
-        if (!(tolerance > 0.0 && tolerance <= 1.0)) {
-            L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
-                   "expected more than 0, at most 1 m");
-        }
-        c.background_tolerance_m = static_cast<float>(tolerance);
+    c.background_tolerance_m = static_cast<float>(tolerance);
+}
+
+/// The [restart_interlock] table: delay, reset, recovery after a fault.
+void load_restart_interlock(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    const toml::table& t = L.table(root, "", "restart_interlock");
+    const std::string p = "restart_interlock";
+    L.check_keys(t, p, {"delay_ms", "reset_required", "fault_recovery_cycles"});
+    const double delay = L.number(t, p, "delay_ms");
+    if (!(delay >= 0.0 && delay <= 600000.0)) {
+        L.fail(t.get("delay_ms")->source(), p + ".delay_ms", "expected 0..600000 ms");
     }
-    {
-        const toml::table& t = L.table(root, "", "restart_interlock");
-        const std::string p = "restart_interlock";
-        L.check_keys(t, p, {"delay_ms", "reset_required", "fault_recovery_cycles"});
-        const double delay = L.number(t, p, "delay_ms");
-        if (!(delay >= 0.0 && delay <= 600000.0)) {
-            L.fail(t.get("delay_ms")->source(), p + ".delay_ms", "expected 0..600000 ms");
-        }
-        c.restart_delay_us = ms_to_us(delay);
-        c.reset_required = L.boolean_or(t, p, "reset_required", false);
-        c.fault_recovery_cycles = static_cast<std::uint32_t>(L.integer_or(t, p, "fault_recovery_cycles", 1, 100000, 10));
-    }
+    c.restart_delay_us = ms_to_us(delay);
+    c.reset_required = L.boolean_or(t, p, "reset_required", false);
+    c.fault_recovery_cycles = static_cast<std::uint32_t>(L.integer_or(t, p, "fault_recovery_cycles", 1, 100000, 10));
+}
+
+/// The [demo] table (optional): the number of demo cycles.
+void load_demo(const Loader& L, const toml::table& root, MonitorConfig& c) {
     if (root.contains("demo")) {
         const toml::table& t = L.table(root, "", "demo");
         L.check_keys(t, "demo", {"cycles"});
         c.demo_cycles = static_cast<int>(L.integer_or(t, "demo", "cycles", 1, 1000000, 60));
     }
+}
+
+/// The tables after [grid], [sensors] and [zones].
+void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
+    load_thresholds(L, root, c);
+    load_prior(L, root, c, base_dir);
+    load_can(L, root, c);
+    load_cycle(L, root, c);
+    load_restart_interlock(L, root, c);
+    load_demo(L, root, c);
 }
 
 }  // namespace

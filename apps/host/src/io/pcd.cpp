@@ -648,6 +648,137 @@ IoStatus decode_compressed(const std::uint8_t* data, std::size_t size, const Pcd
     return IoStatus{};
 }
 
+/// Header lines are printable ASCII (tab and CR allowed): anything else is not a PCD header.
+IoStatus check_header_text(const std::uint8_t* data, std::size_t begin, std::size_t end, std::size_t line) noexcept {
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::uint8_t c = data[i];
+        if ((c < 0x20U && c != '\t' && c != '\r') || c > 0x7EU) {
+            return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: byte 0x%02x is not header text", line,
+                                     static_cast<unsigned>(c));
+        }
+    }
+    return IoStatus{};
+}
+
+/// The keyword a header line starts with, checked against the keywords before it (order, repeats, prerequisites).
+IoStatus classify_keyword(const Tokens& t, const PcdHeader& h, const bool (&seen)[kKeywordCount], int last,
+                          std::size_t line, int& kw) noexcept {
+    kw = -1;
+    for (int k = 0; k < kKeywordCount; ++k) {
+        if (t.items[0] == kKeywordNames[k]) {
+            kw = k;
+        }
+    }
+    if (t.items[0] == "COLUMNS" && seen[kVersion] && h.version_minor < 7U) {
+        kw = kFields;
+    }
+    if (kw < 0) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: unknown keyword '%s'", line,
+                                 TokenText(t.items[0]).text);
+    }
+    if (last < 0 && kw != kVersion) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: %s before VERSION", line,
+                                 kKeywordNames[kw]);
+    }
+    if (seen[kw]) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: second %s line", line, kKeywordNames[kw]);
+    }
+    if (kw < last) {
+        return IoStatus::failure(ErrorCode::kMalformedInput,
+                                 "pcd: line %zu: %s after %s (the order is VERSION FIELDS SIZE TYPE COUNT WIDTH "
+                                 "HEIGHT VIEWPOINT POINTS DATA)",
+                                 line, kKeywordNames[kw], kKeywordNames[last]);
+    }
+    // The keyword each one needs before it (FIELDS, SIZE, TYPE are required; COUNT is optional).
+    static constexpr int kNeeds[kKeywordCount] = {-1,    kVersion, kFields, kSize, kType,
+                                                  kType, kWidth,   kType,   kType, kPoints};
+    if (kNeeds[kw] >= 0 && !seen[kNeeds[kw]]) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: %s without a %s line before it", line,
+                                 kKeywordNames[kw], kKeywordNames[kNeeds[kw]]);
+    }
+    return IoStatus{};
+}
+
+/// POINTS: checked against WIDTH x HEIGHT, or (before 0.7, without them) taken as an unorganised cloud's width.
+IoStatus parse_points(const Tokens& t, PcdHeader& h, const bool (&seen)[kKeywordCount], std::size_t line) noexcept {
+    IoStatus st = expect_values(t, 1U, line);
+    if (!st) {
+        return st;
+    }
+    if (!parse_u64(t.items[1], h.points) || h.points < 1U) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: POINTS '%s' is not an integer >= 1", line,
+                                 TokenText(t.items[1]).text);
+    }
+    if (seen[kWidth] != seen[kHeight]) {
+        return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: WIDTH without HEIGHT", line);
+    }
+    if (!seen[kWidth]) {
+        if (h.version_minor >= 7U) {
+            return line_error(ErrorCode::kMalformedInput, line, "VERSION 0.7 needs WIDTH and HEIGHT before POINTS");
+        }
+        if (h.points > UINT32_MAX) {
+            return line_error(ErrorCode::kMalformedInput, line, "POINTS above 2^32 - 1 without WIDTH");
+        }
+        h.width = static_cast<std::uint32_t>(h.points);
+        h.height = 1U;
+        return IoStatus{};
+    }
+    if (static_cast<std::uint64_t>(h.width) * h.height != h.points) {
+        return IoStatus::failure(ErrorCode::kMalformedInput,
+                                 "pcd: line %zu: POINTS %" PRIu64 " but WIDTH x HEIGHT = %u x %u = %" PRIu64, line,
+                                 h.points, static_cast<unsigned>(h.width), static_cast<unsigned>(h.height),
+                                 static_cast<std::uint64_t>(h.width) * h.height);
+    }
+    return IoStatus{};
+}
+
+/// DATA: ascii, binary or (from 0.7) binary_compressed.
+IoStatus parse_data_kind(const Tokens& t, PcdHeader& h, std::size_t line) noexcept {
+    IoStatus st = expect_values(t, 1U, line);
+    if (!st) {
+        return st;
+    }
+    if (t.items[1] == "ascii") {
+        h.data = PcdDataKind::kAscii;
+    } else if (t.items[1] == "binary") {
+        h.data = PcdDataKind::kBinary;
+    } else if (t.items[1] == "binary_compressed") {
+        h.data = PcdDataKind::kBinaryCompressed;
+        if (h.version_minor < 7U) {
+            return line_error(ErrorCode::kUnsupportedVersion, line, "DATA binary_compressed needs VERSION 0.7");
+        }
+    } else {
+        return IoStatus::failure(ErrorCode::kMalformedInput,
+                                 "pcd: line %zu: DATA '%s' is not ascii, binary or binary_compressed", line,
+                                 TokenText(t.items[1]).text);
+    }
+    return IoStatus{};
+}
+
+/// The values of one header line, by its keyword.
+IoStatus parse_keyword_values(int kw, const Tokens& t, PcdHeader& h, const bool (&seen)[kKeywordCount],
+                              std::size_t line) noexcept {
+    switch (kw) {
+        case kVersion: {
+            IoStatus st = expect_values(t, 1U, line);
+            if (st) {
+                st = parse_version(t.items[1], h, line);
+            }
+            return st;
+        }
+        case kFields: return parse_fields(t, h, line);
+        case kSize: return parse_sizes(t, h, line);
+        case kType: return parse_types(t, h, line);
+        case kCount: return parse_counts(t, h, line);
+        case kWidth: return parse_dimension(t, h.width, line);
+        case kHeight: return parse_dimension(t, h.height, line);
+        case kViewpoint: return parse_viewpoint(t, h, line);
+        case kPoints: return parse_points(t, h, seen, line);
+        case kData: return parse_data_kind(t, h, line);
+        default: return IoStatus{};
+    }
+}
+
 /// The header plus the number of lines it took (for messages about ASCII data).
 IoStatus parse_header_lines(const std::uint8_t* data, std::size_t size, PcdHeader& h, std::size_t& lines) noexcept {
     h = PcdHeader{};
@@ -675,12 +806,9 @@ IoStatus parse_header_lines(const std::uint8_t* data, std::size_t size, PcdHeade
         const std::size_t line_start = pos;
         pos = end + 1U;
         const std::size_t line = ++lines;
-        for (std::size_t i = line_start; i < end; ++i) {
-            const std::uint8_t c = data[i];
-            if ((c < 0x20U && c != '\t' && c != '\r') || c > 0x7EU) {
-                return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: byte 0x%02x is not header text",
-                                         line, static_cast<unsigned>(c));
-            }
+        IoStatus st = check_header_text(data, line_start, end, line);
+        if (!st) {
+            return st;
         }
         tokenize(text + line_start, text + end, t);
         if (t.overflow) {
@@ -692,111 +820,13 @@ IoStatus parse_header_lines(const std::uint8_t* data, std::size_t size, PcdHeade
             continue;
         }
         int kw = -1;
-        for (int k = 0; k < kKeywordCount; ++k) {
-            if (t.items[0] == kKeywordNames[k]) {
-                kw = k;
-            }
-        }
-        if (t.items[0] == "COLUMNS" && seen[kVersion] && h.version_minor < 7U) {
-            kw = kFields;
-        }
-        if (kw < 0) {
-            return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: unknown keyword '%s'", line,
-                                     TokenText(t.items[0]).text);
-        }
-        if (last < 0 && kw != kVersion) {
-            return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: %s before VERSION", line,
-                                     kKeywordNames[kw]);
-        }
-        if (seen[kw]) {
-            return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: second %s line", line,
-                                     kKeywordNames[kw]);
-        }
-        if (kw < last) {
-            return IoStatus::failure(ErrorCode::kMalformedInput,
-                                     "pcd: line %zu: %s after %s (the order is VERSION FIELDS SIZE TYPE COUNT WIDTH "
-                                     "HEIGHT VIEWPOINT POINTS DATA)",
-                                     line, kKeywordNames[kw], kKeywordNames[last]);
-        }
-        // The keyword each one needs before it (FIELDS, SIZE, TYPE are required; COUNT is optional).
-        static constexpr int kNeeds[kKeywordCount] = {-1,    kVersion, kFields, kSize, kType,
-                                                      kType, kWidth,   kType,   kType, kPoints};
-        if (kNeeds[kw] >= 0 && !seen[kNeeds[kw]]) {
-            return IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: %s without a %s line before it", line,
-                                     kKeywordNames[kw], kKeywordNames[kNeeds[kw]]);
+        st = classify_keyword(t, h, seen, last, line, kw);
+        if (!st) {
+            return st;
         }
         seen[kw] = true;
         last = kw;
-        IoStatus st;
-        switch (kw) {
-            case kVersion:
-                st = expect_values(t, 1U, line);
-                if (st) {
-                    st = parse_version(t.items[1], h, line);
-                }
-                break;
-            case kFields: st = parse_fields(t, h, line); break;
-            case kSize: st = parse_sizes(t, h, line); break;
-            case kType: st = parse_types(t, h, line); break;
-            case kCount: st = parse_counts(t, h, line); break;
-            case kWidth: st = parse_dimension(t, h.width, line); break;
-            case kHeight: st = parse_dimension(t, h.height, line); break;
-            case kViewpoint: st = parse_viewpoint(t, h, line); break;
-            case kPoints: {
-                st = expect_values(t, 1U, line);
-                if (!st) {
-                    break;
-                }
-                if (!parse_u64(t.items[1], h.points) || h.points < 1U) {
-                    st = IoStatus::failure(ErrorCode::kMalformedInput,
-                                           "pcd: line %zu: POINTS '%s' is not an integer >= 1", line,
-                                           TokenText(t.items[1]).text);
-                    break;
-                }
-                if (seen[kWidth] != seen[kHeight]) {
-                    st = IoStatus::failure(ErrorCode::kMalformedInput, "pcd: line %zu: WIDTH without HEIGHT", line);
-                } else if (!seen[kWidth]) {
-                    if (h.version_minor >= 7U) {
-                        st = line_error(ErrorCode::kMalformedInput, line,
-                                        "VERSION 0.7 needs WIDTH and HEIGHT before POINTS");
-                    } else if (h.points > UINT32_MAX) {
-                        st = line_error(ErrorCode::kMalformedInput, line, "POINTS above 2^32 - 1 without WIDTH");
-                    } else {
-                        h.width = static_cast<std::uint32_t>(h.points);
-                        h.height = 1U;
-                    }
-                } else if (static_cast<std::uint64_t>(h.width) * h.height != h.points) {
-                    st = IoStatus::failure(ErrorCode::kMalformedInput,
-                                           "pcd: line %zu: POINTS %" PRIu64 " but WIDTH x HEIGHT = %u x %u = %" PRIu64,
-                                           line, h.points, static_cast<unsigned>(h.width),
-                                           static_cast<unsigned>(h.height),
-                                           static_cast<std::uint64_t>(h.width) * h.height);
-                }
-                break;
-            }
-            case kData:
-                st = expect_values(t, 1U, line);
-                if (!st) {
-                    break;
-                }
-                if (t.items[1] == "ascii") {
-                    h.data = PcdDataKind::kAscii;
-                } else if (t.items[1] == "binary") {
-                    h.data = PcdDataKind::kBinary;
-                } else if (t.items[1] == "binary_compressed") {
-                    h.data = PcdDataKind::kBinaryCompressed;
-                    if (h.version_minor < 7U) {
-                        st = line_error(ErrorCode::kUnsupportedVersion, line,
-                                        "DATA binary_compressed needs VERSION 0.7");
-                    }
-                } else {
-                    st = IoStatus::failure(ErrorCode::kMalformedInput,
-                                           "pcd: line %zu: DATA '%s' is not ascii, binary or binary_compressed", line,
-                                           TokenText(t.items[1]).text);
-                }
-                break;
-            default: break;
-        }
+        st = parse_keyword_values(kw, t, h, seen, line);
         if (!st) {
             return st;
         }

@@ -188,13 +188,20 @@ bool compute_prior(const EvidenceGrid& background, const AccessibilityParams& pa
         .ok();
 }
 
-bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& out, std::string& error,
-               const EvidenceGrid* background) {
-    out.name = file.name;
-    out.background = background_of(file.scene);
+namespace {
+
+/// Milliseconds spent in each phase of a scene, summed over its frames.
+struct SceneTimes {
     double fuse_ms = 0.0;
     double render_ms = 0.0;
-    int fused_frames = cfg.foreground_frames;
+    double subtract_ms = 0.0;
+    int subtractions = 0;
+};
+
+/// The scene's background grid: a copy of @p background if given, else fused from the scene's background frames
+/// (@p fused_frames counts them).
+bool prepare_background(const SceneFile& file, const ExperimentConfig& cfg, const EvidenceGrid* background,
+                        SceneResult& out, SceneTimes& times, int& fused_frames, std::string& error) {
     if (background != nullptr) {
         if (!(background->geometry() == cfg.geometry)) {
             error = "the given background grid has another geometry";
@@ -202,25 +209,32 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
         }
         std::copy(background->log_odds().begin(), background->log_odds().end(), out.background_grid.log_odds.begin());
         std::copy(background->observed().begin(), background->observed().end(), out.background_grid.observed.begin());
-    } else {
-        const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
-        std::uint32_t need = 1U;
-        for (const PriorMethod m : kAllMethods) {
-            AccessibilityParams p = cfg.params;
-            p.method = m;
-            need = std::max(need, model.ok() ? min_background_frames(p, model.value()) : 1U);
-        }
-        if (cfg.background_frames < 0 || static_cast<std::uint32_t>(cfg.background_frames) < need) {
-            error = std::to_string(cfg.background_frames) + " background frames are too few: the probabilistic method needs " +
-                    "at least " + std::to_string(need) + " for space seen free to fall below t_E (min_background_frames)";
-            return false;
-        }
-        if (!build_background(file, cfg, out.background_grid.grid, &fuse_ms, &render_ms)) {
-            error = "building the background grid failed";
-            return false;
-        }
-        fused_frames += cfg.background_frames;
+        return true;
     }
+    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    std::uint32_t need = 1U;
+    for (const PriorMethod m : kAllMethods) {
+        AccessibilityParams p = cfg.params;
+        p.method = m;
+        need = std::max(need, model.ok() ? min_background_frames(p, model.value()) : 1U);
+    }
+    if (cfg.background_frames < 0 || static_cast<std::uint32_t>(cfg.background_frames) < need) {
+        error = std::to_string(cfg.background_frames);
+        error += " background frames are too few: the probabilistic method needs at least ";
+        error += std::to_string(need);
+        error += " for space seen free to fall below t_E (min_background_frames)";
+        return false;
+    }
+    if (!build_background(file, cfg, out.background_grid.grid, &times.fuse_ms, &times.render_ms)) {
+        error = "building the background grid failed";
+        return false;
+    }
+    fused_frames += cfg.background_frames;
+    return true;
+}
+
+/// Every method's prior from the scene's background grid, timed.
+bool compute_priors(const ExperimentConfig& cfg, SceneResult& out, std::string& error) {
     for (std::size_t m = 0; m < kAllMethods.size(); ++m) {
         MethodResult& r = out.methods[m];
         r.method = kAllMethods[m];
@@ -233,13 +247,12 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
         }
         r.prior_ms = ms_since(t0);
     }
-    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
-    if (!model.ok()) {
-        error = "invalid sensor model";
-        return false;
-    }
-    double subtract_ms = 0.0;
-    int subtractions = 0;
+    return true;
+}
+
+/// The foreground frames: each rendered, fused, and scored against the ground truth after each method's subtraction.
+bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const SensorModelTable& model,
+                    SceneResult& out, SceneTimes& times, std::string& error) {
     const bool moving = !file.people.empty();
     for (int j = 0; j < cfg.foreground_frames; ++j) {
         const double t = j * cfg.frame_interval_s;
@@ -253,28 +266,53 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
         const SimulatedFrame f =
             render(file, cfg, scene, file.seed * kSeedStride + kForegroundSeedOffset + static_cast<std::uint64_t>(j));
         const Clock::time_point t1 = Clock::now();
-        render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        times.render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
         out.last_frame.grid.clear();
-        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
+        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model,
                         out.last_frame.fusion_scratch(), cfg.rasterization)
                  .ok()) {
             error = "fusing a foreground frame failed";
             return false;
         }
-        fuse_ms += ms_since(t1);
+        times.fuse_ms += ms_since(t1);
         for (MethodResult& r : out.methods) {
             const Clock::time_point t2 = Clock::now();
             subtract_prior(out.last_frame.grid, r.prior, r.last_subtracted);
-            subtract_ms += ms_since(t2);
-            ++subtractions;
+            times.subtract_ms += ms_since(t2);
+            ++times.subtractions;
             add_scores(r.scores, r.last_subtracted, out.last_truth);
         }
         out.last_scene = scene;
     }
+    return true;
+}
+
+}  // namespace
+
+bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& out, std::string& error,
+               const EvidenceGrid* background) {
+    out.name = file.name;
+    out.background = background_of(file.scene);
+    SceneTimes times;
+    int fused_frames = cfg.foreground_frames;
+    if (!prepare_background(file, cfg, background, out, times, fused_frames, error)) {
+        return false;
+    }
+    if (!compute_priors(cfg, out, error)) {
+        return false;
+    }
+    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    if (!model.ok()) {
+        error = "invalid sensor model";
+        return false;
+    }
+    if (!run_foreground(file, cfg, model.value(), out, times, error)) {
+        return false;
+    }
     const int frames = fused_frames;
-    out.fuse_ms_per_frame = frames > 0 ? fuse_ms / frames : 0.0;
-    out.render_ms_per_frame = frames > 0 ? render_ms / frames : 0.0;
-    out.subtract_ms_per_frame = subtractions > 0 ? subtract_ms / subtractions : 0.0;
+    out.fuse_ms_per_frame = frames > 0 ? times.fuse_ms / frames : 0.0;
+    out.render_ms_per_frame = frames > 0 ? times.render_ms / frames : 0.0;
+    out.subtract_ms_per_frame = times.subtractions > 0 ? times.subtract_ms / times.subtractions : 0.0;
     const std::vector<double> thresholds = default_thresholds();
     for (MethodResult& r : out.methods) {
         r.curve = pr_curve(r.scores, thresholds);
