@@ -19,9 +19,8 @@
 namespace {
 
 /// A deterministic clock: one microsecond per reading.
-class CountingClock final
-    : public cellguard::
-          MonotonicClock {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class CountingClock final : public cellguard::MonotonicClock {
 public:
     std::uint64_t now_us() noexcept override { return t_ += 1U; }
 
@@ -29,17 +28,15 @@ private:
     std::uint64_t t_ = 1000000U;
 };
 
-class StdoutText final
-    : public cellguard::firmware::
-          TextSink {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class StdoutText final : public cellguard::firmware::TextSink {
 public:
     void write(const char* text) noexcept override { static_cast<void>(std::fputs(text, stdout)); }
 };
 
 /// Prints frames like the board's semihosting CAN backend.
-class PrintingCan final
-    : public cellguard::
-          CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class PrintingCan final : public cellguard::CanSender {
 public:
     bool send(const cellguard::CanFrame& frame) noexcept override {
         static_cast<void>(

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,7 @@ using namespace cellguard::monitor;
 
 namespace {
 
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): written by the signal handler; a volatile sig_atomic_t global is the one portable way
 volatile std::sig_atomic_t g_stop_signal = 0;
 
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
@@ -213,9 +215,8 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
     return sources;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// The monitor (main without its last-resort catch).
+int run_monitor(int argc, char** argv) {
     Options opt;
     if (const int status = parse_args(argc, argv, opt); status >= 0) {
         return status;
@@ -258,6 +259,7 @@ int main(int argc, char** argv) {
     }
     const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell);
     std::vector<FrameSource*> sources;
+    sources.reserve(owned.size());
     for (const std::unique_ptr<FrameSource>& s : owned) {
         sources.push_back(s.get());
     }
@@ -270,14 +272,29 @@ int main(int argc, char** argv) {
     std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", loop.controller().prior_crc(),
                 cell.zones.size(), static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles,
                 opt.paced ? ", paced" : "");
-    for (std::size_t s = 0U; s < cfg.sensors.size(); ++s) {
-        if (!cfg.sensors[s].pcd_files.empty()) {
-            std::printf("input: sensor '%s' from %zu recorded PCD frames\n", cfg.sensors[s].name.c_str(),
-                        cfg.sensors[s].pcd_files.size());
+    for (const SensorSettings& sensor : cfg.sensors) {
+        if (!sensor.pcd_files.empty()) {
+            std::printf("input: sensor '%s' from %zu recorded PCD frames\n", sensor.name.c_str(),
+                        sensor.pcd_files.size());
         }
     }
     const RunResult run = run_cycles(loop, cfg.demo_cycles, cfg.period_us, opt.paced, g_stop_signal);
     const bool log_ok = can.close();
     loop.write_summary(stdout, run, log_ok);
     return loop.exit_status(stderr, log_ok);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // Configuration errors are reported and returned as exit statuses; an exception reaching here (out of memory, a
+    // library's std::exception) ends the run with its message instead of std::terminate.
+    try {
+        return run_monitor(argc, argv);
+    } catch (const std::exception& ex) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-monitor: stopped by an unexpected error: %s\n", ex.what()));
+    } catch (...) {
+        static_cast<void>(std::fprintf(stderr, "cellguard-monitor: stopped by an unexpected error\n"));
+    }
+    return 1;
 }

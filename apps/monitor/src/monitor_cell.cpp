@@ -14,6 +14,7 @@ namespace cellguard::monitor {
 namespace {
 
 // printf to @p out, or nothing when it is nullptr.
+// NOLINTNEXTLINE(cert-dcl50-cpp): printf-style so that the compiler checks each format (format attribute)
 __attribute__((format(printf, 2, 3))) void say(std::FILE* out, const char* format, ...) {
     if (out == nullptr) {
         return;
@@ -25,6 +26,7 @@ __attribute__((format(printf, 2, 3))) void say(std::FILE* out, const char* forma
 }
 
 // A failed step with exit status @p status and a printf-formatted message.
+// NOLINTNEXTLINE(cert-dcl50-cpp): printf-style so that the compiler checks each format (format attribute)
 __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char* format, ...) {
     va_list args;
     va_start(args, format);
@@ -33,7 +35,7 @@ __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char*
     const int n = std::vsnprintf(nullptr, 0, format, args);
     va_end(args);
     std::string text(n > 0 ? static_cast<std::size_t>(n) : 0U, '\0');
-    static_cast<void>(std::vsnprintf(&text[0], text.size() + 1U, format, again));
+    static_cast<void>(std::vsnprintf(text.data(), text.size() + 1U, format, again));
     va_end(again);
     return SetupError{status, text};
 }

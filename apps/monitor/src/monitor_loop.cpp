@@ -169,6 +169,7 @@ void MonitorLoop::count(int k, const CycleReport& r) noexcept {
     }
 }
 
+// NOLINTNEXTLINE(cert-dcl50-cpp): printf-style so that the compiler checks each format (format attribute)
 void MonitorLoop::append(const char* format, ...) noexcept {
     if (line_length_ + 1U >= line_.size()) {
         return;

@@ -43,8 +43,10 @@ int main(int argc, char** argv) {
     const Rasterization raster = opt.bresenham ? Rasterization::kBresenham3d : Rasterization::kExact;
 
     const GridGeometry g = paper_grid_geometry();
-    std::vector<std::int16_t> bg_lo(g.voxel_count()), fr_lo(g.voxel_count());
-    std::vector<std::uint8_t> bg_ob(g.voxel_count()), fr_ob(g.voxel_count());
+    std::vector<std::int16_t> bg_lo(g.voxel_count());
+    std::vector<std::int16_t> fr_lo(g.voxel_count());
+    std::vector<std::uint8_t> bg_ob(g.voxel_count());
+    std::vector<std::uint8_t> fr_ob(g.voxel_count());
     EvidenceGrid background = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
     EvidenceGrid frame_grid = EvidenceGrid::make(g, {fr_lo.data(), fr_lo.size()}, {fr_ob.data(), fr_ob.size()}).value();
     background.clear();
@@ -70,9 +72,12 @@ int main(int argc, char** argv) {
     }
     std::printf("background: %d frames, %u rays/frame (%u skipped), %.2f M voxel updates/frame, %.2f ms/frame mean\n",
                 frames, stats.rays_fused, stats.skipped(), static_cast<double>(stats.voxel_updates) / 1e6, fuse_ms / frames);
-    std::size_t occupied = 0, free_seen = 0;
+    std::size_t occupied = 0;
+    std::size_t free_seen = 0;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
-        if (bg_ob[i] == 0U) continue;
+        if (bg_ob[i] == 0U) {
+            continue;
+        }
         occupied += bg_lo[i] > 0 ? 1U : 0U;
         free_seen += bg_lo[i] < 0 ? 1U : 0U;
     }

@@ -102,7 +102,10 @@ std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, c
     std::vector<std::string> files;
     for (std::size_t k = 0U; k < a->size(); ++k) {
         const toml::node& e = *a->get(k);
-        const std::string key = p + ".pcd_files[" + std::to_string(k) + "]";
+        std::string key = p;
+        key += ".pcd_files[";
+        key += std::to_string(k);
+        key += "]";
         if (!e.is_string() || e.as_string()->get().empty()) {
             L.fail(e.source(), key, "expected a non-empty path string");
         }
@@ -156,7 +159,8 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, co
         }
         const toml::node& res = L.require(t, p, "resolution");
         const toml::array* ra = res.as_array();
-        std::optional<std::int64_t> w, h;
+        std::optional<std::int64_t> w;
+        std::optional<std::int64_t> h;
         if (ra != nullptr && ra->size() == 2U) {
             w = (*ra)[0].value_exact<std::int64_t>();
             h = (*ra)[1].value_exact<std::int64_t>();
@@ -210,7 +214,7 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
         } else if (kind == "warning") {
             z.zone.kind = ZoneKind::kWarning;
         } else {
-            L.fail(t.get("kind")->source(), p + ".kind", "expected \"protective\" or \"warning\", got \"" + kind + "\"");
+            L.fail(t.get("kind")->source(), p + ".kind", R"(expected "protective" or "warning", got ")" + kind + "\"");
         }
         const std::string shape = L.string(t, p, "shape");
         if (shape == "box") {
@@ -239,7 +243,7 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
                 L.fail(t.get("z_max")->source(), p + ".z_max", "must be greater than z_min");
             }
         } else {
-            L.fail(t.get("shape")->source(), p + ".shape", "expected \"box\" or \"prism\", got \"" + shape + "\"");
+            L.fail(t.get("shape")->source(), p + ".shape", R"(expected "box" or "prism", got ")" + shape + "\"");
         }
         z.zone.min_foreground_voxels =
             static_cast<std::uint32_t>(L.integer_or(t, p, "min_foreground_voxels", 1, 1000000, 1));
@@ -286,7 +290,7 @@ void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, cons
         }
     } else {
         L.fail(t.get("source")->source(), "prior.source",
-               "expected \"file\" or \"simulated-background\", got \"" + src + "\"");
+               R"(expected "file" or "simulated-background", got ")" + src + "\"");
     }
 }
 
@@ -324,7 +328,7 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
         ch.data_id_mode = E2eP01DataIdMode::kNibble;
     } else {
         L.fail(t.get("data_id_mode")->source(), "can.data_id_mode",
-               "expected \"both\", \"alt\", \"low\" or \"nibble\", got \"" + mode + "\"");
+               R"(expected "both", "alt", "low" or "nibble", got ")" + mode + "\"");
     }
     if (!check_channel_config(ch).ok()) {
         L.fail(t.source(), "can",

@@ -35,6 +35,7 @@ bool viewpoint_matches(const PcdViewpoint& v, const Eigen::Isometry3d& pose, dou
     return angle <= max_angle_deg * 3.14159265358979323846 / 180.0;
 }
 
+// NOLINTNEXTLINE(modernize-pass-by-value): Eigen's rule: fixed-size types are passed by const reference, not by value
 PcdFrameSource::PcdFrameSource(std::string name, std::vector<std::string> files, const Eigen::Isometry3d& pose,
                                int width, int height, float max_range)
     : name_(std::move(name)),

@@ -14,6 +14,8 @@ namespace cellguard::sim {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+/// Scene files may include others at most this deep; deeper is an error (it also bounds the recursion).
+constexpr int kMaxIncludeDepth = 8;
 
 /// The loader's error: "file:line:column: key: what".
 using SceneError = host::TomlError;
@@ -118,7 +120,7 @@ void load_sensors(const Loader& L, const toml::table& root, SceneFile& f) {
         } else if (kind_name == "stereo") {
             kind = SensorKind::kStereo;
         } else if (kind_name != "ideal") {
-            L.fail(s.source(), p + ".kind", "expected \"ideal\", \"flash_lidar\" or \"stereo\"");
+            L.fail(s.source(), p + ".kind", R"(expected "ideal", "flash_lidar" or "stereo")");
         }
         spec.position = L.vec3(s, p, "position");
         spec.target = L.vec3(s, p, "target");
@@ -164,7 +166,7 @@ void load_boxes(const Loader& L, const toml::table& root, SceneFile& f) {
         b.yaw = L.number_or(t, p, "yaw_deg", 0.0) * kPi / 180.0;
         const std::string role = L.string_or(t, p, "role", "");
         if (role != "background" && role != "foreground") {
-            L.fail(t.source(), p + ".role", "expected \"background\" or \"foreground\"");
+            L.fail(t.source(), p + ".role", R"(expected "background" or "foreground")");
         }
         b.background = role == "background";
         f.scene.boxes.push_back(b);
@@ -198,6 +200,18 @@ void load_people(const Loader& L, const toml::table& root, SceneFile& f) {
 SceneLoad parse_scene_depth(const std::string& text, const std::string& source_name, const std::string& base_dir,
                             int depth);
 
+/// An included file's path: absolute as given, else relative to the including file's directory.
+std::string include_path(const std::string& base_dir, const std::string& name) {
+    if ((!name.empty() && name[0] == '/') || base_dir.empty()) {
+        return name;
+    }
+    std::string path = base_dir;
+    path += '/';
+    path += name;
+    return path;
+}
+
+// NOLINTNEXTLINE(misc-no-recursion): includes nested more than 8 deep are an error (kMaxIncludeDepth), so the recursion is bounded
 SceneLoad load_scene_file_depth(const std::string& path, int depth) {
     std::string text;
     std::string dir;
@@ -209,6 +223,7 @@ SceneLoad load_scene_file_depth(const std::string& path, int depth) {
     return parse_scene_depth(text, path, dir, depth);
 }
 
+// NOLINTNEXTLINE(misc-no-recursion): includes nested more than 8 deep are an error (kMaxIncludeDepth), so the recursion is bounded
 SceneLoad parse_scene_depth(const std::string& text, const std::string& source_name, const std::string& base_dir,
                             int depth) {
     SceneLoad out;
@@ -229,7 +244,7 @@ SceneLoad parse_scene_depth(const std::string& text, const std::string& source_n
             if (a == nullptr) {
                 L.fail(n.source(), "include", "expected an array of file names");
             }
-            if (depth >= 8) {
+            if (depth >= kMaxIncludeDepth) {
                 L.fail(n.source(), "include", "includes nested more than 8 deep");
             }
             for (const toml::node& e : *a) {
@@ -237,8 +252,7 @@ SceneLoad parse_scene_depth(const std::string& text, const std::string& source_n
                     L.fail(e.source(), "include", "expected an array of file names");
                 }
                 const std::string name = e.as_string()->get();
-                const std::string path = (!name.empty() && name[0] == '/') || base_dir.empty() ? name : base_dir + "/" + name;
-                const SceneLoad sub = load_scene_file_depth(path, depth + 1);
+                const SceneLoad sub = load_scene_file_depth(include_path(base_dir, name), depth + 1);
                 if (!sub.ok) {
                     L.fail(e.source(), "include", sub.error);
                 }

@@ -19,6 +19,7 @@
 namespace cellguard::monitor {
 
 /// See the file comment.
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 class CycleClock final : public MonotonicClock {
 public:
     /// @p source: the real clock (kept by reference, must outlive this).
