@@ -80,10 +80,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
     }
 
-    PriorImageError why = PriorImageError::kTooShort;
-    const Result<PriorImageView> r = load_prior_image(Span<const std::uint8_t>(img.data(), img.size()), expected, &why);
-    require(r.ok() == (why == PriorImageError::kNone));
-    require(r.error() == to_error_code(why));
+    const Result<PriorImageView, PriorImageError> r =
+        load_prior_image(Span<const std::uint8_t>(img.data(), img.size()), expected);
+    require(r.ok() == (r.error() == PriorImageError::kNone));
+    require(r.ok() == (to_error_code(r.error()) == ErrorCode::kOk));
     if (!r.ok()) {
         return 0;
     }

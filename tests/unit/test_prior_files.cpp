@@ -200,7 +200,7 @@ TEST_CASE("prior files: the compiled generated array equals the writer's image a
     const Encoded e = encoded_example();
     REQUIRE(sizeof ex::kImage == e.bytes.size());
     CHECK(std::memcmp(ex::kImage, e.bytes.data(), e.bytes.size()) == 0);
-    const Result<PriorImageView> v = load_prior_image(Span<const std::uint8_t>(ex::kImage), example_geometry());
+    const Result<PriorImageView, PriorImageError> v = load_prior_image(Span<const std::uint8_t>(ex::kImage), example_geometry());
     REQUIRE(v.ok());
     const std::vector<std::int16_t> prior = example_prior();
     for (std::size_t i = 0; i < prior.size(); ++i) CHECK(v.value()[i] == prior[i]);

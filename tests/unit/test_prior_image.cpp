@@ -73,12 +73,11 @@ void reseal_all(std::vector<std::uint8_t>& img) {
     reseal_header(img);
 }
 
-// Loads and returns the fine reason (kNone on success); checks that it agrees with the ErrorCode.
+// Loads and returns the refusal's reason (kNone on success); a success holds no error, a refusal never kNone.
 PriorImageError why_refused(const std::vector<std::uint8_t>& img, const GridGeometry& g = small_geometry()) {
-    PriorImageError why = PriorImageError::kTooShort;
-    const Result<PriorImageView> r = load_prior_image(span_of(img), g, &why);
-    CHECK(r.error() == to_error_code(why));
-    return why;
+    const Result<PriorImageView, PriorImageError> r = load_prior_image(span_of(img), g);
+    CHECK(r.ok() == (r.error() == PriorImageError::kNone));
+    return r.error();
 }
 
 // The 2 x 1 x 1 image below, made independently (Python struct + zlib.crc32).
@@ -118,7 +117,7 @@ TEST_CASE("prior image: the writer's bytes equal an independently made golden im
     const std::vector<std::uint8_t> img = encode(g, p, prior);
     REQUIRE(img.size() == sizeof kGolden);
     CHECK(std::memcmp(img.data(), kGolden, sizeof kGolden) == 0);
-    const Result<PriorImageView> v = load_prior_image(Span<const std::uint8_t>(kGolden), g);
+    const Result<PriorImageView, PriorImageError> v = load_prior_image(Span<const std::uint8_t>(kGolden), g);
     REQUIRE(v.ok());
     CHECK(v.value()[0] == kNeverForeground);
     CHECK(v.value()[1] == -300);
@@ -190,10 +189,9 @@ TEST_CASE("prior image: a written image loads back with the same values, geometr
         p.open_faces = kAllFaces;
         const std::vector<std::int16_t> prior = sample_prior(g.voxel_count());
         const std::vector<std::uint8_t> img = encode(g, p, prior);
-        PriorImageError why = PriorImageError::kTooShort;
-        const Result<PriorImageView> r = load_prior_image(span_of(img), g, &why);
+        const Result<PriorImageView, PriorImageError> r = load_prior_image(span_of(img), g);
         REQUIRE(r.ok());
-        CHECK(why == PriorImageError::kNone);
+        CHECK(r.error() == PriorImageError::kNone);
         const PriorImageView& v = r.value();
         CHECK(v.voxel_count() == g.voxel_count());
         CHECK(v.geometry() == g);
@@ -223,7 +221,7 @@ TEST_CASE("prior image: loading and writing allocate nothing") {
     const Result<std::size_t> n = write_prior_image(small_geometry(), AccessibilityParams{},
                                                     Span<const std::int16_t>(prior.data(), prior.size()),
                                                     Span<std::uint8_t>(img.data(), img.size()));
-    const Result<PriorImageView> v = load_prior_image(span_of(img), small_geometry());
+    const Result<PriorImageView, PriorImageError> v = load_prior_image(span_of(img), small_geometry());
     CHECK(scope.allocations() == 0U);
     CHECK(n.ok());
     CHECK(v.ok());
@@ -232,7 +230,7 @@ TEST_CASE("prior image: loading and writing allocate nothing") {
 // verifies: SR-PRIOR-010
 TEST_CASE("prior image: the header can be read without a grid to compare with") {
     const std::vector<std::uint8_t> img = small_image();
-    const Result<PriorImageHeader> h = read_prior_image_header(span_of(img));
+    const Result<PriorImageHeader, PriorImageError> h = read_prior_image_header(span_of(img));
     REQUIRE(h.ok());
     CHECK(h.value().nx == 4U);
     CHECK(h.value().ny == 3U);
@@ -244,9 +242,11 @@ TEST_CASE("prior image: the header can be read without a grid to compare with") 
     CHECK(h.value().header_size == 88U);
     std::vector<std::uint8_t> bad = img;
     bad[30] ^= 0x01U;
-    PriorImageError why = PriorImageError::kNone;
-    CHECK(read_prior_image_header(span_of(bad), &why).error() == ErrorCode::kCrcMismatch);
+    const Result<PriorImageHeader, PriorImageError> refused = read_prior_image_header(span_of(bad));
+    CHECK_FALSE(refused.ok());
+    const PriorImageError why = refused.error();
     CHECK(why == PriorImageError::kHeaderCrcMismatch);
+    CHECK(to_error_code(why) == ErrorCode::kCrcMismatch);
 }
 
 // verifies: SR-PRIOR-010
@@ -323,7 +323,8 @@ TEST_CASE("prior image loader: input shorter than the header is refused as too s
         const std::vector<std::uint8_t> cut(img.begin(), img.begin() + static_cast<std::ptrdiff_t>(n));
         CHECK(why_refused(cut) == PriorImageError::kTooShort);
     }
-    CHECK(load_prior_image(Span<const std::uint8_t>(), small_geometry()).error() == ErrorCode::kTruncatedInput);
+    CHECK(to_error_code(load_prior_image(Span<const std::uint8_t>(), small_geometry()).error()) ==
+          ErrorCode::kTruncatedInput);
 }
 
 // verifies: SR-PRIOR-011
@@ -555,5 +556,5 @@ TEST_CASE("prior image loader: an image inside a larger buffer is read only with
     buffer.push_back(0xEE);  // a byte just past the span must not matter
     CHECK(load_prior_image(Span<const std::uint8_t>(buffer.data(), n), small_geometry()).ok());
     CHECK(load_prior_image(Span<const std::uint8_t>(buffer.data(), n + 1U), small_geometry()).error() ==
-          ErrorCode::kMalformedInput);
+          PriorImageError::kTrailingBytes);
 }

@@ -131,9 +131,8 @@ std::vector<std::int16_t> direct_prior(const EvidenceGrid& bg, const Accessibili
 /// The prior values of the image file at @p path, checked against @p g.
 std::vector<std::int16_t> image_values(const std::string& path, const GridGeometry& g, AccessibilityParams* params = nullptr) {
     const std::vector<std::uint8_t> bytes = read_bytes(path);
-    PriorImageError reason = PriorImageError::kNone;
-    const Result<PriorImageView> view = load_prior_image({bytes.data(), bytes.size()}, g, &reason);
-    INFO("loader: " << to_string(reason));
+    const Result<PriorImageView, PriorImageError> view = load_prior_image({bytes.data(), bytes.size()}, g);
+    INFO("loader: " << to_string(view.error()));
     REQUIRE(view.ok());
     std::vector<std::int16_t> values(view.value().voxel_count());
     REQUIRE(view.value().copy_to({values.data(), values.size()}).ok());

@@ -196,7 +196,7 @@ bool write_prior_file(const std::string& dir, const GridGeometry& g, const Acces
         static_cast<void>(std::fprintf(stderr, "write_prior_image failed\n"));
         return false;
     }
-    const Result<PriorImageView> view = load_prior_image({image.data(), image.size()}, g);
+    const Result<PriorImageView, PriorImageError> view = load_prior_image({image.data(), image.size()}, g);
     if (!view.ok() || !write_prior_image_file((dir + "/prior.cgprior").c_str(), view.value()).ok()) {
         static_cast<void>(std::fprintf(stderr, "writing prior.cgprior failed\n"));
         return false;

@@ -226,7 +226,7 @@ namespace {
 /// The prior image in flash: every check of load_prior_image (CRCs,
 /// geometry, parameters, values), and the int16 symbol the controller reads
 /// in place must be its payload. False (said on @p text) when not.
-bool prior_in_flash_ok(const Result<PriorImageView>& view, TextSink& text) noexcept {
+bool prior_in_flash_ok(const Result<PriorImageView, PriorImageError>& view, TextSink& text) noexcept {
     if (!view.ok()) {
         text.write("error: the prior image in flash fails its checks\n");
         return false;
@@ -314,7 +314,7 @@ void write_totals(const ScenarioSummary& summary, std::uint32_t frames_sent, Tex
 ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
     ScenarioSummary summary;
     const GridGeometry geometry = paper_grid_geometry();
-    const Result<PriorImageView> view = load_prior_image(
+    const Result<PriorImageView, PriorImageError> view = load_prior_image(
         Span<const std::uint8_t>(cellguard_firmware_prior_image, cellguard_firmware_prior_image_size), geometry);
     if (!prior_in_flash_ok(view, text)) {
         return summary;

@@ -378,7 +378,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         if (!encode_prior_image(one, AccessibilityParams{}, {&zero, 1U}, image).ok()) {
             return error(kExitOutputError, "internal: encoding a one-voxel probe image failed");
         }
-        const Result<PriorImageView> view = load_prior_image({image.data(), image.size()}, one);
+        const Result<PriorImageView, PriorImageError> view = load_prior_image({image.data(), image.size()}, one);
         const IoStatus st = view.ok() ? prior_source_text(view.value(), probe, text) : IoStatus{};
         if (!view.ok() || !st.ok()) {
             return error(kExitInputError, "--namespace '" + o.name_space + "' or --config-header '" + o.config_header +

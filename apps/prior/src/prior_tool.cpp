@@ -520,9 +520,10 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
     if (!st.ok()) {
         return st;
     }
-    const Result<PriorImageView> view = load_prior_image({image.data(), image.size()}, geometry);
+    const Result<PriorImageView, PriorImageError> view = load_prior_image({image.data(), image.size()}, geometry);
     if (!view.ok()) {
-        return IoStatus::failure(view.error(), "the encoded image fails its own check: %s", to_string(view.error()));
+        return IoStatus::failure(to_error_code(view.error()), "the encoded image fails its own check: %s",
+                                 to_string(view.error()));
     }
     st = write_prior_image_file(written.image_path.c_str(), view.value());
     if (!st.ok()) {

@@ -44,12 +44,6 @@ void store_le(Span<std::uint8_t> out, std::size_t offset, std::uint64_t value, s
 
 bool unit_interval(double t) noexcept { return t >= 0.0 && t <= 1.0; }  // false for NaN
 
-Result<PriorImageView> refuse(PriorImageError error, PriorImageError* reason) noexcept {
-    if (reason != nullptr) {
-        *reason = error;
-    }
-    return to_error_code(error);
-}
 
 }  // namespace
 
@@ -134,43 +128,37 @@ AccessibilityParams PriorImageHeader::params() const noexcept {
     return p;
 }
 
-Result<PriorImageHeader> read_prior_image_header(Span<const std::uint8_t> image, PriorImageError* reason) noexcept {
-    const auto fail = [reason](PriorImageError e) -> Result<PriorImageHeader> {
-        if (reason != nullptr) {
-            *reason = e;
-        }
-        return to_error_code(e);
-    };
+Result<PriorImageHeader, PriorImageError> read_prior_image_header(Span<const std::uint8_t> image) noexcept {
     if (image.size() < layout::kVersion) {
-        return fail(PriorImageError::kTooShort);
+        return PriorImageError::kTooShort;
     }
     for (std::size_t i = 0U; i < sizeof kPriorImageMagic; ++i) {
         if (image[layout::kMagic + i] != kPriorImageMagic[i]) {
-            return fail(PriorImageError::kBadMagic);
+            return PriorImageError::kBadMagic;
         }
     }
     if (image.size() < layout::kNx) {
-        return fail(PriorImageError::kTooShort);
+        return PriorImageError::kTooShort;
     }
     PriorImageHeader h;
     h.format_version = load_le_u16(image, layout::kVersion);
     h.header_size = load_le_u16(image, layout::kHeaderSize);
     if (h.format_version != kPriorImageFormatVersion) {
-        return fail(PriorImageError::kUnsupportedVersion);
+        return PriorImageError::kUnsupportedVersion;
     }
     if (h.header_size != kPriorImageHeaderSize) {
-        return fail(PriorImageError::kBadHeaderSize);
+        return PriorImageError::kBadHeaderSize;
     }
     if (image.size() < kPriorImageHeaderSize) {
-        return fail(PriorImageError::kTooShort);
+        return PriorImageError::kTooShort;
     }
     h.header_crc = load_le_u32(image, layout::kHeaderCrc);
     if (crc32(image.subspan(0U, layout::kHeaderCrc)) != h.header_crc) {
-        return fail(PriorImageError::kHeaderCrcMismatch);
+        return PriorImageError::kHeaderCrcMismatch;
     }
     h.reserved = load_le_u16(image, layout::kReserved);
     if (h.reserved != 0U) {
-        return fail(PriorImageError::kReservedNotZero);
+        return PriorImageError::kReservedNotZero;
     }
     h.nx = load_le_u32(image, layout::kNx);
     h.ny = load_le_u32(image, layout::kNy);
@@ -186,22 +174,18 @@ Result<PriorImageHeader> read_prior_image_header(Span<const std::uint8_t> image,
     h.radius_voxels = int32_from_bits(load_le_u32(image, layout::kRadius));
     h.payload_length = load_le_u32(image, layout::kPayloadLength);
     h.payload_crc = load_le_u32(image, layout::kPayloadCrc);
-    if (reason != nullptr) {
-        *reason = PriorImageError::kNone;
-    }
     return h;
 }
 
-Result<PriorImageView> load_prior_image(Span<const std::uint8_t> image, const GridGeometry& expected_geometry,
-                                        PriorImageError* reason) noexcept {
+Result<PriorImageView, PriorImageError> load_prior_image(Span<const std::uint8_t> image,
+                                                         const GridGeometry& expected_geometry) noexcept {
     const std::size_t voxels = expected_geometry.voxel_count();
     if (voxels == 0U) {
-        return refuse(PriorImageError::kNoExpectedGeometry, reason);
+        return PriorImageError::kNoExpectedGeometry;
     }
-    PriorImageError header_error = PriorImageError::kNone;
-    const Result<PriorImageHeader> header = read_prior_image_header(image, &header_error);
+    const Result<PriorImageHeader, PriorImageError> header = read_prior_image_header(image);
     if (!header.ok()) {
-        return refuse(header_error, reason);
+        return header.error();
     }
     const PriorImageHeader& h = header.value();
 
@@ -209,37 +193,37 @@ Result<PriorImageView> load_prior_image(Span<const std::uint8_t> image, const Gr
     // Expected dims are in [1, kMaxDimension], so the casts are exact.
     if (h.nx != static_cast<std::uint32_t>(dims.nx) || h.ny != static_cast<std::uint32_t>(dims.ny) ||
         h.nz != static_cast<std::uint32_t>(dims.nz)) {
-        return refuse(PriorImageError::kDimsMismatch, reason);
+        return PriorImageError::kDimsMismatch;
     }
     if (h.voxel_size_bits != bits_of_double(expected_geometry.voxel_size())) {
-        return refuse(PriorImageError::kVoxelSizeMismatch, reason);
+        return PriorImageError::kVoxelSizeMismatch;
     }
     const Eigen::Vector3d& origin = expected_geometry.origin();
     if (h.origin_bits[0] != bits_of_double(origin.x()) || h.origin_bits[1] != bits_of_double(origin.y()) ||
         h.origin_bits[2] != bits_of_double(origin.z())) {
-        return refuse(PriorImageError::kOriginMismatch, reason);
+        return PriorImageError::kOriginMismatch;
     }
     if (!is_known_prior_method(h.method)) {
-        return refuse(PriorImageError::kUnknownMethod, reason);
+        return PriorImageError::kUnknownMethod;
     }
     if (!prior_params_in_range(h.params())) {
-        return refuse(PriorImageError::kParameterOutOfRange, reason);
+        return PriorImageError::kParameterOutOfRange;
     }
     // voxels <= kMaxVoxels, so 2 * voxels cannot overflow.
     const std::size_t payload_length = kPriorImageBytesPerVoxel * voxels;
     if (h.payload_length != payload_length) {
-        return refuse(PriorImageError::kPayloadLengthMismatch, reason);
+        return PriorImageError::kPayloadLengthMismatch;
     }
     const std::size_t rest = image.size() - kPriorImageHeaderSize;  // header checked: size >= 88
     if (rest < payload_length) {
-        return refuse(PriorImageError::kPayloadTruncated, reason);
+        return PriorImageError::kPayloadTruncated;
     }
     if (rest > payload_length) {
-        return refuse(PriorImageError::kTrailingBytes, reason);
+        return PriorImageError::kTrailingBytes;
     }
     const Span<const std::uint8_t> payload = image.subspan(kPriorImageHeaderSize, payload_length);
     if (crc32(payload) != h.payload_crc) {
-        return refuse(PriorImageError::kPayloadCrcMismatch, reason);
+        return PriorImageError::kPayloadCrcMismatch;
     }
     PriorImageView view;
     view.geometry_ = expected_geometry;
@@ -248,11 +232,8 @@ Result<PriorImageView> load_prior_image(Span<const std::uint8_t> image, const Gr
     view.payload_ = payload;
     for (std::size_t i = 0U; i < voxels; ++i) {
         if (view[i] > 0) {
-            return refuse(PriorImageError::kPriorValueOutOfRange, reason);
+            return PriorImageError::kPriorValueOutOfRange;
         }
-    }
-    if (reason != nullptr) {
-        *reason = PriorImageError::kNone;
     }
     return view;
 }

@@ -373,14 +373,13 @@ IoStatus read_prior_image_file(const char* path, const GridGeometry& expected_ge
         return IoStatus::failure(ErrorCode::kTruncatedInput, "%s: file ended after %zd of %zu bytes", path, got,
                                  size);
     }
-    PriorImageError why = PriorImageError::kNone;
-    const Result<PriorImageView> loaded =
-        load_prior_image(Span<const std::uint8_t>(bytes.data(), bytes.size()), expected_geometry, &why);
+    const Result<PriorImageView, PriorImageError> loaded =
+        load_prior_image(Span<const std::uint8_t>(bytes.data(), bytes.size()), expected_geometry);
     if (reason != nullptr) {
-        *reason = why;
+        *reason = loaded.error();
     }
     if (!loaded.ok()) {
-        return IoStatus::failure(loaded.error(), "%s: %s", path, to_string(why));
+        return IoStatus::failure(to_error_code(loaded.error()), "%s: %s", path, to_string(loaded.error()));
     }
     view = loaded.value();
     return IoStatus{};

@@ -139,9 +139,11 @@ enum class PriorImageError : std::uint8_t {
 };
 
 /// The ErrorCode a refusal maps to (kOk for kNone).
-ErrorCode to_error_code(PriorImageError error) noexcept;
+[[nodiscard]] ErrorCode to_error_code(PriorImageError error) noexcept;
 /// A short, static, human-readable description (never nullptr).
-const char* to_string(PriorImageError error) noexcept;
+[[nodiscard]] const char* to_string(PriorImageError error) noexcept;
+/// True for kNone: what Result<T, PriorImageError> asks of its error type.
+[[nodiscard]] constexpr bool is_no_error(PriorImageError error) noexcept { return error == PriorImageError::kNone; }
 
 /// True when @p method is one of the PriorMethod values this build knows.
 [[nodiscard]] bool is_known_prior_method(std::uint8_t method) noexcept;
@@ -179,10 +181,10 @@ struct PriorImageHeader {
 
 /// Reads and checks the header alone, without a grid to compare with: too
 /// short, magic, version, header size, header CRC, reserved field, in that
-/// order. Tools use it to learn what grid an image is for. On failure the
-/// reason is stored in @p reason when it is not null.
-[[nodiscard]] Result<PriorImageHeader> read_prior_image_header(Span<const std::uint8_t> image,
-                                                               PriorImageError* reason = nullptr) noexcept;
+/// order. Tools use it to learn what grid an image is for. A refusal
+/// carries its PriorImageError (to_error_code gives the ErrorCode).
+[[nodiscard]] Result<PriorImageHeader, PriorImageError> read_prior_image_header(
+    Span<const std::uint8_t> image) noexcept;
 
 class PriorImageView;
 
@@ -192,12 +194,11 @@ class PriorImageView;
 /// checks; nx, ny, nz; voxel size bits; origin bits; method; parameters;
 /// payload length = 2 * voxels; input length = 88 + payload length (shorter:
 /// truncated, longer: trailing bytes); payload CRC; every value <= 0.
-/// Never reads outside @p image. The reason of a refusal is stored in
-/// @p reason when it is not null (kNone on success). Work: two passes over
-/// the payload (CRC, value range).
-[[nodiscard]] Result<PriorImageView> load_prior_image(Span<const std::uint8_t> image,
-                                                      const GridGeometry& expected_geometry,
-                                                      PriorImageError* reason = nullptr) noexcept;
+/// Never reads outside @p image. A refusal carries its PriorImageError
+/// (to_error_code gives the ErrorCode). Work: two passes over the payload
+/// (CRC, value range).
+[[nodiscard]] Result<PriorImageView, PriorImageError> load_prior_image(Span<const std::uint8_t> image,
+                                                                       const GridGeometry& expected_geometry) noexcept;
 
 /// A validated image in caller memory (a file's bytes or a const array in
 /// flash); zero-copy: values are decoded from the little-endian payload on
@@ -243,9 +244,8 @@ public:
     [[nodiscard]] Span<const std::uint8_t> payload() const noexcept { return payload_; }
 
 private:
-    friend Result<PriorImageView> load_prior_image(Span<const std::uint8_t> image,
-                                                   const GridGeometry& expected_geometry,
-                                                   PriorImageError* reason) noexcept;
+    friend Result<PriorImageView, PriorImageError> load_prior_image(Span<const std::uint8_t> image,
+                                                                    const GridGeometry& expected_geometry) noexcept;
     GridGeometry geometry_{};
     PriorImageHeader header_{};
     Span<const std::uint8_t> image_{};
