@@ -74,6 +74,7 @@ constexpr bool is_no_error(const ZoneError& e) noexcept { return e.code == Error
 
 /// The compiled zones: configuration copy, per-zone voxel counts, and the
 /// membership mask view (bit z of mask[i] set when voxel i is in zone z).
+// NOLINTNEXTLINE(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp): __i0 is the index clang gives the implicit copy of the array member, not a name in the source
 class CompiledZones {
 public:
     /// No zones (placeholder).
