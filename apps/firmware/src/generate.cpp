@@ -94,7 +94,8 @@ private:
 
 /// The frames blob (canned_frames.hpp): header, sensor records, scene
 /// names, depth images scene-major, CRC-32.
-std::vector<std::uint8_t> frames_blob(const std::vector<sim::SensorSpec>& sensors, const char* const* scene_names,
+std::vector<std::uint8_t> frames_blob(const std::vector<sim::SensorSpec>& sensors,
+                                      const std::vector<const char*>& scene_names,
                                       const std::vector<sim::SimulatedFrame>& frames) {
     namespace L = cellguard::firmware::frames_layout;
     LeWriter w;
@@ -123,7 +124,7 @@ std::vector<std::uint8_t> frames_blob(const std::vector<sim::SensorSpec>& sensor
     }
     for (std::size_t i = 0; i < frames.size(); ++i) {
         char name[L::kSceneNameBytes] = {};
-        std::strncpy(name, scene_names[i], sizeof(name) - 1U);
+        std::strncpy(name, scene_names.at(i), sizeof(name) - 1U);
         w.raw(name, sizeof(name));
     }
     for (const sim::SimulatedFrame& f : frames) {
@@ -206,7 +207,7 @@ bool write_prior_file(const std::string& dir, const GridGeometry& g, const Acces
 
 /// The three scenes' frames as DIR/frames.bin; false (said on stderr) when that fails.
 bool write_frames_file(const std::string& dir, const std::vector<sim::SensorSpec>& sensors) {
-    const char* scene_names[] = {"empty", "person-in-warning-zone", "person-in-protective-zone"};
+    const std::vector<const char*> scene_names = {"empty", "person-in-warning-zone", "person-in-protective-zone"};
     const sim::Scene scenes[] = {sim::reference_scene(), with_person(-0.6, 0.6), with_person(0.2, 0.4)};
     std::vector<sim::SimulatedFrame> frames;
     for (const sim::Scene& scene : scenes) {

@@ -64,8 +64,8 @@ private:
 };
 
 /// Digests every frame (diagnostics timing masked) and forwards it.
-class DigestingSender final
-    : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class DigestingSender final : public CanSender {
 public:
     DigestingSender(CanSender& inner, std::uint32_t diagnostics_id, Digest& digest) noexcept
         : inner_(&inner), diagnostics_id_(diagnostics_id), digest_(&digest) {}
