@@ -2,7 +2,8 @@
 
 namespace cellguard {
 namespace {
-ContractHandler g_handler = nullptr;  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the one error handler, set at start-up
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): the one error handler, set at start-up
+ContractHandler g_handler = nullptr;
 }  // namespace
 
 ContractHandler set_contract_handler(ContractHandler handler) noexcept {
@@ -11,8 +12,7 @@ ContractHandler set_contract_handler(ContractHandler handler) noexcept {
     return previous;
 }
 
-void contract_violated(const char* file, int line, const char* condition,
-                       const char* message) noexcept {
+void contract_violated(const char* file, int line, const char* condition, const char* message) noexcept {
     if (g_handler != nullptr) {
         g_handler(ContractViolation{file, line, condition, message});
     }

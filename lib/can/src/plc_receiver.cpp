@@ -9,16 +9,14 @@ ReceiverFault fault_of(FrameCheck check) noexcept {
         case FrameCheck::kWrongDataIdNibble: return ReceiverFault::kWrongDataIdNibble;
         case FrameCheck::kWrongCrc: return ReceiverFault::kWrongCrc;
         case FrameCheck::kCounterOutOfRange: return ReceiverFault::kCounterOutOfRange;
-        case FrameCheck::kOk:           // not a fault; never passed here
-        case FrameCheck::kWrongCanId:   // frames are dispatched by CAN ID first
+        case FrameCheck::kOk:          // not a fault; never passed here
+        case FrameCheck::kWrongCanId:  // frames are dispatched by CAN ID first
         case FrameCheck::kMalformedContent: return ReceiverFault::kMalformedContent;
     }
     return ReceiverFault::kMalformedContent;
 }
 
-constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept {
-    return n == UINT32_MAX ? n : n + 1U;
-}
+constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 }  // namespace
 

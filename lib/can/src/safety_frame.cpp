@@ -17,14 +17,10 @@ constexpr CanFrame empty_frame(std::uint32_t id) noexcept {
     return {id, kCanMaxDataLength, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
 }
 
-Span<const std::uint8_t> payload(const CanFrame& frame) noexcept {
-    return {frame.data, kCanMaxDataLength};
-}
+Span<const std::uint8_t> payload(const CanFrame& frame) noexcept { return {frame.data, kCanMaxDataLength}; }
 
 /// Mask of the zone bits below @p zone_count (zone_count <= 16).
-constexpr std::uint32_t zone_mask(std::uint8_t zone_count) noexcept {
-    return (std::uint32_t{1} << zone_count) - 1U;
-}
+constexpr std::uint32_t zone_mask(std::uint8_t zone_count) noexcept { return (std::uint32_t{1} << zone_count) - 1U; }
 
 /// Writes counter, data ID nibble and CRC (the E2E P01 protection) into @p frame.
 void protect(CanFrame& frame, std::uint8_t counter, std::uint16_t data_id, E2eP01DataIdMode mode) noexcept {
@@ -68,7 +64,8 @@ bool safety_message_valid(const SafetyMessage& m) noexcept {
 
 bool diagnostics_message_valid(const DiagnosticsMessage& m) noexcept {
     return m.cycle_time <= kDiagnosticsTimeSaturated && m.max_cycle_time <= kDiagnosticsTimeSaturated &&
-           (static_cast<unsigned>(m.active_faults) & ~static_cast<unsigned>(kAssignedFaultBits)) == 0U && m.prior_crc_page < 4U;
+           (static_cast<unsigned>(m.active_faults) & ~static_cast<unsigned>(kAssignedFaultBits)) == 0U &&
+           m.prior_crc_page < 4U;
 }
 
 /// The multiplexed signal that carries prior CRC page @p page.
@@ -92,7 +89,8 @@ Status check_channel_config(const SafetyChannelConfig& config) noexcept {
         config.diagnostics_can_id == config.safety_can_id || config.diagnostics_can_id == inverted_can_id(config)) {
         return ErrorCode::kInvalidArgument;
     }
-    if (!e2e_p01_data_id_valid(config.safety_data_id, mode) || !e2e_p01_data_id_valid(config.diagnostics_data_id, mode) ||
+    if (!e2e_p01_data_id_valid(config.safety_data_id, mode) ||
+        !e2e_p01_data_id_valid(config.diagnostics_data_id, mode) ||
         !e2e_p01_data_ids_distinguishable(config.safety_data_id, config.diagnostics_data_id, mode)) {
         return ErrorCode::kInvalidArgument;
     }
@@ -206,8 +204,8 @@ Result<SafetyFrameContent> decode_safety_frame(const CanFrame& frame, const Safe
 FrameCheck check_diagnostics_frame(const CanFrame& frame, const SafetyChannelConfig& config,
                                    DiagnosticsFrameContent& out) noexcept {
     CG_ENFORCE(check_channel_config(config).ok(), "check_diagnostics_frame needs a valid channel config");
-    const FrameCheck e2e =
-        check_protection(frame, config.diagnostics_can_id, config.diagnostics_data_id, config.data_id_mode);
+    const FrameCheck e2e = check_protection(frame, config.diagnostics_can_id, config.diagnostics_data_id,
+                                            config.data_id_mode);
     if (e2e != FrameCheck::kOk) {
         return e2e;
     }
@@ -217,8 +215,8 @@ FrameCheck check_diagnostics_frame(const CanFrame& frame, const SafetyChannelCon
     content.message.cycle_time = static_cast<std::uint16_t>(get_signal(frame, diagnostics_layout::kCycleTime));
     content.message.max_cycle_time = static_cast<std::uint16_t>(get_signal(frame, diagnostics_layout::kMaxCycleTime));
     content.message.prior_crc_page = static_cast<std::uint8_t>(get_signal(frame, diagnostics_layout::kPriorCrcPage));
-    content.message.prior_crc_part =
-        static_cast<std::uint8_t>(get_signal(frame, prior_crc_signal(content.message.prior_crc_page)));
+    content.message.prior_crc_part = static_cast<std::uint8_t>(
+        get_signal(frame, prior_crc_signal(content.message.prior_crc_page)));
     if (!diagnostics_message_valid(content.message)) {
         return FrameCheck::kMalformedContent;
     }

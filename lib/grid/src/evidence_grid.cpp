@@ -8,8 +8,7 @@ Result<EvidenceGrid> EvidenceGrid::make(const GridGeometry& geometry, Span<std::
     if (n == 0U) {
         return ErrorCode::kInvalidArgument;
     }
-    if (log_odds.size() < n || observed.size() < n || log_odds.data() == nullptr ||
-        observed.data() == nullptr) {
+    if (log_odds.size() < n || observed.size() < n || log_odds.data() == nullptr || observed.data() == nullptr) {
         return ErrorCode::kStorageTooSmall;
     }
     EvidenceGrid grid;
@@ -36,8 +35,7 @@ std::size_t EvidenceGrid::observed_count() const noexcept {
     return count;
 }
 
-Status accumulate_background(EvidenceGrid& background, const EvidenceGrid& frame,
-                             BackgroundClamp clamp) noexcept {
+Status accumulate_background(EvidenceGrid& background, const EvidenceGrid& frame, BackgroundClamp clamp) noexcept {
     if (!(background.geometry() == frame.geometry())) {
         return ErrorCode::kGeometryMismatch;
     }

@@ -109,8 +109,8 @@ void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const Sensor
         return;
     }
     bool in_grid = false;
-    s.voxel_updates +=
-        trace_ray_opinions(opinions, g, r.pose.translation(), reading_in_cell(r.pose, p), model, rasterization, &in_grid);
+    s.voxel_updates += trace_ray_opinions(opinions, g, r.pose.translation(), reading_in_cell(r.pose, p), model,
+                                          rasterization, &in_grid);
     ++s.rays_fused;
     s.readings_in_grid += in_grid ? 1U : 0U;
 }

@@ -4,8 +4,7 @@
 
 namespace cellguard {
 
-Result<GridGeometry> GridGeometry::make(const Eigen::Vector3d& origin, double voxel_size,
-                                        GridDims dims) noexcept {
+Result<GridGeometry> GridGeometry::make(const Eigen::Vector3d& origin, double voxel_size, GridDims dims) noexcept {
     if (!origin.allFinite() || !std::isfinite(voxel_size)) {
         return ErrorCode::kNonFiniteValue;
     }
@@ -51,8 +50,7 @@ Result<VoxelCoord> GridGeometry::world_to_voxel(const Eigen::Vector3d& p) const 
         return ErrorCode::kNonFiniteValue;
     }
     const Eigen::Vector3d scaled = (p - origin_) / voxel_size_;
-    if ((scaled.array() < 0.0).any() || scaled.x() >= dims_.nx || scaled.y() >= dims_.ny ||
-        scaled.z() >= dims_.nz) {
+    if ((scaled.array() < 0.0).any() || scaled.x() >= dims_.nx || scaled.y() >= dims_.ny || scaled.z() >= dims_.nz) {
         return ErrorCode::kOutOfGrid;
     }
     return world_to_voxel_unchecked(p);

@@ -57,7 +57,7 @@ Result<std::size_t> count_ray_steps(const GridGeometry& grid, const SensorReadin
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
         for (std::int32_t u = 0; u < sensor.intrinsics.width; ++u) {
             total += traverse(rasterization, grid, origin, pixel_ray(sensor, u, v).far_point,
-                                   [](const TraversedVoxel& /*voxel*/) {});
+                              [](const TraversedVoxel& /*voxel*/) {});
         }
     }
     return total;
@@ -126,7 +126,9 @@ inline const std::uint32_t* voxels(const WideEntries& e) noexcept { return e.vox
 inline std::int32_t key_limit(const CompactEntries& /*kind*/, float x, float steps_per_metre) noexcept {
     constexpr std::int32_t kMaxSteps = 65535;
     const float steps = x * steps_per_metre;
-    return !(steps >= 0.0F) ? -1 : steps >= static_cast<float>(kMaxSteps) ? kMaxSteps : static_cast<std::int32_t>(steps);
+    return !(steps >= 0.0F)                         ? -1
+           : steps >= static_cast<float>(kMaxSteps) ? kMaxSteps
+                                                    : static_cast<std::int32_t>(steps);
 }
 inline float key_limit(const WideEntries& /*kind*/, float x, float /*steps_per_metre*/) noexcept { return x; }
 
@@ -171,8 +173,9 @@ std::size_t add_pixel_entries(const GridGeometry& grid, const RayTableStorage& s
             if (format.compact) {
                 const double steps = std::round(t.t_exit / static_cast<double>(format.exit_step));
                 storage.compact_voxels[n] = static_cast<std::uint16_t>(t.index);
-                storage.compact_exit_steps[n] =
-                    static_cast<std::uint16_t>(steps < 0.0 ? 0.0 : steps > 65535.0 ? 65535.0 : steps);
+                storage.compact_exit_steps[n] = static_cast<std::uint16_t>(steps < 0.0       ? 0.0
+                                                                           : steps > 65535.0 ? 65535.0
+                                                                                             : steps);
             } else {
                 storage.wide_voxels[n] = static_cast<std::uint32_t>(t.index);
                 storage.wide_exits[n] = static_cast<float>(t.t_exit);
@@ -225,8 +228,8 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     if (!ok.ok()) {
         return ok.error();
     }
-    const std::size_t pixels =
-        static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
+    const std::size_t pixels = static_cast<std::size_t>(sensor.intrinsics.width) *
+                               static_cast<std::size_t>(sensor.intrinsics.height);
     if (!storage_fits(grid, pixels, storage)) {
         return ErrorCode::kStorageTooSmall;
     }
@@ -313,7 +316,14 @@ RayTable::CheckHeader RayTable::check_header() const noexcept {
                       static_cast<std::uint32_t>(geometry_.dims().nx),
                       static_cast<std::uint32_t>(geometry_.dims().ny),
                       static_cast<std::uint32_t>(geometry_.dims().nz),
-                      size[0], size[1], ox[0], ox[1], oy[0], oy[1], oz[0], oz[1]};
+                      size[0],
+                      size[1],
+                      ox[0],
+                      ox[1],
+                      oy[0],
+                      oy[1],
+                      oz[0],
+                      oz[1]};
     // The reading placement (ray_table.hpp): what fuse() reads near a face.
     std::size_t n = 19U;
     const auto put = [&words, &n](double value) noexcept {
@@ -322,7 +332,8 @@ RayTable::CheckHeader RayTable::check_header() const noexcept {
         words[n++] = b[1];
     };
     const ReadingPlacement& p = placement_;
-    for (const double value : {p.intrinsics.fx, p.intrinsics.fy, p.intrinsics.cx, p.intrinsics.cy, p.inv_fx, p.inv_fy}) {
+    for (const double value :
+         {p.intrinsics.fx, p.intrinsics.fy, p.intrinsics.cx, p.intrinsics.cy, p.inv_fx, p.inv_fy}) {
         put(value);
     }
     words[n++] = static_cast<std::uint32_t>(p.intrinsics.width);
@@ -363,9 +374,7 @@ std::size_t RayTable::checked_bytes() const noexcept {
     return total;
 }
 
-bool RayTable::limits_intact() const noexcept {
-    return pixels_ == 0U || check_header() == header_words_;
-}
+bool RayTable::limits_intact() const noexcept { return pixels_ == 0U || check_header() == header_words_; }
 
 std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {
     CG_ENFORCE(entry < step_count_, "ray table entry out of range");
@@ -375,8 +384,7 @@ std::uint32_t RayTable::entry_voxel(std::size_t entry) const noexcept {
 float RayTable::entry_exit(std::size_t pixel, std::size_t entry) const noexcept {
     CG_ENFORCE(pixel < pixels_ && entry >= storage_.pixel_begin[pixel] && entry < storage_.pixel_begin[pixel + 1U],
                "ray table entry is not the pixel's");
-    return compact_ ? static_cast<float>(storage_.compact_exit_steps[entry]) * exit_step_
-                    : storage_.wide_exits[entry];
+    return compact_ ? static_cast<float>(storage_.compact_exit_steps[entry]) * exit_step_ : storage_.wide_exits[entry];
 }
 
 namespace {
@@ -411,8 +419,8 @@ void add_to_hits(const Voxel* voxels, std::uint32_t run_begin, std::uint32_t run
 /// @p walked_part, else [walked[i], begin[i + 1]). Segments that continue
 /// one another are added as one run.
 template <typename Voxel>
-void count_segments(const Voxel* voxels, const std::uint32_t* begin, const std::uint32_t* walked,
-                    std::size_t pixels, bool walked_part, std::uint32_t delta, Span<std::uint32_t> hits) noexcept {
+void count_segments(const Voxel* voxels, const std::uint32_t* begin, const std::uint32_t* walked, std::size_t pixels,
+                    bool walked_part, std::uint32_t delta, Span<std::uint32_t> hits) noexcept {
     std::uint32_t run_begin = 0U;
     std::uint32_t run_end = 0U;
     for (std::size_t i = 0U; i < pixels; ++i) {
@@ -482,8 +490,7 @@ constexpr std::uint32_t kKeyWindow = 32U;
 /// goes on, the next window: no chain of dependent loads. Windows must lie
 /// inside the key array; a pixel whose window would not takes the binary
 /// search. Same result: keys do not decrease along a pixel.
-void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
-                    Span<SearchSlot<std::int32_t>> slots) noexcept {
+void find_free_ends(const std::uint16_t* keys, std::size_t key_count, Span<SearchSlot<std::int32_t>> slots) noexcept {
     const __m128i bias = _mm_set1_epi16(static_cast<std::int16_t>(-32768));
     for (SearchSlot<std::int32_t>& slot : slots) {
         if (slot.free_limit < 0) {
@@ -494,7 +501,8 @@ void find_free_ends(const std::uint16_t* keys, std::size_t key_count,
         while (key_count - slot.base >= kKeyWindow) {
             const std::uint16_t* window = keys + slot.base;
             const auto above = [&](std::size_t q) noexcept {
-                const __m128i k = _mm_loadu_si128(reinterpret_cast<const __m128i*>(window + 8U * q));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): unaligned SIMD load of the keys
+                // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): unaligned SIMD load of the keys
+                const __m128i k = _mm_loadu_si128(reinterpret_cast<const __m128i*>(window + 8U * q));
                 return _mm_cmpgt_epi16(_mm_xor_si128(k, bias), limit);
             };
             const auto low = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(above(0U), above(1U))));
@@ -567,8 +575,8 @@ std::uint32_t entry_of_voxel(const Entries& entries, std::uint32_t first, std::u
 /// reading_in_cell, fusion.hpp), @p end when that point lies outside the
 /// grid, or @p k, the table's own entry, when the two are not neighbours.
 template <typename Entries>
-std::uint32_t settle_reading(const Entries& entries, const FuseView& t, std::size_t pixel, float d,
-                             std::uint32_t first, std::uint32_t end, std::uint32_t k) noexcept {
+std::uint32_t settle_reading(const Entries& entries, const FuseView& t, std::size_t pixel, float d, std::uint32_t first,
+                             std::uint32_t end, std::uint32_t k) noexcept {
     const ReadingPlacement& p = *t.placement;
     const auto width = static_cast<std::size_t>(p.intrinsics.width);
     const auto u = static_cast<std::int32_t>(pixel % width);
@@ -644,9 +652,12 @@ std::size_t classify_batch(const Entries& entries, const FuseView& t, Span<const
             s.voxel_updates += static_cast<std::uint64_t>(end - first);
             continue;
         }
-        batch[searched] = SearchSlot<Limit>{static_cast<std::uint32_t>(i), first, end - first,
+        batch[searched] = SearchSlot<Limit>{static_cast<std::uint32_t>(i),
+                                            first,
+                                            end - first,
                                             key_limit(entries, free_until, t.steps_per_metre),
-                                            key_limit(entries, range, t.steps_per_metre), range};
+                                            key_limit(entries, range, t.steps_per_metre),
+                                            range};
         ++searched;
     }
     return searched;
@@ -771,16 +782,27 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
     CG_ENFORCE((compact_ ? std::min(storage_.compact_voxels.size(), storage_.compact_exit_steps.size())
                          : std::min(storage_.wide_voxels.size(), storage_.wide_exits.size())) >= step_count_ &&
                    pixels_ <= storage_.pixel_walked.size() && voxel_count <= storage_.full_hits.size() &&
-                   crossed_count_ <= storage_.crossed_voxels.size() &&
-                   voxel_count <= storage_.hit_count.size() && voxel_count <= storage_.sensor_opinion.size(),
+                   crossed_count_ <= storage_.crossed_voxels.size() && voxel_count <= storage_.hit_count.size() &&
+                   voxel_count <= storage_.sensor_opinion.size(),
                "ray table storage changed size");
-    const FuseView view{storage_.pixel_begin.data(), storage_.pixel_enter.data(), storage_.pixel_exit.data(),
-                        storage_.pixel_norm.data(),  storage_.full_hits.data(),   storage_.crossed_voxels.data(),
-                        crossed_count_,              storage_.pixel_walked.data(),
-                        storage_.hit_count.data(),   storage_.sensor_opinion.data(), pixels_,
-                        step_count_,                 voxel_count,                 min_range_,
-                        max_range_,                  exit_step_,
-                        steps_per_metre_,            &placement_};
+    const FuseView view{storage_.pixel_begin.data(),
+                        storage_.pixel_enter.data(),
+                        storage_.pixel_exit.data(),
+                        storage_.pixel_norm.data(),
+                        storage_.full_hits.data(),
+                        storage_.crossed_voxels.data(),
+                        crossed_count_,
+                        storage_.pixel_walked.data(),
+                        storage_.hit_count.data(),
+                        storage_.sensor_opinion.data(),
+                        pixels_,
+                        step_count_,
+                        voxel_count,
+                        min_range_,
+                        max_range_,
+                        exit_step_,
+                        steps_per_metre_,
+                        &placement_};
     return compact_ ? fuse_entries(CompactEntries{storage_.compact_voxels.data(), storage_.compact_exit_steps.data()},
                                    view, grid, depth, model)
                     : fuse_entries(WideEntries{storage_.wide_voxels.data(), storage_.wide_exits.data()}, view, grid,

@@ -13,9 +13,9 @@ using Int3 = std::array<std::int32_t, 3>;
 
 /// A segment in voxel units (u = (p - origin) / voxel_size, as GridGeometry).
 struct VoxelSegment {
-    Vec3 u0{};           ///< start
-    Vec3 u1{};           ///< end
-    Vec3 du{};           ///< u1 - u0
+    Vec3 u0{};            ///< start
+    Vec3 u1{};            ///< end
+    Vec3 du{};            ///< u1 - u0
     double length = 0.0;  ///< |end - start| in metres
 };
 
@@ -103,7 +103,9 @@ BoxClip clip_to_box(const VoxelSegment& s, const Int3& n) noexcept {
 /// floor(u) for u known to lie in [0, 4096].
 std::int32_t floor_index(double u) noexcept { return static_cast<std::int32_t>(std::floor(u)); }
 
-std::int32_t clamp_index(std::int32_t i, std::int32_t n) noexcept { return std::min<std::int32_t>(std::max<std::int32_t>(i, 0), n - 1); }
+std::int32_t clamp_index(std::int32_t i, std::int32_t n) noexcept {
+    return std::min<std::int32_t>(std::max<std::int32_t>(i, 0), n - 1);
+}
 
 /// Voxel along one axis that holds the segment just after (entering) or just
 /// before (leaving) the point u on the box surface, moving up or down.

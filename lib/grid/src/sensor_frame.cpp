@@ -15,8 +15,7 @@ Status validate_sensor_reading(const SensorReading& reading) noexcept {
     if (orthonormal_error > 1e-6 || r.determinant() <= 0.0) {
         return ErrorCode::kInvalidArgument;
     }
-    if (!(reading.min_range >= 0.0F && reading.min_range < reading.max_range &&
-          reading.max_range <= kMaxSensorRange)) {
+    if (!(reading.min_range >= 0.0F && reading.min_range < reading.max_range && reading.max_range <= kMaxSensorRange)) {
         return ErrorCode::kInvalidArgument;
     }
     if (reading.kind == SensorDataKind::kPointSet) {

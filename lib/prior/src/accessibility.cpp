@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstddef>
 
-#include "cellguard/prior/bucket_queue.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/bucket_queue.hpp"
 #include "cellguard/prior/morphology.hpp"
 
 namespace cellguard {
@@ -58,9 +58,7 @@ struct Layout {
         }
         return Zone::kInside;
     }
-    [[nodiscard]] bool configurations_exist() const noexcept {
-        return c0[0] < c1[0] && c0[1] < c1[1] && c0[2] < c1[2];
-    }
+    [[nodiscard]] bool configurations_exist() const noexcept { return c0[0] < c1[0] && c0[1] < c1[1] && c0[2] < c1[2]; }
     // True when coordinate c on this axis lies on an open face or beyond the
     // grid (array coords); a configuration is a source when this holds on
     // any axis.
@@ -178,15 +176,12 @@ std::int32_t first_log_odds_at_or_above(double t) noexcept {
 std::int16_t fore_log_odds_from_cost(double g) noexcept {
     const double nats = -g - std::log(2.0 - std::exp(-g));
     const double units = std::nearbyint(nats * static_cast<double>(kLogOddsScale));
-    return units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin
-                                                     : clamp_log_odds(static_cast<std::int32_t>(units));
+    return units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin : clamp_log_odds(static_cast<std::int32_t>(units));
 }
 
 // -ln(1 - P(occ)) = ln(1 + e^x) for log-odds x in nats, without rounding
 // P(occ) to 1.
-double softplus(double x) noexcept {
-    return x > 0.0 ? x + std::log1p(std::exp(-x)) : std::log1p(std::exp(x));
-}
+double softplus(double x) noexcept { return x > 0.0 ? x + std::log1p(std::exp(-x)) : std::log1p(std::exp(x)); }
 
 // ---------------------------------------------------------------- baselines
 
@@ -207,7 +202,7 @@ void thresholded_baseline(const EvidenceGrid& g, std::int32_t empty_below, Span<
 void probabilistic_baseline(const EvidenceGrid& g, Span<std::int16_t> prior, Span<float> p_acc) noexcept {
     const Span<std::int16_t> lo = g.log_odds();  // read only
     const Span<std::uint8_t> ob = g.observed();  // read only
-    std::int32_t memo_l = 0;  // log-odds 0 (P(occ) = 0.5): P(acc) = 0.5, prior ln(1/3)
+    std::int32_t memo_l = 0;                     // log-odds 0 (P(occ) = 0.5): P(acc) = 0.5, prior ln(1/3)
     std::int16_t memo_prior = fore_log_odds_from_accessibility(0.5);
     float memo_p = 0.5F;
     for (std::size_t i = 0U; i < g.voxel_count(); ++i) {
@@ -220,9 +215,11 @@ void probabilistic_baseline(const EvidenceGrid& g, Span<std::int16_t> prior, Spa
             } else {
                 // P(acc) = 1 - P(occ) = 1 / (1 + e^x); ln(P / (2 - P)) = -ln(1 + 2 e^x).
                 const double x = static_cast<double>(l) / static_cast<double>(kLogOddsScale);
-                const double units = std::nearbyint(-std::log1p(2.0 * std::exp(x)) * static_cast<double>(kLogOddsScale));
-                memo_prior = units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin
-                                                                       : clamp_log_odds(static_cast<std::int32_t>(units));
+                const double units = std::nearbyint(-std::log1p(2.0 * std::exp(x)) *
+                                                    static_cast<double>(kLogOddsScale));
+                memo_prior = units <= static_cast<double>(kLogOddsMin)
+                                 ? kLogOddsMin
+                                 : clamp_log_odds(static_cast<std::int32_t>(units));
                 memo_p = static_cast<float>(1.0 / (1.0 + std::exp(x)));
             }
         }
@@ -578,8 +575,8 @@ void reset_labels(const Layout& l, Span<std::uint32_t> dist) noexcept {
     if (l.configurations_exist()) {
         for (std::int32_t z = l.c0[2]; z < l.c1[2]; ++z) {
             for (std::int32_t y = l.c0[1]; y < l.c1[1]; ++y) {
-                const Span<std::uint32_t> row =
-                    dist.subspan(l.index(l.c0[0], y, z), static_cast<std::size_t>(l.c1[0] - l.c0[0]));
+                const Span<std::uint32_t> row = dist.subspan(l.index(l.c0[0], y, z),
+                                                             static_cast<std::size_t>(l.c1[0] - l.c0[0]));
                 std::fill(row.begin(), row.end(), kUnreached);
             }
         }
@@ -665,10 +662,8 @@ void settle_by_bucket_queue(const Layout& l, const PathLabels& p, Span<const std
 // reachable at >= 128 nats if there is a source.
 void least_cost_paths(const Layout& l, const ProbabilisticBuffers& b) noexcept {
     reset_labels(l, b.dist);
-    const PathLabels p{b.dist.data(),
-                       b.ger.data(),
-                       {b.cap[0].data(), b.cap[1].data(), b.cap[2].data()},
-                       {1U, l.sy, l.sz}};
+    const PathLabels p{
+        b.dist.data(), b.ger.data(), {b.cap[0].data(), b.cap[1].data(), b.cap[2].data()}, {1U, l.sy, l.sz}};
     const bool any_source = settle_zero_cost(l, p, b.next.subspan(0U, l.count));  // phase 2 links there after
     settle_by_bucket_queue(l, p, Span<const std::uint32_t>(b.dist.data(), b.dist.size()), b.next, b.prev);
     for_each_configuration(l, [&](std::size_t i) {
@@ -698,7 +693,8 @@ void write_probabilistic_prior(const Layout& l, Span<const std::uint32_t> cost, 
                         memo_prior = kNeverForeground;
                         memo_p = 0.0F;
                     } else {
-                        const double nats = static_cast<double>(gv) / static_cast<double>(kAccessibilityCostUnitsPerNat);
+                        const double nats = static_cast<double>(gv) /
+                                            static_cast<double>(kAccessibilityCostUnitsPerNat);
                         memo_prior = fore_log_odds_from_cost(nats);
                         memo_p = static_cast<float>(std::exp(-nats));
                     }
@@ -714,8 +710,8 @@ void write_probabilistic_prior(const Layout& l, Span<const std::uint32_t> cost, 
 
 // The probabilistic method (section III): cell costs, move costs, G_ER,
 // least-cost paths to G_AR, the minimum over R_c, and the prior.
-void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_below,
-                   const AccessibilityScratch& scratch, Span<std::int16_t> prior, Span<float> p_acc) noexcept {
+void probabilistic(const EvidenceGrid& g, const Layout& l, std::int32_t free_below, const AccessibilityScratch& scratch,
+                   Span<std::int16_t> prior, Span<float> p_acc) noexcept {
     const ProbabilisticBuffers b = probabilistic_buffers(l, scratch);
     cell_costs(g, l, free_below, b.dist);
     move_costs(l, Span<const std::uint32_t>(b.dist.data(), b.dist.size()), b.cap);
@@ -779,15 +775,13 @@ Status compute_accessibility_prior(const EvidenceGrid& background, const Accessi
                         p_acc);
             break;
         case PriorMethod::kProbabilistic:
-            probabilistic(background, make_layout(dims, params), first_log_odds_at_or_above(params.t_e), scratch,
-                          prior, p_acc);
+            probabilistic(background, make_layout(dims, params), first_log_odds_at_or_above(params.t_e), scratch, prior,
+                          p_acc);
             break;
         case PriorMethod::kThresholdedBaseline:
             thresholded_baseline(background, first_log_odds_at_or_above(params.t_b), prior, p_acc);
             break;
-        case PriorMethod::kProbabilisticBaseline:
-            probabilistic_baseline(background, prior, p_acc);
-            break;
+        case PriorMethod::kProbabilisticBaseline: probabilistic_baseline(background, prior, p_acc); break;
     }
     return Status{};
 }
@@ -809,8 +803,8 @@ double accessibility_cost_error_bound(double t_e) noexcept {
 
 std::uint32_t min_background_frames(const AccessibilityParams& params, const SensorModelTable& model,
                                     BackgroundClamp clamp) noexcept {
-    const bool probabilistic =
-        params.method == PriorMethod::kProbabilistic || params.method == PriorMethod::kProbabilisticBaseline;
+    const bool probabilistic = params.method == PriorMethod::kProbabilistic ||
+                               params.method == PriorMethod::kProbabilisticBaseline;
     const std::int32_t empty_below = first_log_odds_at_or_above(probabilistic ? params.t_e : params.t_b);
     const std::int32_t per_frame = model.constant_free_evidence();  // < 0 (SensorModelTable::make)
     if (clamp.min >= empty_below || per_frame >= 0) {

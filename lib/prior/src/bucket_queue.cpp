@@ -4,9 +4,7 @@ namespace cellguard {
 
 namespace {
 // Index of the lowest set bit of a non-zero word.
-std::uint32_t lowest_bit(std::uint64_t word) noexcept {
-    return static_cast<std::uint32_t>(__builtin_ctzll(word));
-}
+std::uint32_t lowest_bit(std::uint64_t word) noexcept { return static_cast<std::uint32_t>(__builtin_ctzll(word)); }
 }  // namespace
 
 Result<MonotoneBucketQueue> MonotoneBucketQueue::make(Span<const std::uint32_t> keys, Span<std::uint32_t> next,

@@ -44,7 +44,6 @@ void store_le(Span<std::uint8_t> out, std::size_t offset, std::uint64_t value, s
 
 bool unit_interval(double t) noexcept { return t >= 0.0 && t <= 1.0; }  // false for NaN
 
-
 }  // namespace
 
 ErrorCode to_error_code(PriorImageError error) noexcept {
@@ -107,8 +106,7 @@ bool is_known_prior_method(std::uint8_t method) noexcept {
 
 bool prior_params_in_range(const AccessibilityParams& params) noexcept {
     return is_known_prior_method(static_cast<std::uint8_t>(params.method)) && unit_interval(params.t_b) &&
-           unit_interval(params.t_e) && params.radius_voxels >= 0 &&
-           params.radius_voxels <= kMaxAccessibilityRadius &&
+           unit_interval(params.t_e) && params.radius_voxels >= 0 && params.radius_voxels <= kMaxAccessibilityRadius &&
            (params.open_faces & static_cast<std::uint8_t>(~kAllFaces)) == 0U;
 }
 

@@ -10,7 +10,8 @@ namespace {
 
 /// 1 when @p d is a reading: positive and finite (NaN compares false).
 std::uint32_t is_reading(float d) noexcept {
-    return static_cast<std::uint32_t>(d > 0.0F) & static_cast<std::uint32_t>(d < std::numeric_limits<float>::infinity());
+    return static_cast<std::uint32_t>(d > 0.0F) &
+           static_cast<std::uint32_t>(d < std::numeric_limits<float>::infinity());
 }
 
 }  // namespace
@@ -58,7 +59,8 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
         const float d = live[i];
         // The last 0 to 3 pixels: the same comparisons, one at a time.
         const std::uint32_t referenced = is_reading(r);
-        const std::uint32_t within = is_reading(d) & static_cast<std::uint32_t>(std::fabs(d - r) <= reference.tolerance_m);
+        const std::uint32_t within = is_reading(d) &
+                                     static_cast<std::uint32_t>(std::fabs(d - r) <= reference.tolerance_m);
         m.referenced += referenced;
         m.matching += referenced & within;
     }
@@ -69,8 +71,8 @@ bool background_seen(const BackgroundMatch& match, float min_fraction) noexcept 
     if (match.referenced == 0U || !(min_fraction > 0.0F) || !(min_fraction <= 1.0F)) {
         return false;
     }
-    const auto needed = static_cast<std::uint64_t>(std::ceil(static_cast<double>(min_fraction) *
-                                                             static_cast<double>(match.referenced)));
+    const auto needed = static_cast<std::uint64_t>(
+        std::ceil(static_cast<double>(min_fraction) * static_cast<double>(match.referenced)));
     return static_cast<std::uint64_t>(match.matching) >= needed;
 }
 

@@ -10,11 +10,10 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
     std::uint64_t depth_images = 0U;
     for (const SensorReading& s : sensors) {
         depth_images += s.kind == SensorDataKind::kDepthImage ? 1U : 0U;
-        const std::uint64_t n =
-            s.kind == SensorDataKind::kDepthImage
-                ? static_cast<std::uint64_t>(s.intrinsics.width > 0 ? s.intrinsics.width : 0) *
-                      static_cast<std::uint64_t>(s.intrinsics.height > 0 ? s.intrinsics.height : 0)
-                : static_cast<std::uint64_t>(s.points.size());
+        const std::uint64_t n = s.kind == SensorDataKind::kDepthImage
+                                    ? static_cast<std::uint64_t>(s.intrinsics.width > 0 ? s.intrinsics.width : 0) *
+                                          static_cast<std::uint64_t>(s.intrinsics.height > 0 ? s.intrinsics.height : 0)
+                                    : static_cast<std::uint64_t>(s.points.size());
         b.rays += n;
     }
     b.voxel_steps = b.rays * static_cast<std::uint64_t>(max_voxels_per_segment(grid));

@@ -3,8 +3,9 @@
 namespace cellguard {
 
 SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
-                                   Span<std::int16_t> fusion_scratch, Span<const std::int16_t> prior, const CompiledZones& zones,
-                                   const SensorModelTable& model, MonotonicClock& clock, CycleOutput* output) noexcept
+                                   Span<std::int16_t> fusion_scratch, Span<const std::int16_t> prior,
+                                   const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
+                                   CycleOutput* output) noexcept
     : config_(config),
       grid_(&frame_grid),
       scratch_(fusion_scratch),

@@ -7,14 +7,16 @@ namespace {
 
 // Milliseconds counted by SysTick_Handler (64 bits: no wrap in practice;
 // read twice around the counter to detect a tick in between).
-volatile std::uint64_t g_milliseconds = 0U;  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): shared with the tick interrupt
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): shared with the tick interrupt
+volatile std::uint64_t g_milliseconds = 0U;
 
 constexpr std::uintptr_t kSystCsr = 0xE000E010U;  // control and status
 constexpr std::uintptr_t kSystRvr = 0xE000E014U;  // reload value
 constexpr std::uintptr_t kSystCvr = 0xE000E018U;  // current value
 
 volatile std::uint32_t& reg(std::uintptr_t address) noexcept {
-    return *reinterpret_cast<volatile std::uint32_t*>(address);  // NOLINT(performance-no-int-to-ptr,cppcoreguidelines-pro-type-reinterpret-cast): a memory-mapped register
+    // NOLINTNEXTLINE(performance-no-int-to-ptr,cppcoreguidelines-pro-type-reinterpret-cast): a memory-mapped register
+    return *reinterpret_cast<volatile std::uint32_t*>(address);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@ namespace {
 
 constexpr std::uint32_t kSysWrite0 = 0x04U;
 constexpr std::uint32_t kSysExit = 0x18U;
-constexpr std::uint32_t kApplicationExit = 0x20026U;   // ADP_Stopped_ApplicationExit
+constexpr std::uint32_t kApplicationExit = 0x20026U;      // ADP_Stopped_ApplicationExit
 constexpr std::uint32_t kRunTimeErrorUnknown = 0x20023U;  // ADP_Stopped_RunTimeErrorUnknown
 
 std::uint32_t semihosting_call(std::uint32_t operation, const void* argument) noexcept {
@@ -27,7 +27,8 @@ void semihosting_write(const char* text) noexcept { static_cast<void>(semihostin
 void semihosting_exit(bool success) noexcept {
     // On 32-bit ARM the parameter is the reason itself, not a block.
     const std::uintptr_t reason = success ? kApplicationExit : kRunTimeErrorUnknown;
-    static_cast<void>(semihosting_call(kSysExit, reinterpret_cast<const void*>(reason)));  // NOLINT(performance-no-int-to-ptr): SYS_EXIT takes the reason in r1 on AArch32
+    // NOLINTNEXTLINE(performance-no-int-to-ptr): SYS_EXIT takes the reason in r1 on AArch32
+    static_cast<void>(semihosting_call(kSysExit, reinterpret_cast<const void*>(reason)));
     for (;;) {
         __asm__ volatile("wfi");  // NOLINT(hicpp-no-assembler): wait for interrupt, nothing else to do
     }

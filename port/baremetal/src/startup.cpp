@@ -5,8 +5,8 @@
 // cellguard_firmware_main(), its return value the semihosting exit status.
 #include <cstdint>
 
-#include "cellguard/port/semihosting.hpp"
 #include "cellguard/port/clock.hpp"
+#include "cellguard/port/semihosting.hpp"
 
 extern "C" {
 // NOLINTBEGIN(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,readability-identifier-naming,cppcoreguidelines-avoid-non-const-global-variables): symbols defined by the linker script
@@ -56,19 +56,24 @@ extern "C" void Default_Handler() noexcept {
 
 extern "C" void Reset_Handler() noexcept {
     // CP10 and CP11 full access: the FPU, before any floating-point instruction.
-    volatile std::uint32_t& cpacr = *reinterpret_cast<volatile std::uint32_t*>(0xE000ED88U);  // NOLINT(performance-no-int-to-ptr,cppcoreguidelines-pro-type-reinterpret-cast): a memory-mapped register
+    // NOLINTNEXTLINE(performance-no-int-to-ptr,cppcoreguidelines-pro-type-reinterpret-cast): a memory-mapped register
+    volatile std::uint32_t& cpacr = *reinterpret_cast<volatile std::uint32_t*>(0xE000ED88U);
     cpacr = cpacr | (0xFU << 20U);
-    __asm__ volatile("dsb\n\tisb" ::: "memory");  // NOLINT(hicpp-no-assembler): barriers so the FPU is on before the next instruction
+    // NOLINTNEXTLINE(hicpp-no-assembler): barriers so the FPU is on before the next instruction
+    __asm__ volatile("dsb\n\tisb" ::: "memory");
     const std::uint32_t* src = &__data_load;
     // cppcheck-suppress comparePointers ; the linker's region bounds: one region, not two objects
-    for (std::uint32_t* dst = &__data_start; dst < &__data_end; ++dst, ++src) {  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    for (std::uint32_t* dst = &__data_start; dst < &__data_end; ++dst, ++src) {
         *dst = *src;
     }
     // cppcheck-suppress comparePointers ; the linker's region bounds: one region, not two objects
-    for (std::uint32_t* dst = &__bss_start; dst < &__bss_end; ++dst) {  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    for (std::uint32_t* dst = &__bss_start; dst < &__bss_end; ++dst) {
         *dst = 0U;
     }
-    for (void (*const* f)() = __init_array_start; f < __init_array_end; ++f) {  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined table
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined table
+    for (void (*const* f)() = __init_array_start; f < __init_array_end; ++f) {
         (*f)();
     }
     cellguard::baremetal::semihosting_exit(cellguard_firmware_main() == 0);

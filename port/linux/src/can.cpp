@@ -22,23 +22,23 @@ constexpr std::uint16_t clear_bits(std::uint16_t value, std::uint16_t bits) noex
     return static_cast<std::uint16_t>(static_cast<unsigned>(value) & ~static_cast<unsigned>(bits));
 }
 
-constexpr std::uint16_t kSendFaults =
-    set_bits(set_bits(fault_bit(FaultCode::kCanTxBufferFull), fault_bit(FaultCode::kCanNetworkDown)),
-             set_bits(fault_bit(FaultCode::kCanSendFailed), fault_bit(FaultCode::kCanControllerProblem)));
+constexpr std::uint16_t kSendFaults = set_bits(
+    set_bits(fault_bit(FaultCode::kCanTxBufferFull), fault_bit(FaultCode::kCanNetworkDown)),
+    set_bits(fault_bit(FaultCode::kCanSendFailed), fault_bit(FaultCode::kCanControllerProblem)));
 
 // Every fault this port raises is a CAN detail bit (ActiveFaults 9..14), never
 // one of the safety logic's Fault bits 0..8 (the logic sees them as kCanError).
-constexpr std::uint16_t kPortFaults =
-    set_bits(set_bits(kSendFaults, fault_bit(FaultCode::kCanBusOff)), fault_bit(FaultCode::kCanErrorPassive));
+constexpr std::uint16_t kPortFaults = set_bits(set_bits(kSendFaults, fault_bit(FaultCode::kCanBusOff)),
+                                               fault_bit(FaultCode::kCanErrorPassive));
 static_assert(kPortFaults == kCanDetailFaultBits, "the port raises exactly the CAN detail fault bits");
 
 // Controller status bits of an error frame's data[1], as unsigned masks.
-constexpr unsigned kCtrlPassive =
-    static_cast<unsigned>(CAN_ERR_CRTL_RX_PASSIVE) | static_cast<unsigned>(CAN_ERR_CRTL_TX_PASSIVE);
-constexpr unsigned kCtrlOverflow =
-    static_cast<unsigned>(CAN_ERR_CRTL_RX_OVERFLOW) | static_cast<unsigned>(CAN_ERR_CRTL_TX_OVERFLOW);
-constexpr unsigned kCtrlWarning =
-    static_cast<unsigned>(CAN_ERR_CRTL_RX_WARNING) | static_cast<unsigned>(CAN_ERR_CRTL_TX_WARNING);
+constexpr unsigned kCtrlPassive = static_cast<unsigned>(CAN_ERR_CRTL_RX_PASSIVE) |
+                                  static_cast<unsigned>(CAN_ERR_CRTL_TX_PASSIVE);
+constexpr unsigned kCtrlOverflow = static_cast<unsigned>(CAN_ERR_CRTL_RX_OVERFLOW) |
+                                   static_cast<unsigned>(CAN_ERR_CRTL_TX_OVERFLOW);
+constexpr unsigned kCtrlWarning = static_cast<unsigned>(CAN_ERR_CRTL_RX_WARNING) |
+                                  static_cast<unsigned>(CAN_ERR_CRTL_TX_WARNING);
 constexpr unsigned kCtrlActive = static_cast<unsigned>(CAN_ERR_CRTL_ACTIVE);
 
 /// Waits up to @p wait_us for @p fd to become writable (EINTR ends the wait early; the caller retries).
@@ -154,18 +154,12 @@ void CanFaultMonitor::on_send(SocketCanError outcome) noexcept {
                 active_ = clear_bits(active_, fault_bit(FaultCode::kCanBusOff));
             }
             break;
-        case SocketCanError::kTxBufferFull:
-            active_ = set_bits(active_, fault_bit(FaultCode::kCanTxBufferFull));
-            break;
-        case SocketCanError::kNetworkDown:
-            active_ = set_bits(active_, fault_bit(FaultCode::kCanNetworkDown));
-            break;
+        case SocketCanError::kTxBufferFull: active_ = set_bits(active_, fault_bit(FaultCode::kCanTxBufferFull)); break;
+        case SocketCanError::kNetworkDown: active_ = set_bits(active_, fault_bit(FaultCode::kCanNetworkDown)); break;
         case SocketCanError::kInvalidFrame:  // a program error, reported as a failed send
         case SocketCanError::kNotOpen:
         case SocketCanError::kSendFailed:
-        default:
-            active_ = set_bits(active_, fault_bit(FaultCode::kCanSendFailed));
-            break;
+        default: active_ = set_bits(active_, fault_bit(FaultCode::kCanSendFailed)); break;
     }
 }
 
@@ -202,7 +196,8 @@ SocketCanStatus SocketCan::open(const char* interface_name, const SocketCanConfi
     if (fd < 0) {
         const int err = errno;
         const bool unsupported = err == EAFNOSUPPORT || err == EPROTONOSUPPORT;
-        return SocketCanStatus{unsupported ? SocketCanError::kCanNotSupported : SocketCanError::kSocketSetupFailed, err};
+        return SocketCanStatus{unsupported ? SocketCanError::kCanNotSupported : SocketCanError::kSocketSetupFailed,
+                               err};
     }
     const can_err_mask_t mask = kErrorFrameMask;
     if (setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &mask, sizeof(mask)) != 0) {
@@ -260,12 +255,8 @@ SocketCanStatus SocketCan::transmit(const CanFrame& frame) noexcept {
                     status = SocketCanStatus{SocketCanError::kTxBufferFull, err};
                 }
                 break;
-            case SendErrnoClass::kNetworkDown:
-                status = SocketCanStatus{SocketCanError::kNetworkDown, err};
-                break;
-            case SendErrnoClass::kFailed:
-                status = SocketCanStatus{SocketCanError::kSendFailed, err};
-                break;
+            case SendErrnoClass::kNetworkDown: status = SocketCanStatus{SocketCanError::kNetworkDown, err}; break;
+            case SendErrnoClass::kFailed: status = SocketCanStatus{SocketCanError::kSendFailed, err}; break;
         }
     }
     monitor_.on_send(status.error);

@@ -50,8 +50,8 @@ CycleFrameEncoder::CycleFrameEncoder(const SafetyOutputConfig& config) noexcept 
 }
 
 CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept {
-    const Result<CanFrame> safety =
-        encode_safety_frame(safety_message(report.safety, config_.zone_count), safety_counter_, config_.channel);
+    const Result<CanFrame> safety = encode_safety_frame(safety_message(report.safety, config_.zone_count),
+                                                        safety_counter_, config_.channel);
     const Result<CanFrame> diagnostics = encode_diagnostics_frame(
         diagnostics_message(report, page_, config_.prior_crc, can_detail_faults), diagnostics_counter_,
         config_.channel);

@@ -17,5 +17,4 @@ const char* to_string(Fault fault) noexcept {
     return "unknown fault";
 }
 
-
 }  // namespace cellguard

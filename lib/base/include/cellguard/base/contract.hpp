@@ -36,17 +36,16 @@ using ContractHandler = void (*)(const ContractViolation& violation);
 ContractHandler set_contract_handler(ContractHandler handler) noexcept;
 
 /// Reports a violation to the installed handler and never returns.
-[[noreturn]] void contract_violated(const char* file, int line, const char* condition,
-                                    const char* message) noexcept;
+[[noreturn]] void contract_violated(const char* file, int line, const char* condition, const char* message) noexcept;
 
 }  // namespace cellguard
 
 /// Always-on contract check: reports and does not return when @p cond is false.
-#define CG_ENFORCE(cond, msg)                                                   \
-    do {                                                                        \
-        if (!(cond)) {                                                          \
-            ::cellguard::contract_violated(__FILE__, __LINE__, #cond, (msg));   \
-        }                                                                       \
+#define CG_ENFORCE(cond, msg)                                                 \
+    do {                                                                      \
+        if (!(cond)) {                                                        \
+            ::cellguard::contract_violated(__FILE__, __LINE__, #cond, (msg)); \
+        }                                                                     \
     } while (false)
 
 #ifdef NDEBUG

@@ -21,20 +21,20 @@ namespace cellguard {
 /// Every recoverable error of lib/. Values are stable: they appear in logs,
 /// in the diagnostics CAN frame and in the certification pack. Append only.
 enum class ErrorCode : std::uint16_t {
-    kOk = 0,                   ///< no error (never stored in a failed Result)
-    kInvalidArgument = 1,      ///< a parameter is outside its documented range
-    kCapacityExceeded = 2,     ///< more items than the compile-time capacity
-    kStorageTooSmall = 3,      ///< caller-provided storage does not fit the grid
-    kGeometryMismatch = 4,     ///< grid geometry differs from the expected one
-    kTruncatedInput = 5,       ///< input ends before its declared size
-    kBadMagic = 6,             ///< input does not start with the expected magic
-    kUnsupportedVersion = 7,   ///< a format version this build cannot read
-    kCrcMismatch = 8,          ///< checksum over the input does not match
-    kMalformedInput = 9,       ///< input is structurally wrong (bad field)
+    kOk = 0,                      ///< no error (never stored in a failed Result)
+    kInvalidArgument = 1,         ///< a parameter is outside its documented range
+    kCapacityExceeded = 2,        ///< more items than the compile-time capacity
+    kStorageTooSmall = 3,         ///< caller-provided storage does not fit the grid
+    kGeometryMismatch = 4,        ///< grid geometry differs from the expected one
+    kTruncatedInput = 5,          ///< input ends before its declared size
+    kBadMagic = 6,                ///< input does not start with the expected magic
+    kUnsupportedVersion = 7,      ///< a format version this build cannot read
+    kCrcMismatch = 8,             ///< checksum over the input does not match
+    kMalformedInput = 9,          ///< input is structurally wrong (bad field)
     kSensorIndexOutOfRange = 10,  ///< a sensor id beyond the configured sensors
-    kNonFiniteValue = 11,      ///< NaN or infinity where a finite number is needed
-    kOutOfGrid = 12,           ///< a position or box outside the grid
-    kUnsupportedType = 13,     ///< a field type or layout this build cannot read
+    kNonFiniteValue = 11,         ///< NaN or infinity where a finite number is needed
+    kOutOfGrid = 12,              ///< a position or box outside the grid
+    kUnsupportedType = 13,        ///< a field type or layout this build cannot read
 };
 
 /// A short, static, human-readable name for @p code (never nullptr).
@@ -54,10 +54,12 @@ class [[nodiscard]] Result {
 public:
     /// A successful result holding @p value.
     // cppcheck-suppress noExplicitConstructor ; implicit by design, like std::expected
-    Result(T value) noexcept : ok_(true) { construct_value(std::move(value)); }  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit by design, like std::expected
+    // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit by design, like std::expected
+    Result(T value) noexcept : ok_(true) { construct_value(std::move(value)); }
     /// A failed result; @p error must not be "no error" (contract).
     // cppcheck-suppress noExplicitConstructor ; implicit by design, like std::expected
-    Result(E error) noexcept : ok_(false) {  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit by design
+    // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit by design
+    Result(E error) noexcept : ok_(false) {
         CG_ENFORCE(!is_no_error(error), "a failed Result needs an error");
         construct_error(std::move(error));
     }
@@ -123,14 +125,16 @@ public:
 private:
     /// The value or the error, constructed in place: no default T is needed.
     union Storage {
-        Storage() noexcept {}   // NOLINT(modernize-use-equals-default,hicpp-use-equals-default): a union with non-trivial members needs it user-provided
-        ~Storage() {}           // NOLINT(modernize-use-equals-default,hicpp-use-equals-default): the Result destroys the active member
+        // NOLINTNEXTLINE(modernize-use-equals-default,hicpp-use-equals-default): a union with non-trivial members needs it user-provided
+        Storage() noexcept {}
+        // NOLINTNEXTLINE(modernize-use-equals-default,hicpp-use-equals-default): the Result destroys the active member
+        ~Storage() {}
         Storage(const Storage&) = delete;
         Storage& operator=(const Storage&) = delete;
         Storage(Storage&&) = delete;
         Storage& operator=(Storage&&) = delete;
-        T value;   ///< active when ok_
-        E error;   ///< active when !ok_
+        T value;  ///< active when ok_
+        E error;  ///< active when !ok_
     };
     template <typename U>
     void construct_value(U&& v) noexcept {
@@ -158,7 +162,8 @@ public:
     constexpr Status() noexcept = default;
     /// Failure with @p error (kOk means success).
     // cppcheck-suppress noExplicitConstructor ; implicit by design, like std::expected
-    constexpr Status(ErrorCode error) noexcept : error_(error) {}  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit by design
+    // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit by design
+    constexpr Status(ErrorCode error) noexcept : error_(error) {}
     /// True on success.
     [[nodiscard]] constexpr bool ok() const noexcept { return error_ == ErrorCode::kOk; }
     /// Same as ok().

@@ -24,11 +24,13 @@ public:
     /// A view of a C array.
     template <std::size_t N>
     // cppcheck-suppress noExplicitConstructor ; implicit from arrays, like std::span
-    constexpr Span(T (&array)[N]) noexcept : data_(array), size_(N) {}  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit from arrays, like std::span
+    // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit from arrays, like std::span
+    constexpr Span(T (&array)[N]) noexcept : data_(array), size_(N) {}
     /// A read-only view of a mutable span (Span<T> to Span<const T>).
     template <typename U, typename = std::enable_if_t<std::is_same<const U, T>::value>>
     // cppcheck-suppress noExplicitConstructor ; implicit from mutable to const, like std::span
-    constexpr Span(Span<U> other) noexcept : data_(other.data()), size_(other.size()) {}  // NOLINT(google-explicit-constructor,hicpp-explicit-conversions): implicit from mutable to const, like std::span
+    // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit from mutable to const, like std::span
+    constexpr Span(Span<U> other) noexcept : data_(other.data()), size_(other.size()) {}
 
     /// Number of elements.
     [[nodiscard]] constexpr std::size_t size() const noexcept { return size_; }
@@ -67,8 +69,8 @@ template <typename T>
 [[nodiscard]] Span<const std::uint8_t> as_bytes(Span<T> values) noexcept {
     static_assert(std::is_trivially_copyable<T>::value, "as_bytes needs a trivially copyable type");
     // Reading an object's bytes through unsigned char is always allowed.
-    return {reinterpret_cast<const std::uint8_t*>(values.data()),  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): the one byte view of typed storage, for CRCs
-            values.size() * sizeof(T)};
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the one byte view of typed storage, for CRCs
+    return {reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(T)};
 }
 
 }  // namespace cellguard

@@ -26,9 +26,9 @@ constexpr std::uint32_t kCanMaxStandardId = 0x7FFU;
 /// `id` holds the bare identifier (no SocketCAN flag bits); bytes at and after
 /// `dlc` are not part of the frame.
 struct CanFrame {
-    std::uint32_t id;       ///< CAN identifier (11-bit for cellguard's frames)
-    std::uint8_t dlc;       ///< data length code, 0..8
-    std::uint8_t data[8];   ///< data bytes; byte 0 is sent first
+    std::uint32_t id;      ///< CAN identifier (11-bit for cellguard's frames)
+    std::uint8_t dlc;      ///< data length code, 0..8
+    std::uint8_t data[8];  ///< data bytes; byte 0 is sent first
 };
 
 /// Byte order of a signal, with the DBC's codes (`@0` Motorola, `@1` Intel).
@@ -78,9 +78,8 @@ template <std::size_t N>
 [[nodiscard]] constexpr bool layout_is_consistent(const SignalLayout (&table)[N]) noexcept {
     for (std::size_t i = 0U; i < N; ++i) {
         const SignalLayout& s = table[i];
-        if (s.byte_order != ByteOrder::kIntel || s.length == 0U || s.length > 32U ||
-            s.start_bit + s.length > 64U || s.factor == 0U ||
-            (s.length < 32U && s.raw_max > ((std::uint32_t{1} << s.length) - 1U))) {
+        if (s.byte_order != ByteOrder::kIntel || s.length == 0U || s.length > 32U || s.start_bit + s.length > 64U ||
+            s.factor == 0U || (s.length < 32U && s.raw_max > ((std::uint32_t{1} << s.length) - 1U))) {
             return false;
         }
         for (std::size_t j = i + 1U; j < N; ++j) {
@@ -113,8 +112,7 @@ template <std::size_t N>
 
 /// Raw value of signal @p s in @p frame (Intel signals only, a contract).
 [[nodiscard]] constexpr std::uint32_t get_signal(const CanFrame& frame, const SignalLayout& s) noexcept {
-    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U &&
-                   s.start_bit + s.length <= 64U,
+    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U && s.start_bit + s.length <= 64U,
                "only Intel signals of 1..32 bits inside the frame");
     return static_cast<std::uint32_t>((frame_bits(frame) & signal_mask(s)) >> s.start_bit);
 }
@@ -122,8 +120,7 @@ template <std::size_t N>
 /// Writes raw value @p raw into signal @p s of @p frame, leaving the other
 /// bits as they are. Contract: Intel signal, and @p raw fits in its length.
 constexpr void set_signal(CanFrame& frame, const SignalLayout& s, std::uint32_t raw) noexcept {
-    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U &&
-                   s.start_bit + s.length <= 64U,
+    CG_ENFORCE(s.byte_order == ByteOrder::kIntel && s.length >= 1U && s.length <= 32U && s.start_bit + s.length <= 64U,
                "only Intel signals of 1..32 bits inside the frame");
     CG_ENFORCE(s.length == 32U || raw < (std::uint32_t{1} << s.length), "raw value wider than the signal");
     const std::uint64_t mask = signal_mask(s);

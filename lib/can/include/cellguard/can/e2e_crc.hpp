@@ -74,22 +74,20 @@ constexpr std::uint16_t kE2eP01NibbleModeMaxDataId = 0x0FFFU;
 
 /// Forward distance from @p last to @p received in counter steps, 0..14
 /// (0 = repeated, 1 = the next one, k = k - 1 frames lost). Both must be 0..14.
-[[nodiscard]] constexpr std::uint8_t e2e_p01_counter_delta(std::uint8_t received,
-                                                          std::uint8_t last) noexcept {
+[[nodiscard]] constexpr std::uint8_t e2e_p01_counter_delta(std::uint8_t received, std::uint8_t last) noexcept {
     return static_cast<std::uint8_t>((received + kE2eP01CounterModulo - last) % kE2eP01CounterModulo);
 }
 
 /// True when @p mode is one of the four defined modes.
 [[nodiscard]] constexpr bool e2e_p01_mode_valid(E2eP01DataIdMode mode) noexcept {
-    return mode == E2eP01DataIdMode::kBoth || mode == E2eP01DataIdMode::kAlt ||
-           mode == E2eP01DataIdMode::kLow || mode == E2eP01DataIdMode::kNibble;
+    return mode == E2eP01DataIdMode::kBoth || mode == E2eP01DataIdMode::kAlt || mode == E2eP01DataIdMode::kLow ||
+           mode == E2eP01DataIdMode::kNibble;
 }
 
 /// True when @p data_id can be used in @p mode: any 16-bit ID in kBoth, kAlt
 /// and kLow, at most 12 bits (<= 0x0FFF) in kNibble.
 [[nodiscard]] constexpr bool e2e_p01_data_id_valid(std::uint16_t data_id, E2eP01DataIdMode mode) noexcept {
-    return e2e_p01_mode_valid(mode) &&
-           (mode != E2eP01DataIdMode::kNibble || data_id <= kE2eP01NibbleModeMaxDataId);
+    return e2e_p01_mode_valid(mode) && (mode != E2eP01DataIdMode::kNibble || data_id <= kE2eP01NibbleModeMaxDataId);
 }
 
 /// The explicit data ID nibble of kNibble mode: bits 8..11 of @p data_id.
@@ -101,9 +99,8 @@ constexpr std::uint16_t kE2eP01NibbleModeMaxDataId = 0x0FFFU;
 /// @p data_id in @p mode with counter @p counter (kAlt picks the data ID byte by
 /// the counter's parity). The byte at @p crc_byte_index is skipped. Contract:
 /// @p crc_byte_index < data.size(), @p mode is valid.
-[[nodiscard]] std::uint8_t e2e_p01_crc(Span<const std::uint8_t> data, std::size_t crc_byte_index,
-                                       std::uint16_t data_id, E2eP01DataIdMode mode,
-                                       std::uint8_t counter) noexcept;
+[[nodiscard]] std::uint8_t e2e_p01_crc(Span<const std::uint8_t> data, std::size_t crc_byte_index, std::uint16_t data_id,
+                                       E2eP01DataIdMode mode, std::uint8_t counter) noexcept;
 
 /// True when a frame protected with data ID @p a can never pass a check with
 /// data ID @p b, whatever the data: the CRC register after the implicit data
@@ -111,8 +108,7 @@ constexpr std::uint16_t kE2eP01NibbleModeMaxDataId = 0x0FFFU;
 /// mode two IDs whose byte streams (low byte, high byte) differ by a multiple of
 /// the CRC polynomial 0x11D give the same CRC for all data (e.g. 0x0000 and
 /// 0x1D01, sent as 01 1D) and are not distinguishable.
-[[nodiscard]] bool e2e_p01_data_ids_distinguishable(std::uint16_t a, std::uint16_t b,
-                                                    E2eP01DataIdMode mode) noexcept;
+[[nodiscard]] bool e2e_p01_data_ids_distinguishable(std::uint16_t a, std::uint16_t b, E2eP01DataIdMode mode) noexcept;
 
 }  // namespace cellguard
 

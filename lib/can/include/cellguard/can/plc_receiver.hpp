@@ -35,8 +35,8 @@
 
 #include <cstdint>
 
-#include "cellguard/can/can_frame.hpp"
 #include "cellguard/base/result.hpp"
+#include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
 
 namespace cellguard {
@@ -75,11 +75,11 @@ struct PlcReceiverConfig {
 
 /// What the PLC acts on.
 struct ReceiverStatus {
-    bool stop_requested = true;          ///< true unless communication is valid and the frame asks no stop
-    bool communication_valid = false;    ///< every check passed and recovery is complete
+    bool stop_requested = true;        ///< true unless communication is valid and the frame asks no stop
+    bool communication_valid = false;  ///< every check passed and recovery is complete
     ReceiverFault fault = ReceiverFault::kNoFrameYet;  ///< kNone exactly when communication_valid
-    SafetyMessage message;               ///< last good content when valid, the safe-state message otherwise
-    std::uint32_t fault_events = 0U;     ///< faults detected since construction (saturating)
+    SafetyMessage message;            ///< last good content when valid, the safe-state message otherwise
+    std::uint32_t fault_events = 0U;  ///< faults detected since construction (saturating)
 };
 
 /// The safe-state message for @p zone_count zones: stop, warning and fault set,
@@ -120,17 +120,17 @@ private:
     ReceiverFault fault_ = ReceiverFault::kNoFrameYet;
     bool valid_ = false;
     std::uint32_t fault_events_ = 0U;
-    std::uint8_t good_pairs_ = 0U;       // consecutive checked good pairs since the last fault (saturating)
-    bool have_reference_ = false;        // a good pair gives the counter and SCT reference
+    std::uint8_t good_pairs_ = 0U;  // consecutive checked good pairs since the last fault (saturating)
+    bool have_reference_ = false;   // a good pair gives the counter and SCT reference
     std::uint8_t reference_counter_ = 0U;
     std::uint64_t reference_time_us_ = 0U;  // completion time of the last good pair
-    bool pending_ = false;               // a checked normal frame waits for its copy
+    bool pending_ = false;                  // a checked normal frame waits for its copy
     CanFrame pending_frame_{};
     SafetyFrameContent pending_content_;
     std::uint64_t pending_time_us_ = 0U;
     bool have_time_ = false;
     std::uint64_t last_time_us_ = 0U;
-    SafetyMessage message_;              // content of the last good pair
+    SafetyMessage message_;  // content of the last good pair
 };
 
 }  // namespace cellguard

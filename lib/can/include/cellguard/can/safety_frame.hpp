@@ -23,9 +23,9 @@
 
 #include <cstdint>
 
+#include "cellguard/base/result.hpp"
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/e2e_crc.hpp"
-#include "cellguard/base/result.hpp"
 #include "cellguard/safety/faults.hpp"
 
 namespace cellguard {
@@ -40,22 +40,26 @@ inline constexpr SignalLayout kCrc{"E2E_Crc", 0U, 8U, ByteOrder::kIntel, 1U, "",
 /// E2E Profile 1 counter, 0..14.
 inline constexpr SignalLayout kCounter{"E2E_Counter", 8U, 4U, ByteOrder::kIntel, 1U, "", 14U, Multiplex::kNone, 0U};
 /// Data ID bits 8..11 in kNibble mode, else 0.
-inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U,
+                                            Multiplex::kNone,   0U};
 /// 1 = protective stop requested.
-inline constexpr SignalLayout kProtectiveStop{"ProtectiveStop", 16U, 1U, ByteOrder::kIntel, 1U, "", 1U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kProtectiveStop{"ProtectiveStop", 16U, 1U, ByteOrder::kIntel, 1U, "", 1U,
+                                              Multiplex::kNone, 0U};
 /// 1 = a warning zone is intruded or unseen.
 inline constexpr SignalLayout kWarning{"Warning", 17U, 1U, ByteOrder::kIntel, 1U, "", 1U, Multiplex::kNone, 0U};
 /// 1 = the controller has detected a fault (details in the diagnostics frame).
 inline constexpr SignalLayout kFault{"Fault", 18U, 1U, ByteOrder::kIntel, 1U, "", 1U, Multiplex::kNone, 0U};
 /// Bit z = zone z is intruded.
-inline constexpr SignalLayout kZoneIntrusion{"ZoneIntrusion", 24U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kZoneIntrusion{"ZoneIntrusion",  24U, 16U, ByteOrder::kIntel, 1U, "", 65535U,
+                                             Multiplex::kNone, 0U};
 /// Bit z = zone z cannot be seen (too many unobserved voxels).
-inline constexpr SignalLayout kZoneUnseen{"ZoneUnseen", 40U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kZoneUnseen{"ZoneUnseen",     40U, 16U, ByteOrder::kIntel, 1U, "", 65535U,
+                                          Multiplex::kNone, 0U};
 /// Number of configured zones, 0..16; zone bits at and above it are zero.
 inline constexpr SignalLayout kZoneCount{"ZoneCount", 56U, 8U, ByteOrder::kIntel, 1U, "", 16U, Multiplex::kNone, 0U};
 /// Every signal of the safety frame (and, with inverted raw values, of its copy).
-inline constexpr SignalLayout kSignals[] = {kCrc, kCounter, kDataIdNibble, kProtectiveStop, kWarning,
-                                            kFault, kZoneIntrusion, kZoneUnseen, kZoneCount};
+inline constexpr SignalLayout kSignals[] = {kCrc,   kCounter,       kDataIdNibble, kProtectiveStop, kWarning,
+                                            kFault, kZoneIntrusion, kZoneUnseen,   kZoneCount};
 static_assert(layout_is_consistent(kSignals), "safety frame layout overlaps or overflows");
 /// Reserved bits (must be zero).
 inline constexpr std::uint64_t kReservedBits = ~layout_used_bits(kSignals);
@@ -69,27 +73,36 @@ inline constexpr SignalLayout kCrc{"E2E_Crc", 0U, 8U, ByteOrder::kIntel, 1U, "",
 /// E2E Profile 1 counter, 0..14 (its own sequence, independent of the safety frame's).
 inline constexpr SignalLayout kCounter{"E2E_Counter", 8U, 4U, ByteOrder::kIntel, 1U, "", 14U, Multiplex::kNone, 0U};
 /// Data ID bits 8..11 in kNibble mode, else 0.
-inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U,
+                                            Multiplex::kNone,   0U};
 /// Active fault codes, bit n = FaultCode n: 0..8 safety logic Faults, 9..14 CAN details (kAssignedFaultBits).
-inline constexpr SignalLayout kActiveFaults{"ActiveFaults", 16U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kActiveFaults{"ActiveFaults",   16U, 16U, ByteOrder::kIntel, 1U, "", 65535U,
+                                            Multiplex::kNone, 0U};
 /// Duration of the last cycle, 100 us units, rounded up, saturating at 2047.
-inline constexpr SignalLayout kCycleTime{"CycleTime", 32U, 11U, ByteOrder::kIntel, 100U, "us", 2047U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kCycleTime{"CycleTime",      32U, 11U, ByteOrder::kIntel, 100U, "us", 2047U,
+                                         Multiplex::kNone, 0U};
 /// Longest cycle since start-up, 100 us units, rounded up, saturating at 2047.
-inline constexpr SignalLayout kMaxCycleTime{"MaxCycleTime", 43U, 11U, ByteOrder::kIntel, 100U, "us", 2047U, Multiplex::kNone, 0U};
+inline constexpr SignalLayout kMaxCycleTime{"MaxCycleTime",   43U, 11U, ByteOrder::kIntel, 100U, "us", 2047U,
+                                            Multiplex::kNone, 0U};
 /// Multiplexor: which byte of the prior image CRC-32 this frame carries, 0..3.
-inline constexpr SignalLayout kPriorCrcPage{"PriorCrcPage", 54U, 2U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kMultiplexor, 0U};
+inline constexpr SignalLayout kPriorCrcPage{"PriorCrcPage",          54U, 2U, ByteOrder::kIntel, 1U, "", 3U,
+                                            Multiplex::kMultiplexor, 0U};
 /// Prior image CRC-32 bits 0..7 (page 0).
-inline constexpr SignalLayout kPriorCrcBits0To7{"PriorCrcBits0To7", 56U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kMultiplexed, 0U};
+inline constexpr SignalLayout kPriorCrcBits0To7{"PriorCrcBits0To7",      56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
+                                                Multiplex::kMultiplexed, 0U};
 /// Prior image CRC-32 bits 8..15 (page 1).
-inline constexpr SignalLayout kPriorCrcBits8To15{"PriorCrcBits8To15", 56U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kMultiplexed, 1U};
+inline constexpr SignalLayout kPriorCrcBits8To15{"PriorCrcBits8To15",     56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
+                                                 Multiplex::kMultiplexed, 1U};
 /// Prior image CRC-32 bits 16..23 (page 2).
-inline constexpr SignalLayout kPriorCrcBits16To23{"PriorCrcBits16To23", 56U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kMultiplexed, 2U};
+inline constexpr SignalLayout kPriorCrcBits16To23{"PriorCrcBits16To23",    56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
+                                                  Multiplex::kMultiplexed, 2U};
 /// Prior image CRC-32 bits 24..31 (page 3).
-inline constexpr SignalLayout kPriorCrcBits24To31{"PriorCrcBits24To31", 56U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kMultiplexed, 3U};
+inline constexpr SignalLayout kPriorCrcBits24To31{"PriorCrcBits24To31",    56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
+                                                  Multiplex::kMultiplexed, 3U};
 /// Every signal of the diagnostics frame.
-inline constexpr SignalLayout kSignals[] = {kCrc, kCounter, kDataIdNibble, kActiveFaults, kCycleTime, kMaxCycleTime,
-                                            kPriorCrcPage, kPriorCrcBits0To7, kPriorCrcBits8To15,
-                                            kPriorCrcBits16To23, kPriorCrcBits24To31};
+inline constexpr SignalLayout kSignals[] = {
+    kCrc,          kCounter,          kDataIdNibble,      kActiveFaults,       kCycleTime,         kMaxCycleTime,
+    kPriorCrcPage, kPriorCrcBits0To7, kPriorCrcBits8To15, kPriorCrcBits16To23, kPriorCrcBits24To31};
 static_assert(layout_is_consistent(kSignals), "diagnostics frame layout overlaps or overflows");
 static_assert(~layout_used_bits(kSignals) == 0U, "the diagnostics frame has no reserved bits");
 }  // namespace diagnostics_layout
@@ -146,17 +159,16 @@ static_assert((kSafetyLogicFaultBits | kCanDetailFaultBits) == kAssignedFaultBit
 
 /// Content of the safety frame. Defaults are the safe state: stop requested.
 struct SafetyMessage {
-    bool protective_stop = true;     ///< protective stop requested
-    bool warning = false;            ///< a warning zone is intruded or unseen
-    bool fault = false;              ///< the controller has detected a fault
+    bool protective_stop = true;        ///< protective stop requested
+    bool warning = false;               ///< a warning zone is intruded or unseen
+    bool fault = false;                 ///< the controller has detected a fault
     std::uint16_t zone_intrusion = 0U;  ///< bit z: zone z intruded (z < zone_count)
     std::uint16_t zone_unseen = 0U;     ///< bit z: zone z cannot be seen (z < zone_count)
     std::uint8_t zone_count = 0U;       ///< configured zones, 0..kMaxZonesInFrame
     /// Field-wise equality.
     friend constexpr bool operator==(const SafetyMessage& a, const SafetyMessage& b) noexcept {
         return a.protective_stop == b.protective_stop && a.warning == b.warning && a.fault == b.fault &&
-               a.zone_intrusion == b.zone_intrusion && a.zone_unseen == b.zone_unseen &&
-               a.zone_count == b.zone_count;
+               a.zone_intrusion == b.zone_intrusion && a.zone_unseen == b.zone_unseen && a.zone_count == b.zone_count;
     }
     /// Field-wise inequality.
     friend constexpr bool operator!=(const SafetyMessage& a, const SafetyMessage& b) noexcept { return !(a == b); }
@@ -208,11 +220,11 @@ constexpr std::uint16_t kDefaultDiagnosticsDataId = 0x0D52U;
 
 /// Identifiers shared by the sender and the PLC-side receiver.
 struct SafetyChannelConfig {
-    std::uint32_t safety_can_id = kDefaultSafetyCanId;            ///< 11-bit; the inverted copy uses +1
-    std::uint32_t diagnostics_can_id = kDefaultDiagnosticsCanId;  ///< 11-bit, differs from both safety IDs
-    std::uint16_t safety_data_id = kDefaultSafetyDataId;          ///< E2E data ID of the safety frame
+    std::uint32_t safety_can_id = kDefaultSafetyCanId;              ///< 11-bit; the inverted copy uses +1
+    std::uint32_t diagnostics_can_id = kDefaultDiagnosticsCanId;    ///< 11-bit, differs from both safety IDs
+    std::uint16_t safety_data_id = kDefaultSafetyDataId;            ///< E2E data ID of the safety frame
     std::uint16_t diagnostics_data_id = kDefaultDiagnosticsDataId;  ///< E2E data ID of the diagnostics frame
-    E2eP01DataIdMode data_id_mode = E2eP01DataIdMode::kBoth;     ///< how both data IDs enter the CRC
+    E2eP01DataIdMode data_id_mode = E2eP01DataIdMode::kBoth;        ///< how both data IDs enter the CRC
 };
 
 /// Checks @p config: valid mode; 11-bit CAN IDs, safety_can_id + 1 included;
@@ -227,13 +239,13 @@ struct SafetyChannelConfig {
 
 /// Outcome of checking one received frame; checks run in this order.
 enum class FrameCheck : std::uint8_t {
-    kOk = 0,                  ///< every check passed
-    kWrongCanId = 1,          ///< not the expected CAN ID
-    kWrongLength = 2,         ///< DLC is not 8
-    kWrongDataIdNibble = 3,   ///< kNibble mode: the explicit nibble is not the data ID's
-    kWrongCrc = 4,            ///< CRC mismatch: corrupted data or a wrong (implicit) data ID
-    kCounterOutOfRange = 5,   ///< counter is 15
-    kMalformedContent = 6,    ///< reserved bits set, zone count > 16, zone bit beyond the count, unassigned fault bit
+    kOk = 0,                 ///< every check passed
+    kWrongCanId = 1,         ///< not the expected CAN ID
+    kWrongLength = 2,        ///< DLC is not 8
+    kWrongDataIdNibble = 3,  ///< kNibble mode: the explicit nibble is not the data ID's
+    kWrongCrc = 4,           ///< CRC mismatch: corrupted data or a wrong (implicit) data ID
+    kCounterOutOfRange = 5,  ///< counter is 15
+    kMalformedContent = 6,   ///< reserved bits set, zone count > 16, zone bit beyond the count, unassigned fault bit
 };
 /// A short, static name for @p check (never nullptr).
 [[nodiscard]] const char* to_string(FrameCheck check) noexcept;

@@ -13,9 +13,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "cellguard/base/span.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 
@@ -62,8 +62,9 @@ struct StaticEvidenceGridStorage {
     static_assert(NX <= kMaxDimension && NY <= kMaxDimension && NZ <= kMaxDimension,
                   "grid dimension above kMaxDimension");
     /// Number of voxels.
-    static constexpr std::size_t kVoxels =  // NOLINT(bugprone-dynamic-static-initializers): constexpr, initialised at compile time (false positive in clang-tidy 14)
-        static_cast<std::size_t>(NX) * static_cast<std::size_t>(NY) * static_cast<std::size_t>(NZ);
+    // NOLINTNEXTLINE(bugprone-dynamic-static-initializers): constexpr, initialised at compile time (false positive in clang-tidy 14)
+    static constexpr std::size_t kVoxels = static_cast<std::size_t>(NX) * static_cast<std::size_t>(NY) *
+                                           static_cast<std::size_t>(NZ);
     static_assert(kVoxels <= kMaxVoxels, "grid above kMaxVoxels");
     std::int16_t log_odds[kVoxels];  ///< log-odds storage
     std::uint8_t observed[kVoxels];  ///< observed-flag storage

@@ -62,8 +62,7 @@ public:
     /// Validates and builds a geometry. Errors: kNonFiniteValue (origin or
     /// voxel size not finite), kInvalidArgument (voxel size <= 0, a dimension
     /// < 1 or > kMaxDimension), kCapacityExceeded (more than kMaxVoxels).
-    static Result<GridGeometry> make(const Eigen::Vector3d& origin, double voxel_size,
-                                     GridDims dims) noexcept;
+    static Result<GridGeometry> make(const Eigen::Vector3d& origin, double voxel_size, GridDims dims) noexcept;
 
     /// World position of the grid's minimum corner.
     [[nodiscard]] const Eigen::Vector3d& origin() const noexcept { return origin_; }

@@ -37,9 +37,7 @@ constexpr double kProbabilityRoundTripBound = 0.5 / kLogOddsScale / 4.0;
 
 /// Clamps a wide sum into [kLogOddsMin, kLogOddsMax] (never yields the sentinel).
 constexpr std::int16_t clamp_log_odds(std::int32_t wide) noexcept {
-    return static_cast<std::int16_t>(wide > kLogOddsMax ? kLogOddsMax
-                                     : wide < kLogOddsMin ? kLogOddsMin
-                                                          : wide);
+    return static_cast<std::int16_t>(wide > kLogOddsMax ? kLogOddsMax : wide < kLogOddsMin ? kLogOddsMin : wide);
 }
 
 /// Saturating sum of two finite log-odds values (neither may be the sentinel):
@@ -53,8 +51,7 @@ constexpr std::int16_t add_finite_saturating(std::int16_t a, std::int16_t b) noe
 /// clamped to [kLogOddsMin, kLogOddsMax]. This is the independent opinion
 /// pool of two log-odds opinions.
 constexpr std::int16_t add_saturating(std::int16_t a, std::int16_t b) noexcept {
-    return (a == kNeverForeground || b == kNeverForeground) ? kNeverForeground
-                                                            : add_finite_saturating(a, b);
+    return (a == kNeverForeground || b == kNeverForeground) ? kNeverForeground : add_finite_saturating(a, b);
 }
 
 /// Log-odds of probability @p p, rounded to the nearest unit and clamped.

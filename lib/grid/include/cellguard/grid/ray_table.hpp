@@ -58,9 +58,9 @@
 #include <array>
 #include <cstdint>
 
+#include "cellguard/base/ram_check.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/base/ram_check.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/grid/sensor_model.hpp"
@@ -71,10 +71,10 @@ namespace cellguard {
 /// fuse_sensor's own rule (fusion.hpp: depth_pixel_point, reading_in_cell,
 /// then the half-open rule of grid.hpp); set by RayTable::build.
 struct ReadingPlacement {
-    GridGeometry grid{};                                   ///< the table's grid
-    PinholeIntrinsics intrinsics{};                        ///< the sensor's intrinsics
-    double inv_fx = 0.0;                                   ///< 1 / fx, as fuse_sensor computes it
-    double inv_fy = 0.0;                                   ///< 1 / fy, likewise
+    GridGeometry grid{};                                     ///< the table's grid
+    PinholeIntrinsics intrinsics{};                          ///< the sensor's intrinsics
+    double inv_fx = 0.0;                                     ///< 1 / fx, as fuse_sensor computes it
+    double inv_fy = 0.0;                                     ///< 1 / fy, likewise
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell
 };
 
@@ -118,15 +118,16 @@ struct RayTableStorage {
     Span<std::uint16_t> compact_exit_steps{};  ///< count_ray_steps(...) entries if compact: exit distances in steps
     Span<std::uint32_t> wide_voxels{};         ///< count_ray_steps(...) entries if wide: voxel indices
     Span<float> wide_exits{};                  ///< count_ray_steps(...) entries if wide: exit distances, metres
-    Span<std::uint32_t> pixel_begin{};  ///< width * height + 1 entries: offset of each pixel's first entry
-    Span<float> pixel_enter{};          ///< width * height entries: where the ray enters the grid (+inf: it misses)
-    Span<float> pixel_exit{};           ///< width * height entries: where the ray leaves the grid (+inf: it misses)
-    Span<float> pixel_norm{};           ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
-    Span<std::uint32_t> full_hits{};    ///< grid.voxel_count() entries: how many of the table's rays cross each voxel
+    Span<std::uint32_t> pixel_begin{};         ///< width * height + 1 entries: offset of each pixel's first entry
+    Span<float> pixel_enter{};        ///< width * height entries: where the ray enters the grid (+inf: it misses)
+    Span<float> pixel_exit{};         ///< width * height entries: where the ray leaves the grid (+inf: it misses)
+    Span<float> pixel_norm{};         ///< width * height entries: |((u-cx)/fx, (v-cy)/fy, 1)|
+    Span<std::uint32_t> full_hits{};  ///< grid.voxel_count() entries: how many of the table's rays cross each voxel
     Span<std::uint32_t> crossed_voxels{};  ///< grid.voxel_count() entries: build lists the voxels any ray crosses
-    Span<std::uint32_t> pixel_walked{}; ///< width * height entries: working memory, where each pixel's walk ends
-    Span<std::uint32_t> hit_count{};    ///< grid.voxel_count() entries: working memory, rays per voxel
-    Span<std::int16_t> sensor_opinion{};  ///< grid.voxel_count() entries: working memory, the sensor's opinion per voxel
+    Span<std::uint32_t> pixel_walked{};    ///< width * height entries: working memory, where each pixel's walk ends
+    Span<std::uint32_t> hit_count{};       ///< grid.voxel_count() entries: working memory, rays per voxel
+    Span<std::int16_t>
+        sensor_opinion{};  ///< grid.voxel_count() entries: working memory, the sensor's opinion per voxel
 };
 
 /// Number of entries (the length of each entry span) the table of this sensor
@@ -233,10 +234,10 @@ private:
     std::size_t crossed_count_ = 0U;
     float min_range_ = 0.0F;
     float max_range_ = 0.0F;
-    float exit_step_ = 0.0F;       ///< metres per compact exit step (a power of two)
-    float steps_per_metre_ = 0.0F; ///< 1 / exit_step_ (exact: a power of two)
+    float exit_step_ = 0.0F;        ///< metres per compact exit step (a power of two)
+    float steps_per_metre_ = 0.0F;  ///< 1 / exit_step_ (exact: a power of two)
     bool compact_ = false;
-    CheckHeader header_words_{};  ///< check_header() at build(): the first signature region
+    CheckHeader header_words_{};    ///< check_header() at build(): the first signature region
     ReadingPlacement placement_{};  ///< fuse_sensor's rule for readings near a face
     std::uint32_t storage_crc_ = 0U;
 };

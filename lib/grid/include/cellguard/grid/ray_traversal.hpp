@@ -66,8 +66,9 @@ enum class Rasterization : std::uint8_t {
 struct TraversedVoxel {
     std::size_t index = 0U;  ///< linear index (GridGeometry::index_of)
     VoxelCoord coord{};      ///< voxel coordinate
-    double t_enter = 0.0;    ///< metres along the segment from its start where it enters this voxel, clipped to [0, length]
-    double t_exit = 0.0;     ///< metres along the segment where it leaves this voxel, clipped to [0, length]
+    double t_enter =
+        0.0;  ///< metres along the segment from its start where it enters this voxel, clipped to [0, length]
+    double t_exit = 0.0;  ///< metres along the segment where it leaves this voxel, clipped to [0, length]
 };
 
 /// The part of segment start->end inside the grid box, in metres from start.
@@ -109,12 +110,12 @@ constexpr std::uint64_t kTauNever = std::uint64_t{1} << 62U;
 
 /// Per-segment set-up of the exact traversal (ray_traversal.cpp).
 struct ExactTraversalPlan {
-    bool visits = false;             ///< false: the segment visits nothing
-    VoxelCoord first{};              ///< first voxel visited
-    VoxelCoord last{};               ///< last voxel visited
-    std::ptrdiff_t first_index = 0;  ///< linear index of first
-    std::int32_t step[3] = {0, 0, 0};         ///< -1, 0 or +1 per axis
-    std::ptrdiff_t stride[3] = {0, 0, 0};     ///< change of the linear index per step on each axis
+    bool visits = false;                   ///< false: the segment visits nothing
+    VoxelCoord first{};                    ///< first voxel visited
+    VoxelCoord last{};                     ///< last voxel visited
+    std::ptrdiff_t first_index = 0;        ///< linear index of first
+    std::int32_t step[3] = {0, 0, 0};      ///< -1, 0 or +1 per axis
+    std::ptrdiff_t stride[3] = {0, 0, 0};  ///< change of the linear index per step on each axis
     /// Next face crossing per axis as tau = f * W * 2^k in fixed point (f: fraction of the
     /// segment, W: product of |du| over the stepping axes, du in voxel units, 2^k puts W just
     /// below 2^61); kTauNever when first == last on the axis. With whole- or half-voxel input
@@ -123,24 +124,24 @@ struct ExactTraversalPlan {
     std::uint64_t tau_delta[3] = {0U, 0U, 0U};  ///< tau between crossings per axis (>= 1)
     std::uint64_t tau_last[3] = {0U, 0U, 0U};   ///< tau of the last crossing per axis: tau + k * tau_delta, exactly
     double metres_per_tau = 0.0;                ///< length / (W * 2^k), > 0
-    double t_in = 0.0;                        ///< metres where the first voxel is entered
-    double t_out = 0.0;                       ///< metres where the last voxel is left
+    double t_in = 0.0;                          ///< metres where the first voxel is entered
+    double t_out = 0.0;                         ///< metres where the last voxel is left
 };
 
 /// Per-segment set-up of the Bresenham line (ray_traversal.cpp).
 struct BresenhamPlan {
-    std::int32_t count = 0;                       ///< voxels to visit (0: none)
-    VoxelCoord first{};                           ///< first voxel visited
-    std::ptrdiff_t first_index = 0;               ///< linear index of first
-    std::int64_t residual[3] = {0, 0, 0};         ///< error term per axis at first, in [0, modulus)
-    std::int64_t increment[3] = {0, 0, 0};        ///< 2 |d| per axis (d: end voxel - start voxel)
-    std::int64_t modulus = 1;                     ///< 2 max |d|; a carry steps the axis
-    std::int32_t step[3] = {0, 0, 0};             ///< -1, 0 or +1 per axis
-    std::ptrdiff_t stride[3] = {0, 0, 0};         ///< change of the linear index per step on each axis
-    double t_centre = 0.0;                        ///< projection of first's centre on the segment, metres
-    double t_step[3] = {0.0, 0.0, 0.0};           ///< change of that projection per step on each axis
-    double half_step = 0.0;                       ///< half a step of the dominant axis, metres
-    double length = 0.0;                          ///< |end - start|, metres
+    std::int32_t count = 0;                 ///< voxels to visit (0: none)
+    VoxelCoord first{};                     ///< first voxel visited
+    std::ptrdiff_t first_index = 0;         ///< linear index of first
+    std::int64_t residual[3] = {0, 0, 0};   ///< error term per axis at first, in [0, modulus)
+    std::int64_t increment[3] = {0, 0, 0};  ///< 2 |d| per axis (d: end voxel - start voxel)
+    std::int64_t modulus = 1;               ///< 2 max |d|; a carry steps the axis
+    std::int32_t step[3] = {0, 0, 0};       ///< -1, 0 or +1 per axis
+    std::ptrdiff_t stride[3] = {0, 0, 0};   ///< change of the linear index per step on each axis
+    double t_centre = 0.0;                  ///< projection of first's centre on the segment, metres
+    double t_step[3] = {0.0, 0.0, 0.0};     ///< change of that projection per step on each axis
+    double half_step = 0.0;                 ///< half a step of the dominant axis, metres
+    double length = 0.0;                    ///< |end - start|, metres
 };
 
 /// Computes the exact traversal's set-up; see traverse_segment.
@@ -174,9 +175,7 @@ std::size_t traverse_segment(const GridGeometry& g, const Eigen::Vector3d& start
     for (;;) {
         const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
         const double t_exit = std::min(
-            std::max(static_cast<double>(static_cast<std::int64_t>(tau_next)) * p.metres_per_tau,
-                     p.t_in),
-            p.t_out);
+            std::max(static_cast<double>(static_cast<std::int64_t>(tau_next)) * p.metres_per_tau, p.t_in), p.t_out);
         visit(TraversedVoxel{static_cast<std::size_t>(index), c, t_enter, t_exit});
         ++visited;
         if (tau_next == kNever) {  // every axis is at the last voxel
@@ -220,8 +219,8 @@ std::size_t traverse_segment(const GridGeometry& g, const Eigen::Vector3d& start
 /// max(nx, ny, nz) times. "A step" in metres is the segment length that
 /// advances one voxel along the segment's dominant axis.
 template <typename Visitor>
-std::size_t traverse_segment_bresenham(const GridGeometry& g, const Eigen::Vector3d& start,
-                                       const Eigen::Vector3d& end, Visitor&& visit) noexcept {
+std::size_t traverse_segment_bresenham(const GridGeometry& g, const Eigen::Vector3d& start, const Eigen::Vector3d& end,
+                                       Visitor&& visit) noexcept {
     const detail::BresenhamPlan p = detail::plan_bresenham_traversal(g, start, end);
     VoxelCoord c = p.first;
     std::ptrdiff_t index = p.first_index;
@@ -259,10 +258,8 @@ template <typename Visitor>
 std::size_t traverse(Rasterization method, const GridGeometry& g, const Eigen::Vector3d& start,
                      const Eigen::Vector3d& end, Visitor&& visit) noexcept {
     switch (method) {
-        case Rasterization::kExact:
-            return traverse_segment(g, start, end, visit);
-        case Rasterization::kBresenham3d:
-            return traverse_segment_bresenham(g, start, end, visit);
+        case Rasterization::kExact: return traverse_segment(g, start, end, visit);
+        case Rasterization::kBresenham3d: return traverse_segment_bresenham(g, start, end, visit);
     }
     CG_ENFORCE(false, "unknown Rasterization");
     return 0U;

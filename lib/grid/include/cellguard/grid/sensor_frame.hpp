@@ -47,10 +47,10 @@ enum class SensorDataKind : std::uint8_t {
 /// One sensor's reading in one frame: where the sensor is and what it saw.
 struct SensorReading {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor frame -> workcell frame
-    SensorDataKind kind = SensorDataKind::kPointSet;          ///< which of the views below is used
-    Span<const Eigen::Vector3f> points{};                     ///< kPointSet: the points
-    Span<const float> depth{};                                ///< kDepthImage: width * height depths
-    PinholeIntrinsics intrinsics{};                           ///< kDepthImage: the camera
+    SensorDataKind kind = SensorDataKind::kPointSet;         ///< which of the views below is used
+    Span<const Eigen::Vector3f> points{};                    ///< kPointSet: the points
+    Span<const float> depth{};                               ///< kDepthImage: width * height depths
+    PinholeIntrinsics intrinsics{};                          ///< kDepthImage: the camera
     float min_range = 0.0F;   ///< readings nearer than this (metres, along the ray) are skipped
     float max_range = 10.0F;  ///< readings farther than this are skipped
 };

@@ -44,11 +44,11 @@ namespace cellguard {
 /// default t_f, the pooled hits of every sensor stay below the prior's
 /// background term, and seen-free space falls below t_E = 0.1 in G_B.
 struct SensorModelParams {
-    double p_miss = 0.30;        ///< P(occ) of a voxel the sensor's rays cross, at least ramp_length before their readings
-    double p_hit = 0.90;         ///< P(occ) of a voxel holding at least one of the sensor's valid readings
-    double ramp_length = 0.10;   ///< metres before the reading over which P(occ) rises from p_miss to 0.5
-    double p_clamp_min = 0.12;   ///< lower clamp of a voxel's pooled frame evidence
-    double p_clamp_max = 0.97;   ///< upper clamp of a voxel's pooled frame evidence
+    double p_miss = 0.30;  ///< P(occ) of a voxel the sensor's rays cross, at least ramp_length before their readings
+    double p_hit = 0.90;   ///< P(occ) of a voxel holding at least one of the sensor's valid readings
+    double ramp_length = 0.10;  ///< metres before the reading over which P(occ) rises from p_miss to 0.5
+    double p_clamp_min = 0.12;  ///< lower clamp of a voxel's pooled frame evidence
+    double p_clamp_max = 0.97;  ///< upper clamp of a voxel's pooled frame evidence
 };
 
 /// Number of tabulated steps of the ramp.

@@ -88,13 +88,13 @@
 #include <cstdint>
 #include <limits>
 
-#include "cellguard/prior/accessibility_params.hpp"
-#include "cellguard/prior/bucket_queue.hpp"
+#include "cellguard/base/result.hpp"
+#include "cellguard/base/span.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/base/result.hpp"
 #include "cellguard/grid/sensor_model.hpp"
-#include "cellguard/base/span.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
+#include "cellguard/prior/bucket_queue.hpp"
 
 namespace cellguard {
 
@@ -145,7 +145,8 @@ constexpr std::size_t saturate_size(std::uint64_t v) noexcept {
 /// (radius clamped to [0, 8] here; invalid params are refused by
 /// compute_accessibility_prior). The baselines, and unknown methods, need
 /// none. Saturates at SIZE_MAX instead of wrapping.
-constexpr AccessibilityScratchSize accessibility_scratch_size(GridDims dims, const AccessibilityParams& params) noexcept {
+constexpr AccessibilityScratchSize accessibility_scratch_size(GridDims dims,
+                                                              const AccessibilityParams& params) noexcept {
     const std::uint64_t n = accessibility_detail::padded_count(dims, params.radius_voxels, params.open_faces);
     AccessibilityScratchSize size{};
     if (params.method == PriorMethod::kThresholded) {

@@ -42,8 +42,8 @@ constexpr std::int32_t kMaxAccessibilityRadius = 8;
 /// Parameters of the accessibility analysis; defaults are the paper's.
 struct AccessibilityParams {
     PriorMethod method = PriorMethod::kProbabilistic;  ///< which method computes the prior
-    double t_b = 0.51;      ///< thresholded: a voxel is empty when P(occ; G_B) < t_B (eq. 1)
-    double t_e = 0.1;       ///< probabilistic: P(occ) below t_E, and unobserved voxels, count as 0 (eq. 13)
+    double t_b = 0.51;                                 ///< thresholded: a voxel is empty when P(occ; G_B) < t_B (eq. 1)
+    double t_e = 0.1;                ///< probabilistic: P(occ) below t_E, and unobserved voxels, count as 0 (eq. 13)
     std::int32_t radius_voxels = 2;  ///< r of the L1-ball object R, in voxels (paper: 10 cm = 2 voxels)
     std::uint8_t open_faces = kPaperOpenFaces;  ///< GridFace bits of the faces in A_0
 };

@@ -22,17 +22,17 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/grid/grid.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/grid.hpp"
 
 namespace cellguard {
 
 /// A box of voxels inside a 3-D array, with at least one array voxel on
 /// every side of the box.
 struct PaddedRegion {
-    GridDims array{};   ///< voxels of the whole array along x, y, z
-    VoxelCoord first{}; ///< array coordinate of the box's minimum corner
-    GridDims size{};    ///< voxels of the box along x, y, z
+    GridDims array{};    ///< voxels of the whole array along x, y, z
+    VoxelCoord first{};  ///< array coordinate of the box's minimum corner
+    GridDims size{};     ///< voxels of the box along x, y, z
 
     /// Number of voxels of the whole array.
     [[nodiscard]] constexpr std::size_t array_voxel_count() const noexcept {

@@ -42,10 +42,10 @@
 #include <cstdint>
 #include <limits>
 
-#include "cellguard/prior/accessibility_params.hpp"
-#include "cellguard/grid/grid.hpp"
 #include "cellguard/base/result.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/grid.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
 
 namespace cellguard {
 
@@ -53,26 +53,26 @@ static_assert(std::numeric_limits<double>::is_iec559, "the prior image stores IE
 
 /// Byte offsets of the fields of a version-1 header (see the table above).
 namespace prior_image_layout {
-constexpr std::size_t kMagic = 0U;          ///< 4 bytes 'C' 'G' 'P' 'I'
-constexpr std::size_t kVersion = 4U;        ///< u16 format version
-constexpr std::size_t kHeaderSize = 6U;     ///< u16 header size
-constexpr std::size_t kNx = 8U;             ///< u32 voxels along x
-constexpr std::size_t kNy = 12U;            ///< u32 voxels along y
-constexpr std::size_t kNz = 16U;            ///< u32 voxels along z
-constexpr std::size_t kMethod = 20U;        ///< u8 PriorMethod
-constexpr std::size_t kOpenFaces = 21U;     ///< u8 GridFace bits
-constexpr std::size_t kReserved = 22U;      ///< u16, zero
-constexpr std::size_t kVoxelSize = 24U;     ///< binary64 voxel size
-constexpr std::size_t kOriginX = 32U;       ///< binary64 origin x
-constexpr std::size_t kOriginY = 40U;       ///< binary64 origin y
-constexpr std::size_t kOriginZ = 48U;       ///< binary64 origin z
-constexpr std::size_t kTb = 56U;            ///< binary64 t_B
-constexpr std::size_t kTe = 64U;            ///< binary64 t_E
-constexpr std::size_t kRadius = 72U;        ///< i32 r in voxels
-constexpr std::size_t kPayloadLength = 76U; ///< u32 payload bytes
-constexpr std::size_t kPayloadCrc = 80U;    ///< u32 CRC-32 of the payload
-constexpr std::size_t kHeaderCrc = 84U;     ///< u32 CRC-32 of bytes [0, kHeaderCrc)
-constexpr std::size_t kPayload = 88U;       ///< first payload byte
+constexpr std::size_t kMagic = 0U;           ///< 4 bytes 'C' 'G' 'P' 'I'
+constexpr std::size_t kVersion = 4U;         ///< u16 format version
+constexpr std::size_t kHeaderSize = 6U;      ///< u16 header size
+constexpr std::size_t kNx = 8U;              ///< u32 voxels along x
+constexpr std::size_t kNy = 12U;             ///< u32 voxels along y
+constexpr std::size_t kNz = 16U;             ///< u32 voxels along z
+constexpr std::size_t kMethod = 20U;         ///< u8 PriorMethod
+constexpr std::size_t kOpenFaces = 21U;      ///< u8 GridFace bits
+constexpr std::size_t kReserved = 22U;       ///< u16, zero
+constexpr std::size_t kVoxelSize = 24U;      ///< binary64 voxel size
+constexpr std::size_t kOriginX = 32U;        ///< binary64 origin x
+constexpr std::size_t kOriginY = 40U;        ///< binary64 origin y
+constexpr std::size_t kOriginZ = 48U;        ///< binary64 origin z
+constexpr std::size_t kTb = 56U;             ///< binary64 t_B
+constexpr std::size_t kTe = 64U;             ///< binary64 t_E
+constexpr std::size_t kRadius = 72U;         ///< i32 r in voxels
+constexpr std::size_t kPayloadLength = 76U;  ///< u32 payload bytes
+constexpr std::size_t kPayloadCrc = 80U;     ///< u32 CRC-32 of the payload
+constexpr std::size_t kHeaderCrc = 84U;      ///< u32 CRC-32 of bytes [0, kHeaderCrc)
+constexpr std::size_t kPayload = 88U;        ///< first payload byte
 }  // namespace prior_image_layout
 
 /// The four magic bytes at offset 0.
@@ -118,24 +118,24 @@ constexpr std::int16_t int16_from_bits(std::uint16_t bits) noexcept {
 /// Why an image was refused; finer than ErrorCode (see to_error_code).
 /// Values are stable (they appear in logs): append only.
 enum class PriorImageError : std::uint8_t {
-    kNone = 0,                   ///< accepted
-    kTooShort = 1,               ///< fewer bytes than the header (kTruncatedInput)
-    kBadMagic = 2,               ///< first four bytes are not 'C' 'G' 'P' 'I' (kBadMagic)
-    kUnsupportedVersion = 3,     ///< format version other than 1 (kUnsupportedVersion)
-    kBadHeaderSize = 4,          ///< header size field other than 88 (kMalformedInput)
-    kHeaderCrcMismatch = 5,      ///< CRC of bytes 0..83 differs from the stored one (kCrcMismatch)
-    kReservedNotZero = 6,        ///< the reserved u16 at offset 22 is not 0 (kMalformedInput)
-    kDimsMismatch = 7,           ///< nx, ny or nz differs from the expected grid (kGeometryMismatch)
-    kVoxelSizeMismatch = 8,      ///< voxel size bits differ from the expected grid (kGeometryMismatch)
-    kOriginMismatch = 9,         ///< an origin coordinate's bits differ (kGeometryMismatch)
-    kUnknownMethod = 10,         ///< method byte is not a PriorMethod (kUnsupportedType)
-    kParameterOutOfRange = 11,   ///< t_B, t_E, r or open faces out of range (kMalformedInput)
-    kPayloadLengthMismatch = 12, ///< payload length field is not 2 * voxels (kMalformedInput)
-    kPayloadTruncated = 13,      ///< input ends before the payload does (kTruncatedInput)
-    kTrailingBytes = 14,         ///< bytes after the payload (kMalformedInput)
-    kPayloadCrcMismatch = 15,    ///< CRC of the payload differs from the stored one (kCrcMismatch)
-    kPriorValueOutOfRange = 16,  ///< a payload value > 0, i.e. P(fore) > 0.5 (kMalformedInput)
-    kNoExpectedGeometry = 17,    ///< the expected geometry is empty (kInvalidArgument)
+    kNone = 0,                    ///< accepted
+    kTooShort = 1,                ///< fewer bytes than the header (kTruncatedInput)
+    kBadMagic = 2,                ///< first four bytes are not 'C' 'G' 'P' 'I' (kBadMagic)
+    kUnsupportedVersion = 3,      ///< format version other than 1 (kUnsupportedVersion)
+    kBadHeaderSize = 4,           ///< header size field other than 88 (kMalformedInput)
+    kHeaderCrcMismatch = 5,       ///< CRC of bytes 0..83 differs from the stored one (kCrcMismatch)
+    kReservedNotZero = 6,         ///< the reserved u16 at offset 22 is not 0 (kMalformedInput)
+    kDimsMismatch = 7,            ///< nx, ny or nz differs from the expected grid (kGeometryMismatch)
+    kVoxelSizeMismatch = 8,       ///< voxel size bits differ from the expected grid (kGeometryMismatch)
+    kOriginMismatch = 9,          ///< an origin coordinate's bits differ (kGeometryMismatch)
+    kUnknownMethod = 10,          ///< method byte is not a PriorMethod (kUnsupportedType)
+    kParameterOutOfRange = 11,    ///< t_B, t_E, r or open faces out of range (kMalformedInput)
+    kPayloadLengthMismatch = 12,  ///< payload length field is not 2 * voxels (kMalformedInput)
+    kPayloadTruncated = 13,       ///< input ends before the payload does (kTruncatedInput)
+    kTrailingBytes = 14,          ///< bytes after the payload (kMalformedInput)
+    kPayloadCrcMismatch = 15,     ///< CRC of the payload differs from the stored one (kCrcMismatch)
+    kPriorValueOutOfRange = 16,   ///< a payload value > 0, i.e. P(fore) > 0.5 (kMalformedInput)
+    kNoExpectedGeometry = 17,     ///< the expected geometry is empty (kInvalidArgument)
 };
 
 /// The ErrorCode a refusal maps to (kOk for kNone).
@@ -154,22 +154,22 @@ enum class PriorImageError : std::uint8_t {
 /// The fields of a version-1 header as stored, before they are compared
 /// with a grid. Doubles are kept as bit patterns; accessors convert them.
 struct PriorImageHeader {
-    std::uint16_t format_version = 0U;  ///< offset 4
-    std::uint16_t header_size = 0U;     ///< offset 6
-    std::uint32_t nx = 0U;              ///< offset 8
-    std::uint32_t ny = 0U;              ///< offset 12
-    std::uint32_t nz = 0U;              ///< offset 16
-    std::uint8_t method = 0U;           ///< offset 20, raw PriorMethod value
-    std::uint8_t open_faces = 0U;       ///< offset 21
-    std::uint16_t reserved = 0U;        ///< offset 22
-    std::uint64_t voxel_size_bits = 0U; ///< offset 24
+    std::uint16_t format_version = 0U;            ///< offset 4
+    std::uint16_t header_size = 0U;               ///< offset 6
+    std::uint32_t nx = 0U;                        ///< offset 8
+    std::uint32_t ny = 0U;                        ///< offset 12
+    std::uint32_t nz = 0U;                        ///< offset 16
+    std::uint8_t method = 0U;                     ///< offset 20, raw PriorMethod value
+    std::uint8_t open_faces = 0U;                 ///< offset 21
+    std::uint16_t reserved = 0U;                  ///< offset 22
+    std::uint64_t voxel_size_bits = 0U;           ///< offset 24
     std::uint64_t origin_bits[3] = {0U, 0U, 0U};  ///< offsets 32, 40, 48 (x, y, z)
-    std::uint64_t t_b_bits = 0U;        ///< offset 56
-    std::uint64_t t_e_bits = 0U;        ///< offset 64
-    std::int32_t radius_voxels = 0;     ///< offset 72
-    std::uint32_t payload_length = 0U;  ///< offset 76
-    std::uint32_t payload_crc = 0U;     ///< offset 80
-    std::uint32_t header_crc = 0U;      ///< offset 84
+    std::uint64_t t_b_bits = 0U;                  ///< offset 56
+    std::uint64_t t_e_bits = 0U;                  ///< offset 64
+    std::int32_t radius_voxels = 0;               ///< offset 72
+    std::uint32_t payload_length = 0U;            ///< offset 76
+    std::uint32_t payload_crc = 0U;               ///< offset 80
+    std::uint32_t header_crc = 0U;                ///< offset 84
 
     /// The voxel size as a double (bit-exact).
     [[nodiscard]] double voxel_size() const noexcept;
@@ -259,8 +259,7 @@ private:
 /// kInvalidArgument (empty geometry, parameters out of range, a prior value
 /// > 0), kGeometryMismatch (prior.size() != voxel count), kStorageTooSmall.
 [[nodiscard]] Result<std::size_t> write_prior_image(const GridGeometry& geometry, const AccessibilityParams& params,
-                                                    Span<const std::int16_t> prior,
-                                                    Span<std::uint8_t> out) noexcept;
+                                                    Span<const std::int16_t> prior, Span<std::uint8_t> out) noexcept;
 
 }  // namespace cellguard
 

@@ -41,7 +41,8 @@ struct BackgroundMatch {
 /// Compares @p live with @p reference pixel by pixel. Errors:
 /// kMalformedInput when the sizes differ, kInvalidArgument for a tolerance
 /// that is not finite and positive.
-[[nodiscard]] Result<BackgroundMatch> match_background(Span<const float> live, const BackgroundReference& reference) noexcept;
+[[nodiscard]] Result<BackgroundMatch> match_background(Span<const float> live,
+                                                       const BackgroundReference& reference) noexcept;
 
 /// True when @p match shows at least @p min_fraction of the referenced
 /// pixels (a reference without any reading never passes: it cannot show

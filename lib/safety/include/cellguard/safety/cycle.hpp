@@ -14,9 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "cellguard/base/span.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
-#include "cellguard/base/span.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard {
@@ -33,10 +33,10 @@ constexpr std::size_t kCycleStages = 4U;
 
 /// Worst-case work of one cycle, from the configuration.
 struct CycleWorkBound {
-    std::uint64_t rays = 0U;         ///< readings the sensors can deliver (every pixel or point)
-    std::uint64_t voxel_steps = 0U;  ///< rays x the most voxels one ray can visit
-    std::uint64_t grid_voxels = 0U;  ///< voxels touched by whole-grid passes (clear, subtract, ray tables' hit counts)
-    std::uint64_t zone_updates = 0U; ///< zone counter updates (sum of zone voxel counts)
+    std::uint64_t rays = 0U;          ///< readings the sensors can deliver (every pixel or point)
+    std::uint64_t voxel_steps = 0U;   ///< rays x the most voxels one ray can visit
+    std::uint64_t grid_voxels = 0U;   ///< voxels touched by whole-grid passes (clear, subtract, ray tables' hit counts)
+    std::uint64_t zone_updates = 0U;  ///< zone counter updates (sum of zone voxel counts)
 };
 
 /// The bound for @p grid, the sensors described by @p sensors (their pixel

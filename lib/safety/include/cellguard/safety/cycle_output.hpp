@@ -15,14 +15,14 @@ namespace cellguard {
 
 /// Everything one cycle produced.
 struct CycleReport {
-    std::uint64_t cycle = 0U;          ///< cycle number, from 1
-    std::uint64_t started_us = 0U;     ///< clock at the cycle's start
-    SafetyOutputs safety{};            ///< stop, warning, latched faults, zone bits
-    ZoneEvaluation zones{};            ///< per-zone counts and states (before fault override)
-    FusionStats fusion{};              ///< fusion counts of all sensors
-    std::uint32_t detected_faults = 0U;///< faults detected in this cycle
-    CycleTiming timing{};              ///< the previous cycle's stage timing (this one is still running when published)
-    CycleTiming worst{};               ///< the worst stage timing so far
+    std::uint64_t cycle = 0U;            ///< cycle number, from 1
+    std::uint64_t started_us = 0U;       ///< clock at the cycle's start
+    SafetyOutputs safety{};              ///< stop, warning, latched faults, zone bits
+    ZoneEvaluation zones{};              ///< per-zone counts and states (before fault override)
+    FusionStats fusion{};                ///< fusion counts of all sensors
+    std::uint32_t detected_faults = 0U;  ///< faults detected in this cycle
+    CycleTiming timing{};  ///< the previous cycle's stage timing (this one is still running when published)
+    CycleTiming worst{};   ///< the worst stage timing so far
 };
 
 /// Where a cycle's result goes (the CAN port, a log, a test).

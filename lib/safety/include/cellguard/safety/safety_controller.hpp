@@ -35,13 +35,13 @@
 #include <array>
 #include <cstdint>
 
+#include "cellguard/base/ram_check.hpp"
+#include "cellguard/grid/fusion.hpp"
+#include "cellguard/grid/ray_table.hpp"
 #include "cellguard/safety/background_check.hpp"
 #include "cellguard/safety/clock.hpp"
 #include "cellguard/safety/cycle.hpp"
 #include "cellguard/safety/cycle_output.hpp"
-#include "cellguard/grid/fusion.hpp"
-#include "cellguard/base/ram_check.hpp"
-#include "cellguard/grid/ray_table.hpp"
 #include "cellguard/safety/safety_logic.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 
@@ -49,10 +49,10 @@ namespace cellguard {
 
 /// One sensor's input to a cycle.
 struct SensorInput {
-    SensorReading reading{};         ///< what the sensor delivered
-    std::uint64_t captured_us = 0U;  ///< when it was captured, on the controller's clock
-    bool present = false;            ///< false: no frame arrived for this cycle
-    const RayTable* table = nullptr; ///< optional precomputed rays of this (static) depth sensor
+    SensorReading reading{};          ///< what the sensor delivered
+    std::uint64_t captured_us = 0U;   ///< when it was captured, on the controller's clock
+    bool present = false;             ///< false: no frame arrived for this cycle
+    const RayTable* table = nullptr;  ///< optional precomputed rays of this (static) depth sensor
     /// Optional commissioned view of the empty cell of this (static) depth
     /// sensor: a frame that shows less of it than reference.min_match_fraction
     /// is kFrameInconsistent and is not fused (background_check.hpp).
@@ -71,10 +71,10 @@ struct ControllerConfig {
     /// the check off: for noise-free sources (the simulator's ideal frames,
     /// a recording replayed frame by frame) whose frames repeat by design.
     std::uint32_t max_repeated_frames = 0U;
-    std::uint64_t cycle_budget_us = 5000U;     ///< deadline of one cycle
-    std::size_t prior_check_slice_bytes = 4096U;  ///< bytes of the prior re-checked per cycle (> 0)
-    std::size_t table_check_slice_bytes = 262144U; ///< bytes of one sensor's ray table re-checked per cycle (> 0)
-    std::size_t zone_check_slice_bytes = 16384U;   ///< bytes of the zone membership mask re-checked per cycle (> 0)
+    std::uint64_t cycle_budget_us = 5000U;          ///< deadline of one cycle
+    std::size_t prior_check_slice_bytes = 4096U;    ///< bytes of the prior re-checked per cycle (> 0)
+    std::size_t table_check_slice_bytes = 262144U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)
+    std::size_t zone_check_slice_bytes = 16384U;    ///< bytes of the zone membership mask re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
 };
 
@@ -91,9 +91,8 @@ public:
     /// a table): a sensor that needs it and finds it too small is refused
     /// every cycle (kFrameInconsistent), so the safe state follows.
     SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid, Span<std::int16_t> fusion_scratch,
-                     Span<const std::int16_t> prior,
-                     const CompiledZones& zones, const SensorModelTable& model, MonotonicClock& clock,
-                     CycleOutput* output) noexcept;
+                     Span<const std::int16_t> prior, const CompiledZones& zones, const SensorModelTable& model,
+                     MonotonicClock& clock, CycleOutput* output) noexcept;
 
     /// Runs one cycle on @p sensors (exactly config.sensor_count entries,
     /// else kSensorMissing) with the reset input's level @p reset_input.
@@ -115,10 +114,10 @@ private:
 
     /// What the frozen-sensor check keeps of a sensor slot's last frame.
     struct FrameHistory {
-        bool seen = false;                 ///< a frame has been fingerprinted
-        std::uint64_t captured_us = 0U;    ///< its time stamp
-        std::uint64_t fingerprint = 0U;    ///< reading_fingerprint of its data
-        std::uint32_t repeats = 0U;        ///< new frames in a row with the same data (saturating)
+        bool seen = false;               ///< a frame has been fingerprinted
+        std::uint64_t captured_us = 0U;  ///< its time stamp
+        std::uint64_t fingerprint = 0U;  ///< reading_fingerprint of its data
+        std::uint32_t repeats = 0U;      ///< new frames in a row with the same data (saturating)
     };
 
     /// A sensor slot's ray table check: made from the table's regions and
@@ -145,12 +144,12 @@ private:
     CycleReport report_{};
     std::uint32_t pending_faults_ = 0U;
     std::uint32_t construction_faults_ = 0U;
-    SignatureCheck prior_check_;  ///< the prior's bytes, reference taken at construction
-    SignatureCheck zone_mask_check_;  ///< the zones' membership mask, reference taken at construction
+    SignatureCheck prior_check_;            ///< the prior's bytes, reference taken at construction
+    SignatureCheck zone_mask_check_;        ///< the zones' membership mask, reference taken at construction
     std::uint32_t zone_settings_crc_ = 0U;  ///< CompiledZones::settings_crc() at construction
     bool zone_settings_failed_ = false;
     std::array<TableCheck, kMaxSensors> table_checks_{};  ///< per sensor slot: the check of its table
-    std::size_t table_check_sensor_ = 0U;  ///< the sensor slot whose table the next cycle checks
+    std::size_t table_check_sensor_ = 0U;                 ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;
     std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
 };

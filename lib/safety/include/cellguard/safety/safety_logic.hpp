@@ -41,21 +41,21 @@ struct SafetyLogicConfig {
 
 /// Inputs of one cycle.
 struct SafetyInputs {
-    std::uint64_t now_us = 0U;            ///< monotonic time of this cycle, microseconds
-    const ZoneEvaluation* zones = nullptr; ///< this cycle's zone results (nullptr: not available -> fault)
-    std::uint32_t detected_faults = 0U;   ///< fault bits detected this cycle
-    bool reset_input = false;             ///< level of the reset input
+    std::uint64_t now_us = 0U;              ///< monotonic time of this cycle, microseconds
+    const ZoneEvaluation* zones = nullptr;  ///< this cycle's zone results (nullptr: not available -> fault)
+    std::uint32_t detected_faults = 0U;     ///< fault bits detected this cycle
+    bool reset_input = false;               ///< level of the reset input
 };
 
 /// Outputs of one cycle.
 struct SafetyOutputs {
-    bool stop_requested = true;        ///< protective stop requested (the safe state)
-    bool warning = false;              ///< a warning zone is not CLEAR
-    bool interlock_holding = true;     ///< the stop is held only by the restart interlock
-    std::uint32_t latched_faults = 0U; ///< fault bits latched now
-    std::uint32_t intruded_mask = 0U;  ///< zones INTRUDED (all zones FAULT while a fault is latched: 0 here)
-    std::uint32_t unseen_mask = 0U;    ///< zones UNSEEN
-    std::uint32_t fault_zone_mask = 0U;///< zones in FAULT (all, while a fault is latched)
+    bool stop_requested = true;          ///< protective stop requested (the safe state)
+    bool warning = false;                ///< a warning zone is not CLEAR
+    bool interlock_holding = true;       ///< the stop is held only by the restart interlock
+    std::uint32_t latched_faults = 0U;   ///< fault bits latched now
+    std::uint32_t intruded_mask = 0U;    ///< zones INTRUDED (all zones FAULT while a fault is latched: 0 here)
+    std::uint32_t unseen_mask = 0U;      ///< zones UNSEEN
+    std::uint32_t fault_zone_mask = 0U;  ///< zones in FAULT (all, while a fault is latched)
 };
 
 /// The safety logic's state machine; one step() per cycle.

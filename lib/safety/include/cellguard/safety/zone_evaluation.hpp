@@ -49,17 +49,17 @@ struct ZoneEvaluationParams {
 /// One zone's result.
 struct ZoneReport {
     ZoneState state = ZoneState::kFault;  ///< the zone's state
-    std::uint32_t foreground = 0U;         ///< foreground voxels in the zone
-    std::uint32_t unseen = 0U;             ///< unseen accessible voxels in the zone
+    std::uint32_t foreground = 0U;        ///< foreground voxels in the zone
+    std::uint32_t unseen = 0U;            ///< unseen accessible voxels in the zone
 };
 
 /// All zones' results of one cycle.
 struct ZoneEvaluation {
-    ZoneReport zones[kMaxZones] = {};  ///< per zone, in configuration order
-    std::size_t count = 0U;            ///< number of zones
-    std::uint32_t intruded_mask = 0U;  ///< bit z: zone z INTRUDED
-    std::uint32_t unseen_mask = 0U;    ///< bit z: zone z UNSEEN
-    std::uint32_t not_clear_mask = 0U; ///< bit z: zone z not CLEAR
+    ZoneReport zones[kMaxZones] = {};   ///< per zone, in configuration order
+    std::size_t count = 0U;             ///< number of zones
+    std::uint32_t intruded_mask = 0U;   ///< bit z: zone z INTRUDED
+    std::uint32_t unseen_mask = 0U;     ///< bit z: zone z UNSEEN
+    std::uint32_t not_clear_mask = 0U;  ///< bit z: zone z not CLEAR
 };
 
 /// Subtracts @p prior from @p frame and evaluates every zone of @p zones.
@@ -69,8 +69,8 @@ struct ZoneEvaluation {
 /// zones were compiled for another grid, kStorageTooSmall when prior (or a
 /// non-empty subtracted_out) holds fewer values than the grid.
 [[nodiscard]] Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
-                                    const CompiledZones& zones, const ZoneEvaluationParams& params,
-                                    ZoneEvaluation& out, Span<std::int16_t> subtracted_out = {}) noexcept;
+                                    const CompiledZones& zones, const ZoneEvaluationParams& params, ZoneEvaluation& out,
+                                    Span<std::int16_t> subtracted_out = {}) noexcept;
 
 }  // namespace cellguard
 

@@ -16,9 +16,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/grid/grid.hpp"
 #include "cellguard/base/result.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/grid.hpp"
 
 namespace cellguard {
 
@@ -48,8 +48,8 @@ struct PolygonVertex {
 
 /// One zone as an integrator draws it. Thresholds are per zone.
 struct ZoneConfig {
-    ZoneKind kind = ZoneKind::kProtective;  ///< protective or warning
-    ZoneShape shape = ZoneShape::kBox;      ///< box or prism
+    ZoneKind kind = ZoneKind::kProtective;              ///< protective or warning
+    ZoneShape shape = ZoneShape::kBox;                  ///< box or prism
     Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  ///< kBox: minimum corner, metres
     Eigen::Vector3d box_max = Eigen::Vector3d::Zero();  ///< kBox: maximum corner, metres
     PolygonVertex polygon[kMaxPolygonVertices] = {};    ///< kPrism: vertices in x-y, in order
@@ -64,9 +64,10 @@ struct ZoneConfig {
 
 /// Why a zone configuration was rejected, with the zone's position.
 struct ZoneError {
-    ErrorCode code = ErrorCode::kOk;  ///< kInvalidArgument, kOutOfGrid, kCapacityExceeded, kNonFiniteValue, kStorageTooSmall
-    std::size_t zone = 0U;            ///< index of the offending zone (0 for errors of the whole set)
-    const char* reason = "";          ///< static text: what is wrong
+    ErrorCode code =
+        ErrorCode::kOk;       ///< kInvalidArgument, kOutOfGrid, kCapacityExceeded, kNonFiniteValue, kStorageTooSmall
+    std::size_t zone = 0U;    ///< index of the offending zone (0 for errors of the whole set)
+    const char* reason = "";  ///< static text: what is wrong
 };
 
 /// True when @p e means "no error" (its code is kOk): what Result<T, ZoneError> checks.

@@ -11,7 +11,8 @@
 namespace cellguard::baremetal {
 
 /// CanSender printing frames via semihosting.
-class SemihostingCanSender final : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class SemihostingCanSender final : public CanSender {
 public:
     /// Prints @p frame (at most 8 data bytes); returns true.
     bool send(const CanFrame& frame) noexcept override;

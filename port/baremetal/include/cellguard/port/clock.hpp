@@ -14,7 +14,8 @@
 namespace cellguard::baremetal {
 
 /// SysTick as the controller's clock. One instance per core.
-class SysTickClock final : public MonotonicClock {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class SysTickClock final : public MonotonicClock {
 public:
     /// A clock for a processor running at @p cpu_hz (>= 1 MHz, a multiple of 1 kHz: contract).
     explicit SysTickClock(std::uint32_t cpu_hz) noexcept;

@@ -42,17 +42,17 @@ namespace cellguard::linux_port {
 
 /// Why a SocketCAN operation failed.
 enum class SocketCanError : std::uint8_t {
-    kOk = 0,                 ///< success
-    kInvalidInterfaceName,   ///< empty, or too long for IFNAMSIZ
-    kNoSuchInterface,        ///< no network interface has this name
-    kCanNotSupported,        ///< socket(PF_CAN) failed: the kernel has no CAN support
-    kNotACanInterface,       ///< bind() refused the interface (exists, but is not CAN)
-    kSocketSetupFailed,      ///< another socket(), setsockopt() or bind() failure
-    kNotOpen,                ///< the socket is not open
-    kInvalidFrame,           ///< frame to send: ID above 11 bits or DLC above 8
-    kTxBufferFull,           ///< ENOBUFS / EAGAIN on every attempt
-    kNetworkDown,            ///< the interface is down
-    kSendFailed,             ///< another send error, or a short write
+    kOk = 0,                ///< success
+    kInvalidInterfaceName,  ///< empty, or too long for IFNAMSIZ
+    kNoSuchInterface,       ///< no network interface has this name
+    kCanNotSupported,       ///< socket(PF_CAN) failed: the kernel has no CAN support
+    kNotACanInterface,      ///< bind() refused the interface (exists, but is not CAN)
+    kSocketSetupFailed,     ///< another socket(), setsockopt() or bind() failure
+    kNotOpen,               ///< the socket is not open
+    kInvalidFrame,          ///< frame to send: ID above 11 bits or DLC above 8
+    kTxBufferFull,          ///< ENOBUFS / EAGAIN on every attempt
+    kNetworkDown,           ///< the interface is down
+    kSendFailed,            ///< another send error, or a short write
 };
 /// A short, static description of @p error (never nullptr).
 [[nodiscard]] const char* to_string(SocketCanError error) noexcept;
@@ -80,10 +80,10 @@ constexpr std::uint32_t kErrorFrameMask = CAN_ERR_TX_TIMEOUT | CAN_ERR_CRTL | CA
 
 /// What one CAN error frame reports.
 struct ErrorFrameReport {
-    std::uint16_t raised_faults = 0U;  ///< FaultCode bits the frame raises
-    bool restarted = false;            ///< the controller restarted (after bus-off)
-    bool back_to_error_active = false; ///< the controller is error-active again
-    bool warning = false;              ///< an error counter reached the warning level (reported, not a fault)
+    std::uint16_t raised_faults = 0U;   ///< FaultCode bits the frame raises
+    bool restarted = false;             ///< the controller restarted (after bus-off)
+    bool back_to_error_active = false;  ///< the controller is error-active again
+    bool warning = false;               ///< an error counter reached the warning level (reported, not a fault)
 };
 /// Classifies an error frame (CAN_ERR_FLAG set) as the kernel delivers it (pure).
 /// A frame without CAN_ERR_FLAG reports nothing.
@@ -91,9 +91,10 @@ struct ErrorFrameReport {
 
 /// What a frame read from the socket is.
 enum class KernelFrameKind : std::uint8_t {
-    kData = 0,     ///< a standard-ID data frame: converted to CanFrame
-    kError = 1,    ///< an error frame: see classify_error_frame
-    kIgnored = 2,  ///< extended-ID or remote frame, or DLC > 8: never passed on (an extended ID could alias a safety ID)
+    kData = 0,   ///< a standard-ID data frame: converted to CanFrame
+    kError = 1,  ///< an error frame: see classify_error_frame
+    kIgnored =
+        2,  ///< extended-ID or remote frame, or DLC > 8: never passed on (an extended ID could alias a safety ID)
 };
 /// Classifies @p frame and, for kData, writes it to @p out (pure).
 [[nodiscard]] KernelFrameKind classify_kernel_frame(const can_frame& frame, CanFrame& out) noexcept;
@@ -124,15 +125,16 @@ struct SocketCanConfig {
 
 /// A raw CAN socket on one interface; move-only, closed by its destructor.
 /// A send blocks at most (send_attempts - 1) * retry_wait_us.
-class SocketCan final : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class SocketCan final : public CanSender {
 public:
     /// What receive() found.
     enum class ReceiveOutcome : std::uint8_t {
-        kFrame = 0,        ///< a data frame, written to the caller's CanFrame
-        kErrorFrame = 1,   ///< an error frame, applied to the fault monitor
-        kIgnoredFrame = 2, ///< an extended-ID, remote or oversized frame, dropped
-        kNothing = 3,      ///< no frame waiting
-        kFailed = 4,       ///< read() failed; see last_receive_errno()
+        kFrame = 0,         ///< a data frame, written to the caller's CanFrame
+        kErrorFrame = 1,    ///< an error frame, applied to the fault monitor
+        kIgnoredFrame = 2,  ///< an extended-ID, remote or oversized frame, dropped
+        kNothing = 3,       ///< no frame waiting
+        kFailed = 4,        ///< read() failed; see last_receive_errno()
     };
 
     /// A closed socket.

@@ -12,7 +12,8 @@ namespace cellguard::linux_port {
 
 /// CLOCK_MONOTONIC in microseconds; 0 if the call fails (the controller then sees
 /// a clock that does not advance and latches its clock fault).
-class LinuxMonotonicClock final : public MonotonicClock {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class LinuxMonotonicClock final : public MonotonicClock {
 public:
     /// Microseconds of CLOCK_MONOTONIC.
     std::uint64_t now_us() noexcept override;

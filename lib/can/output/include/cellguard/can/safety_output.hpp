@@ -28,11 +28,11 @@
 
 #include <cstdint>
 
+#include "cellguard/base/result.hpp"
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/can_sender.hpp"
-#include "cellguard/base/result.hpp"
-#include "cellguard/safety/cycle_output.hpp"
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/safety/cycle_output.hpp"
 
 namespace cellguard {
 
@@ -55,14 +55,13 @@ struct SafetyOutputConfig {
 /// (0..3, a contract) of @p prior_crc, with the CAN port's detail faults
 /// @p can_detail_faults (only bits 9..14 are used).
 [[nodiscard]] DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t page,
-                                                     std::uint32_t prior_crc,
-                                                     std::uint16_t can_detail_faults) noexcept;
+                                                     std::uint32_t prior_crc, std::uint16_t can_detail_faults) noexcept;
 
 /// The three frames of one cycle.
 struct CycleFrames {
-    CanFrame safety;        ///< the safety frame
-    CanFrame inverted;      ///< its inverted copy
-    CanFrame diagnostics;   ///< the diagnostics frame
+    CanFrame safety;       ///< the safety frame
+    CanFrame inverted;     ///< its inverted copy
+    CanFrame diagnostics;  ///< the diagnostics frame
 };
 
 /// Encodes the frames of successive cycles: holds both E2E counters and the
@@ -90,7 +89,8 @@ private:
 };
 
 /// The CycleOutput that sends each cycle's frames through a CanSender.
-class CanSafetyOutput final : public CycleOutput {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class CanSafetyOutput final : public CycleOutput {
 public:
     /// Binds @p sender (must outlive the output). A @p config that fails
     /// check_safety_output_config is refused: status() holds the error and

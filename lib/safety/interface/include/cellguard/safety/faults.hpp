@@ -13,15 +13,15 @@ namespace cellguard {
 /// Fault codes: bit positions in a fault mask. Values appear on CAN and in
 /// the certification pack: append only.
 enum class Fault : std::uint8_t {
-    kSensorStale = 0,         ///< a sensor frame older than its age limit
-    kSensorMissing = 1,       ///< a configured sensor delivered no frame
-    kFrameInconsistent = 2,   ///< a frame failed its checks (description, size)
-    kPriorCheckFailed = 3,    ///< the prior's CRC or geometry check failed (non-recoverable)
-    kCycleOverrun = 4,        ///< a cycle exceeded its time budget
-    kCanError = 5,            ///< the CAN output failed (bus-off, error-passive, send failure)
-    kInternalCheck = 6,       ///< an internal consistency check failed (non-recoverable)
-    kClockFault = 7,          ///< the monotonic clock did not advance (non-recoverable)
-    kZoneEvaluation = 8,      ///< zone evaluation could not run
+    kSensorStale = 0,        ///< a sensor frame older than its age limit
+    kSensorMissing = 1,      ///< a configured sensor delivered no frame
+    kFrameInconsistent = 2,  ///< a frame failed its checks (description, size)
+    kPriorCheckFailed = 3,   ///< the prior's CRC or geometry check failed (non-recoverable)
+    kCycleOverrun = 4,       ///< a cycle exceeded its time budget
+    kCanError = 5,           ///< the CAN output failed (bus-off, error-passive, send failure)
+    kInternalCheck = 6,      ///< an internal consistency check failed (non-recoverable)
+    kClockFault = 7,         ///< the monotonic clock did not advance (non-recoverable)
+    kZoneEvaluation = 8,     ///< zone evaluation could not run
 };
 
 /// Number of defined faults.
@@ -31,8 +31,8 @@ constexpr std::uint8_t kFaultCount = 9U;
 constexpr std::uint32_t fault_bit(Fault fault) noexcept { return 1U << static_cast<std::uint32_t>(fault); }
 
 /// Faults that only a re-initialisation clears.
-constexpr std::uint32_t kNonRecoverableFaults =
-    fault_bit(Fault::kPriorCheckFailed) | fault_bit(Fault::kInternalCheck) | fault_bit(Fault::kClockFault);
+constexpr std::uint32_t kNonRecoverableFaults = fault_bit(Fault::kPriorCheckFailed) | fault_bit(Fault::kInternalCheck) |
+                                                fault_bit(Fault::kClockFault);
 /// All defined fault bits.
 constexpr std::uint32_t kAllFaults = (1U << kFaultCount) - 1U;
 
