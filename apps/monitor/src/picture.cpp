@@ -335,10 +335,10 @@ void draw_box_edges(RgbImage& img, const PictureSensor& s, const PictureLayout& 
     for (int axis = 0; axis < 3; ++axis) {
         const int a1 = (axis + 1) % 3;
         const int a2 = (axis + 2) % 3;
-        for (int k = 0; k < 4; ++k) {
+        for (unsigned k = 0U; k < 4U; ++k) {
             Eigen::Vector3d p = lo;
-            p[a1] = (k & 1) != 0 ? hi[a1] : lo[a1];
-            p[a2] = (k & 2) != 0 ? hi[a2] : lo[a2];
+            p[a1] = (k & 1U) != 0U ? hi[a1] : lo[a1];
+            p[a2] = (k & 2U) != 0U ? hi[a2] : lo[a2];
             Eigen::Vector3d q = p;
             q[axis] = hi[axis];
             draw_segment(img, s, L, p, q, c, thickness);
@@ -447,7 +447,7 @@ int draw_text(RgbImage& image, int x, int y, const std::string& text, PictureCol
         for (int col = 0; col < 5; ++col) {
             const std::uint8_t bits = kFont[glyph][col];
             for (int row = 0; row < 8; ++row) {
-                if ((bits >> row & 1U) != 0U) {
+                if (((static_cast<unsigned>(bits) >> static_cast<unsigned>(row)) & 1U) != 0U) {
                     fill_rect(image, x + col * scale, y + row * scale, scale, scale, colour);
                 }
             }

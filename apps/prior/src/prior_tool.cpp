@@ -19,6 +19,7 @@
 #include "cellguard/host/io/npy.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/io/file.hpp"
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/host/sim/experiment.hpp"
 
@@ -44,20 +45,18 @@ std::string join_path(const std::string& dir, const char* name) {
 /// Reads the .npy preamble and header of @p path (at most the largest header
 /// the reader accepts) and parses it.
 IoStatus read_npy_file_header(const std::string& path, NpyHeader& header, std::uint64_t& file_size) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (f == nullptr) {
+    const host::FilePtr f = host::open_file(path.c_str(), "rb");
+    if (!f) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(), std::strerror(errno));
     }
     struct stat st {};
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        std::fclose(f);
+    if (fstat(fileno(f.get()), &st) != 0 || !S_ISREG(st.st_mode)) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: not a regular file", path.c_str());
     }
     file_size = static_cast<std::uint64_t>(st.st_size);
     std::vector<std::uint8_t> head(kNpyPreambleV2 + kNpyMaxHeaderBytes);
-    const std::size_t n = std::fread(head.data(), 1U, head.size(), f);
-    const bool read_error = std::ferror(f) != 0;
-    std::fclose(f);
+    const std::size_t n = std::fread(head.data(), 1U, head.size(), f.get());
+    const bool read_error = std::ferror(f.get()) != 0;
     if (read_error) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read", path.c_str());
     }
@@ -154,16 +153,12 @@ IoStatus BackgroundGrid::allocate(const GridGeometry& geometry) {
     return IoStatus{};
 }
 
-IoStatus load_background_npy(const std::string& path, const std::string& observed_path,
-                             const NpyPlacement& placement, BackgroundGrid& out, NpyBackgroundInfo& info) {
-    out = BackgroundGrid{};
-    info = NpyBackgroundInfo{};
-    NpyHeader h;
-    std::uint64_t file_size = 0U;
-    IoStatus st = read_npy_file_header(path, h, file_size);
-    if (!st.ok()) {
-        return st;
-    }
+namespace {
+
+/// The background file's dtype and shape (int16 or float32, (nz, ny, nx)) as a grid's @p dims, checked against
+/// @p placement when it fixes them.
+IoStatus check_background_shape(const std::string& path, const NpyHeader& h, const NpyPlacement& placement,
+                                GridDims& dims) {
     if (h.dtype == NpyDtype::kUInt8) {
         return IoStatus::failure(ErrorCode::kUnsupportedType,
                                  "%s: dtype is uint8 ('|u1', observed flags?); a background grid is int16 log-odds "
@@ -182,13 +177,92 @@ IoStatus load_background_npy(const std::string& path, const std::string& observe
                                      kMaxDimension);
         }
     }
-    const GridDims dims{static_cast<std::int32_t>(h.shape[2]), static_cast<std::int32_t>(h.shape[1]),
-                        static_cast<std::int32_t>(h.shape[0])};
+    dims = GridDims{static_cast<std::int32_t>(h.shape[2]), static_cast<std::int32_t>(h.shape[1]),
+                    static_cast<std::int32_t>(h.shape[0])};
     if (placement.check_dims && !(dims == placement.dims)) {
         return IoStatus::failure(ErrorCode::kGeometryMismatch,
                                  "%s: shape %s is a %d x %d x %d grid, expected %d x %d x %d (nx x ny x nz)",
                                  path.c_str(), shape_text(h).c_str(), dims.nx, dims.ny, dims.nz, placement.dims.nx,
                                  placement.dims.ny, placement.dims.nz);
+    }
+    return IoStatus{};
+}
+
+/// int16 log-odds as they are; the prior's "never foreground" sentinel is refused.
+IoStatus read_log_odds_background(const std::string& path, GridDims dims, BackgroundGrid& bg) {
+    const std::size_t n = bg.log_odds.size();
+    const IoStatus st = read_npy_int16(path.c_str(), dims, {bg.log_odds.data(), n});
+    if (!st.ok()) {
+        return st;
+    }
+    for (std::size_t i = 0U; i < n; ++i) {
+        if (bg.log_odds[i] == kNeverForeground) {
+            return IoStatus::failure(ErrorCode::kMalformedInput,
+                                     "%s: voxel %s holds -32768, the prior's \"never foreground\" sentinel; "
+                                     "a background grid never does (is this a prior?)",
+                                     path.c_str(), voxel_name(i, dims).c_str());
+        }
+    }
+    return IoStatus{};
+}
+
+/// float32 probabilities in [0, 1], converted to log-odds (0 to the lowest log-odds).
+IoStatus read_probability_background(const std::string& path, GridDims dims, BackgroundGrid& bg) {
+    const std::size_t n = bg.log_odds.size();
+    std::vector<float> p(n);
+    const IoStatus st = read_npy_float32(path.c_str(), dims, {p.data(), n});
+    if (!st.ok()) {
+        return st;
+    }
+    for (std::size_t i = 0U; i < n; ++i) {
+        const float v = p[i];
+        if (!std::isfinite(v)) {
+            return IoStatus::failure(ErrorCode::kNonFiniteValue, "%s: voxel %s is %s; probabilities must be finite",
+                                     path.c_str(), voxel_name(i, dims).c_str(), std::isnan(v) ? "NaN" : "infinite");
+        }
+        if (v < 0.0F || v > 1.0F) {
+            return IoStatus::failure(ErrorCode::kInvalidArgument,
+                                     "%s: voxel %s is %g, not a probability in [0, 1]", path.c_str(),
+                                     voxel_name(i, dims).c_str(), static_cast<double>(v));
+        }
+        bg.log_odds[i] = v == 0.0F ? kLogOddsMin : log_odds_from_probability(static_cast<double>(v));
+    }
+    return IoStatus{};
+}
+
+/// The observed flags (0 or 1) from their own file.
+IoStatus read_observed_flags(const std::string& observed_path, GridDims dims, BackgroundGrid& bg) {
+    const std::size_t n = bg.observed.size();
+    const IoStatus st = read_npy_uint8(observed_path.c_str(), dims, {bg.observed.data(), n});
+    if (!st.ok()) {
+        return st;
+    }
+    for (std::size_t i = 0U; i < n; ++i) {
+        if (bg.observed[i] > 1U) {
+            return IoStatus::failure(ErrorCode::kMalformedInput, "%s: voxel %s is %u; observed flags are 0 or 1",
+                                     observed_path.c_str(), voxel_name(i, dims).c_str(),
+                                     static_cast<unsigned>(bg.observed[i]));
+        }
+    }
+    return IoStatus{};
+}
+
+}  // namespace
+
+IoStatus load_background_npy(const std::string& path, const std::string& observed_path,
+                             const NpyPlacement& placement, BackgroundGrid& out, NpyBackgroundInfo& info) {
+    out = BackgroundGrid{};
+    info = NpyBackgroundInfo{};
+    NpyHeader h;
+    std::uint64_t file_size = 0U;
+    IoStatus st = read_npy_file_header(path, h, file_size);
+    if (!st.ok()) {
+        return st;
+    }
+    GridDims dims;
+    st = check_background_shape(path, h, placement, dims);
+    if (!st.ok()) {
+        return st;
     }
     const Result<GridGeometry> geometry = GridGeometry::make(placement.origin, placement.voxel_size, dims);
     if (!geometry.ok()) {
@@ -206,50 +280,18 @@ IoStatus load_background_npy(const std::string& path, const std::string& observe
     }
     const std::size_t n = bg.log_odds.size();
     if (h.dtype == NpyDtype::kInt16) {
-        st = read_npy_int16(path.c_str(), dims, {bg.log_odds.data(), n});
-        if (!st.ok()) {
-            return st;
-        }
-        for (std::size_t i = 0U; i < n; ++i) {
-            if (bg.log_odds[i] == kNeverForeground) {
-                return IoStatus::failure(ErrorCode::kMalformedInput,
-                                         "%s: voxel %s holds -32768, the prior's \"never foreground\" sentinel; "
-                                         "a background grid never does (is this a prior?)",
-                                         path.c_str(), voxel_name(i, dims).c_str());
-            }
-        }
+        st = read_log_odds_background(path, dims, bg);
     } else {
         info.float_input = true;
-        std::vector<float> p(n);
-        st = read_npy_float32(path.c_str(), dims, {p.data(), n});
-        if (!st.ok()) {
-            return st;
-        }
-        for (std::size_t i = 0U; i < n; ++i) {
-            const float v = p[i];
-            if (!std::isfinite(v)) {
-                return IoStatus::failure(ErrorCode::kNonFiniteValue, "%s: voxel %s is %s; probabilities must be finite",
-                                         path.c_str(), voxel_name(i, dims).c_str(), std::isnan(v) ? "NaN" : "infinite");
-            }
-            if (v < 0.0F || v > 1.0F) {
-                return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                         "%s: voxel %s is %g, not a probability in [0, 1]", path.c_str(),
-                                         voxel_name(i, dims).c_str(), static_cast<double>(v));
-            }
-            bg.log_odds[i] = v == 0.0F ? kLogOddsMin : log_odds_from_probability(static_cast<double>(v));
-        }
+        st = read_probability_background(path, dims, bg);
+    }
+    if (!st.ok()) {
+        return st;
     }
     if (!observed_path.empty()) {
-        st = read_npy_uint8(observed_path.c_str(), dims, {bg.observed.data(), n});
+        st = read_observed_flags(observed_path, dims, bg);
         if (!st.ok()) {
             return st;
-        }
-        for (std::size_t i = 0U; i < n; ++i) {
-            if (bg.observed[i] > 1U) {
-                return IoStatus::failure(ErrorCode::kMalformedInput, "%s: voxel %s is %u; observed flags are 0 or 1",
-                                         observed_path.c_str(), voxel_name(i, dims).c_str(),
-                                         static_cast<unsigned>(bg.observed[i]));
-            }
         }
         info.observed_source = observed_path;
     } else {
@@ -456,19 +498,18 @@ IoStatus compute_prior(const EvidenceGrid& background, const AccessibilityParams
 namespace {
 
 IoStatus read_text_file(const std::string& path, std::string& text) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (f == nullptr) {
+    const host::FilePtr f = host::open_file(path.c_str(), "rb");
+    if (!f) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open for reading back: %s", path.c_str(),
                                  std::strerror(errno));
     }
     text.clear();
     char buf[65536];
     std::size_t n = 0U;
-    while ((n = std::fread(buf, 1U, sizeof(buf), f)) > 0U) {
+    while ((n = std::fread(buf, 1U, sizeof(buf), f.get())) > 0U) {
         text.append(buf, n);
     }
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
+    const bool failed = std::ferror(f.get()) != 0;
     if (failed) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read back", path.c_str());
     }
@@ -489,33 +530,41 @@ IoStatus verify_npy(const std::string& path, GridDims dims, const std::vector<fl
 
 }  // namespace
 
-IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometry, const AccessibilityParams& params,
-                             const PriorResult& result, const PriorSourceOptions& source_options,
-                             WrittenOutputs& written, const ProgressFn& progress) {
-    written = WrittenOutputs{};
-    constexpr std::size_t kSteps = 8U;  // four files written, four read back
-    std::size_t steps = 0U;
-    const auto step = [&] {
-        if (progress) {
-            progress(++steps, kSteps);
-        }
-    };
-    {
-        std::error_code ec;
-        std::filesystem::create_directories(dir, ec);
-        if (ec || !std::filesystem::is_directory(dir, ec)) {
-            return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create the output directory%s%s",
-                                     dir.c_str(), ec ? ": " : " (a file of that name exists)",
-                                     ec ? ec.message().c_str() : "");
+namespace {
+
+/// Counts the steps of write_prior_outputs for its progress callback.
+class OutputSteps {
+public:
+    static constexpr std::size_t kSteps = 8U;  // four files written, four read back
+    explicit OutputSteps(const ProgressFn& progress) : progress_(&progress) {}
+    void done() {
+        if (*progress_) {
+            (*progress_)(++steps_, kSteps);
         }
     }
-    written.image_path = join_path(dir, kPriorImageName);
-    written.source_path = join_path(dir, kPriorSourceName);
-    written.p_acc_path = join_path(dir, kPAccName);
-    written.p_fore_path = join_path(dir, kPForeName);
 
+private:
+    const ProgressFn* progress_;
+    std::size_t steps_ = 0U;
+};
+
+/// @p dir and its parents, created when missing.
+IoStatus make_output_dir(const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir, ec)) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create the output directory%s%s",
+                                 dir.c_str(), ec ? ": " : " (a file of that name exists)",
+                                 ec ? ec.message().c_str() : "");
+    }
+    return IoStatus{};
+}
+
+/// The four files written; @p image is the encoded image, for the verification.
+IoStatus write_output_files(const GridGeometry& geometry, const AccessibilityParams& params, const PriorResult& result,
+                            const PriorSourceOptions& source_options, const WrittenOutputs& written,
+                            std::vector<std::uint8_t>& image, OutputSteps& steps) {
     // The image: encoded, checked by the loader, written atomically.
-    std::vector<std::uint8_t> image;
     IoStatus st = encode_prior_image(geometry, params, {result.prior.data(), result.prior.size()}, image);
     if (!st.ok()) {
         return st;
@@ -529,29 +578,34 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
     if (!st.ok()) {
         return st;
     }
-    step();
+    steps.done();
     st = write_prior_source_file(written.source_path.c_str(), view.value(), source_options);
     if (!st.ok()) {
         return st;
     }
-    step();
+    steps.done();
     const GridDims dims = geometry.dims();
     st = write_npy_float32(written.p_acc_path.c_str(), {result.p_acc.data(), result.p_acc.size()}, dims);
     if (!st.ok()) {
         return st;
     }
-    step();
+    steps.done();
     st = write_npy_float32(written.p_fore_path.c_str(), {result.p_fore.data(), result.p_fore.size()}, dims);
     if (!st.ok()) {
         return st;
     }
-    step();
+    steps.done();
+    return IoStatus{};
+}
 
-    // Verification: everything read back from disk.
+/// Everything read back from disk and compared with what was written.
+IoStatus verify_output_files(const GridGeometry& geometry, const PriorResult& result,
+                             const PriorSourceOptions& source_options, const std::vector<std::uint8_t>& image,
+                             WrittenOutputs& written, OutputSteps& steps) {
     std::vector<std::uint8_t> bytes;
     PriorImageView back;
     PriorImageError reason = PriorImageError::kNone;
-    st = read_prior_image_file(written.image_path.c_str(), geometry, bytes, back, &reason);
+    IoStatus st = read_prior_image_file(written.image_path.c_str(), geometry, bytes, back, &reason);
     if (!st.ok()) {
         return st;  // names the file
     }
@@ -559,7 +613,7 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
         return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the encoded image",
                                  written.image_path.c_str());
     }
-    step();
+    steps.done();
     written.image_bytes = bytes.size();
     written.header = back.header();
     std::string expected_text;
@@ -576,17 +630,41 @@ IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometr
         return IoStatus::failure(ErrorCode::kCrcMismatch, "%s: read back differs from the generated source",
                                  written.source_path.c_str());
     }
-    step();
+    steps.done();
+    const GridDims dims = geometry.dims();
     st = verify_npy(written.p_acc_path, dims, result.p_acc);
     if (!st.ok()) {
         return st;
     }
-    step();
+    steps.done();
     st = verify_npy(written.p_fore_path, dims, result.p_fore);
     if (st.ok()) {
-        step();
+        steps.done();
     }
     return st;
+}
+
+}  // namespace
+
+IoStatus write_prior_outputs(const std::string& dir, const GridGeometry& geometry, const AccessibilityParams& params,
+                             const PriorResult& result, const PriorSourceOptions& source_options,
+                             WrittenOutputs& written, const ProgressFn& progress) {
+    written = WrittenOutputs{};
+    OutputSteps steps(progress);
+    IoStatus st = make_output_dir(dir);
+    if (!st.ok()) {
+        return st;
+    }
+    written.image_path = join_path(dir, kPriorImageName);
+    written.source_path = join_path(dir, kPriorSourceName);
+    written.p_acc_path = join_path(dir, kPAccName);
+    written.p_fore_path = join_path(dir, kPForeName);
+    std::vector<std::uint8_t> image;
+    st = write_output_files(geometry, params, result, source_options, written, image, steps);
+    if (!st.ok()) {
+        return st;
+    }
+    return verify_output_files(geometry, result, source_options, image, written, steps);
 }
 
 }  // namespace cellguard::prior_tool
