@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # cellguard_module(<name> [INCLUDE_DIR <dir>] SOURCES <cpp...> HEADERS <hpp...>
 #                  [PUBLIC_DEPS <targets...>] [PRIVATE_DEPS <targets...>])
 # (PUBLIC_DEPS and PRIVATE_DEPS: other modules, cellguard_eigen or imported

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Warning flags shared by every target: gcc and clang both build warning-free.
 # They are build-only: linked PRIVATE (lib/ through $<BUILD_INTERFACE:...>),
 # never part of the installed package.

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Fails when the static library LIB references a forbidden symbol: the heap
 # (malloc family, operator new/delete), the exception runtime or RTTI.
 # Run as: cmake -DNM=<nm> -DLIB=<libcellguard.a> -P CheckNoHeap.cmake

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Runs a host program and checks how it ends: the command-line tests of the
 # programs under apps/ (--help, --version, usage errors; SR-GEN-005). Run as
 #   cmake -DTOOL=path [-DEMULATOR=a|b] [-DARGS=a|b|c] -DSTATUS=n

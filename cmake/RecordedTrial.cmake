@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Issue 24's trial as a user runs it: commission a prior from one real
 # recorded frame with cellguard-prior (the frame given three times: the
 # probabilistic method needs three), then replay the same frame with

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # The SoC: aarch64 Linux, cross-compiled with g++-aarch64-linux-gnu; ctest
 # runs the test binaries under qemu-user (tools/install-deps.sh --cross).
 set(CMAKE_SYSTEM_NAME Linux)

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Settings shared by every cellguard target (included by each toolchain file).
 #
 # Bit-identical results across targets: no fused multiply-add contraction

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # The safety MCU: Cortex-M7 with double-precision FPU, bare metal
 # (arm-none-eabi g++ with newlib's libstdc++). Only lib/ and the firmware
 # (port/baremetal, apps/firmware) are built: no tests, benchmarks or host apps.

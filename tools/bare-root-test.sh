@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # README's two commands on a bare Debian 12 root: `tools/test.sh`, then
 # `tools/demo.sh`, run exactly as README.md writes them from the top of a
 # clone of the commit under test, in a chroot of a `debootstrap

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Instructions per cycle of the cycle benchmark (tests/bench/bench_cycle.cpp),
 # counted by callgrind inside SafetyController::run_cycle only (set-up such
 # as building the ray tables is not counted), divided by the cycles run.

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Builds tests/consumer, a small program that uses cellguard::cellguard, in
 # the two ways another project would use cellguard, and runs it:
 #  (a) package:      cellguard's lib/ built and installed (`cmake --install`)

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Cross-compilation CI steps (toolchains/*.cmake):
 #  1. x86-64 (the industrial PC): builds cellguard-firmware-digest, runs it;
 #  2. aarch64 (the SoC): builds everything but the benchmarks, runs the whole ctest suite under

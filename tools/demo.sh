@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # README's first command: install dependencies, build the monitor, and run
 # the main job on its built-in default: `cellguard-monitor --demo`, the
 # simulated paper cell with a person walking through the warning and

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 """Deviation log: every static-analysis suppression in lib/, port/ and apps/, with its reason.
 
 In-code suppressions (the forms the project uses):

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Regenerates the generated certification evidence (certification/):
 #   traceability.md, requirements-index.md  tools/trace.py (fails: untested requirement, unknown ID)
 #   deviations.md                           tools/deviations.py (fails: a suppression without a reason)

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Builds every tests/fuzz/fuzz_*.cpp with libFuzzer + ASan + UBSan (clang)
 # and runs each for a fixed time. Usage: tools/fuzz.sh [build-dir] [seconds]
 set -euo pipefail

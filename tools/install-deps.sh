@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Installs what a fresh Debian 12 machine lacks to build and test cellguard.
 # Needs root (or sudo). Safe to run again.
 # --cross also installs the cross toolchains and emulators of tools/cross.sh:

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Static analysis of lib/, port/ and apps/: cppcheck and clang-tidy, findings are errors.
 # apps/.clang-tidy adapts the checks to host code (heap, exceptions, iostreams allowed).
 # Usage: tools/lint.sh [build-dir]   (the build dir must have compile_commands.json)

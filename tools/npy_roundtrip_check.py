@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 """Checks grid exports (write_grid_npy, port/linux/npy.hpp) against numpy itself.
 
 Usage: tools/npy_roundtrip_check.py PREFIX [PREFIX ...]

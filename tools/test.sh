@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # README's test command: install dependencies, build with warnings as errors
 # (the release preset of CMakePresets.json), run every unit test.
 # Usage: tools/test.sh [build-dir]

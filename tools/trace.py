@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 """Traceability: safety requirements <-> tests.
 
 Reads the requirement IDs from certification/requirements.md (headings

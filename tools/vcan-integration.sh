@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Integration test on a real kernel CAN stack (issue 6): cellguard-monitor
 # sends its safety output on vcan0, candump -L records it, the PLC-side
 # receiver checks the recording; then vcan0 goes down mid-run and the fault

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Accessibility benchmark: time to compute the prior with each of the four
 // methods (thresholded, probabilistic, and the two section IV baselines) on
 // the paper's 34 x 30 x 30 grid and on the 256 x 256 x 128 whole-cell grid,

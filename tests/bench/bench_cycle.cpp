@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Cycle benchmark (issue 5, "Timing"): the paper's cell through the same
 // code path as cellguard-monitor (SafetyController::run_cycle with the
 // sensors' precomputed ray tables, the zones, the safety logic and the CAN

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fusion benchmark: the reference frame of shared/BENCHMARKING.md (four
 // sensors, 204,288 rays) into the paper's 34 x 30 x 30 grid and into the
 // 256 x 256 x 128 grid, against OctoMap on the same rays in the same run.

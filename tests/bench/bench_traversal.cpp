@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Ray traversal micro-benchmark: nanoseconds per voxel step of the exact
 // traversal and of the 3D Bresenham line, on rays from the four upper corners
 // of the 4 m x 4 m x 2 m cell to random points in it, into the paper's

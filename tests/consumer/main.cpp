@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // A consumer of the cellguard package (tests/consumer/CMakeLists.txt): it
 // maps a point into the paper's grid, encodes a safety frame, checks that it decodes to the same message, brings
 // a PLC-side receiver up with frame pairs and checks it accepts the "no stop"

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes the .npy parser and decoders over a byte buffer (no files): they must never crash, read out of
 // bounds or accept a header whose data would lie outside the input.
 #include <cstddef>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fuzzes the .pcd header parser, the point decoder (ascii, binary, binary_compressed) and the LZF
 // decompressor over a byte buffer (no files): they must never crash, read or write out of bounds, and their
 // counts must agree with the header on success.

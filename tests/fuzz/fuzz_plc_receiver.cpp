@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fuzz target: the PLC-side receiver on arbitrary sequences of frames, polls
 // and time steps (good pairs, corrupted frames and copies, replays, foreign
 // IDs and data IDs, raw garbage, time going backwards).

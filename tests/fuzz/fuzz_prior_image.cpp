@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fuzz target: the prior image loader. No crash, no read outside the input
 // (ASan: the image is copied into a heap buffer of exactly its size), the
 // fine reason agrees with the ErrorCode, every accepted image re-encodes to

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Fuzz target: the safety and diagnostics frame decoders on arbitrary frames.
 // Aborts if a decoder accepts a frame that an independent check (a bitwise
 // CRC written from the AUTOSAR E2E Profile 1 rules, the counter range, the

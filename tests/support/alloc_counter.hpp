@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Counts heap allocations made by this test process, to show that a piece of
 // lib/ allocates nothing (operator new and, on glibc, malloc itself).
 #ifndef CELLGUARD_TESTS_ALLOC_COUNTER_HPP

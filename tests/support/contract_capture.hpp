@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Observes contract violations in tests: runs a callable with a handler that
 // records the violation and jumps back instead of trapping.
 #ifndef CELLGUARD_TESTS_CONTRACT_CAPTURE_HPP

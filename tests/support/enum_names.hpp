@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Checks the to_string of an enumeration whose values run 0 .. count - 1:
 // every value has a non-empty name of its own, and values outside the
 // enumeration (as from a corrupted frame or log) get the fallback name.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Storage of a compact ray table in plain vectors the test can reach: to
 // shorten one span at a time, or to flip a bit of the table's constant RAM.
 // (host::OwnedRayTable hides its vectors; programs have no reason to touch them.)

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // A MonotonicClock that reads whatever the test set: a clock that stops,
 // steps back or jumps, for the tests of the controller and the monitor's clock.
 #ifndef CELLGUARD_TESTS_SETTABLE_CLOCK_HPP

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Compiled against cellguard_can alone (tests/CMakeLists.txt): the CAN
 // module, with the PLC receiver and the CAN sender interface, must build
 // without the grid, the controller and Eigen. If the include path of the

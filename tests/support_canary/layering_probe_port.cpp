@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Compiled against cellguard_port_linux alone (tests/CMakeLists.txt): the
 // Linux port's clock and CAN adapter must build without the grid, the
 // controller and Eigen (they implement small interfaces: clock.hpp,

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: accessibility analysis (paper eqs. 1-21 and the section IV
 // baselines): known answers, agreement with plain references on random grids,
 // monotonicity, the open / closed face rules, parameter and storage errors.

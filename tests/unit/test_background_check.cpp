@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the comparison of a live depth image with the sensor's
 // commissioned view of the empty cell (H-SEN-3: a moved or blinded sensor).
 #include <doctest/doctest.h>

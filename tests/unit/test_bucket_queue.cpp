@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the monotone bucket queue pops items in key order (across
 // fine and coarse buckets), re-files decreased keys, and refuses small storage.
 #include <doctest/doctest.h>

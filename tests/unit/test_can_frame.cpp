@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: Intel signal placement in a CAN frame, layout table consistency checks.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the candump log (candump -L format): exact line text, round trip through the parser, bad lines and bad frames refused, the writer as a CanSender; and the Linux monotonic clock advances.
 #include <doctest/doctest.h>
 

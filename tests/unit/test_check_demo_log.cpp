@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: cellguard-monitor-check-log reads a demo run's CAN log as the PLC would: the PLC receiver gets each frame at its time stamp and is polled on the log's clock, so frames that stop early, a frame delayed past the SRVT and a pair split by more than the SRVT fail; bad input is refused with a message.
 //
 // The tests named "cellguard-monitor-check-log on the demo log: ..." need a

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: CRC-32 (IEEE 802.3): catalogue check value, known vectors, incremental update, table self-test.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: cycle stage timing, deadline monitor, worst-case work bound.
 #include <doctest/doctest.h>
 

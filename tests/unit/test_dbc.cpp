@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: certification/cellguard.dbc states every frame and signal exactly as the layout tables in safety_frame.hpp.
 #include <doctest/doctest.h>
 

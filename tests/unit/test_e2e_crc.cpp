@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: CRC-8 SAE J1850 check values, E2E Profile 1 CRC in every data ID mode, counter arithmetic, data ID rules.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: evidence grid storage, observed flags, background accumulation.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: multi-sensor fusion with one opinion per sensor, voxel and
 // frame ("occupied wins"), skipped readings, validation of sensor
 // descriptions, no allocation while fusing.

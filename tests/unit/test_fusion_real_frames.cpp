@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: a real RGB-D frame (PCL's Kinect test data) fuses into a grid
 // without surprises: NaN pixels are skipped and counted, every valid reading
 // becomes a ray, and fusing allocates nothing.

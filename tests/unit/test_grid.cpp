@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: grid geometry, index math, world <-> voxel conversion.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies io_status.hpp: success and failure values, formatted messages, truncation and prefixing.
 #include <doctest/doctest.h>
 

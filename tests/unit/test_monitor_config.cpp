@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the monitor's TOML configuration: the example file and the built-in demo load, every kind of bad key or value is refused with a message naming the key and its line.
 #include <doctest/doctest.h>
 

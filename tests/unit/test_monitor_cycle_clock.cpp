@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the monitor's clock passes a stuck CLOCK_MONOTONIC through to
 // the controller when paced, so the safety logic sees it (H-CLK-1).
 #include <doctest/doctest.h>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies the monitor's cycle (apps/monitor: monitor_loop.hpp): after start-up
 // its cycles allocate nothing, on the simulated demo and with a recorded PCD
 // sensor, each sensor's frame is loaded exactly once per cycle, and the

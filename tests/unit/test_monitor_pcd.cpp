@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies the monitor's recorded-frame input (apps/monitor: pcd_input.hpp,
 // and `pcd_files` in config.cpp): good frames (ASCII, binary, a real Kinect
 // frame) are fused, every bad frame (another sensor's viewpoint, the wrong

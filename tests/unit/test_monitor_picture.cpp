@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies the monitor's configuration picture (apps/monitor: png.hpp,
 // picture.hpp): the PNG writer's files read back with libpng (its reader
 // checks the signature, every chunk's CRC-32 and the zlib stream's

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: one pass with the 6-neighbour cross computes min / max over
 // the cross on the region only; r passes equal the L1 ball of radius r.
 #include <doctest/doctest.h>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies npy.hpp: .npy export and import of grids, byte-exact with numpy.save, and the rejection of malformed files.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The paper's claims (section V) as tests that can fail, on the simulated
 // workcell of apps/evaluation: the scene files apps/evaluation/scenes/*.toml
 // (the paper's four sensors with noise, a 6 m room around the frame), the

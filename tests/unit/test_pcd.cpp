@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Verifies pcd.hpp: PCD reading (ascii, binary, binary_compressed) on real Kinect frames and synthetic clouds,
 // the LZF decompressor's bounds checks, the writer, and the rejection of malformed files.
 #include <doctest/doctest.h>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: PLC-side receiver: every injected fault gives the safe state with its reason; recovery; good path and counter wrap.
 #include <doctest/doctest.h>
 

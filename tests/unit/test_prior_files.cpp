@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: prior image files on Linux, and the generated C++ source that puts a prior in flash.
 #include <doctest/doctest.h>
 

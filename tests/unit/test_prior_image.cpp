@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the prior image format (byte layout, writer, loader), every way the loader refuses an image.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: cellguard-prior (apps/prior), the commissioning tool that turns
 // a background into the prior image, the flash source and P(acc)/P(fore) .npy
 // files. The tool runs in-process through run_prior_tool, exactly as main() runs it.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the one periodic CRC signature check of constant memory (the
 // prior values, the zone membership mask, the ray tables' regions) reads its
 // regions as one stream, finds a changed byte within two passes, latches,

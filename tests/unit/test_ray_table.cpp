@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: precomputed rays of static sensors give the same evidence as
 // on-the-fly fusion, within the stated boundary cases, and allocate nothing.
 #include <doctest/doctest.h>

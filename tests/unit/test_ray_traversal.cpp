@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: ray traversal (exact Amanatides & Woo, 3D Bresenham) against brute-force references.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the sensor model holds at a real camera's density. On the
 // three real Kinect frames (tests/data/kinect-frames, 640 x 480): every voxel
 // that holds readings is occupied in that frame; the grid does not depend on

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: Result and Status, the return types of every operation that
 // can fail on outside input, and the names of their error codes.
 #include <doctest/doctest.h>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the cycle executive on the simulated workcell: intrusion
 // gives a stop in the same cycle, a quiet or stale sensor gives a fault, a
 // corrupted prior is caught while running, unseen space is not clear, and a

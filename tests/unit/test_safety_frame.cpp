@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: safety and diagnostics frame encoding, inverted copy, field-by-field decoding, channel config rules.
 #include <doctest/doctest.h>
 

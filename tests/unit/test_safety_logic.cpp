@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: protective stop, warning, restart interlock, fault latching
 // and recovery, clock monitoring.
 #include <doctest/doctest.h>

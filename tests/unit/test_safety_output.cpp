@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the CAN safety output: each cycle's safety frame, inverted copy and diagnostics frame decode, the PLC receiver accepts a run of cycles across the counter wrap, the stop bit follows the report, fault bits and CRC pages are carried, too many zones are refused, a failing send is reported.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: validate_sensor_reading refuses every defect of a sensor's
 // description, each with its own error code, and accepts the valid one.
 #include <doctest/doctest.h>

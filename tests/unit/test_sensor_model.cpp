@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: the sensor model (one opinion per sensor, voxel and frame), its integer table and the pooling of opinions.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The workcell simulator's additions for the paper's experiments: prepared
 // ray casting, the noise models, scene files, the walking person and the
 // ideal ground truth (apps/simulator).

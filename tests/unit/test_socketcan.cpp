@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: SocketCAN port without a CAN kernel: errno and error-frame classification, fault recovery, frame conversion, clean open errors.
 #include <doctest/doctest.h>
 

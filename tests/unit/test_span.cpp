@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: Span, the bounded view of caller storage, and as_bytes, the byte image a CRC reads.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: background subtraction and zone states (CLEAR, INTRUDED, UNSEEN).
 #include <doctest/doctest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Requirements: zone configuration checks and compilation into voxel sets.
 #include <doctest/doctest.h>
 

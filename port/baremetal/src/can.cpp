@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The semihosting CAN backend (semihosting_can.hpp).
 #include "cellguard/port/can.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // SysTick as the monotonic clock (systick_clock.hpp).
 #include "cellguard/port/clock.hpp"
 

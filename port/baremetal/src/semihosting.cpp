@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // ARM semihosting calls (semihosting.hpp).
 #include "cellguard/port/semihosting.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Start-up of a Cortex-M7 image: the vector table, the reset handler (FPU
 // on, .data copied from flash, .bss zeroed, constructors run) and the
 // default exception handler. Symbols come from the linker script

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-vcan-check: checks what `candump -L` recorded on a real kernel CAN
 // interface while cellguard-monitor sent on it (tools/vcan-integration.sh,
 // tests/integration/vcan/vcan-test.sh). Every frame goes through the

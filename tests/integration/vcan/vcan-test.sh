@@ -1,4 +1,6 @@
 #!/bin/sh
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # The vcan integration test proper: cellguard-monitor sends its safety output
 # on a real kernel CAN interface, candump -L records it, cellguard-vcan-check
 # checks the recording with the PLC-side receiver. Runs as the VM's /init

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file crc32.hpp
 /// CRC-32 as in IEEE 802.3 (also called CRC-32/ISO-HDLC): polynomial
 /// 0x04C11DB7, processed reflected (LSB first, table polynomial 0xEDB88320),

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file ram_check.hpp
 /// The one periodic signature test of memory whose contents must not change
 /// after start-up (IEC 61508-2 Annex A, table A.5, invariable memory ranges:

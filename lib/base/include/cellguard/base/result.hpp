@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file result.hpp
 /// Error codes and `Result<T>`, the return type of every operation that can
 /// fail on input from outside (a frame, a config, a prior image, a CAN frame).

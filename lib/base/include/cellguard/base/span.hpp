@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file span.hpp
 /// `Span<T>`: a non-owning view of caller-provided contiguous storage, the way
 /// lib/ receives every buffer (C++17 has no std::span). Element access is

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file can_frame.hpp
 /// A classic CAN frame and the description of a signal inside its 8 data
 /// bytes, in the terms a DBC file uses (start bit, length, byte order,

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file can_sender.hpp
 /// Where CAN frames go: the interface a port's CAN driver implements (a
 /// SocketCAN socket, a log file, a test), with the driver's own detail

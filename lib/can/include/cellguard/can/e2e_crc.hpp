@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file e2e_crc.hpp
 /// CRC-8 SAE J1850 and the protection of AUTOSAR E2E Profile 1 (P01): the
 /// checksum, counter and data ID that guard every cellguard CAN frame.

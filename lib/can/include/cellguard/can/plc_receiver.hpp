@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file plc_receiver.hpp
 /// The PLC side of the CAN safety output: checks every safety frame and its
 /// inverted copy and turns any failure into the safe state (protective stop

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file safety_frame.hpp
 /// The CAN safety output: the safety frame (with its inverted copy) and the
 /// diagnostics frame, their bit layout, encoder and decoder.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file evidence_grid.hpp
 /// Evidence grids over caller-provided storage: integer log-odds per voxel
 /// plus a per-voxel observed flag (unknown is not empty).

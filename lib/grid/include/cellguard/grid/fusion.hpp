@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file fusion.hpp
 /// Multi-sensor fusion into a frame evidence grid, in integer log-odds, with
 /// the sensor model of sensor_model.hpp: one opinion per sensor, voxel and

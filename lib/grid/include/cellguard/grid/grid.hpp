@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file grid.hpp
 /// Geometry of a dense, axis-aligned 3D voxel grid: dimensions, index math,
 /// world <-> voxel conversion. Holds no voxel data (see evidence_grid.hpp).

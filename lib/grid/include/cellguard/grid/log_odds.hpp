@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file log_odds.hpp
 /// Integer log-odds: the number format of every evidence grid in cellguard.
 ///

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file ray_table.hpp
 /// Precomputed rays of a static depth sensor: the fast fusion path.
 ///

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file ray_traversal.hpp
 /// Rasterising a segment (a sensor ray from its origin to its reading) into
 /// the voxels of a grid, the hot path of fusion: the exact traversal of

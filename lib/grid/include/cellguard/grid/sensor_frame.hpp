@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file sensor_frame.hpp
 /// One cycle's sensor input at fixed capacity: per sensor a pose and either a
 /// point set in the sensor's own frame or a depth image with pinhole

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file sensor_model.hpp
 /// The sensor model: what one sensor's frame says about each voxel, turned
 /// once into integer log-odds so that fusion does no floating point per voxel

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file accessibility.hpp
 /// Accessibility analysis (the paper's sections II-IV): from a background
 /// grid G_B to the prior, the int16 log-odds of P(fore) = P(acc) / 2 per

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file accessibility_params.hpp
 /// The parameters of the accessibility analysis (the paper's sections II-IV),
 /// shared by the analysis itself (accessibility.hpp) and the prior image that

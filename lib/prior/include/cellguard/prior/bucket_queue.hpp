@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file bucket_queue.hpp
 /// A monotone two-level bucket queue over integer keys, for Dijkstra's
 /// algorithm with non-negative integer edge costs (the probabilistic

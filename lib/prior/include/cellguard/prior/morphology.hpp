@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file morphology.hpp
 /// Grey-scale morphology with the 6-neighbour cross on a box region of a 3-D
 /// array: the building block of the accessibility analysis (accessibility.hpp).

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file prior_image.hpp
 /// The prior image: the accessibility prior (int16 log-odds of P(fore), one
 /// per voxel, kNeverForeground for "never foreground") as a checked,

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file background_check.hpp
 /// Does a depth sensor still see the cell it was commissioned on? At
 /// commissioning each static depth sensor's view of the empty cell is kept

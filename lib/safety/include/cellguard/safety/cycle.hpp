@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file cycle.hpp
 /// The cycle executive's timing side: fixed stages with measured durations,
 /// a deadline monitor, and the worst-case work bound computed from the

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file cycle_output.hpp
 /// What one cycle of the executive produced, and the interface through which
 /// it leaves the controller (the CAN output, a log, a test).

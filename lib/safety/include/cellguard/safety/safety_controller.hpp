@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file safety_controller.hpp
 /// The cycle executive: one call per period runs the fixed stages
 /// fuse -> subtract and zones -> safety logic -> output, measures each,

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file safety_logic.hpp
 /// The safety logic: from zone states and detected faults to the protective
 /// stop request, the warning, and the latched fault code, with a restart

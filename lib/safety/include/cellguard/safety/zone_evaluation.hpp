@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file zone_evaluation.hpp
 /// Background subtraction and zone evaluation, once per cycle.
 ///

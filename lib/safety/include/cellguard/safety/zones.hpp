@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file zones.hpp
 /// Protective and warning zones: their configuration in world coordinates,
 /// and their compilation into voxel sets in bounded storage.

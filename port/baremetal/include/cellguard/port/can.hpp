@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file can.hpp
 /// A CAN backend for bring-up without a bus: every frame is printed through
 /// semihosting as "can 0x101 [8] xx xx xx xx xx xx xx xx" (the format of

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file clock.hpp
 /// The MonotonicClock of a Cortex-M: SysTick on the processor clock,
 /// interrupting every millisecond; now_us() adds the microseconds elapsed in

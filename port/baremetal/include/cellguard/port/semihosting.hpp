@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file semihosting.hpp
 /// Output and exit through ARM semihosting (bkpt 0xAB): the debugger, or
 /// qemu-system-arm with -semihosting, performs the call. No buffering, no

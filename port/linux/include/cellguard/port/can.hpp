@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file can.hpp
 /// The Linux port's CAN: SocketCan, a CanSender (can_sender.hpp) on a raw
 /// SocketCAN socket bound to one interface, non-blocking, with bounded send

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file clock.hpp
 /// The Linux monotonic clock for the cycle executive: clock_gettime(CLOCK_MONOTONIC)
 /// in microseconds (not affected by wall-clock changes or NTP steps).

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file safety_output.hpp
 /// The CAN side of the cycle executive: turns each CycleReport into the CAN
 /// frames of one cycle and hands them to a CanSender.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file clock.hpp
 /// The clock a port provides to the cycle executive. A small interface
 /// header: a port's clock compiles it without the controller.

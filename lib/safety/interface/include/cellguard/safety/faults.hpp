@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file faults.hpp
 /// The fault codes of the safety logic: what each detected fault is, its bit
 /// in a fault mask, and which faults only a re-initialisation clears. A
