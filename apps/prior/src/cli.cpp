@@ -13,6 +13,7 @@
 #include <new>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "cellguard/prior/accessibility.hpp"
@@ -89,38 +90,39 @@ bool parse_triple(const std::string& text, double out[3]) {
 enum class InputKind { kSimulated, kNpy, kFrames };
 enum class ProgressMode { kAuto, kOn, kOff };
 
-struct Options {
-    InputKind input = InputKind::kSimulated;
+struct Options {  // fields ordered by alignment (no padding between them)
     std::string npy;
     std::string observed;
     std::string frames_dir;
     std::vector<std::pair<std::string, std::string>> frame_files;
-    bool config_frames = false;
     std::string config;
-    bool has_origin = false;
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-    bool has_voxel_size = false;
-    double voxel_size = 0.0;
-    bool has_dims = false;
-    GridDims dims{};
-    int background_frames = -1;
-    AccessibilityParams params{};
     std::string out_dir;
     std::string name_space = "cellguard_prior";
     std::string config_header;
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    double voxel_size = 0.0;
+    AccessibilityParams params{};
+    GridDims dims{};
+    int background_frames = -1;
+    InputKind input = InputKind::kSimulated;
     ProgressMode progress = ProgressMode::kAuto;
+    bool config_frames = false;
+    bool has_origin = false;
+    bool has_voxel_size = false;
+    bool has_dims = false;
 };
 
-/// Reads @p args into @p o: -1 to run, else the exit status (kExitOk after
-/// --help or --version on @p out, kExitInputError after a usage error on @p err).
-int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& out, std::ostream& err) {
-    static_assert(kExitInputError == host::kExitUsage, "a bad command line is a bad input");
-    host::CommandLine cli(kToolName, "cellguard-prior [INPUT] [GRID] [ANALYSIS] --out DIR", kDescription, kFooter);
+/// The INPUT options' --background-npy, and those of recorded frames (the GRID options refer to them).
+struct InputOptions {
+    CLI::Option* npy;
+    std::vector<CLI::Option*> recorded;
+};
+
+/// INPUT: --simulated, --background-npy (with --observed), or recorded frames (--frames, --frame, --config-frames).
+InputOptions add_input_options(host::CommandLine& cli, Options& o, bool& simulated) {
     CLI::App& app = cli.app();
     using host::reject;
-
     app.option_defaults()->group("INPUT, one of (default: --simulated)");
-    bool simulated = false;
     CLI::Option* simulated_opt = cli.flag("--simulated", simulated,
                                           "the simulated paper cell's empty background: its four\n"
                                           "sensors looking at the reference scene (a demo)");
@@ -154,20 +156,26 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     CLI::Option* config_frames = cli.flag("--config-frames", o.config_frames,
                                           "the `pcd_files` of --config's sensors as recorded frames\n"
                                           "(as the monitor replays them; combines with --frames)");
-    const std::vector<CLI::Option*> recorded = {frames, frame, config_frames};
-    for (CLI::Option* r : recorded) {
+    const InputOptions options{npy, {frames, frame, config_frames}};
+    for (CLI::Option* r : options.recorded) {
         simulated_opt->excludes(r);
         npy->excludes(r);
     }
     simulated_opt->excludes(npy);
+    return options;
+}
 
+/// GRID: --config, --origin, --voxel-size, --dims, --background-frames.
+void add_grid_options(host::CommandLine& cli, Options& o, const InputOptions& input) {
+    CLI::App& app = cli.app();
+    using host::reject;
     app.option_defaults()->group("GRID");
     CLI::Option* config = cli.text("--config", o.config, "FILE",
                                    "a monitor configuration (apps/monitor/config/*.toml):\n"
                                    "[grid] and, for --frames, the sensors' names and poses;\n"
                                    "--simulated takes [grid] and [prior] background_frames\n"
                                    "(its sensors stay the simulated paper cell's)");
-    for (CLI::Option* r : recorded) {
+    for (CLI::Option* r : input.recorded) {
         r->needs(config);
     }
     cli.value("--origin", "X,Y,Z", "grid minimum corner, metres", [&o](const std::string& v) {
@@ -210,11 +218,16 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     CLI::Option* background_frames =
         cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
                     "frames --simulated accumulates (default: --config's, or 8)");
-    background_frames->excludes(npy);
-    for (CLI::Option* r : recorded) {
+    background_frames->excludes(input.npy);
+    for (CLI::Option* r : input.recorded) {
         background_frames->excludes(r);
     }
+}
 
+/// ANALYSIS: --method, --tb, --te, --radius, --open-faces.
+void add_analysis_options(host::CommandLine& cli, Options& o) {
+    CLI::App& app = cli.app();
+    using host::reject;
     app.option_defaults()->group("ANALYSIS (defaults: the paper's)");
     cli.value("--method", "M",
               "probabilistic | thresholded | thresholded-baseline |\n"
@@ -247,7 +260,12 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
                              "got '" + v + "'");
                   }
               });
+}
 
+/// OUTPUT: --out, --namespace, --config-header, --progress; returns the --progress option.
+CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progress) {
+    CLI::App& app = cli.app();
+    using host::reject;
     app.option_defaults()->group("OUTPUT");
     cli.value("--out", "DIR", "output directory, created if missing (required)", [&o](const std::string& v) {
            if (v.empty()) {
@@ -259,10 +277,23 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     cli.text("--config-header", o.config_header, "H",
              "header prior_flash.hpp includes first, e.g. the one that\n"
              "defines CELLGUARD_GRID_NX/NY/NZ");
-    bool progress = false;
     CLI::Option* progress_opt = cli.flag("--progress,!--no-progress", progress,
                                          "progress bar on stderr, or none (default: on a\n"
                                          "terminal, for frames and grids of 2^20 voxels or more)");
+    return progress_opt;
+}
+
+/// Reads @p args into @p o: -1 to run, else the exit status (kExitOk after
+/// --help or --version on @p out, kExitInputError after a usage error on @p err).
+int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& out, std::ostream& err) {
+    static_assert(kExitInputError == host::kExitUsage, "a bad command line is a bad input");
+    host::CommandLine cli(kToolName, "cellguard-prior [INPUT] [GRID] [ANALYSIS] --out DIR", kDescription, kFooter);
+    bool simulated = false;
+    const InputOptions input = add_input_options(cli, o, simulated);
+    add_grid_options(cli, o, input);
+    add_analysis_options(cli, o);
+    bool progress = false;
+    CLI::Option* progress_opt = add_output_options(cli, o, progress);
 
     const int status = cli.parse(args, out, err);
     if (!o.npy.empty()) {
@@ -356,173 +387,199 @@ bool file_exists(const std::string& path) {
     return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, bool err_is_tty) {
-    auto error = [&](int status, const std::string& message) {
-        err << kToolName << ": " << message << "\n" << std::flush;
-        return status;
-    };
-    Options o;
-    if (const int status = parse_args(args, o, out, err); status >= 0) {
-        return status;
-    }
+/// A step of run that failed: the exit status and the message for stderr; none when @c failed is false.
+struct RunFailure {
+    bool failed = false;
+    int status = kExitOk;
+    std::string message;
+};
 
-    // --namespace and --config-header: checked by the source generator, on a one-voxel image.
-    {
-        PriorSourceOptions probe;
-        probe.name_space = o.name_space.c_str();
-        probe.config_header = o.config_header.empty() ? nullptr : o.config_header.c_str();
-        const GridGeometry one = GridGeometry::make(Eigen::Vector3d::Zero(), 1.0, GridDims{1, 1, 1}).value();
-        const std::int16_t zero = 0;
-        std::vector<std::uint8_t> image;
-        std::string text;
-        if (!encode_prior_image(one, AccessibilityParams{}, {&zero, 1U}, image).ok()) {
-            return error(kExitOutputError, "internal: encoding a one-voxel probe image failed");
-        }
-        const Result<PriorImageView, PriorImageError> view = load_prior_image({image.data(), image.size()}, one);
-        const IoStatus st = view.ok() ? prior_source_text(view.value(), probe, text) : IoStatus{};
-        if (!view.ok() || !st.ok()) {
-            return error(kExitInputError, "--namespace '" + o.name_space + "' or --config-header '" + o.config_header +
-                                              "' refused by the source generator: " + (st.ok() ? "" : st.message()));
-        }
-    }
+RunFailure run_failure(int status, std::string message) { return RunFailure{true, status, std::move(message)}; }
 
-    // Grid and sensors.
-    GridGeometry grid = paper_grid_geometry();
-    std::vector<RecordedSensor> sensors;
-    int config_frames = 8;
+/// --namespace and --config-header: checked by the source generator, on a one-voxel image.
+RunFailure check_source_options(const Options& o) {
+    PriorSourceOptions probe;
+    probe.name_space = o.name_space.c_str();
+    probe.config_header = o.config_header.empty() ? nullptr : o.config_header.c_str();
+    const GridGeometry one = GridGeometry::make(Eigen::Vector3d::Zero(), 1.0, GridDims{1, 1, 1}).value();
+    const std::int16_t zero = 0;
+    std::vector<std::uint8_t> image;
+    std::string text;
+    if (!encode_prior_image(one, AccessibilityParams{}, {&zero, 1U}, image).ok()) {
+        return run_failure(kExitOutputError, "internal: encoding a one-voxel probe image failed");
+    }
+    const Result<PriorImageView, PriorImageError> view = load_prior_image({image.data(), image.size()}, one);
+    const IoStatus st = view.ok() ? prior_source_text(view.value(), probe, text) : IoStatus{};
+    if (!view.ok() || !st.ok()) {
+        return run_failure(kExitInputError, "--namespace '" + o.name_space + "' or --config-header '" +
+                                                o.config_header + "' refused by the source generator: " +
+                                                (st.ok() ? "" : st.message()));
+    }
+    return {};
+}
+
+/// The grid's placement the options ask for: each of origin, voxel size, dims given, else --config's, else the
+/// paper grid's.
+struct GridChoice {
+    GridGeometry grid = paper_grid_geometry();   ///< --config's or the paper grid; the chosen one unless --background-npy
+    std::vector<RecordedSensor> sensors;          ///< --config's sensors (for recorded frames)
+    int config_frames = 8;                        ///< --config's [prior] background_frames
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    double voxel_size = 0.0;
+    GridDims dims{};
+};
+
+/// Grid and sensors: --config, then --origin, --voxel-size, --dims over it.
+RunFailure choose_grid(const Options& o, GridChoice& c) {
     if (!o.config.empty()) {
-        const IoStatus st = sensors_from_config(o.config, o.config_frames, sensors, grid, config_frames);
+        const IoStatus st = sensors_from_config(o.config, o.config_frames, c.sensors, c.grid, c.config_frames);
         if (!st.ok()) {
-            return error(kExitInputError, std::string("configuration: ") + st.message());
+            return run_failure(kExitInputError, std::string("configuration: ") + st.message());
         }
     }
     if (o.input == InputKind::kNpy && o.config.empty() && !(o.has_origin && o.has_voxel_size)) {
-        return error(kExitInputError,
-                     "--background-npy needs the grid's placement: --origin X,Y,Z and --voxel-size S, or --config FILE");
+        return run_failure(kExitInputError, "--background-npy needs the grid's placement: --origin X,Y,Z and "
+                                            "--voxel-size S, or --config FILE");
     }
-    const Eigen::Vector3d origin = o.has_origin ? o.origin : grid.origin();
-    const double voxel_size = o.has_voxel_size ? o.voxel_size : grid.voxel_size();
-    const GridDims dims = o.has_dims ? o.dims : grid.dims();
+    c.origin = o.has_origin ? o.origin : c.grid.origin();
+    c.voxel_size = o.has_voxel_size ? o.voxel_size : c.grid.voxel_size();
+    c.dims = o.has_dims ? o.dims : c.grid.dims();
     if (o.input != InputKind::kNpy) {
-        const Result<GridGeometry> g = GridGeometry::make(origin, voxel_size, dims);
+        const Result<GridGeometry> g = GridGeometry::make(c.origin, c.voxel_size, c.dims);
         if (!g.ok()) {
-            return error(kExitInputError, std::string("grid: ") + to_string(g.error()));
+            return run_failure(kExitInputError, std::string("grid: ") + to_string(g.error()));
         }
-        grid = g.value();
+        c.grid = g.value();
     }
+    return {};
+}
 
-    // The background.
-    const auto t_start = std::chrono::steady_clock::now();
-    BackgroundGrid background;
-    std::string background_text;
-    bool progress_on = o.progress == ProgressMode::kOn;
-    if (o.input == InputKind::kNpy) {
-        NpyPlacement placement;
-        placement.origin = origin;
-        placement.voxel_size = voxel_size;
-        placement.check_dims = o.has_dims || !o.config.empty();
-        placement.dims = dims;
-        std::string observed = o.observed;
-        const std::string suffix = "_log_odds.npy";
-        if (observed.empty() && o.npy.size() > suffix.size() &&
-            o.npy.compare(o.npy.size() - suffix.size(), suffix.size(), suffix) == 0) {
-            const std::string sibling = o.npy.substr(0U, o.npy.size() - suffix.size()) + "_observed.npy";
-            if (file_exists(sibling)) {
-                observed = sibling;
-            }
-        }
-        NpyBackgroundInfo info;
-        const IoStatus st = load_background_npy(o.npy, observed, placement, background, info);
-        if (!st.ok()) {
-            return error(kExitInputError, st.message());
-        }
-        grid = background.grid.geometry();
-        background_text = o.npy + " (" + (info.float_input ? "float32 probability" : "int16 log-odds") + "), " +
-                          "observed flags: " + info.observed_source + ", " + std::to_string(info.observed_voxels) +
-                          " of " + std::to_string(grid.voxel_count()) + " observed";
-    } else {
-        if (o.progress == ProgressMode::kAuto) {
-            progress_on = err_is_tty;
-        }
-        IoStatus st = background.allocate(grid);
-        if (!st.ok()) {
-            return error(kExitInputError, st.message());
-        }
-        Progress progress(err, progress_on);
-        const ProgressFn report = [&](std::size_t done, std::size_t total) { progress.bar("fusing frames", done, total); };
-        if (o.input == InputKind::kSimulated) {
-            const int frames = o.background_frames > 0 ? o.background_frames : config_frames;
-            if (const std::string why = too_few_frames(static_cast<std::size_t>(frames), o.params); !why.empty()) {
-                return error(kExitInputError, why);
-            }
-            SimulatedFrameSource source(static_cast<std::size_t>(frames));
-            st = accumulate_frames(source, background, report);
-            background_text = "the simulated paper cell's empty background, " + std::to_string(source.sensor_count()) +
-                              " sensors, " + std::to_string(frames) + " frames";
-        } else {
-            if (!o.frames_dir.empty()) {
-                st = add_frames_dir(o.frames_dir, sensors);
-                if (!st.ok()) {
-                    return error(kExitInputError, st.message());
-                }
-            }
-            for (const auto& sf : o.frame_files) {
-                bool found = false;
-                for (RecordedSensor& s : sensors) {
-                    if (s.name == sf.first) {
-                        s.files.push_back(sf.second);
-                        found = true;
-                    }
-                }
-                if (!found) {
-                    return error(kExitInputError,
-                                 "--frame " + sf.first + "=" + sf.second + ": no sensor '" + sf.first + "' in " + o.config);
-                }
-            }
-            std::string counts;
-            for (const RecordedSensor& s : sensors) {
-                counts += (counts.empty() ? "" : ", ") + s.name + " " + std::to_string(s.files.size());
-            }
-            PcdFrameSource source(sensors);
-            if (source.frame_count() == 0U) {
-                return error(kExitInputError, "no recorded frames: " + o.config + "'s sensors have no pcd_files");
-            }
-            if (const std::string why = too_few_frames(source.frame_count(), o.params); !why.empty()) {
-                return error(kExitInputError, why);
-            }
-            st = accumulate_frames(source, background, report);
-            background_text = "recorded frames (" + std::to_string(source.frame_count()) + "; files per sensor: " +
-                              counts + ")";
-        }
-        if (!st.ok()) {
-            return error(kExitInputError, st.message());
+/// --background-npy (and its observed flags: --observed, else a *_observed.npy sibling of a *_log_odds.npy); the
+/// grid is the file's.
+RunFailure load_npy_input(const Options& o, GridChoice& c, BackgroundGrid& background, std::string& text) {
+    NpyPlacement placement;
+    placement.origin = c.origin;
+    placement.voxel_size = c.voxel_size;
+    placement.check_dims = o.has_dims || !o.config.empty();
+    placement.dims = c.dims;
+    std::string observed = o.observed;
+    const std::string suffix = "_log_odds.npy";
+    if (observed.empty() && o.npy.size() > suffix.size() &&
+        o.npy.compare(o.npy.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        const std::string sibling = o.npy.substr(0U, o.npy.size() - suffix.size()) + "_observed.npy";
+        if (file_exists(sibling)) {
+            observed = sibling;
         }
     }
-    if (o.progress == ProgressMode::kAuto) {
-        progress_on = err_is_tty && grid.voxel_count() >= kLargeGridVoxels;
+    NpyBackgroundInfo info;
+    const IoStatus st = load_background_npy(o.npy, observed, placement, background, info);
+    if (!st.ok()) {
+        return run_failure(kExitInputError, st.message());
     }
-    out << kToolName << ": background: " << background_text << "\n";
-    out << kToolName << ": grid: " << geometry_text(grid) << "\n";
+    c.grid = background.grid.geometry();
+    text = o.npy + " (" + (info.float_input ? "float32 probability" : "int16 log-odds") + "), " +
+           "observed flags: " + info.observed_source + ", " + std::to_string(info.observed_voxels) + " of " +
+           std::to_string(c.grid.voxel_count()) + " observed";
+    return {};
+}
 
-    // The output directory, before the analysis (which may be long).
-    {
-        std::error_code ec;
-        std::filesystem::create_directories(o.out_dir, ec);
-        if (ec || !std::filesystem::is_directory(o.out_dir, ec)) {
-            return error(kExitOutputError, o.out_dir + ": cannot create the output directory" +
-                                               (ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
+/// The recorded frames' source: --frames DIR's folders and each --frame added to --config's sensors.
+RunFailure add_recorded_files(const Options& o, std::vector<RecordedSensor>& sensors) {
+    if (!o.frames_dir.empty()) {
+        const IoStatus st = add_frames_dir(o.frames_dir, sensors);
+        if (!st.ok()) {
+            return run_failure(kExitInputError, st.message());
         }
     }
+    for (const auto& sf : o.frame_files) {
+        bool found = false;
+        for (RecordedSensor& s : sensors) {
+            if (s.name == sf.first) {
+                s.files.push_back(sf.second);
+                found = true;
+            }
+        }
+        if (!found) {
+            return run_failure(kExitInputError,
+                               "--frame " + sf.first + "=" + sf.second + ": no sensor '" + sf.first + "' in " + o.config);
+        }
+    }
+    return {};
+}
 
-    // The analysis.
-    PriorResult result;
+/// Recorded frames fused into @p background.
+RunFailure fuse_recorded_frames(const Options& o, std::vector<RecordedSensor>& sensors, BackgroundGrid& background,
+                                const ProgressFn& report, std::string& text) {
+    RunFailure f = add_recorded_files(o, sensors);
+    if (f.failed) {
+        return f;
+    }
+    std::string counts;
+    for (const RecordedSensor& s : sensors) {
+        counts += (counts.empty() ? "" : ", ") + s.name + " " + std::to_string(s.files.size());
+    }
+    PcdFrameSource source(sensors);
+    if (source.frame_count() == 0U) {
+        return run_failure(kExitInputError, "no recorded frames: " + o.config + "'s sensors have no pcd_files");
+    }
+    if (const std::string why = too_few_frames(source.frame_count(), o.params); !why.empty()) {
+        return run_failure(kExitInputError, why);
+    }
+    const IoStatus st = accumulate_frames(source, background, report);
+    text = "recorded frames (" + std::to_string(source.frame_count()) + "; files per sensor: " + counts + ")";
+    if (!st.ok()) {
+        return run_failure(kExitInputError, st.message());
+    }
+    return {};
+}
+
+/// The simulated paper cell's or the recorded frames, fused into @p background on the chosen grid.
+RunFailure fuse_input_frames(const Options& o, GridChoice& c, bool progress_on, std::ostream& err,
+                             BackgroundGrid& background, std::string& text) {
+    IoStatus st = background.allocate(c.grid);
+    if (!st.ok()) {
+        return run_failure(kExitInputError, st.message());
+    }
+    Progress progress(err, progress_on);
+    const ProgressFn report = [&](std::size_t done, std::size_t total) { progress.bar("fusing frames", done, total); };
+    if (o.input != InputKind::kSimulated) {
+        return fuse_recorded_frames(o, c.sensors, background, report, text);
+    }
+    const int frames = o.background_frames > 0 ? o.background_frames : c.config_frames;
+    if (const std::string why = too_few_frames(static_cast<std::size_t>(frames), o.params); !why.empty()) {
+        return run_failure(kExitInputError, why);
+    }
+    SimulatedFrameSource source(static_cast<std::size_t>(frames));
+    st = accumulate_frames(source, background, report);
+    text = "the simulated paper cell's empty background, " + std::to_string(source.sensor_count()) + " sensors, " +
+           std::to_string(frames) + " frames";
+    if (!st.ok()) {
+        return run_failure(kExitInputError, st.message());
+    }
+    return {};
+}
+
+/// The output directory, made before the analysis (which may be long).
+RunFailure make_out_dir(const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir, ec)) {
+        return run_failure(kExitOutputError, dir + ": cannot create the output directory" +
+                                                 (ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
+    }
+    return {};
+}
+
+/// The accessibility analysis, with a ticker, and its summary line on @p out.
+RunFailure analyse(const Options& o, const BackgroundGrid& background, bool progress_on, std::ostream& out,
+                   std::ostream& err, PriorResult& result) {
     {
         Progress progress(err, progress_on);
         progress.start_ticker(std::string("accessibility analysis (") + method_name(o.params.method) + ")");
         const IoStatus st = compute_prior(background.grid, o.params, result);
         progress.stop_ticker();
         if (!st.ok()) {
-            return error(kExitOutputError, st.message());
+            return run_failure(kExitOutputError, st.message());
         }
     }
     std::size_t never = 0U;
@@ -535,23 +592,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         << o.params.t_e << ", r " << o.params.radius_voxels << ", open faces " << open_faces_list(o.params.open_faces)
         << ": " << milliseconds_text(result.seconds) << "; never foreground " << never << " voxels, P(fore) = 0.5 "
         << half << " voxels\n";
+    return {};
+}
 
-    // The outputs.
-    PriorSourceOptions source_options;
-    source_options.name_space = o.name_space.c_str();
-    source_options.config_header = o.config_header.empty() ? nullptr : o.config_header.c_str();
-    WrittenOutputs written;
-    const auto t_analysed = std::chrono::steady_clock::now();
-    IoStatus st;
-    {
-        Progress progress(err, progress_on);
-        st = write_prior_outputs(o.out_dir, grid, o.params, result, source_options, written,
-                                 [&](std::size_t done, std::size_t total) { progress.bar("writing, verifying", done, total); });
-    }
-    const auto t_written = std::chrono::steady_clock::now();
-    if (!st.ok()) {
-        return error(kExitOutputError, st.message());
-    }
+/// What was written and verified, on @p out.
+void report_outputs(const WrittenOutputs& written, std::ostream& out) {
     const PriorImageHeader& h = written.header;
     char crc[96];
     static_cast<void>(
@@ -562,6 +607,69 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         << h.format_version << ", " << h.nx << " x " << h.ny << " x " << h.nz << " voxels of " << h.voxel_size()
         << " m from (" << h.origin().x() << ", " << h.origin().y() << ", " << h.origin().z() << "), " << crc
         << "; flash source and .npy files read back equal\n";
+}
+
+int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, bool err_is_tty) {
+    const auto error = [&err](const RunFailure& f) {
+        err << kToolName << ": " << f.message << "\n" << std::flush;
+        return f.status;
+    };
+    Options o;
+    if (const int status = parse_args(args, o, out, err); status >= 0) {
+        return status;
+    }
+    if (const RunFailure f = check_source_options(o); f.failed) {
+        return error(f);
+    }
+    GridChoice c;
+    if (const RunFailure f = choose_grid(o, c); f.failed) {
+        return error(f);
+    }
+
+    // The background.
+    const auto t_start = std::chrono::steady_clock::now();
+    BackgroundGrid background;
+    std::string background_text;
+    bool progress_on = o.progress == ProgressMode::kOn;
+    if (o.progress == ProgressMode::kAuto && o.input != InputKind::kNpy) {
+        progress_on = err_is_tty;
+    }
+    if (const RunFailure f = o.input == InputKind::kNpy
+                                 ? load_npy_input(o, c, background, background_text)
+                                 : fuse_input_frames(o, c, progress_on, err, background, background_text);
+        f.failed) {
+        return error(f);
+    }
+    if (o.progress == ProgressMode::kAuto) {
+        progress_on = err_is_tty && c.grid.voxel_count() >= kLargeGridVoxels;
+    }
+    out << kToolName << ": background: " << background_text << "\n";
+    out << kToolName << ": grid: " << geometry_text(c.grid) << "\n";
+    if (const RunFailure f = make_out_dir(o.out_dir); f.failed) {
+        return error(f);
+    }
+    PriorResult result;
+    if (const RunFailure f = analyse(o, background, progress_on, out, err, result); f.failed) {
+        return error(f);
+    }
+
+    // The outputs.
+    PriorSourceOptions source_options;
+    source_options.name_space = o.name_space.c_str();
+    source_options.config_header = o.config_header.empty() ? nullptr : o.config_header.c_str();
+    WrittenOutputs written;
+    const auto t_analysed = std::chrono::steady_clock::now();
+    IoStatus st;
+    {
+        Progress progress(err, progress_on);
+        st = write_prior_outputs(o.out_dir, c.grid, o.params, result, source_options, written,
+                                 [&](std::size_t done, std::size_t total) { progress.bar("writing, verifying", done, total); });
+    }
+    const auto t_written = std::chrono::steady_clock::now();
+    if (!st.ok()) {
+        return error(run_failure(kExitOutputError, st.message()));
+    }
+    report_outputs(written, out);
     char times[160];
     static_cast<void>(
         std::snprintf(times, sizeof(times),
