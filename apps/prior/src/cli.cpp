@@ -396,6 +396,13 @@ struct RunFailure {
 
 RunFailure run_failure(int status, std::string message) { return RunFailure{true, status, std::move(message)}; }
 
+/// The failure @p st reports (its message copied).
+RunFailure io_failure(int status, const IoStatus& st) {
+    RunFailure f{true, status, {}};
+    f.message = st.message();
+    return f;
+}
+
 /// --namespace and --config-header: checked by the source generator, on a one-voxel image.
 RunFailure check_source_options(const Options& o) {
     PriorSourceOptions probe;
@@ -474,7 +481,7 @@ RunFailure load_npy_input(const Options& o, GridChoice& c, BackgroundGrid& backg
     NpyBackgroundInfo info;
     const IoStatus st = load_background_npy(o.npy, observed, placement, background, info);
     if (!st.ok()) {
-        return run_failure(kExitInputError, st.message());
+        return io_failure(kExitInputError, st);
     }
     c.grid = background.grid.geometry();
     text = o.npy + " (" + (info.float_input ? "float32 probability" : "int16 log-odds") + "), " +
@@ -488,7 +495,7 @@ RunFailure add_recorded_files(const Options& o, std::vector<RecordedSensor>& sen
     if (!o.frames_dir.empty()) {
         const IoStatus st = add_frames_dir(o.frames_dir, sensors);
         if (!st.ok()) {
-            return run_failure(kExitInputError, st.message());
+            return io_failure(kExitInputError, st);
         }
     }
     for (const auto& sf : o.frame_files) {
@@ -528,7 +535,7 @@ RunFailure fuse_recorded_frames(const Options& o, std::vector<RecordedSensor>& s
     const IoStatus st = accumulate_frames(source, background, report);
     text = "recorded frames (" + std::to_string(source.frame_count()) + "; files per sensor: " + counts + ")";
     if (!st.ok()) {
-        return run_failure(kExitInputError, st.message());
+        return io_failure(kExitInputError, st);
     }
     return {};
 }
@@ -538,7 +545,7 @@ RunFailure fuse_input_frames(const Options& o, GridChoice& c, bool progress_on, 
                              BackgroundGrid& background, std::string& text) {
     IoStatus st = background.allocate(c.grid);
     if (!st.ok()) {
-        return run_failure(kExitInputError, st.message());
+        return io_failure(kExitInputError, st);
     }
     Progress progress(err, progress_on);
     const ProgressFn report = [&](std::size_t done, std::size_t total) { progress.bar("fusing frames", done, total); };
@@ -554,7 +561,7 @@ RunFailure fuse_input_frames(const Options& o, GridChoice& c, bool progress_on, 
     text = "the simulated paper cell's empty background, " + std::to_string(source.sensor_count()) + " sensors, " +
            std::to_string(frames) + " frames";
     if (!st.ok()) {
-        return run_failure(kExitInputError, st.message());
+        return io_failure(kExitInputError, st);
     }
     return {};
 }
@@ -579,7 +586,7 @@ RunFailure analyse(const Options& o, const BackgroundGrid& background, bool prog
         const IoStatus st = compute_prior(background.grid, o.params, result);
         progress.stop_ticker();
         if (!st.ok()) {
-            return run_failure(kExitOutputError, st.message());
+            return io_failure(kExitOutputError, st);
         }
     }
     std::size_t never = 0U;
@@ -667,7 +674,7 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     const auto t_written = std::chrono::steady_clock::now();
     if (!st.ok()) {
-        return error(run_failure(kExitOutputError, st.message()));
+        return error(io_failure(kExitOutputError, st));
     }
     report_outputs(written, out);
     char times[160];
