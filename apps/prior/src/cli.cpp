@@ -156,7 +156,7 @@ InputOptions add_input_options(host::CommandLine& cli, Options& o, bool& simulat
     CLI::Option* config_frames = cli.flag("--config-frames", o.config_frames,
                                           "the `pcd_files` of --config's sensors as recorded frames\n"
                                           "(as the monitor replays them; combines with --frames)");
-    const InputOptions options{npy, {frames, frame, config_frames}};
+    InputOptions options{npy, {frames, frame, config_frames}};
     for (CLI::Option* r : options.recorded) {
         simulated_opt->excludes(r);
         npy->excludes(r);

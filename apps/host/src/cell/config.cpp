@@ -111,7 +111,7 @@ std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, c
         }
         std::string path = e.as_string()->get();
         if (path[0] != '/') {
-            path = base_dir + "/" + path;
+            path.insert(0U, base_dir + "/");
         }
         if (!std::ifstream(path, std::ios::binary)) {
             L.fail(e.source(), key, "cannot open '" + path + "'");
