@@ -23,6 +23,21 @@ else
   echo "lint: not a git checkout, the ../shared check is skipped"
 fi
 
+# Style: every hand-written C++ file as .clang-format has it (the generated
+# test header is compared byte for byte with its generator's output instead).
+# Licences: every file states its licence (SPDX header or .reuse/dep5).
+# Both need the file list of a git checkout (tools/install-deps.sh --lint).
+if git rev-parse --git-dir >/dev/null 2>&1; then
+  echo "== $(clang-format --version | head -n 1): format check"
+  mapfile -t fmt_files < <(git ls-files 'lib/*.cpp' 'lib/*.hpp' 'port/*.cpp' 'port/*.hpp' 'apps/*.cpp' 'apps/*.hpp' \
+                                        'tests/*.cpp' 'tests/*.hpp' |
+                           grep -v -e '^tests/unit/data/prior_example.hpp$' -e '^apps/firmware/generated/')
+  clang-format --dry-run --Werror "${fmt_files[@]}" ||
+    { echo "lint: the files above differ from .clang-format: run clang-format -i on them" >&2; exit 1; }
+  echo "== reuse lint ($(reuse --version | head -n 1))"
+  reuse lint --quiet || { reuse lint | tail -n 20; echo "lint: a file without licence information (reuse lint)" >&2; exit 1; }
+fi
+
 [ -f "$build/compile_commands.json" ] || { echo "lint: no $build/compile_commands.json; configure first" >&2; exit 2; }
 mapfile -t sources < <(find lib port -name '*.cpp' | sort)
 # apps/: the host programs and the host floor, as compiled on the host (in the

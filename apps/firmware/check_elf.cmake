@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Checks the linked firmware ELF against the design card and reports its size.
 # Run as: cmake -DNM=<arm-none-eabi-nm> -DSIZE=<arm-none-eabi-size> -DELF=<elf> [-DREPORT=<md>] -P check_elf.cmake
 # Fails when the image contains the allocator (malloc family, _sbrk),

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Regenerates the canned inputs into OUT and compares them byte for byte
 # with the checked-in copies in REF (prior.cgprior, frames.bin). Run as: cmake -DGEN=... [-DEMULATOR=...] -DOUT=... -DREF=... -P check_generated.cmake
 file(MAKE_DIRECTORY ${OUT})

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Runs the firmware on qemu-system-arm -M mps2-an500 with semihosting (60 s
 # timeout) and checks that it exits with 0 and prints "digest EXPECTED".
 # Run as: cmake -DQEMU=... -DELF=... -DEXPECTED=0x... [-DLOG=file] -P run_qemu.cmake

@@ -1,3 +1,5 @@
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 # Runs cellguard-prior and checks how it ends.
 #   -DTOOL=path  -DEMULATOR=a|b (optional)  -DARGS=a|b|c (arguments, '|'-separated)  -DSTATUS=n (exact exit status)
 #   -DOUTPUT=regex (optional, must match stdout)

@@ -21,18 +21,18 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
+#include "cellguard/prior/accessibility.hpp"
 
 using namespace cellguard;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr std::int16_t kSeenFree = -1768;     // P(occ) = 0.001 (the background clamp)
-constexpr std::int16_t kSeenSurface = 1768;   // P(occ) = 0.999
-constexpr std::int16_t kNoisyFree = -300;     // P(occ) = 0.24: above t_E, so it costs
+constexpr std::int16_t kSeenFree = -1768;    // P(occ) = 0.001 (the background clamp)
+constexpr std::int16_t kSeenSurface = 1768;  // P(occ) = 0.999
+constexpr std::int16_t kNoisyFree = -300;    // P(occ) = 0.24: above t_E, so it costs
 
 struct Box {
     Eigen::Vector3d lo;
@@ -44,10 +44,10 @@ struct Box {
 
 // World-frame scene (metres): the cell is 4 m x 4 m x 2 m, floor at z = 0.
 const Box kBoxes[] = {
-    {Eigen::Vector3d(-0.40, -0.30, 0.00), Eigen::Vector3d(0.10, 0.30, 0.50)},    // large box
-    {Eigen::Vector3d(0.25, -0.55, 0.00), Eigen::Vector3d(0.60, -0.10, 0.80)},    // tall box
-    {Eigen::Vector3d(-0.30, -0.10, 0.50), Eigen::Vector3d(0.00, 0.00, 0.60)},    // a 2x4 on top
-    {Eigen::Vector3d(1.00, 1.00, 0.00), Eigen::Vector3d(1.60, 1.40, 0.70)},      // outside the paper's grid
+    {Eigen::Vector3d(-0.40, -0.30, 0.00), Eigen::Vector3d(0.10, 0.30, 0.50)},  // large box
+    {Eigen::Vector3d(0.25, -0.55, 0.00), Eigen::Vector3d(0.60, -0.10, 0.80)},  // tall box
+    {Eigen::Vector3d(-0.30, -0.10, 0.50), Eigen::Vector3d(0.00, 0.00, 0.60)},  // a 2x4 on top
+    {Eigen::Vector3d(1.00, 1.00, 0.00), Eigen::Vector3d(1.60, 1.40, 0.70)},    // outside the paper's grid
 };
 const Box kCell{Eigen::Vector3d(-2.0, -2.0, 0.0), Eigen::Vector3d(2.0, 2.0, 2.0)};
 
@@ -68,17 +68,21 @@ struct Background {
 int solid(const GridGeometry& g, const VoxelCoord& c) {
     auto inside = [&](const VoxelCoord& v) {
         const Eigen::Vector3d p = g.voxel_center(v);
-        if (p.z() < 0.0) return true;  // below the floor
+        if (p.z() < 0.0)
+            return true;  // below the floor
         for (const Box& b : kBoxes) {
-            if (b.contains(p)) return true;
+            if (b.contains(p))
+                return true;
         }
         return false;
     };
-    if (!inside(c)) return 0;
+    if (!inside(c))
+        return 0;
     const VoxelCoord n[6] = {{c.x + 1, c.y, c.z}, {c.x - 1, c.y, c.z}, {c.x, c.y + 1, c.z},
                              {c.x, c.y - 1, c.z}, {c.x, c.y, c.z + 1}, {c.x, c.y, c.z - 1}};
     for (const VoxelCoord& v : n) {
-        if (!inside(v)) return 1;
+        if (!inside(v))
+            return 1;
     }
     return 2;
 }
@@ -89,8 +93,8 @@ Background make_background(const GridGeometry& g) {
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
         const VoxelCoord c = g.coord_of(i);
         const Eigen::Vector3d p = g.voxel_center(c);
-        const bool in_cell = kCell.contains(p) || (p.z() < 0.0 && p.z() > -0.05 && std::abs(p.x()) < 2.0 &&
-                                                   std::abs(p.y()) < 2.0);
+        const bool in_cell = kCell.contains(p) ||
+                             (p.z() < 0.0 && p.z() > -0.05 && std::abs(p.x()) < 2.0 && std::abs(p.y()) < 2.0);
         const int s = solid(g, c);
         if (!in_cell || s == 2) {  // outside the sensors' view, or inside an object
             bg.lo[i] = 0;
@@ -130,8 +134,8 @@ const char* name_of(PriorMethod m) {
 struct Figures {
     double median_ms;
     double min_ms;
-    std::size_t never;     // voxels with the kNeverForeground sentinel
-    std::size_t reduced;   // voxels with -inf < prior < 0
+    std::size_t never;    // voxels with the kNeverForeground sentinel
+    std::size_t reduced;  // voxels with -inf < prior < 0
 };
 
 Figures run(Background& bg, PriorMethod method, int runs) {
@@ -146,7 +150,9 @@ Figures run(Background& bg, PriorMethod method, int runs) {
     for (int k = 0; k < runs; ++k) {
         const auto t0 = Clock::now();
         const Status s = compute_accessibility_prior(
-            grid, p, AccessibilityScratch{Span<std::uint32_t>(words.data(), words.size()), Span<std::uint8_t>(bytes.data(), bytes.size())},
+            grid, p,
+            AccessibilityScratch{Span<std::uint32_t>(words.data(), words.size()),
+                                 Span<std::uint8_t>(bytes.data(), bytes.size())},
             Span<std::int16_t>(prior.data(), prior.size()), Span<float>());
         const auto t1 = Clock::now();
         if (!s.ok()) {
@@ -167,10 +173,11 @@ Figures run(Background& bg, PriorMethod method, int runs) {
 void bench_grid(const char* title, const GridGeometry& g, int runs, bool paper) {
     Background bg = make_background(g);
     std::size_t observed = 0;
-    for (const std::uint8_t o : bg.ob) observed += o;
+    for (const std::uint8_t o : bg.ob)
+        observed += o;
     const GridDims d = g.dims();
-    std::printf("\n%s: %d x %d x %d = %zu voxels, %zu observed, %d runs\n", title, d.nx, d.ny, d.nz,
-                g.voxel_count(), observed, runs);
+    std::printf("\n%s: %d x %d x %d = %zu voxels, %zu observed, %d runs\n", title, d.nx, d.ny, d.nz, g.voxel_count(),
+                observed, runs);
     std::printf("  %-24s %12s %12s %12s %12s   %s\n", "method", "median ms", "min ms", "P(fore)=0", "0<P(fore)<.5",
                 paper ? "paper (2012 desktop) / goal" : "goal");
     const PriorMethod methods[4] = {PriorMethod::kThresholded, PriorMethod::kProbabilistic,

@@ -57,13 +57,13 @@
 
 #include <time.h>
 
-#include "cellguard/safety/cycle.hpp"
-#include "cellguard/host/owned_ray_table.hpp"
+#include "cellguard/can/safety_output.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/grid/ray_table.hpp"
-#include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/can/safety_output.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/safety/cycle.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
 
 using namespace cellguard;
@@ -119,12 +119,12 @@ public:
 
 /// One measured cycle.
 struct CycleSample {
-    double total_ms = 0.0;                        ///< around run_cycle, steady clock (wall time)
-    double cpu_ms = 0.0;                          ///< around run_cycle, this thread's CPU time
+    double total_ms = 0.0;                               ///< around run_cycle, steady clock (wall time)
+    double cpu_ms = 0.0;                                 ///< around run_cycle, this thread's CPU time
     std::array<std::uint64_t, kCycleStages> stage_us{};  ///< the controller's own stage timing
-    std::uint64_t rays = 0U;                      ///< readings handled (fused + skipped)
-    std::uint64_t voxel_steps = 0U;               ///< voxel updates of fusion
-    std::uint64_t zone_visits = 0U;               ///< (voxel, zone) pairs the zone stage counted
+    std::uint64_t rays = 0U;                             ///< readings handled (fused + skipped)
+    std::uint64_t voxel_steps = 0U;                      ///< voxel updates of fusion
+    std::uint64_t zone_visits = 0U;                      ///< (voxel, zone) pairs the zone stage counted
 };
 
 double percentile(std::vector<double> v, double p) {
@@ -193,7 +193,9 @@ std::uint64_t count_zone_visits(const EvidenceGrid& frame, const std::vector<std
 }
 
 [[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr, "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray|random]\n",
+    std::fprintf(stderr,
+                 "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings "
+                 "max-range|grid-exit|mid-ray|random]\n",
                  message);
     std::exit(2);
 }
@@ -290,8 +292,8 @@ int main(int argc, char** argv) {
     // 32 zones covering the grid.
     const std::vector<ZoneConfig> zone_configs = worst_case_zones(g);
     std::vector<std::uint32_t> membership(g.voxel_count());
-    const Result<CompiledZones, ZoneError> compiled =
-        CompiledZones::compile(g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()});
+    const Result<CompiledZones, ZoneError> compiled = CompiledZones::compile(
+        g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()});
     if (!compiled.ok()) {
         std::fprintf(stderr, "bench_cycle: zone %zu: %s\n", compiled.error().zone, compiled.error().reason);
         return 2;
@@ -316,8 +318,8 @@ int main(int argc, char** argv) {
     ThreadCpuClock clock;
     Forward forward;
     // Every sensor has a ray table: fuse_sensor's scratch is never used.
-    SafetyController controller(cc, frame_grid, Span<std::int16_t>(), {prior.data(), prior.size()}, zones, model,
-                                clock, &forward);
+    SafetyController controller(cc, frame_grid, Span<std::int16_t>(), {prior.data(), prior.size()}, zones, model, clock,
+                                &forward);
     MemorySender sender;
     SafetyOutputConfig oc;
     oc.zone_count = static_cast<std::uint8_t>(kMaxZonesInFrame);
@@ -347,7 +349,7 @@ int main(int argc, char** argv) {
     std::printf("bench_cycle: the paper's cell, worst-case inputs\n");
     std::printf("  grid %d x %d x %d = %zu voxels; %zu sensors, %llu pixels, every reading %s\n", g.dims().nx,
                 g.dims().ny, g.dims().nz, g.voxel_count(), n_sensors, static_cast<unsigned long long>(bound.rays),
-                grid_exit ? "1 mm before where its ray leaves the grid"
+                grid_exit      ? "1 mm before where its ray leaves the grid"
                 : mid_ray      ? "in the middle voxel of its ray in the grid"
                 : random_voxel ? "in a randomly drawn voxel of its ray in the grid"
                                : "at the sensor's max range (10 m)");
@@ -359,17 +361,19 @@ int main(int argc, char** argv) {
     for (std::size_t s = 0U; s < n_sensors; ++s) {
         const std::size_t bytes = tables[s].table().checked_bytes();
         table_bytes += bytes;
-        slowest_pass = std::max(slowest_pass, n_sensors * ((bytes + cc.table_check_slice_bytes - 1U) /
-                                                           cc.table_check_slice_bytes));
+        slowest_pass = std::max(slowest_pass,
+                                n_sensors * ((bytes + cc.table_check_slice_bytes - 1U) / cc.table_check_slice_bytes));
     }
-    std::printf("  ray-table check: %zu bytes of table RAM, %zu per cycle (prior: %zu, zone mask: %zu per cycle);\n"
-                "  the largest table is read once every %zu cycles\n",
-                table_bytes, cc.table_check_slice_bytes, cc.prior_check_slice_bytes, cc.zone_check_slice_bytes,
-                slowest_pass);
-    std::printf("  frozen-sensor check on: every frame is fingerprinted (its limit is set out of reach);\n"
-                "  background check on: every pixel is compared with a view (the frame itself, so it passes)\n");
-    std::printf("  every cycle fuses the same frames and does the same work; cycles differ only in which slices\n"
-                "  the integrity checks read, so the spread of the cycle times below does not come from the input\n");
+    std::printf(
+        "  ray-table check: %zu bytes of table RAM, %zu per cycle (prior: %zu, zone mask: %zu per cycle);\n"
+        "  the largest table is read once every %zu cycles\n",
+        table_bytes, cc.table_check_slice_bytes, cc.prior_check_slice_bytes, cc.zone_check_slice_bytes, slowest_pass);
+    std::printf(
+        "  frozen-sensor check on: every frame is fingerprinted (its limit is set out of reach);\n"
+        "  background check on: every pixel is compared with a view (the frame itself, so it passes)\n");
+    std::printf(
+        "  every cycle fuses the same frames and does the same work; cycles differ only in which slices\n"
+        "  the integrity checks read, so the spread of the cycle times below does not come from the input\n");
 
     // Warm-up (not measured), then the measured cycles.
     const int warmup = timing ? kWarmupCycles : 0;
@@ -464,11 +468,12 @@ int main(int argc, char** argv) {
     row("  subtract + zones", zone_ms);
     row("  logic + CAN output", rest_ms);
     row("whole cycle, wall clock", wall);
-    std::printf("  cycles over the 5 ms goal: %zu by CPU time, %zu by wall clock (wall time includes preemption\n"
-                "  by other processes on this shared machine); rate at the largest CPU-time cycle: %.0f Hz\n",
-                static_cast<std::size_t>(std::count_if(cpu.begin(), cpu.end(), [](double t) { return t > 5.0; })),
-                static_cast<std::size_t>(std::count_if(wall.begin(), wall.end(), [](double t) { return t > 5.0; })),
-                1000.0 / max_cpu);
+    std::printf(
+        "  cycles over the 5 ms goal: %zu by CPU time, %zu by wall clock (wall time includes preemption\n"
+        "  by other processes on this shared machine); rate at the largest CPU-time cycle: %.0f Hz\n",
+        static_cast<std::size_t>(std::count_if(cpu.begin(), cpu.end(), [](double t) { return t > 5.0; })),
+        static_cast<std::size_t>(std::count_if(wall.begin(), wall.end(), [](double t) { return t > 5.0; })),
+        1000.0 / max_cpu);
 
     // The bound in time: operations of the bound x per-operation costs
     // measured above, plus the largest logic + output time seen.
@@ -481,17 +486,20 @@ int main(int argc, char** argv) {
     const double rest_max = *std::max_element(rest_ms.begin(), rest_ms.end());
     const double b_med = bound_ms(median(step_ns), median(zone_ns), rest_max);
     const double b_p99 = bound_ms(percentile(step_ns, 0.99), percentile(zone_ns, 0.99), rest_max);
-    const double tight_ms =
-        (static_cast<double>(table_voxel_steps) * median(step_ns) +
-         static_cast<double>(g.voxel_count() + bound.zone_updates) * median(zone_ns)) / 1e6 + rest_max;
+    const double tight_ms = (static_cast<double>(table_voxel_steps) * median(step_ns) +
+                             static_cast<double>(g.voxel_count() + bound.zone_updates) * median(zone_ns)) /
+                                1e6 +
+                            rest_max;
     std::printf("\ncomputed bound in time (the bound's operations x per-operation CPU cost measured in this run):\n");
-    std::printf("  cost per voxel step %.3f ns (median; p99 %.3f); per grid voxel or zone visit %.3f ns (median; p99 %.3f)\n",
-                median(step_ns), percentile(step_ns, 0.99), median(zone_ns), percentile(zone_ns, 0.99));
+    std::printf(
+        "  cost per voxel step %.3f ns (median; p99 %.3f); per grid voxel or zone visit %.3f ns (median; p99 %.3f)\n",
+        median(step_ns), percentile(step_ns, 0.99), median(zone_ns), percentile(zone_ns, 0.99));
     std::printf("  compute_work_bound: %.3f ms at median costs, %.3f ms at p99 costs\n", b_med, b_p99);
     std::printf("  (with the ray tables' exact step count instead: %.3f ms at median costs)\n", tight_ms);
     std::printf("  largest measured cycle: %.3f ms CPU time, %.3f ms wall clock\n", max_cpu, max_wall);
-    std::printf("  bound (median costs) above every measured cycle's CPU time: %s (%.2fx the largest); "
-                "above every wall-clock time: %s\n",
-                b_med >= max_cpu ? "yes" : "NO", b_med / max_cpu, b_med >= max_wall ? "yes" : "no");
+    std::printf(
+        "  bound (median costs) above every measured cycle's CPU time: %s (%.2fx the largest); "
+        "above every wall-clock time: %s\n",
+        b_med >= max_cpu ? "yes" : "NO", b_med / max_cpu, b_med >= max_wall ? "yes" : "no");
     return over_bound ? 1 : 0;
 }

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/grid/ray_table.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 
 #ifdef CELLGUARD_HAVE_OCTOMAP
@@ -49,7 +49,8 @@ GridRun run_cellguard(const GridGeometry& g, const std::vector<SensorReading>& r
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
     EvidenceGrid grid = EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()),
-                                           Span<std::uint8_t>(ob.data(), ob.size())).value();
+                                           Span<std::uint8_t>(ob.data(), ob.size()))
+                            .value();
     const SensorModelTable model;
     std::vector<double> ms;
     std::vector<std::int16_t> scratch(g.voxel_count());
@@ -81,7 +82,8 @@ GridRun run_ray_tables(const GridGeometry& g, const std::vector<SensorReading>& 
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
     EvidenceGrid grid = EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()),
-                                           Span<std::uint8_t>(ob.data(), ob.size())).value();
+                                           Span<std::uint8_t>(ob.data(), ob.size()))
+                            .value();
     const SensorModelTable model;
     std::vector<double> ms;
     FusionStats stats;
@@ -111,9 +113,11 @@ std::vector<Ray> world_rays(const std::vector<SensorReading>& readings) {
         for (int v = 0; v < k.height; ++v) {
             for (int u = 0; u < k.width; ++u) {
                 const float d = r.depth[static_cast<std::size_t>(v * k.width + u)];
-                if (!(d > 0.0F)) continue;
+                if (!(d > 0.0F))
+                    continue;
                 const Eigen::Vector3d p((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
-                if (p.norm() > r.max_range) continue;
+                if (p.norm() > r.max_range)
+                    continue;
                 rays.push_back(Ray{r.pose.translation(), r.pose * p});
             }
         }
@@ -178,15 +182,18 @@ Timing run_octomap_clipped(const std::vector<SensorReading>& readings, const Gri
                 continue;
             }
             double ta = (lo[a] - r.origin[a]) / d[a], tb = (hi[a] - r.origin[a]) / d[a];
-            if (ta > tb) std::swap(ta, tb);
+            if (ta > tb)
+                std::swap(ta, tb);
             t0 = std::max(t0, ta);
             t1 = std::min(t1, tb);
             hit = t0 < t1;
         }
-        if (!hit) continue;
+        if (!hit)
+            continue;
         const Eigen::Vector3d a = r.origin + t0 * d, b = r.origin + t1 * d;
         std::size_t s = 0;
-        while (s + 1 < readings.size() && (r.origin - readings[s].pose.translation()).norm() > 1e-9) ++s;
+        while (s + 1 < readings.size() && (r.origin - readings[s].pose.translation()).norm() > 1e-9)
+            ++s;
         segs.push_back(Seg{octomap::point3d(float(a.x()), float(a.y()), float(a.z())),
                            octomap::point3d(float(b.x()), float(b.y()), float(b.z())), t1 >= 1.0, s});
     }
@@ -198,14 +205,20 @@ Timing run_octomap_clipped(const std::vector<SensorReading>& readings, const Gri
             octomap::KeySet free_cells, occupied_cells;
             octomap::KeyRay keyray;
             for (const Seg& seg : segs) {
-                if (seg.sensor != s) continue;
-                if (tree.computeRayKeys(seg.a, seg.b, keyray)) free_cells.insert(keyray.begin(), keyray.end());
+                if (seg.sensor != s)
+                    continue;
+                if (tree.computeRayKeys(seg.a, seg.b, keyray))
+                    free_cells.insert(keyray.begin(), keyray.end());
                 octomap::OcTreeKey k;
-                if (seg.occupied_end && tree.coordToKeyChecked(seg.b, k)) occupied_cells.insert(k);
+                if (seg.occupied_end && tree.coordToKeyChecked(seg.b, k))
+                    occupied_cells.insert(k);
             }
-            for (const auto& k : occupied_cells) free_cells.erase(k);
-            for (const auto& k : free_cells) tree.updateNode(k, false);
-            for (const auto& k : occupied_cells) tree.updateNode(k, true);
+            for (const auto& k : occupied_cells)
+                free_cells.erase(k);
+            for (const auto& k : free_cells)
+                tree.updateNode(k, false);
+            for (const auto& k : occupied_cells)
+                tree.updateNode(k, true);
         }
         const auto t1 = Clock::now();
         ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
@@ -228,11 +241,14 @@ int main(int argc, char** argv) {
     const int frames = argc > 1 ? std::max(1, std::atoi(argv[1])) : 20;
     bool with_octomap = true;
     for (int i = 1; i < argc; ++i) {
-        if (std::string(argv[i]) == "--no-octomap") with_octomap = false;
+        if (std::string(argv[i]) == "--no-octomap")
+            with_octomap = false;
     }
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    std::printf("cellguard fusion benchmark: 4 sensors (2 x 176x144, 2 x 320x240), %d frames, one thread, fresh grid per frame\n",
-                frames);
+    std::printf(
+        "cellguard fusion benchmark: 4 sensors (2 x 176x144, 2 x 320x240), %d frames, one thread, fresh grid per "
+        "frame\n",
+        frames);
     const GridRun paper = run_cellguard(paper_grid_geometry(), frame.readings, frames, Rasterization::kExact);
     const GridRun large = run_cellguard(whole_cell_grid_geometry(), frame.readings, frames, Rasterization::kExact);
     const GridRun paper_b = run_cellguard(paper_grid_geometry(), frame.readings, frames, Rasterization::kBresenham3d);
@@ -251,7 +267,8 @@ int main(int argc, char** argv) {
     std::printf("goal: a full frame in the paper's grid within 5 ms on one core: %s (%.2f ms median, best mode)\n",
                 best_paper <= 5.0 ? "met" : "NOT met", best_paper);
 #ifdef CELLGUARD_HAVE_OCTOMAP
-    if (!with_octomap) return 0;
+    if (!with_octomap)
+        return 0;
     std::size_t nodes = 0;
     const Timing oct_whole = run_octomap_whole(frame.readings, std::max(3, frames / 4), &nodes);
     const Timing oct_clip = run_octomap_clipped(frame.readings, paper_grid_geometry(), std::max(3, frames / 4));
@@ -259,11 +276,15 @@ int main(int argc, char** argv) {
                 oct_whole.median_ms, oct_whole.max_ms, nodes);
     std::printf("%-44s median %8.2f ms  max %8.2f ms\n", "OctoMap, same segments clipped to paper grid",
                 oct_clip.median_ms, oct_clip.max_ms);
-    std::printf("ratio (same whole rays, large grid vs OctoMap):        %.1fx exact traversal, %.1fx precomputed rays\n",
-                oct_whole.median_ms / large.t.median_ms, oct_whole.median_ms / large_t.t.median_ms);
-    std::printf("ratio (same clipped segments, paper grid vs OctoMap):  %.1fx exact traversal, %.1fx precomputed rays\n",
-                oct_clip.median_ms / paper.t.median_ms, oct_clip.median_ms / paper_t.t.median_ms);
-    std::printf("note: OctoMap applies a voxel at most once per scan and stops at its clamping limits; the evidence grid adds every ray.\n");
+    std::printf(
+        "ratio (same whole rays, large grid vs OctoMap):        %.1fx exact traversal, %.1fx precomputed rays\n",
+        oct_whole.median_ms / large.t.median_ms, oct_whole.median_ms / large_t.t.median_ms);
+    std::printf(
+        "ratio (same clipped segments, paper grid vs OctoMap):  %.1fx exact traversal, %.1fx precomputed rays\n",
+        oct_clip.median_ms / paper.t.median_ms, oct_clip.median_ms / paper_t.t.median_ms);
+    std::printf(
+        "note: OctoMap applies a voxel at most once per scan and stops at its clamping limits; the evidence grid adds "
+        "every ray.\n");
     std::printf("goal: at least 20x OctoMap on the same rays: %s\n",
                 oct_whole.median_ms / best_large >= 20.0 ? "met" : "NOT met");
 #else

@@ -72,8 +72,10 @@ Figures run(const GridGeometry& g, const std::vector<Ray>& rays, int repeats, Wa
         steps = n;
     }
     long checksum = 0;
-    for (const std::int16_t v : log_odds) checksum += v;
-    if (checksum == 1) std::puts("");  // keeps the updates alive
+    for (const std::int16_t v : log_odds)
+        checksum += v;
+    if (checksum == 1)
+        std::puts("");  // keeps the updates alive
     return Figures{best / static_cast<double>(steps), best / static_cast<double>(rays.size()),
                    static_cast<double>(steps) / static_cast<double>(rays.size())};
 }
@@ -93,7 +95,8 @@ Figures run_bare(const GridGeometry& g, const std::vector<Ray>& rays, int repeat
         best = std::min(best, thread_ns() - t0);
         steps = n;
     }
-    if (sink == 1U) std::puts("");
+    if (sink == 1U)
+        std::puts("");
     return Figures{best / static_cast<double>(steps), best / static_cast<double>(rays.size()),
                    static_cast<double>(steps) / static_cast<double>(rays.size())};
 }
@@ -110,7 +113,8 @@ double run_setup(const GridGeometry& g, const std::vector<Ray>& rays, int repeat
         }
         best = std::min(best, thread_ns() - t0);
     }
-    if (sink == 1U) std::puts("");
+    if (sink == 1U)
+        std::puts("");
     return best / static_cast<double>(rays.size());
 }
 
@@ -132,8 +136,8 @@ int main(int argc, char** argv) {
     const auto bres = [](const GridGeometry& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b, auto&& v) {
         return traverse_segment_bresenham(g, a, b, v);
     };
-    std::printf("%zu rays from the four upper corners to random points in the cell; best of %d runs, thread CPU time\n", count,
-                repeats);
+    std::printf("%zu rays from the four upper corners to random points in the cell; best of %d runs, thread CPU time\n",
+                count, repeats);
     const struct {
         const char* name;
         GridGeometry g;

@@ -42,12 +42,12 @@ int main() {
     using namespace cellguard;
 
     // The paper's grid: 34 x 30 x 30 voxels of 5 cm from (-0.85, -0.75, 0).
-    const Result<GridGeometry> grid = GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, 0.0), 0.05, GridDims{34, 30, 30});
+    const Result<GridGeometry> grid = GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, 0.0), 0.05,
+                                                         GridDims{34, 30, 30});
     check(grid.ok() && grid.value().voxel_count() == 34U * 30U * 30U, "GridGeometry::make builds the paper's grid");
     if (grid.ok()) {
         const Result<VoxelCoord> v = grid.value().world_to_voxel(Eigen::Vector3d(0.01, 0.01, 0.51));
-        check(v.ok() && v.value().x == 17 && v.value().y == 15 && v.value().z == 10,
-              "a point maps to its voxel");
+        check(v.ok() && v.value().x == 17 && v.value().y == 15 && v.value().z == 10, "a point maps to its voxel");
         check(!grid.value().world_to_voxel(Eigen::Vector3d(0.0, 0.0, 2.0)).ok(), "a point outside is refused");
     }
 

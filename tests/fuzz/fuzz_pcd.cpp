@@ -50,8 +50,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     // The decompressor alone: first two bytes give the expected output size.
     if (size >= 2U) {
-        const std::size_t out_size =
-            (static_cast<std::size_t>(data[0]) | (static_cast<std::size_t>(data[1]) << 8U)) % (sizeof g_lzf_out + 1U);
+        const std::size_t out_size = (static_cast<std::size_t>(data[0]) | (static_cast<std::size_t>(data[1]) << 8U)) %
+                                     (sizeof g_lzf_out + 1U);
         static_cast<void>(lzf_decompress(data + 2, size - 2U, g_lzf_out, out_size));
     }
     return 0;

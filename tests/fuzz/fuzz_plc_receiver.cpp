@@ -22,12 +22,12 @@ using namespace cellguard;
 
 namespace {
 
-#define ORACLE(cond)                                                              \
-    do {                                                                          \
-        if (!(cond)) {                                                            \
+#define ORACLE(cond)                                                                \
+    do {                                                                            \
+        if (!(cond)) {                                                              \
             std::fprintf(stderr, "oracle failed: %s (line %d)\n", #cond, __LINE__); \
-            std::abort();                                                         \
-        }                                                                         \
+            std::abort();                                                           \
+        }                                                                           \
     } while (false)
 
 std::uint8_t ref_update(std::uint8_t reg, std::uint8_t byte) {
@@ -139,7 +139,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 switch (in.ConsumeIntegralInRange<int>(0, 3)) {
                     case 0: counter = e2e_p01_next_counter(counter); break;
                     case 1: break;
-                    case 2: counter = static_cast<std::uint8_t>((counter + in.ConsumeIntegralInRange<int>(2, 4)) % 15); break;
+                    case 2:
+                        counter = static_cast<std::uint8_t>((counter + in.ConsumeIntegralInRange<int>(2, 4)) % 15);
+                        break;
                     default: counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U); break;
                 }
                 SafetyMessage m;
@@ -158,7 +160,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             case 2: f = inverted_copy(last_normal); break;
             case 3: {  // raw bytes on a chosen or random ID
                 const int which = in.ConsumeIntegralInRange<int>(0, 3);
-                f.id = which == 0 ? ch.safety_can_id
+                f.id = which == 0   ? ch.safety_can_id
                        : which == 1 ? ch.safety_can_id + 1U
                        : which == 2 ? ch.diagnostics_can_id
                                     : in.ConsumeIntegralInRange<std::uint32_t>(0U, 0x7FFU);
@@ -168,7 +170,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 }
                 break;
             }
-            case 4:    // the last frame, or its copy, with one bit flipped
+            case 4:  // the last frame, or its copy, with one bit flipped
             case 5: {
                 f = last_normal;
                 if (in.ConsumeBool()) {

@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "cellguard/base/crc32.hpp"
-#include "cellguard/prior/prior_image.hpp"
 #include "cellguard/base/ram_check.hpp"
+#include "cellguard/prior/prior_image.hpp"
 
 using namespace cellguard;
 namespace layout = cellguard::prior_image_layout;
@@ -46,7 +46,8 @@ double double_at(const std::vector<std::uint8_t>& img, std::size_t offset) {
 }
 
 void put_u32(std::vector<std::uint8_t>& img, std::size_t offset, std::uint32_t v) {
-    for (std::size_t i = 0; i < 4; ++i) img[offset + i] = static_cast<std::uint8_t>(v >> (8U * i));
+    for (std::size_t i = 0; i < 4; ++i)
+        img[offset + i] = static_cast<std::uint8_t>(v >> (8U * i));
 }
 
 }  // namespace
@@ -82,8 +83,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
     }
 
-    const Result<PriorImageView, PriorImageError> r =
-        load_prior_image(Span<const std::uint8_t>(img.data(), img.size()), expected);
+    const Result<PriorImageView, PriorImageError> r = load_prior_image(Span<const std::uint8_t>(img.data(), img.size()),
+                                                                       expected);
     require(r.ok() == (r.error() == PriorImageError::kNone));
     require(r.ok() == (to_error_code(r.error()) == ErrorCode::kOk));
     if (!r.ok()) {
@@ -95,7 +96,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // Re-encode what was accepted: the bytes must come out identical.
     std::vector<std::int16_t> values(view.voxel_count());
     require(view.copy_to(Span<std::int16_t>(values.data(), values.size())).ok());
-    for (std::size_t i = 0; i < values.size(); ++i) require(values[i] == view.at(i) && values[i] <= 0);
+    for (std::size_t i = 0; i < values.size(); ++i)
+        require(values[i] == view.at(i) && values[i] <= 0);
     std::vector<std::uint8_t> again(prior_image_size(values.size()));
     const Result<std::size_t> w = write_prior_image(view.geometry(), view.params(),
                                                     Span<const std::int16_t>(values.data(), values.size()),
@@ -113,7 +115,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     SignatureCheck check{Span<const SignatureRegion>(parts)};
     require(check.reference() == crc32(bytes));
     require(check.steps_per_pass(slice) == (img.size() + slice - 1U) / slice);
-    for (std::size_t i = 0; i < check.steps_per_pass(slice); ++i) require(!check.step(slice));
+    for (std::size_t i = 0; i < check.steps_per_pass(slice); ++i)
+        require(!check.step(slice));
     require(check.position() == 0U && !check.failed());
     return 0;
 }

@@ -17,12 +17,12 @@ using namespace cellguard;
 
 namespace {
 
-#define ORACLE(cond)                                                              \
-    do {                                                                          \
-        if (!(cond)) {                                                            \
+#define ORACLE(cond)                                                                \
+    do {                                                                            \
+        if (!(cond)) {                                                              \
             std::fprintf(stderr, "oracle failed: %s (line %d)\n", #cond, __LINE__); \
-            std::abort();                                                         \
-        }                                                                         \
+            std::abort();                                                           \
+        }                                                                           \
     } while (false)
 
 /// Bitwise CRC-8, polynomial 0x1D, no table: independent of e2e_crc.cpp.

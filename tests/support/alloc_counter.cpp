@@ -43,7 +43,8 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 void* operator new(std::size_t size) {
     g_allocations.fetch_add(1, std::memory_order_relaxed);
     void* p = std::malloc(size == 0 ? 1 : size);
-    if (p == nullptr) throw std::bad_alloc();
+    if (p == nullptr)
+        throw std::bad_alloc();
     return p;
 }
 void* operator new[](std::size_t size) { return operator new(size); }

@@ -11,8 +11,9 @@
 #include "cellguard/safety/clock.hpp"
 #include "cellguard/safety/faults.hpp"
 
-#if __has_include("cellguard/grid/grid.hpp") || __has_include("cellguard/safety/safety_controller.hpp") || \
-    __has_include("cellguard/prior/prior_image.hpp") || __has_include(<Eigen/Core>)
+#if __has_include("cellguard/grid/grid.hpp") || __has_include("cellguard/safety/safety_controller.hpp") ||        \
+                                                              __has_include("cellguard/prior/prior_image.hpp") || \
+                                                                            __has_include(<Eigen/Core>)
 #error "the can module sees the grid, the prior, the controller or Eigen"
 #endif
 

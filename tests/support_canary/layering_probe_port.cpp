@@ -8,8 +8,9 @@
 #include "cellguard/port/can.hpp"
 #include "cellguard/port/clock.hpp"
 
-#if __has_include("cellguard/grid/grid.hpp") || __has_include("cellguard/safety/safety_controller.hpp") || \
-    __has_include("cellguard/prior/prior_image.hpp") || __has_include(<Eigen/Core>)
+#if __has_include("cellguard/grid/grid.hpp") || __has_include("cellguard/safety/safety_controller.hpp") ||        \
+                                                              __has_include("cellguard/prior/prior_image.hpp") || \
+                                                                            __has_include(<Eigen/Core>)
 #error "the Linux port sees the grid, the prior, the controller or Eigen"
 #endif
 

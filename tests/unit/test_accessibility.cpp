@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/accessibility.hpp"
 
 using namespace cellguard;
 
@@ -68,9 +68,8 @@ Prior compute(Background& bg, const AccessibilityParams& p) {
     std::vector<std::uint32_t> words(need.words, 0xDEADBEEFU);
     std::vector<std::uint8_t> bytes(need.bytes, 0xA5U);
     Prior out{std::vector<std::int16_t>(bg.lo.size(), 1234), std::vector<float>(bg.lo.size(), -1.0F)};
-    const Status s =
-        compute_accessibility_prior(bg.grid(), p, AccessibilityScratch{span_of(words), span_of(bytes)},
-                                    span_of(out.prior), span_of(out.p_acc));
+    const Status s = compute_accessibility_prior(bg.grid(), p, AccessibilityScratch{span_of(words), span_of(bytes)},
+                                                 span_of(out.prior), span_of(out.p_acc));
     REQUIRE(s.ok());
     for (std::size_t i = 0; i < out.prior.size(); ++i) {
         REQUIRE(out.prior[i] <= 0);  // written, and P(fore) <= 0.5
@@ -98,13 +97,15 @@ struct Reference {
     }
     [[nodiscard]] bool beyond_closed(const int q[3]) const {
         for (int a = 0; a < 3; ++a) {
-            if ((q[a] < 0 && !open(a, 0)) || (q[a] >= n_[a] && !open(a, 1))) return true;
+            if ((q[a] < 0 && !open(a, 0)) || (q[a] >= n_[a] && !open(a, 1)))
+                return true;
         }
         return false;
     }
     [[nodiscard]] bool source(const int c[3]) const {
         for (int a = 0; a < 3; ++a) {
-            if (c[a] < 0 || c[a] >= n_[a] || (c[a] == 0 && open(a, 0)) || (c[a] == n_[a] - 1 && open(a, 1))) return true;
+            if (c[a] < 0 || c[a] >= n_[a] || (c[a] == 0 && open(a, 0)) || (c[a] == n_[a] - 1 && open(a, 1)))
+                return true;
         }
         return false;
     }
@@ -124,7 +125,8 @@ struct Reference {
     }
     [[nodiscard]] bool in_config_range(const int c[3]) const {
         for (int a = 0; a < 3; ++a) {
-            if (c[a] < -r_ || c[a] >= n_[a] + r_) return false;
+            if (c[a] < -r_ || c[a] >= n_[a] + r_)
+                return false;
         }
         return true;
     }
@@ -134,7 +136,8 @@ struct Reference {
         for (int dz = -r_; dz <= r_; ++dz) {
             for (int dy = -r_; dy <= r_; ++dy) {
                 for (int dx = -r_; dx <= r_; ++dx) {
-                    if (std::abs(dx) + std::abs(dy) + std::abs(dz) > r_) continue;
+                    if (std::abs(dx) + std::abs(dy) + std::abs(dz) > r_)
+                        continue;
                     const int q[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
                     f(q);
                 }
@@ -169,7 +172,8 @@ struct Reference {
                 for (int s = -1; s <= 1; s += 2) {
                     int d[3] = {c[0], c[1], c[2]};
                     d[a] += s;
-                    if (!in_config_range(d)) continue;
+                    if (!in_config_range(d))
+                        continue;
                     int& st = state[static_cast<std::size_t>(config_index(d))];
                     if (st == 1) {
                         st = 2;
@@ -185,7 +189,8 @@ struct Reference {
                     const int v[3] = {x, y, z};
                     bool covered = false;
                     for_ball(v, [&](const int c[3]) {
-                        covered = covered || (in_config_range(c) && state[static_cast<std::size_t>(config_index(c))] == 2);
+                        covered = covered ||
+                                  (in_config_range(c) && state[static_cast<std::size_t>(config_index(c))] == 2);
                     });
                     a[bg_.index(x, y, z)] = covered;
                 }
@@ -198,9 +203,11 @@ struct Reference {
     [[nodiscard]] std::vector<double> probabilistic_g() const {
         const double inf = std::numeric_limits<double>::infinity();
         auto cost = [&](const int q[3]) {  // L = -ln(1 - f), eq. 13
-            if (!inside(q)) return 0.0;
+            if (!inside(q))
+                return 0.0;
             const std::size_t i = bg_.index(q[0], q[1], q[2]);
-            if (bg_.ob[i] == 0U) return 0.0;
+            if (bg_.ob[i] == 0U)
+                return 0.0;
             const double p = probability_from_log_odds(bg_.lo[i]);
             return p < p_.t_e ? 0.0 : -std::log1p(-p);
         };
@@ -226,17 +233,20 @@ struct Reference {
         while (!heap.empty()) {
             const auto [du, u] = heap.top();
             heap.pop();
-            if (du > dist[static_cast<std::size_t>(u)]) continue;
+            if (du > dist[static_cast<std::size_t>(u)])
+                continue;
             int c[3];
             config_of(u, c);
             for (int a = 0; a < 3; ++a) {
                 for (int s = -1; s <= 1; s += 2) {
                     int d[3] = {c[0], c[1], c[2]};
                     d[a] += s;
-                    if (!in_config_range(d) || !valid[static_cast<std::size_t>(config_index(d))]) continue;
+                    if (!in_config_range(d) || !valid[static_cast<std::size_t>(config_index(d))])
+                        continue;
                     double move = 0.0;  // cells of R_d not in R_c (eq. 17)
                     for_ball(d, [&](const int q[3]) {
-                        if (std::abs(q[0] - c[0]) + std::abs(q[1] - c[1]) + std::abs(q[2] - c[2]) > r_) move += cost(q);
+                        if (std::abs(q[0] - c[0]) + std::abs(q[1] - c[1]) + std::abs(q[2] - c[2]) > r_)
+                            move += cost(q);
                     });
                     const int v = config_index(d);
                     if (du + move < dist[static_cast<std::size_t>(v)]) {
@@ -276,7 +286,9 @@ struct Reference {
 Background random_background(std::mt19937& rng, int max_dim) {
     auto dim = [&] { return 1 + static_cast<int>(rng() % static_cast<unsigned>(max_dim)); };
     Background bg(dim(), dim(), dim());
-    auto in = [&](int lo, int hi) { return static_cast<std::int16_t>(lo + static_cast<int>(rng() % static_cast<unsigned>(hi - lo + 1))); };
+    auto in = [&](int lo, int hi) {
+        return static_cast<std::int16_t>(lo + static_cast<int>(rng() % static_cast<unsigned>(hi - lo + 1)));
+    };
     for (std::size_t i = 0; i < bg.lo.size(); ++i) {
         const unsigned u = rng() % 100U;
         bg.ob[i] = 1U;
@@ -302,7 +314,8 @@ Background random_background(std::mt19937& rng, int max_dim) {
 TEST_CASE("accessibility: the hollow interior of a closed box is inaccessible, both methods") {
     Background bg(14, 14, 10);
     for (int y = 0; y < 14; ++y)
-        for (int x = 0; x < 14; ++x) bg.set(x, y, 0, kOcc);  // the floor
+        for (int x = 0; x < 14; ++x)
+            bg.set(x, y, 0, kOcc);  // the floor
     for (int z = 1; z <= 6; ++z)
         for (int y = 4; y <= 9; ++y)
             for (int x = 4; x <= 9; ++x) {
@@ -367,7 +380,8 @@ TEST_CASE("accessibility: a slot narrower than the object seals the space behind
         Background bg(14, 11, 11);
         for (int z = 0; z < 11; ++z)
             for (int y = 0; y < 11; ++y)
-                if (std::abs(y - 5) > half || std::abs(z - 5) > half) bg.set(5, y, z, kOcc);
+                if (std::abs(y - 5) > half || std::abs(z - 5) > half)
+                    bg.set(5, y, z, kOcc);
         const Prior t = compute(bg, params_of(PriorMethod::kThresholded, 2, kFaceMinX));
         const Prior p = compute(bg, params_of(PriorMethod::kProbabilistic, 2, kFaceMinX));
         const std::size_t behind = bg.index(9, 5, 5);
@@ -422,7 +436,8 @@ TEST_CASE("accessibility: the 2-D example in the spirit of Fig. 2 (r = 1) gives 
     Background bg(14, 10, 3);
     for (int z = 0; z < 3; ++z)
         for (int y = 0; y < 10; ++y)
-            for (int x = 0; x < 14; ++x) bg.set(x, y, z, map[static_cast<std::size_t>(y)][static_cast<std::size_t>(x)] == '#' ? kOcc : kFree);
+            for (int x = 0; x < 14; ++x)
+                bg.set(x, y, z, map[static_cast<std::size_t>(y)][static_cast<std::size_t>(x)] == '#' ? kOcc : kFree);
     const Prior t = compute(bg, params_of(PriorMethod::kThresholded, 1, kPaperOpenFaces));
     const Prior p = compute(bg, params_of(PriorMethod::kProbabilistic, 1, kPaperOpenFaces));
     int inaccessible_free = 0;
@@ -492,7 +507,8 @@ TEST_CASE("accessibility: a closed face is not a source, an open face is") {
     for (const PriorMethod m : {PriorMethod::kThresholded, PriorMethod::kProbabilistic}) {
         Background bg(9, 9, 9);
         for (int z = 0; z < 9; ++z)
-            for (int y = 0; y < 9; ++y) bg.set(4, y, z, kOcc);  // a wall across the grid
+            for (int y = 0; y < 9; ++y)
+                bg.set(4, y, z, kOcc);  // a wall across the grid
         const std::size_t far_side = bg.index(6, 4, 4);
         const Prior one = compute(bg, params_of(m, 1, kFaceMinX));
         const Prior two = compute(bg, params_of(m, 1, kFaceMinX | kFaceMaxX));
@@ -505,7 +521,8 @@ TEST_CASE("accessibility: a closed face is not a source, an open face is") {
         }
         CHECK(two.prior[far_side] == 0);
         CHECK(two.p_acc[far_side] == 1.0F);
-        for (const std::int16_t v : none.prior) CHECK(v == kNeverForeground);
+        for (const std::int16_t v : none.prior)
+            CHECK(v == kNeverForeground);
     }
 }
 
@@ -530,7 +547,8 @@ TEST_CASE("accessibility: beyond a closed face is occupied, beyond an open face 
         const Prior s = compute(solid, params_of(m, 2, kFaceMinX));
         CHECK(s.prior[solid.index(0, 4, 4)] == 0);
         CHECK(s.p_acc[solid.index(0, 4, 4)] == 1.0F);
-        if (m == PriorMethod::kThresholded) CHECK(s.prior[solid.index(1, 4, 4)] == kNeverForeground);
+        if (m == PriorMethod::kThresholded)
+            CHECK(s.prior[solid.index(1, 4, 4)] == kNeverForeground);
     }
 }
 
@@ -550,18 +568,23 @@ TEST_CASE("accessibility: an empty voxel on an open face, r away from closed fac
                     const int v[3] = {x, y, z};
                     const double p_occ = ref.p_occ(v);
                     const bool observed = bg.ob[bg.index(x, y, z)] != 0U;
-                    const bool empty = method == PriorMethod::kThresholded ? p_occ < p.t_b : (!observed || p_occ < p.t_e);
-                    if (!empty) continue;
+                    const bool empty = method == PriorMethod::kThresholded ? p_occ < p.t_b
+                                                                           : (!observed || p_occ < p.t_e);
+                    if (!empty)
+                        continue;
                     for (int a = 0; a < 3; ++a) {
                         for (int high = 0; high <= 1; ++high) {
-                            if (!ref.open(a, high) || v[a] != (high != 0 ? bg.n(a) - 1 : 0)) continue;
+                            if (!ref.open(a, high) || v[a] != (high != 0 ? bg.n(a) - 1 : 0))
+                                continue;
                             bool room = true;  // the ball outside the face stays clear of closed faces
                             for (int b = 0; b < 3; ++b) {
-                                if (b == a) continue;
+                                if (b == a)
+                                    continue;
                                 room = room && (ref.open(b, 0) || v[b] >= p.radius_voxels) &&
                                        (ref.open(b, 1) || v[b] <= bg.n(b) - 1 - p.radius_voxels);
                             }
-                            if (!room) continue;
+                            if (!room)
+                                continue;
                             CHECK(out.prior[bg.index(x, y, z)] == 0);
                             CHECK(out.p_acc[bg.index(x, y, z)] == 1.0F);
                             ++checked;
@@ -639,7 +662,8 @@ TEST_CASE("accessibility: the largest radius (8 voxels) agrees with both referen
     for (int trial = 0; trial < 6; ++trial) {
         Background bg = random_background(rng, 5);
         for (std::size_t i = 0; i < bg.lo.size(); ++i) {
-            if (rng() % 3U != 0U) bg.lo[i] = kFree;  // keep costs below saturation now and then
+            if (rng() % 3U != 0U)
+                bg.lo[i] = kFree;  // keep costs below saturation now and then
         }
         const auto faces = static_cast<std::uint8_t>(trial == 0 ? kAllFaces : rng() % 64U);
         const AccessibilityParams t = params_of(PriorMethod::kThresholded, kMaxAccessibilityAnalysisRadius, faces);
@@ -667,14 +691,15 @@ TEST_CASE("accessibility: more occupied evidence never raises P(acc)") {
     for (int trial = 0; trial < 120; ++trial) {
         Background bg = random_background(rng, 7);
         const auto method = trial % 2 == 0 ? PriorMethod::kThresholded : PriorMethod::kProbabilistic;
-        const AccessibilityParams p =
-            params_of(method, static_cast<int>(rng() % 4U), static_cast<std::uint8_t>(1U + rng() % 63U));
+        const AccessibilityParams p = params_of(method, static_cast<int>(rng() % 4U),
+                                                static_cast<std::uint8_t>(1U + rng() % 63U));
         const Prior before = compute(bg, p);
         const int changes = 1 + static_cast<int>(rng() % 5U);
         for (int k = 0; k < changes; ++k) {
             const std::size_t i = rng() % bg.lo.size();
             if (bg.ob[i] != 0U) {
-                bg.lo[i] = static_cast<std::int16_t>(std::min<int>(kLogOddsMax, bg.lo[i] + 1 + static_cast<int>(rng() % 3000U)));
+                bg.lo[i] = static_cast<std::int16_t>(
+                    std::min<int>(kLogOddsMax, bg.lo[i] + 1 + static_cast<int>(rng() % 3000U)));
             } else {
                 bg.ob[i] = 1U;  // unobserved counted as 0.5 (thresholded) or f = 0: now at least that
                 bg.lo[i] = static_cast<std::int16_t>(rng() % 3000U);
@@ -721,7 +746,8 @@ TEST_CASE("accessibility: bad parameters are refused with kInvalidArgument and n
                                           span_of(prior), Span<float>())
                   .error() == ErrorCode::kInvalidArgument);
     }
-    for (const std::int16_t v : prior) CHECK(v == 77);
+    for (const std::int16_t v : prior)
+        CHECK(v == 77);
     CHECK(compute_accessibility_prior(EvidenceGrid{}, good, AccessibilityScratch{span_of(words), span_of(bytes)},
                                       span_of(prior), Span<float>())
               .error() == ErrorCode::kInvalidArgument);
@@ -753,7 +779,8 @@ TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall, la
             CHECK(run(AccessibilityScratch{span_of(words), Span<std::uint8_t>(bytes.data(), need.bytes - 1U)},
                       span_of(prior), Span<float>()) == ErrorCode::kStorageTooSmall);
         }
-        for (const std::int16_t v : prior) CHECK(v == 77);
+        for (const std::int16_t v : prior)
+            CHECK(v == 77);
         CHECK(run(scratch, span_of(prior), Span<float>()) == ErrorCode::kOk);
         CHECK(run(scratch, span_of(prior), span_of(p_acc)) == ErrorCode::kOk);
         CHECK(prior[n] == 77);  // only voxel_count() values written
@@ -765,8 +792,9 @@ TEST_CASE("accessibility: too-small outputs or scratch give kStorageTooSmall, la
     constexpr AccessibilityScratchSize paper = accessibility_scratch_size(GridDims{34, 30, 30}, AccessibilityParams{});
     static_assert(paper.words == 7U * 44U * 40U * 36U + 2U * MonotoneBucketQueue::kListHeads,
                   "probabilistic scratch of the paper's grid: 7 words per padded voxel plus list heads");
-    CHECK(accessibility_scratch_size(GridDims{34, 30, 30}, params_of(PriorMethod::kProbabilisticBaseline, 2, 0U)).words ==
-          0U);
+    CHECK(
+        accessibility_scratch_size(GridDims{34, 30, 30}, params_of(PriorMethod::kProbabilisticBaseline, 2, 0U)).words ==
+        0U);
 }
 
 // verifies: SR-GEN-002

@@ -18,7 +18,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 }  // namespace
 
 // verifies: SR-CTRL-011
-TEST_CASE("background check: a pixel matches when both hold a reading within the tolerance, and only referenced pixels count") {
+TEST_CASE(
+    "background check: a pixel matches when both hold a reading within the tolerance, and only referenced pixels "
+    "count") {
     const std::vector<float> ref = {1.0F, 2.0F, 3.0F, kNaN, 0.0F, -1.0F, kInf, 4.0F};
     BackgroundReference r;
     r.depth = Span<const float>(ref.data(), ref.size());
@@ -52,7 +54,9 @@ TEST_CASE("background check: images of another size and a tolerance that is not 
 }
 
 // verifies: SR-CTRL-011
-TEST_CASE("background check: the fraction is exact in integers, and a reference without readings or a bad fraction never passes") {
+TEST_CASE(
+    "background check: the fraction is exact in integers, and a reference without readings or a bad fraction never "
+    "passes") {
     BackgroundMatch m;
     m.referenced = 10U;
     m.matching = 5U;
@@ -76,7 +80,8 @@ TEST_CASE("background check: the fraction is exact in integers, and a reference 
 }
 
 // verifies: SR-CTRL-011
-TEST_CASE("background check: the counts equal a pixel-by-pixel count for every length 0 to 40 and every kind of value") {
+TEST_CASE(
+    "background check: the counts equal a pixel-by-pixel count for every length 0 to 40 and every kind of value") {
     // Values that probe each comparison: readings near and far, the
     // tolerance's edge, no reading (0, negative, NaN, infinite).
     const float kinds[] = {1.0F, 1.0625F, 1.1F, 0.9375F, 3.0F, 0.0F, -1.0F, kNaN, kInf, -kInf, 1e-30F, 99.0F};

@@ -55,8 +55,8 @@ TEST_CASE("bucket queue: link storage smaller than the items plus the list heads
 
 // verifies: SR-PRIOR-002
 TEST_CASE("bucket queue: items come out in key order, across fine and coarse buckets") {
-    const std::vector<std::uint32_t> keys = {5U, 0U, 2047U, 2048U, 4095U, 1U << 20U, MonotoneBucketQueue::kKeyLimit - 1U,
-                                             3U, 5U, 2048U + 7U};
+    const std::vector<std::uint32_t> keys = {
+        5U, 0U, 2047U, 2048U, 4095U, 1U << 20U, MonotoneBucketQueue::kKeyLimit - 1U, 3U, 5U, 2048U + 7U};
     QueueStorage s(keys.size());
     s.keys = keys;
     MonotoneBucketQueue q = s.make();
@@ -71,8 +71,8 @@ TEST_CASE("bucket queue: items come out in key order, across fine and coarse buc
         popped.push_back(keys[item]);
         CHECK(q.last_key() == keys[item]);
     }
-    const std::vector<std::uint32_t> sorted = {0U, 3U, 5U, 5U, 2047U, 2048U, 2055U, 4095U, 1U << 20U,
-                                               MonotoneBucketQueue::kKeyLimit - 1U};
+    const std::vector<std::uint32_t> sorted = {0U,    3U,    5U,    5U,        2047U,
+                                               2048U, 2055U, 4095U, 1U << 20U, MonotoneBucketQueue::kKeyLimit - 1U};
     CHECK(popped == sorted);
 }
 
@@ -107,14 +107,16 @@ TEST_CASE("bucket queue: random Dijkstra-like use agrees with an ordered set") {
         std::uint32_t next_new = 0U;
         const std::uint32_t spread = trial % 2 == 0 ? 300U : 400000U;
         auto push_new = [&](std::uint32_t base) {
-            if (next_new == n) return;
+            if (next_new == n)
+                return;
             const std::uint32_t item = next_new++;
             s.keys[item] = std::min<std::uint32_t>(base + rng() % spread, MonotoneBucketQueue::kKeyLimit - 1U);
             q.push(item);
             state[item] = 1;
             reference.insert({s.keys[item], item});
         };
-        for (int i = 0; i < 50; ++i) push_new(0U);
+        for (int i = 0; i < 50; ++i)
+            push_new(0U);
         while (!reference.empty()) {
             const std::uint32_t item = q.pop();
             REQUIRE(state[item] == 1);
@@ -123,13 +125,15 @@ TEST_CASE("bucket queue: random Dijkstra-like use agrees with an ordered set") {
             state[item] = 2;
             const std::uint32_t last = q.last_key();
             const int pushes = static_cast<int>(rng() % 4U);
-            for (int i = 0; i < pushes; ++i) push_new(last);
+            for (int i = 0; i < pushes; ++i)
+                push_new(last);
             // Lower a few queued keys, never below the last pop.
             for (int i = 0; i < 3 && !reference.empty(); ++i) {
                 auto it = reference.begin();
                 std::advance(it, static_cast<long>(rng() % reference.size()));
                 const auto [key, victim] = *it;
-                if (key == last) continue;
+                if (key == last)
+                    continue;
                 const std::uint32_t lowered = last + rng() % (key - last);
                 reference.erase(it);
                 s.keys[victim] = lowered;

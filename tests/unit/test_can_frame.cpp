@@ -12,10 +12,17 @@ using namespace cellguard;
 
 namespace {
 
-constexpr SignalLayout make(const char* name, std::uint8_t start, std::uint8_t length,
-                            Multiplex mux = Multiplex::kNone, std::uint8_t mux_value = 0U) {
-    return SignalLayout{name, start, length, ByteOrder::kIntel, 1U, "",
-                        static_cast<std::uint32_t>((std::uint64_t{1} << length) - 1U), mux, mux_value};
+constexpr SignalLayout make(const char* name, std::uint8_t start, std::uint8_t length, Multiplex mux = Multiplex::kNone,
+                            std::uint8_t mux_value = 0U) {
+    return SignalLayout{name,
+                        start,
+                        length,
+                        ByteOrder::kIntel,
+                        1U,
+                        "",
+                        static_cast<std::uint32_t>((std::uint64_t{1} << length) - 1U),
+                        mux,
+                        mux_value};
 }
 
 constexpr SignalLayout kGood[] = {make("a", 0U, 8U), make("b", 8U, 4U), make("sel", 12U, 2U, Multiplex::kMultiplexor),
@@ -23,8 +30,10 @@ constexpr SignalLayout kGood[] = {make("a", 0U, 8U), make("b", 8U, 4U), make("se
                                   make("m1", 16U, 8U, Multiplex::kMultiplexed, 1U)};
 constexpr SignalLayout kOverlap[] = {make("a", 0U, 8U), make("b", 7U, 4U)};
 constexpr SignalLayout kOutside[] = {make("a", 60U, 8U)};
-constexpr SignalLayout kMotorola[] = {SignalLayout{"a", 0U, 8U, ByteOrder::kMotorola, 1U, "", 255U, Multiplex::kNone, 0U}};
-constexpr SignalLayout kRawMaxTooWide[] = {SignalLayout{"a", 0U, 4U, ByteOrder::kIntel, 1U, "", 16U, Multiplex::kNone, 0U}};
+constexpr SignalLayout kMotorola[] = {
+    SignalLayout{"a", 0U, 8U, ByteOrder::kMotorola, 1U, "", 255U, Multiplex::kNone, 0U}};
+constexpr SignalLayout kRawMaxTooWide[] = {
+    SignalLayout{"a", 0U, 4U, ByteOrder::kIntel, 1U, "", 16U, Multiplex::kNone, 0U}};
 
 }  // namespace
 

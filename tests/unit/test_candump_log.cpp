@@ -110,7 +110,8 @@ TEST_CASE("candump log: the writer is a CanSender that appends one timestamped l
     CHECK(w.close());
     std::ifstream in(path);
     std::vector<std::string> lines;
-    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    for (std::string l; std::getline(in, l);)
+        lines.push_back(l);
     REQUIRE(lines.size() == 2U);
     CHECK(lines[0] == "(1700000000.000250) vcan0 101#AA00000000000000");
     CHECK(lines[1] == "(1700000000.000500) vcan0 102#55");

@@ -21,8 +21,8 @@
 #include <utility>
 #include <vector>
 
-#include "cellguard/host/io/candump_log.hpp"
 #include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/io/candump_log.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;
@@ -31,14 +31,15 @@ using namespace cellguard::monitor;
 
 namespace {
 
-constexpr int kCycles = 60;  // the fixture's --cycles
+constexpr int kCycles = 60;                 // the fixture's --cycles
 constexpr std::size_t kLinesPerCycle = 3U;  // safety frame, inverted copy, diagnostics frame
 
 /// The lines of the fixture's demo log (3 per cycle, in time order).
 std::vector<std::string> demo_log_lines() {
     const char* path = std::getenv("CELLGUARD_DEMO_LOG");
-    INFO("CELLGUARD_DEMO_LOG names the log of `cellguard-monitor --demo --cycles 60` "
-         "(ctest monitor_check_log_unit_tests_on_a_real_demo_log sets it)");
+    INFO(
+        "CELLGUARD_DEMO_LOG names the log of `cellguard-monitor --demo --cycles 60` "
+        "(ctest monitor_check_log_unit_tests_on_a_real_demo_log sets it)");
     REQUIRE(path != nullptr);
     std::ifstream in(path);
     INFO("log: " << path);
@@ -168,8 +169,10 @@ TEST_CASE("cellguard-monitor-check-log on the demo log: one safety frame delayed
 }
 
 // verifies: SR-SYS-006, SR-CAN-008
-TEST_CASE("cellguard-monitor-check-log on the demo log: a pair split by more than the SRVT fails, by exactly the SRVT passes" *
-          doctest::skip()) {
+TEST_CASE(
+    "cellguard-monitor-check-log on the demo log: a pair split by more than the SRVT fails, by exactly the SRVT "
+    "passes" *
+    doctest::skip()) {
     // Cycle 30's inverted copy (line 92) moved to its safety frame's time + d;
     // re-sorted by time it follows its cycle's diagnostics frame, as line 93.
     const std::vector<std::string> lines = demo_log_lines();
@@ -217,7 +220,9 @@ TEST_CASE("cellguard-monitor-check-log: an unreadable log or a bad cycle count i
 }
 
 // verifies: SR-SYS-006
-TEST_CASE("cellguard-monitor-check-log: an empty log, foreign or malformed lines, and time stamps far apart fail without hanging") {
+TEST_CASE(
+    "cellguard-monitor-check-log: an empty log, foreign or malformed lines, and time stamps far apart fail without "
+    "hanging") {
     const DemoLogCheck empty = check_text("", kCycles);
     CHECK(empty.input_ok);
     CHECK(has_failure(empty, "the log holds no frame"));
@@ -225,11 +230,12 @@ TEST_CASE("cellguard-monitor-check-log: an empty log, foreign or malformed lines
     // A foreign CAN ID, a malformed line, then a time stamp about 317,000 years
     // later and one that goes back: the polls between them are skipped once
     // nothing can change, so the check ends at once.
-    const DemoLogCheck r = check_text("(1.000000) vcan0 7FF#\n"
-                                      "(1.5) vcan0 101#00\n"
-                                      "(9999999999999.000000) vcan0 7FF#\n"
-                                      "(2.000000) vcan0 7FF#\n",
-                                      kCycles);
+    const DemoLogCheck r = check_text(
+        "(1.000000) vcan0 7FF#\n"
+        "(1.5) vcan0 101#00\n"
+        "(9999999999999.000000) vcan0 7FF#\n"
+        "(2.000000) vcan0 7FF#\n",
+        kCycles);
     CAPTURE(all_failures(r));
     CHECK(r.input_ok);
     CHECK(has_failure(r, "line 1: unexpected CAN ID"));

@@ -72,7 +72,8 @@ TEST_CASE("crc32: the table-driven CRC equals the bitwise definition on random m
     std::mt19937 rng(7U);
     for (std::size_t len : {1U, 2U, 3U, 7U, 8U, 9U, 15U, 16U, 17U, 64U, 255U, 1000U}) {
         std::vector<std::uint8_t> data(len + 7U);
-        for (auto& b : data) b = static_cast<std::uint8_t>(rng());
+        for (auto& b : data)
+            b = static_cast<std::uint8_t>(rng());
         // Every start offset modulo 8, so the sliced loads also run unaligned.
         for (std::size_t offset = 0; offset < 8U; ++offset) {
             const Span<const std::uint8_t> s(data.data() + offset, len);
@@ -84,7 +85,8 @@ TEST_CASE("crc32: the table-driven CRC equals the bitwise definition on random m
 // verifies: SR-PRIOR-013
 TEST_CASE("crc32: updating over slices gives the CRC of the whole message, for every split") {
     std::vector<std::uint8_t> data(97);
-    for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 31U + 5U);
+    for (std::size_t i = 0; i < data.size(); ++i)
+        data[i] = static_cast<std::uint8_t>(i * 31U + 5U);
     const Span<const std::uint8_t> all(data.data(), data.size());
     const std::uint32_t whole = crc32(all);
     for (std::size_t split = 0; split <= data.size(); ++split) {

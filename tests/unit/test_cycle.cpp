@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "cellguard/safety/cycle.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
+#include "cellguard/safety/cycle.hpp"
 #include "contract_capture.hpp"
 
 using namespace cellguard;

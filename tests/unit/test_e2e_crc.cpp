@@ -19,7 +19,9 @@ std::uint8_t crc_of(std::initializer_list<std::uint8_t> bytes) {
     return crc8_sae_j1850(Span<const std::uint8_t>(v.data(), v.size()));
 }
 
-Span<const std::uint8_t> view(const std::vector<std::uint8_t>& v) { return Span<const std::uint8_t>(v.data(), v.size()); }
+Span<const std::uint8_t> view(const std::vector<std::uint8_t>& v) {
+    return Span<const std::uint8_t>(v.data(), v.size());
+}
 
 /// E2E_P01 as the AUTOSAR profile writes it: Crc_CalculateCRC8 chained with
 /// start value 0xFF and is_first_call = false over the data ID bytes, the data
@@ -38,9 +40,7 @@ std::uint8_t p01_as_specified(const std::vector<std::uint8_t>& data, std::size_t
         case E2eP01DataIdMode::kAlt:
             crc = crc8_sae_j1850(Span<const std::uint8_t>(counter % 2U == 0U ? &low : &high, 1U), 0xFFU, false);
             break;
-        case E2eP01DataIdMode::kLow:
-            crc = crc8_sae_j1850(Span<const std::uint8_t>(&low, 1U), 0xFFU, false);
-            break;
+        case E2eP01DataIdMode::kLow: crc = crc8_sae_j1850(Span<const std::uint8_t>(&low, 1U), 0xFFU, false); break;
         case E2eP01DataIdMode::kNibble:
             crc = crc8_sae_j1850(Span<const std::uint8_t>(&low, 1U), 0xFFU, false);
             crc = crc8_sae_j1850(Span<const std::uint8_t>(&zero, 1U), crc, false);
@@ -113,7 +113,8 @@ TEST_CASE("e2e crc: the Profile 1 CRC equals the profile's chain of Crc_Calculat
         const auto crc_index = static_cast<std::size_t>(round % 8);
         const auto counter = static_cast<std::uint8_t>(round % 15);
         for (const E2eP01DataIdMode mode : kAllModes) {
-            CHECK(e2e_p01_crc(view(d), crc_index, id, mode, counter) == p01_as_specified(d, crc_index, id, mode, counter));
+            CHECK(e2e_p01_crc(view(d), crc_index, id, mode, counter) ==
+                  p01_as_specified(d, crc_index, id, mode, counter));
         }
         // The CRC byte's own value never enters the CRC.
         const std::uint8_t before = e2e_p01_crc(view(d), crc_index, id, E2eP01DataIdMode::kBoth, counter);
@@ -177,6 +178,5 @@ TEST_CASE("e2e crc: data IDs are distinguishable exactly when no data can pass a
 TEST_CASE("e2e crc: a CRC byte outside the data is a contract violation") {
     const std::vector<std::uint8_t> d(8U, 0U);
     CHECK(test::violates_contract([&] { (void)e2e_p01_crc(view(d), 8U, 1U, E2eP01DataIdMode::kBoth, 0U); }));
-    CHECK(test::violates_contract(
-        [&] { (void)e2e_p01_crc(view(d), 0U, 1U, static_cast<E2eP01DataIdMode>(9), 0U); }));
+    CHECK(test::violates_contract([&] { (void)e2e_p01_crc(view(d), 0U, 1U, static_cast<E2eP01DataIdMode>(9), 0U); }));
 }

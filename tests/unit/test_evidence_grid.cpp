@@ -8,9 +8,7 @@
 using namespace cellguard;
 
 namespace {
-GridGeometry small_geometry() {
-    return GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{4, 3, 2}).value();
-}
+GridGeometry small_geometry() { return GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{4, 3, 2}).value(); }
 }  // namespace
 
 // verifies: SR-GRID-003
@@ -36,12 +34,15 @@ TEST_CASE("evidence grid: storage smaller than the grid is refused") {
 // verifies: SR-GRID-003
 TEST_CASE("evidence grid: a cleared grid is unknown and unobserved everywhere") {
     static StaticEvidenceGridStorage<4, 3, 2> storage;
-    for (auto& v : storage.log_odds) v = 123;
-    for (auto& o : storage.observed) o = 1;
+    for (auto& v : storage.log_odds)
+        v = 123;
+    for (auto& o : storage.observed)
+        o = 1;
     EvidenceGrid g = EvidenceGrid::make(small_geometry(), storage.log_odds, storage.observed).value();
     g.clear();
     CHECK(g.observed_count() == 0U);
-    for (const auto v : g.log_odds()) CHECK(v == 0);
+    for (const auto v : g.log_odds())
+        CHECK(v == 0);
 }
 
 // verifies: SR-GRID-003

@@ -68,7 +68,7 @@ TEST_CASE("fusion: a ray clears the voxels before the reading, marks the reading
     CHECK(s.at(9, 1, 1) > model.constant_free_evidence());
     CHECK_FALSE(s.seen(11, 1, 1));  // past the reading: unobserved
     CHECK(s.at(11, 1, 1) == 0);
-    CHECK_FALSE(s.seen(5, 2, 1));   // not on the ray
+    CHECK_FALSE(s.seen(5, 2, 1));  // not on the ray
     CHECK(s.grid.observed_count() == 11U);
 }
 
@@ -79,7 +79,7 @@ TEST_CASE("fusion: a sensor gives each voxel one opinion per frame, however many
     const Eigen::Vector3f pts[3] = {{0.0F, 0.0F, 1.55F}, {0.0F, 0.0F, 1.55F}, {0.0F, 0.0F, 1.55F}};
     const SensorReading r = looking_along_x(pts);
     REQUIRE(fuse_sensor(s.grid, r, model, s.scratch).value().voxel_updates == 33U);  // 3 rays x 11 voxels visited
-    CHECK(s.at(10, 1, 1) == model.reading_evidence());     // not 3 x
+    CHECK(s.at(10, 1, 1) == model.reading_evidence());                               // not 3 x
     CHECK(s.at(3, 1, 1) == model.constant_free_evidence());
 }
 
@@ -93,7 +93,8 @@ TEST_CASE("fusion: a voxel holding N readings stays occupied when M >> N other r
     pts.insert(pts.begin() + 700, 3, Eigen::Vector3f(0.0F, 0.0F, 1.55F));
     const SensorReading r = looking_along_x(Span<const Eigen::Vector3f>(pts.data(), pts.size()));
     REQUIRE(fuse_sensor(s.grid, r, model, s.scratch).ok());
-    CHECK(s.at(10, 1, 1) == model.reading_evidence());  // the per-ray sum of the old model: 3 x 62 - 2000 x 61, saturated free
+    CHECK(s.at(10, 1, 1) ==
+          model.reading_evidence());  // the per-ray sum of the old model: 3 x 62 - 2000 x 61, saturated free
     CHECK(s.at(15, 1, 1) == model.reading_evidence());
     CHECK(s.at(3, 1, 1) == model.constant_free_evidence());  // 2003 crossing rays: one opinion, no saturation
     CHECK(probability_from_log_odds(s.at(10, 1, 1)) == doctest::Approx(model.params().p_hit).epsilon(0.001));
@@ -118,8 +119,8 @@ TEST_CASE("fusion: of a sensor's free opinions of a voxel the weakest wins: a ra
 // verifies: SR-FUSE-002
 TEST_CASE("fusion: across the sensors of a frame occupied wins, hits add, frees add, all clamped, in any order") {
     const SensorModelTable model;
-    const Eigen::Vector3f hit_at_10(0.0F, 0.0F, 1.55F);   // voxel x = 10
-    const Eigen::Vector3f hit_at_15(0.0F, 0.0F, 2.05F);   // crosses voxel 10
+    const Eigen::Vector3f hit_at_10(0.0F, 0.0F, 1.55F);  // voxel x = 10
+    const Eigen::Vector3f hit_at_15(0.0F, 0.0F, 2.05F);  // crosses voxel 10
     SensorReading a = looking_along_x(Span<const Eigen::Vector3f>(&hit_at_10, 1));
     SensorReading b = looking_along_x(Span<const Eigen::Vector3f>(&hit_at_15, 1));
     const auto fused = [&](std::initializer_list<SensorReading> sensors) {
@@ -163,9 +164,9 @@ TEST_CASE("fusion: NaN, infinite, zero, behind-the-sensor and out-of-range readi
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
     const Eigen::Vector3f pts[] = {
-        {nan, 0.0F, 1.0F}, {0.0F, inf, 1.0F}, {0.0F, 0.0F, 0.0F}, {0.0F, 0.0F, -1.0F},
-        {0.0F, 0.0F, 9.0F},  // beyond max_range 5 m
-        {0.0F, 0.0F, 0.05F}, // nearer than min_range
+        {nan, 0.0F, 1.0F},   {0.0F, inf, 1.0F},  {0.0F, 0.0F, 0.0F},
+        {0.0F, 0.0F, -1.0F}, {0.0F, 0.0F, 9.0F},  // beyond max_range 5 m
+        {0.0F, 0.0F, 0.05F},                      // nearer than min_range
     };
     SensorReading r = looking_along_x(pts);
     r.min_range = 0.1F;
@@ -242,8 +243,10 @@ TEST_CASE("fusion: an invalid sensor description is refused and the grid stays u
     bad_image.intrinsics.fx = 0.0;
     CHECK(fuse_sensor(s.grid, bad_image, model, s.scratch).error() == ErrorCode::kInvalidArgument);
     SensorReading many[kMaxSensors + 1];
-    for (auto& m : many) m = good;
-    CHECK(fuse_frame(s.grid, Span<const SensorReading>(many), model, s.scratch).error() == ErrorCode::kCapacityExceeded);
+    for (auto& m : many)
+        m = good;
+    CHECK(fuse_frame(s.grid, Span<const SensorReading>(many), model, s.scratch).error() ==
+          ErrorCode::kCapacityExceeded);
     CHECK(s.grid.observed_count() == 0U);
 }
 
@@ -254,7 +257,8 @@ TEST_CASE("fusion: fusing the simulated four-sensor frame allocates no memory") 
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
     EvidenceGrid grid = EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()),
-                                           Span<std::uint8_t>(ob.data(), ob.size())).value();
+                                           Span<std::uint8_t>(ob.data(), ob.size()))
+                            .value();
     const SensorModelTable model;
     const Span<const SensorReading> readings(frame.readings.data(), frame.readings.size());
     std::vector<std::int16_t> scratch(g.voxel_count());
@@ -278,16 +282,18 @@ TEST_CASE("fusion: the exact traversal and the paper's Bresenham option both fus
     std::vector<std::int16_t> lo(g.voxel_count());
     std::vector<std::uint8_t> ob(g.voxel_count());
     EvidenceGrid grid = EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()),
-                                           Span<std::uint8_t>(ob.data(), ob.size())).value();
+                                           Span<std::uint8_t>(ob.data(), ob.size()))
+                            .value();
     const SensorModelTable model;
     const Span<const SensorReading> readings(frame.readings.data(), frame.readings.size());
     std::vector<std::int16_t> scratch(g.voxel_count());
     grid.clear();
-    const FusionStats exact = fuse_frame(grid, readings, model, {scratch.data(), scratch.size()}, Rasterization::kExact).value();
+    const FusionStats exact =
+        fuse_frame(grid, readings, model, {scratch.data(), scratch.size()}, Rasterization::kExact).value();
     grid.clear();
     const FusionStats bres =
         fuse_frame(grid, readings, model, {scratch.data(), scratch.size()}, Rasterization::kBresenham3d).value();
     CHECK(exact.rays_fused == bres.rays_fused);
-    CHECK(bres.voxel_updates < exact.voxel_updates);  // Bresenham misses voxels
+    CHECK(bres.voxel_updates < exact.voxel_updates);       // Bresenham misses voxels
     CHECK(bres.voxel_updates > exact.voxel_updates / 3U);  // one voxel per dominant-axis step
 }

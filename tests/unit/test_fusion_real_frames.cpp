@@ -25,7 +25,8 @@ TEST_CASE("fusion: a real Kinect frame with NaN pixels fuses, skipping and count
     REQUIRE_MESSAGE(read.ok(), read.message());
     REQUIRE(info.written == 307200U);
     std::vector<Eigen::Vector3f> points(raw.size());
-    for (std::size_t i = 0; i < raw.size(); ++i) points[i] = Eigen::Vector3f(raw[i].x, raw[i].y, raw[i].z);
+    for (std::size_t i = 0; i < raw.size(); ++i)
+        points[i] = Eigen::Vector3f(raw[i].x, raw[i].y, raw[i].z);
 
     // The camera at the origin looking along +z; a 4 m x 3 m x 3 m grid in front of it.
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-2.0, -1.5, 0.0), 0.05, GridDims{80, 60, 60}).value();
@@ -45,12 +46,13 @@ TEST_CASE("fusion: a real Kinect frame with NaN pixels fuses, skipping and count
     CHECK(s.skipped_nan == info.nonfinite_points);  // 35,625 NaN pixels in this frame
     CHECK(s.skipped_nan == 35625U);
     CHECK(s.rays_fused + s.skipped() == 307200U);
-    CHECK(s.rays_fused == info.finite_points);        // every valid reading lies within 8 m
-    CHECK(s.readings_in_grid == s.rays_fused);        // and inside the grid (z 0.67 .. 1.73 m)
+    CHECK(s.rays_fused == info.finite_points);  // every valid reading lies within 8 m
+    CHECK(s.readings_in_grid == s.rays_fused);  // and inside the grid (z 0.67 .. 1.73 m)
     // The office scene: free space in front of the surfaces, occupied at them, nothing behind.
     std::size_t occupied = 0, free_voxels = 0;
     for (std::size_t i = 0; i < lo.size(); ++i) {
-        if (ob[i] == 0U) continue;
+        if (ob[i] == 0U)
+            continue;
         occupied += lo[i] > 0 ? 1U : 0U;
         free_voxels += lo[i] < 0 ? 1U : 0U;
     }

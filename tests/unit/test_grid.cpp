@@ -36,7 +36,8 @@ TEST_CASE("grid: linear index and coordinate are inverse, x fastest") {
 TEST_CASE("grid: world to voxel uses half-open cells and rejects points outside") {
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-1.0, -1.0, 0.0), 0.5, GridDims{4, 4, 2}).value();
     CHECK(g.world_to_voxel(Eigen::Vector3d(-1.0, -1.0, 0.0)).value() == VoxelCoord{0, 0, 0});
-    CHECK(g.world_to_voxel(Eigen::Vector3d(-0.5, -1.0, 0.0)).value() == VoxelCoord{1, 0, 0});  // on a face: the voxel above
+    CHECK(g.world_to_voxel(Eigen::Vector3d(-0.5, -1.0, 0.0)).value() ==
+          VoxelCoord{1, 0, 0});  // on a face: the voxel above
     CHECK(g.world_to_voxel(Eigen::Vector3d(0.99, 0.99, 0.99)).value() == VoxelCoord{3, 3, 1});
     CHECK(g.world_to_voxel(Eigen::Vector3d(1.0, 0.0, 0.0)).error() == ErrorCode::kOutOfGrid);  // max face is outside
     CHECK(g.world_to_voxel(Eigen::Vector3d(0.0, 0.0, -1e-9)).error() == ErrorCode::kOutOfGrid);

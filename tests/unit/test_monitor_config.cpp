@@ -27,7 +27,8 @@ int line_of(const std::string& text, const std::string& needle) {
     const std::size_t at = text.find(needle);
     REQUIRE(at != std::string::npos);
     int line = 1;
-    for (std::size_t i = 0U; i < at; ++i) line += text[i] == '\n' ? 1 : 0;
+    for (std::size_t i = 0U; i < at; ++i)
+        line += text[i] == '\n' ? 1 : 0;
     return line;
 }
 
@@ -44,7 +45,8 @@ void check_refused(const std::string& text, int line, const std::string& key) {
 
 // verifies: SR-CFG-001
 TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo load with the paper's cell") {
-    const ConfigLoad file = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml");
+    const ConfigLoad file = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) +
+                                                "/apps/monitor/config/paper-cell.toml");
     REQUIRE_MESSAGE(file.ok, file.error);
     const MonitorConfig& c = file.config;
     CHECK(c.grid.dims[0] == 34);
@@ -78,14 +80,18 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
 }
 
 // verifies: SR-CFG-001
-TEST_CASE("monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's directory") {
-    std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+TEST_CASE(
+    "monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's "
+    "directory") {
+    std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]",
+                              "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
     text = edited("source = \"simulated-background\"", "source = \"file\"\nfile = \"cell.cgprior\"");
     const ConfigLoad l = parse_monitor_config(text, "cell.toml", "/etc/cellguard");
     REQUIRE_MESSAGE(l.ok, l.error);
     CHECK(l.config.prior.source == PriorSource::kFile);
     CHECK(l.config.prior.file == "/etc/cellguard/cell.cgprior");
-    const std::string rot = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]", "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+    const std::string rot = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]",
+                                   "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
     const ConfigLoad r = parse_monitor_config(rot, "cell.toml");
     REQUIRE_MESSAGE(r.ok, r.error);
     CHECK_FALSE(r.config.sensors[0].has_target);
@@ -122,12 +128,14 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "sphere"), "zones[0].shape");
     t = edited("max = [0.4, 0.6, 1.2]", "max = [0.4, 0.1, 1.2]");
     check_refused(t, line_of(t, "max = [0.4, 0.1"), "zones[0].max: every coordinate must be greater than in min");
-    t = edited("polygon = [[-0.8, 0.45], [0.8, 0.45], [0.8, 0.75], [-0.8, 0.75]]", "polygon = [[-0.8, 0.45], [0.8, 0.45]]");
+    t = edited("polygon = [[-0.8, 0.45], [0.8, 0.45], [0.8, 0.75], [-0.8, 0.75]]",
+               "polygon = [[-0.8, 0.45], [0.8, 0.45]]");
     check_refused(t, line_of(t, "polygon = [[-0.8"), "zones[1].polygon");
     t = edited("max_unseen_voxels = 20", "max_unseen_voxels = -1");
     check_refused(t, line_of(t, "max_unseen_voxels = -1"), "zones[0].max_unseen_voxels: expected an integer in 0..");
     t = edited("background_frames = 8", "background_frames = 2");
-    check_refused(t, line_of(t, "background_frames"), "prior.background_frames: at least 3 frames for the probabilistic prior");
+    check_refused(t, line_of(t, "background_frames"),
+                  "prior.background_frames: at least 3 frames for the probabilistic prior");
     t = edited("data_id_mode = \"both\"", "data_id_mode = \"all\"");
     check_refused(t, line_of(t, "data_id_mode"), "can.data_id_mode");
     t = edited("safety_id = 0x101", "safety_id = 0x900");
@@ -144,12 +152,14 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "background_match"), "cycle.background_match: expected 0 (off) to 1");
     t = edited("background_tolerance_m = 0.05", "background_tolerance_m = 0");
     check_refused(t, line_of(t, "background_tolerance_m"), "cycle.background_tolerance_m: expected more than 0");
-    const ConfigLoad with_bg = parse_monitor_config(edited("background_match = 0 ", "background_match = 0.5 "), "cell.toml");
+    const ConfigLoad with_bg = parse_monitor_config(edited("background_match = 0 ", "background_match = 0.5 "),
+                                                    "cell.toml");
     REQUIRE_MESSAGE(with_bg.ok, with_bg.error);
     CHECK(with_bg.config.background_match == doctest::Approx(0.5));
     t = edited("max_repeated_frames = 0", "max_repeated_frames = 1001");
     check_refused(t, line_of(t, "max_repeated_frames"), "cycle.max_repeated_frames: expected an integer in 0..1000");
-    const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 0", "max_repeated_frames = 3"), "cell.toml");
+    const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 0", "max_repeated_frames = 3"),
+                                                         "cell.toml");
     REQUIRE_MESSAGE(frozen_check.ok, frozen_check.error);
     CHECK(frozen_check.config.max_repeated_frames == 3U);
     t = edited("reset_required = false", "reset_required = \"no\"");
@@ -177,14 +187,17 @@ TEST_CASE("monitor config: an unknown key, a missing key or a missing table name
 // verifies: SR-CFG-001
 TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame carries 16") {
     std::string text = demo_config_text();
-    const std::string zone = "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n";
+    const std::string zone =
+        "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, "
+        "0.1]\n";
     std::string extra;
-    for (int i = 0; i < 15; ++i) extra += zone;
+    for (int i = 0; i < 15; ++i)
+        extra += zone;
     const std::size_t at = text.find("[thresholds]");
     std::string sixteen = text;
     sixteen.insert(at, extra.substr(0U, extra.size() - zone.size()) + "\n");
     CHECK(parse_monitor_config(sixteen, "cell.toml").ok);  // 2 + 14 = 16 zones
-    text.insert(at, extra + "\n");                          // 2 + 15 = 17 zones
+    text.insert(at, extra + "\n");                         // 2 + 15 = 17 zones
     const ConfigLoad l = parse_monitor_config(text, "cell.toml");
     CHECK_FALSE(l.ok);
     CHECK(l.error.find("zones: at most 16 zones") != std::string::npos);
@@ -203,7 +216,8 @@ TEST_CASE("monitor scenario: the scripted person enters the protective zone in o
     const ZoneConfig& protective = c.zones[0].zone;
     int entry = -1;
     for (int k = 0; k < 60 && entry < 0; ++k) {
-        if (person_overlaps(protective, demo_person(k))) entry = k;
+        if (person_overlaps(protective, demo_person(k)))
+            entry = k;
     }
     CHECK(entry == 15);
     CHECK_FALSE(person_overlaps(c.zones[1].zone, demo_person(0)));  // starts outside the warning zone too

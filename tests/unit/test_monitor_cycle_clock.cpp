@@ -21,9 +21,9 @@ TEST_CASE("monitor clock: paced, a source clock that stops or steps back is pass
     CHECK(clock.now_us() == 1000U);
     CHECK(clock.now_us() == 1000U);  // stopped: the same value again, not one made up
     source.t = 900U;
-    CHECK(clock.now_us() == 900U);   // stepped back: seen as such
+    CHECK(clock.now_us() == 900U);  // stepped back: seen as such
     source.t = 5000U;
-    clock.start_cycle(123U);         // the simulated time is ignored when paced
+    clock.start_cycle(123U);  // the simulated time is ignored when paced
     CHECK(clock.base() == 5000U);
 }
 
@@ -33,14 +33,14 @@ TEST_CASE("monitor clock: unpaced, a cycle's first reading is its simulated star
     monitor::CycleClock clock(false, source);
     clock.start_cycle(100000U);
     CHECK(clock.base() == 100000U);
-    source.t += 40U;                  // the host is slow to start the cycle: it does not count
+    source.t += 40U;  // the host is slow to start the cycle: it does not count
     CHECK(clock.now_us() == 100000U);
-    source.t += 250U;                 // real time passes within the cycle
+    source.t += 250U;  // real time passes within the cycle
     CHECK(clock.now_us() == 100250U);
     CHECK(clock.now_us() == 100251U);  // the source stood still: the simulated clock still moves
     clock.start_cycle(200000U);
     CHECK(clock.base() == 200000U);
-    clock.start_cycle(150000U);        // a start before the last reading is moved after it
+    clock.start_cycle(150000U);  // a start before the last reading is moved after it
     CHECK(clock.base() > 100251U);
 }
 

@@ -15,15 +15,15 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "cellguard/monitor/can_port.hpp"
 #include "cellguard/host/cell/config.hpp"
-#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
-#include "cellguard/monitor/monitor_cell.hpp"
-#include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/monitor/monitor_loop.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;

@@ -16,8 +16,8 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
-#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -200,7 +200,8 @@ TEST_CASE("pcd input: pcd_files is checked when the configuration loads") {
     bg.replace(bg.find("background_match = 0 "), 21, "background_match = 0.5 ");
     const ConfigLoad no_view = parse_monitor_config(bg, "cell.toml", CELLGUARD_SOURCE_DIR "/apps/monitor/test");
     CHECK_FALSE(no_view.ok);
-    CHECK(no_view.error.find("cycle.background_match: needs each sensor's view of the empty cell") != std::string::npos);
+    CHECK(no_view.error.find("cycle.background_match: needs each sensor's view of the empty cell") !=
+          std::string::npos);
 
     const ConfigLoad empty = parse_monitor_config(with("pcd_files = []"), "cell.toml");
     CHECK_FALSE(empty.ok);

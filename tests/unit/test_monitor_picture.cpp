@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/png.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/io/png.hpp"
 #include "cellguard/monitor/picture.hpp"
 
 using namespace cellguard;
@@ -31,11 +31,11 @@ namespace {
 /// A PNG as libpng reads it.
 struct Decoded {
     bool ok = false;
-    std::string error;                  // libpng's message when not ok
+    std::string error;  // libpng's message when not ok
     std::uint32_t width = 0U;
     std::uint32_t height = 0U;
     int bit_depth = 0;
-    int colour = -1;                    // IHDR colour type
+    int colour = -1;  // IHDR colour type
     int interlace = -1;
     std::vector<std::uint8_t> rgb;      // RGB bytes, or palette indices when indexed
     std::vector<std::uint8_t> palette;  // PLTE, when present
@@ -241,8 +241,7 @@ TEST_CASE("picture: zones and background are drawn where they are, from above an
     zc[1].z_min = 0.0;
     zc[1].z_max = 0.5;
     std::vector<std::uint32_t> mask(g.voxel_count());
-    const CompiledZones zones =
-        CompiledZones::compile(g, {zc.data(), zc.size()}, {mask.data(), mask.size()}).value();
+    const CompiledZones zones = CompiledZones::compile(g, {zc.data(), zc.size()}, {mask.data(), mask.size()}).value();
     std::vector<std::int16_t> prior(g.voxel_count(), -200);
     for (int z = 0; z < 5; ++z) {
         for (int y = 12; y < 16; ++y) {

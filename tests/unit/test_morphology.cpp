@@ -94,7 +94,8 @@ TEST_CASE("morphology: r cross passes give the minimum over the L1 ball of radiu
     const std::size_t n = r.array_voxel_count();
     for (int radius = 1; radius <= 3; ++radius) {
         std::vector<std::uint32_t> in(n);
-        for (auto& v : in) v = rng() % 1000U;
+        for (auto& v : in)
+            v = rng() % 1000U;
         std::vector<std::uint32_t> a = in;
         std::vector<std::uint32_t> b = in;
         for (int k = 0; k < radius; ++k) {
@@ -143,9 +144,8 @@ TEST_CASE("morphology: a region without a surrounding layer, small storage or ov
     CHECK(test::violates_contract([&] { dilate_cross(too_wide, in, out); }));
     CHECK(test::violates_contract([&] { erode_cross(good, in, Span<std::uint8_t>(b.data(), 124U)); }));
     std::vector<std::uint8_t> c(260U);
-    CHECK(test::violates_contract([&] {
-        erode_cross(good, Span<const std::uint8_t>(c.data(), 125U), Span<std::uint8_t>(c.data() + 1, 125U));
-    }));
+    CHECK(test::violates_contract(
+        [&] { erode_cross(good, Span<const std::uint8_t>(c.data(), 125U), Span<std::uint8_t>(c.data() + 1, 125U)); }));
     CHECK_FALSE(test::violates_contract([&] {
         erode_cross(good, Span<const std::uint8_t>(c.data(), 125U), Span<std::uint8_t>(c.data() + 125, 125U));
     }));

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/npy.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/io/npy.hpp"
 
 using namespace cellguard;
 
@@ -51,9 +51,7 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
-std::vector<std::uint8_t> to_bytes(const std::string& s) {
-    return {s.begin(), s.end()};
-}
+std::vector<std::uint8_t> to_bytes(const std::string& s) { return {s.begin(), s.end()}; }
 
 /// A .npy file with the given version, header dict (padded with spaces and
 /// '\n' like numpy) and data bytes.
@@ -87,9 +85,7 @@ IoStatus decode_i16(const std::vector<std::uint8_t>& file, GridDims dims = kDims
     return decode_npy_int16(file.data(), file.size(), dims, Span<std::int16_t>(out));
 }
 
-bool contains(const IoStatus& st, const char* text) {
-    return std::strstr(st.message(), text) != nullptr;
-}
+bool contains(const IoStatus& st, const char* text) { return std::strstr(st.message(), text) != nullptr; }
 
 }  // namespace
 

@@ -114,8 +114,9 @@ InteriorCount count_foreground(const std::vector<std::uint8_t>& mask, const sim:
 }  // namespace
 
 // verifies: SR-EVAL-002
-TEST_CASE("paper claim 1: on the large object both methods score well and beat their baselines, which keep the "
-          "interiors of background boxes below t_f = 0.5") {
+TEST_CASE(
+    "paper claim 1: on the large object both methods score well and beat their baselines, which keep the "
+    "interiors of background boxes below t_f = 0.5") {
     sim::SceneResult r(config().geometry);
     run("large", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);
@@ -185,8 +186,9 @@ TEST_CASE("paper claim 1: on the large object both methods score well and beat t
 }
 
 // verifies: SR-EVAL-002, SR-FUSE-002
-TEST_CASE("paper claim 2, changed by the per-sensor model: on the small object only the probabilistic method's "
-          "recall goes past the thresholded one's, and no longer at a useful precision") {
+TEST_CASE(
+    "paper claim 2, changed by the per-sensor model: on the small object only the probabilistic method's "
+    "recall goes past the thresholded one's, and no longer at a useful precision") {
     sim::SceneResult r(config().geometry);
     run("small", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);
@@ -224,8 +226,9 @@ TEST_CASE("evaluation: fewer background frames than the probabilistic method nee
     REQUIRE_MESSAGE(load.ok, load.error);
     std::string error;
     CHECK_FALSE(sim::run_scene(load.scene, cfg, r, error));
-    CHECK(error == "2 background frames are too few: the probabilistic method needs at least 3 for space seen free to "
-                   "fall below t_E (min_background_frames)");
+    CHECK(error ==
+          "2 background frames are too few: the probabilistic method needs at least 3 for space seen free to "
+          "fall below t_E (min_background_frames)");
 }
 
 // verifies: SR-EVAL-002
@@ -257,6 +260,6 @@ TEST_CASE("paper claim 3: with no foreground, no voxel inside a background box i
             CHECK_MESSAGE(count_foreground(inside, pro, t_f).foreground == 0U, "probabilistic, t_f " << t_f);
         }
     }
-    MESSAGE("probabilistic: interior voxels foreground at t_f 0.001: " << count_foreground(inside, pro, 0.001).foreground
-                                                                        << "; largest such t_f " << last_bad);
+    MESSAGE("probabilistic: interior voxels foreground at t_f 0.001: "
+            << count_foreground(inside, pro, 0.001).foreground << "; largest such t_f " << last_bad);
 }

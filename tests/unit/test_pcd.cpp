@@ -54,13 +54,9 @@ IoStatus decode(const std::string& file, PcdCloudInfo& info, std::vector<PcdPoin
     return st;
 }
 
-bool contains(const IoStatus& st, const char* text) {
-    return std::strstr(st.message(), text) != nullptr;
-}
+bool contains(const IoStatus& st, const char* text) { return std::strstr(st.message(), text) != nullptr; }
 
-bool same_bits(const PcdPoint& a, const PcdPoint& b) {
-    return std::memcmp(&a, &b, sizeof a) == 0;
-}
+bool same_bits(const PcdPoint& a, const PcdPoint& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 void append_f32(std::string& s, float v) {
     char b[4];
@@ -342,8 +338,8 @@ TEST_CASE("lzf: overlapping back-references repeat bytes, every out-of-bounds re
 TEST_CASE("pcd: old headers are read: 0.6 without WIDTH and HEIGHT, 0.5 with COLUMNS") {
     PcdCloudInfo info;
     std::vector<PcdPoint> points;
-    IoStatus st =
-        decode("VERSION .6\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 2\nDATA ascii\n1 2 3\n4 5 6\n", info, points);
+    IoStatus st = decode("VERSION .6\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 2\nDATA ascii\n1 2 3\n4 5 6\n", info,
+                         points);
     REQUIRE_MESSAGE(st.ok(), std::string(st.message()));
     CHECK(info.width == 2U);
     CHECK(info.height == 1U);
@@ -539,8 +535,8 @@ TEST_CASE("pcd: a buffer too small for the points is refused, and the counts are
     const std::string file = kXyzHeader + "DATA ascii\n1 2 3\nnan 5 6\n";
     PcdPoint one[1];
     PcdCloudInfo info;
-    IoStatus st =
-        decode_pcd(reinterpret_cast<const std::uint8_t*>(file.data()), file.size(), Span<PcdPoint>(one), info);
+    IoStatus st = decode_pcd(reinterpret_cast<const std::uint8_t*>(file.data()), file.size(), Span<PcdPoint>(one),
+                             info);
     CHECK(st.ok());  // one finite point fits
     CHECK(info.written == 1U);
     PcdReadOptions keep;
@@ -561,15 +557,15 @@ TEST_CASE("pcd: files that cannot be read or written are reported with their pat
     IoStatus st = read_pcd(dir.file("none.pcd").c_str(), Span<PcdPoint>(points), info);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
     CHECK(contains(st, "none.pcd"));
-    st =
-        write_pcd(dir.file("a.pcd").c_str(), Span<const PcdPoint>(points), 3U, 1U, PcdViewpoint{}, PcdDataKind::kAscii);
+    st = write_pcd(dir.file("a.pcd").c_str(), Span<const PcdPoint>(points), 3U, 1U, PcdViewpoint{},
+                   PcdDataKind::kAscii);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
     PcdViewpoint bad;
     bad.tx = std::nan("");
     st = write_pcd(dir.file("a.pcd").c_str(), Span<const PcdPoint>(points), 2U, 1U, bad, PcdDataKind::kAscii);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
-    st =
-        write_pcd("/nonexistent-dir/a.pcd", Span<const PcdPoint>(points), 2U, 1U, PcdViewpoint{}, PcdDataKind::kBinary);
+    st = write_pcd("/nonexistent-dir/a.pcd", Span<const PcdPoint>(points), 2U, 1U, PcdViewpoint{},
+                   PcdDataKind::kBinary);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
     CHECK(contains(st, "/nonexistent-dir/a.pcd"));
     // A file with a bad header names the file and the line.

@@ -93,7 +93,8 @@ TEST_CASE("plc receiver: it starts in the safe state and needs a reference pair 
 }
 
 // verifies: SR-CAN-007, SR-CAN-009
-TEST_CASE("plc receiver: on the good path it follows the frame's stop request and stays valid across the 14 -> 0 wrap") {
+TEST_CASE(
+    "plc receiver: on the good path it follows the frame's stop request and stays valid across the 14 -> 0 wrap") {
     Link link;
     CHECK(link.bring_up() == 3);
     SafetyMessage stop = clear_message();
@@ -223,7 +224,8 @@ TEST_CASE("plc receiver: an inverted copy after the SRVT gives the safe state, o
     CHECK(link.deliver(inverted_copy(f), link.now + link.config.srvt_us).communication_valid);
     f = link.next_frame();
     (void)link.deliver(f, link.now + kPeriodUs);
-    check_safe_state(link.deliver(inverted_copy(f), link.now + link.config.srvt_us + 1U), ReceiverFault::kInvertedCopyLate);
+    check_safe_state(link.deliver(inverted_copy(f), link.now + link.config.srvt_us + 1U),
+                     ReceiverFault::kInvertedCopyLate);
 }
 
 // verifies: SR-CAN-008
@@ -277,7 +279,8 @@ TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a diffe
     (void)ctr.bring_up();
     f = ctr.next_frame();
     set_signal(f, safety_layout::kCounter, 15U);
-    f.data[0] = e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth, 15U);
+    f.data[0] = e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth,
+                            15U);
     check_safe_state(ctr.deliver(f, ctr.now + kPeriodUs), ReceiverFault::kCounterOutOfRange);
 
     Link content;
@@ -296,11 +299,13 @@ TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a diffe
 }
 
 // verifies: SR-CAN-009
-TEST_CASE("plc receiver: after a fault it recovers after a reference pair and N good pairs in a row, a fault restarting the count") {
+TEST_CASE(
+    "plc receiver: after a fault it recovers after a reference pair and N good pairs in a row, a fault restarting the "
+    "count") {
     PlcReceiverConfig c = receiver_config();
     c.recovery_good_pairs = 3U;
     Link link(c);
-    CHECK(link.bring_up() == 4);  // 1 reference + 3 good pairs
+    CHECK(link.bring_up() == 4);                         // 1 reference + 3 good pairs
     (void)link.receiver.poll(link.now + c.sct_us + 1U);  // silence: safe state
     link.now += c.sct_us + 1U;
     CHECK_FALSE(link.send_pair().communication_valid);  // new reference
@@ -357,7 +362,10 @@ TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot b
     c = receiver_config();
     c.channel.diagnostics_can_id = c.channel.safety_can_id + 1U;
     CHECK_FALSE(PlcReceiver::check_config(c).ok());
-    CHECK(test::violates_contract([&] { const PlcReceiver r(c); (void)r; }));
+    CHECK(test::violates_contract([&] {
+        const PlcReceiver r(c);
+        (void)r;
+    }));
 }
 
 // verifies: SR-CAN-007
@@ -375,6 +383,7 @@ TEST_CASE("plc receiver: the safe-state message stops, warns, faults and marks e
 }
 
 // verifies: SR-GEN-004
-TEST_CASE("plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
+TEST_CASE(
+    "plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
     test::check_enum_names<ReceiverFault>(16U, "unknown receiver fault");
 }

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/prior/prior_image.hpp"
 
 // The generated example is compiled into this test binary: the build itself
@@ -104,7 +104,8 @@ TEST_CASE("prior files: an image written to a file reads back byte for byte and 
     CHECK(bytes == e.bytes);
     CHECK(view.image().data() == bytes.data());
     const std::vector<std::int16_t> prior = example_prior();
-    for (std::size_t i = 0; i < prior.size(); ++i) CHECK(view[i] == prior[i]);
+    for (std::size_t i = 0; i < prior.size(); ++i)
+        CHECK(view[i] == prior[i]);
     std::remove(path.c_str());
 }
 
@@ -202,10 +203,12 @@ TEST_CASE("prior files: the compiled generated array equals the writer's image a
     const Encoded e = encoded_example();
     REQUIRE(sizeof ex::kImage == e.bytes.size());
     CHECK(std::memcmp(ex::kImage, e.bytes.data(), e.bytes.size()) == 0);
-    const Result<PriorImageView, PriorImageError> v = load_prior_image(Span<const std::uint8_t>(ex::kImage), example_geometry());
+    const Result<PriorImageView, PriorImageError> v = load_prior_image(Span<const std::uint8_t>(ex::kImage),
+                                                                       example_geometry());
     REQUIRE(v.ok());
     const std::vector<std::int16_t> prior = example_prior();
-    for (std::size_t i = 0; i < prior.size(); ++i) CHECK(v.value()[i] == prior[i]);
+    for (std::size_t i = 0; i < prior.size(); ++i)
+        CHECK(v.value()[i] == prior[i]);
     CHECK(ex::kPayloadCrc == e.view.header().payload_crc);
     CHECK(ex::kHeaderCrc == e.view.header().header_crc);
     CHECK(ex::kPayloadCrc == crc32(e.view.payload()));

@@ -31,7 +31,7 @@ GridGeometry small_geometry() {
 std::vector<std::int16_t> sample_prior(std::size_t n) {
     std::vector<std::int16_t> v(n);
     for (std::size_t i = 0; i < n; ++i) {
-        v[i] = (i % 7U == 0U) ? kNeverForeground
+        v[i] = (i % 7U == 0U)   ? kNeverForeground
                : (i % 5U == 0U) ? std::int16_t{0}
                                 : static_cast<std::int16_t>(-static_cast<std::int32_t>((i * 977U) % 32768U));
     }
@@ -53,7 +53,8 @@ std::vector<std::uint8_t> small_image() { return encode(small_geometry(), Access
 Span<const std::uint8_t> span_of(const std::vector<std::uint8_t>& v) { return {v.data(), v.size()}; }
 
 void put_le(std::vector<std::uint8_t>& img, std::size_t offset, std::uint64_t value, std::size_t bytes) {
-    for (std::size_t i = 0; i < bytes; ++i) img.at(offset + i) = static_cast<std::uint8_t>(value >> (8U * i));
+    for (std::size_t i = 0; i < bytes; ++i)
+        img.at(offset + i) = static_cast<std::uint8_t>(value >> (8U * i));
 }
 
 std::uint64_t bits(double d) {
@@ -70,8 +71,7 @@ void reseal_header(std::vector<std::uint8_t>& img) {
 // Recomputes the payload CRC over everything after the header, then the header CRC.
 void reseal_all(std::vector<std::uint8_t>& img) {
     put_le(img, layout::kPayloadCrc,
-           crc32(Span<const std::uint8_t>(img.data() + kPriorImageHeaderSize, img.size() - kPriorImageHeaderSize)),
-           4);
+           crc32(Span<const std::uint8_t>(img.data() + kPriorImageHeaderSize, img.size() - kPriorImageHeaderSize)), 4);
     reseal_header(img);
 }
 
@@ -84,12 +84,11 @@ PriorImageError why_refused(const std::vector<std::uint8_t>& img, const GridGeom
 
 // The 2 x 1 x 1 image below, made independently (Python struct + zlib.crc32).
 constexpr std::uint8_t kGolden[] = {
-    0x43, 0x47, 0x50, 0x49, 0x01, 0x00, 0x58, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00,
-    0x01, 0x00, 0x00, 0x00, 0x02, 0x0f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xc0, 0x3f,
-    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xe0, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xf4, 0xbf,
-    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x40, 0x52, 0xb8, 0x1e, 0x85, 0xeb, 0x51, 0xe0, 0x3f,
-    0x9a, 0x99, 0x99, 0x99, 0x99, 0x99, 0xb9, 0x3f, 0x02, 0x00, 0x00, 0x00, 0x04, 0x00, 0x00, 0x00,
-    0x9c, 0x1b, 0x20, 0x7f, 0x9d, 0xa5, 0x0f, 0xf4, 0x00, 0x80, 0xd4, 0xfe,
+    0x43, 0x47, 0x50, 0x49, 0x01, 0x00, 0x58, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00,
+    0x00, 0x02, 0x0f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xc0, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0xe0, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xf4, 0xbf, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x40, 0x52,
+    0xb8, 0x1e, 0x85, 0xeb, 0x51, 0xe0, 0x3f, 0x9a, 0x99, 0x99, 0x99, 0x99, 0x99, 0xb9, 0x3f, 0x02, 0x00, 0x00, 0x00,
+    0x04, 0x00, 0x00, 0x00, 0x9c, 0x1b, 0x20, 0x7f, 0x9d, 0xa5, 0x0f, 0xf4, 0x00, 0x80, 0xd4, 0xfe,
 };
 
 }  // namespace
@@ -206,7 +205,8 @@ TEST_CASE("prior image: a written image loads back with the same values, geometr
         CHECK(v.image().size() == img.size());
         CHECK(v.payload().data() == img.data() + 88);
         bool all_equal = true;
-        for (std::size_t i = 0; i < prior.size(); ++i) all_equal = all_equal && v[i] == prior[i] && v.at(i) == prior[i];
+        for (std::size_t i = 0; i < prior.size(); ++i)
+            all_equal = all_equal && v[i] == prior[i] && v.at(i) == prior[i];
         CHECK(all_equal);
         std::vector<std::int16_t> copy(prior.size() + 1U, 7);
         CHECK(v.copy_to(Span<std::int16_t>(copy.data(), copy.size())).ok());
@@ -284,7 +284,8 @@ TEST_CASE("prior image: the writer refuses bad input with a clear error and writ
     prior[5] = 1;  // P(fore) > 0.5
     CHECK(write(g, ok, 24, 200) == ErrorCode::kInvalidArgument);
     bool untouched = true;
-    for (const auto b : out) untouched = untouched && b == 0xAB;
+    for (const auto b : out)
+        untouched = untouched && b == 0xAB;
     CHECK(untouched);
     prior[5] = 0;
     CHECK(write_prior_image(g, ok, Span<const std::int16_t>(prior.data(), 24), Span<std::uint8_t>(out.data(), 200))

@@ -21,14 +21,14 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/io/npy.hpp"
 #include "cellguard/host/io/pcd.hpp"
-#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
-#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 using namespace cellguard::prior_tool;
@@ -111,8 +111,9 @@ void simulated_background(BackgroundGrid& bg, int frames) {
     std::vector<std::int16_t> scratch(g.voxel_count());
     for (int i = 0; i < frames; ++i) {
         frame.clear();
-        REQUIRE(fuse_frame(frame, {empty.readings.data(), empty.readings.size()}, model, {scratch.data(), scratch.size()})
-                    .ok());
+        REQUIRE(
+            fuse_frame(frame, {empty.readings.data(), empty.readings.size()}, model, {scratch.data(), scratch.size()})
+                .ok());
         REQUIRE(accumulate_background(bg.grid, frame).ok());
     }
 }
@@ -123,15 +124,16 @@ std::vector<std::int16_t> direct_prior(const EvidenceGrid& bg, const Accessibili
     std::vector<std::uint32_t> words(size.words);
     std::vector<std::uint8_t> bytes(size.bytes);
     std::vector<std::int16_t> prior(bg.voxel_count());
-    REQUIRE(compute_accessibility_prior(bg, params,
-                                        AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                                        {prior.data(), prior.size()}, {})
+    REQUIRE(compute_accessibility_prior(
+                bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+                {prior.data(), prior.size()}, {})
                 .ok());
     return prior;
 }
 
 /// The prior values of the image file at @p path, checked against @p g.
-std::vector<std::int16_t> image_values(const std::string& path, const GridGeometry& g, AccessibilityParams* params = nullptr) {
+std::vector<std::int16_t> image_values(const std::string& path, const GridGeometry& g,
+                                       AccessibilityParams* params = nullptr) {
     const std::vector<std::uint8_t> bytes = read_bytes(path);
     const Result<PriorImageView, PriorImageError> view = load_prior_image({bytes.data(), bytes.size()}, g);
     INFO("loader: " << to_string(view.error()));
@@ -180,7 +182,8 @@ std::vector<std::uint8_t> raw_npy(const std::string& dict, std::size_t data_byte
 }  // namespace
 
 // verifies: SR-PRIOR-015
-TEST_CASE("prior tool: the simulated cell gives an image the loader accepts, equal to lib's prior of the same background") {
+TEST_CASE(
+    "prior tool: the simulated cell gives an image the loader accepts, equal to lib's prior of the same background") {
     TempDir dir;
     const Run r = run_tool({"--simulated", "--out", dir / "out"});
     INFO(r.err);
@@ -279,8 +282,8 @@ TEST_CASE("prior tool: a background .npy round trip gives the prior lib computes
         params.t_e = 0.2;
         params.open_faces = static_cast<std::uint8_t>(kPaperOpenFaces | kFaceMaxZ);
         const std::vector<std::int16_t> expected = direct_prior(bg.grid, params);
-        const std::vector<std::string> analysis = {"--method", method, "--radius", "1", "--te", "0.2", "--open-faces",
-                                                   "xmin,xmax,ymin,ymax,zmax"};
+        const std::vector<std::string> analysis = {"--method", method, "--radius",     "1",
+                                                   "--te",     "0.2",  "--open-faces", "xmin,xmax,ymin,ymax,zmax"};
 
         // int16 log-odds; the observed flags come from the sibling file.
         Run r = run_tool(concat(concat({"--background-npy", prefix + "_log_odds.npy", "--out", dir / "i16"}, analysis),
@@ -322,7 +325,8 @@ TEST_CASE("prior tool: without observed flags, voxels with no evidence count as 
     INFO(r.err);
     REQUIRE(r.status == kExitOk);
     CHECK(r.out.find("derived") != std::string::npos);
-    CHECK(image_values(dir / "out/prior.cgprior", paper_grid_geometry()) == direct_prior(bg.grid, AccessibilityParams{}));
+    CHECK(image_values(dir / "out/prior.cgprior", paper_grid_geometry()) ==
+          direct_prior(bg.grid, AccessibilityParams{}));
 }
 
 // verifies: SR-PRIOR-015
@@ -335,8 +339,10 @@ TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and 
     std::vector<std::int16_t> lo(n, -300);
 
     REQUIRE(write_npy_uint8((dir / "u8.npy").c_str(), {flags.data(), n}, dims).ok());
-    REQUIRE(write_bytes(dir / "2d.npy", raw_npy("{'descr': '<i2', 'fortran_order': False, 'shape': (30, 1020), }", 2U * n)));
-    REQUIRE(write_bytes(dir / "f64.npy", raw_npy("{'descr': '<f8', 'fortran_order': False, 'shape': (30, 30, 34), }", 8U * n)));
+    REQUIRE(write_bytes(dir / "2d.npy",
+                        raw_npy("{'descr': '<i2', 'fortran_order': False, 'shape': (30, 1020), }", 2U * n)));
+    REQUIRE(write_bytes(dir / "f64.npy",
+                        raw_npy("{'descr': '<f8', 'fortran_order': False, 'shape': (30, 30, 34), }", 8U * n)));
     REQUIRE(write_npy_int16((dir / "trunc.npy").c_str(), {lo.data(), n}, dims).ok());
     REQUIRE(::truncate((dir / "trunc.npy").c_str(), 1000) == 0);
     probs[123] = std::numeric_limits<float>::quiet_NaN();
@@ -367,9 +373,11 @@ TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and 
         {{"--background-npy", dir / "nan.npy"}, "nan.npy: voxel (x 21, y 3, z 0) is NaN"},
         {{"--background-npy", dir / "big.npy"}, "big.npy: voxel (x 21, y 3, z 0) is 1.5, not a probability"},
         {{"--background-npy", dir / "sentinel.npy"}, "sentinel.npy: voxel (x 7, y 0, z 0) holds -32768"},
-        {{"--background-npy", dir / "ok.npy", "--observed", dir / "flags2.npy"}, "flags2.npy: voxel (x 9, y 0, z 0) is 2"},
+        {{"--background-npy", dir / "ok.npy", "--observed", dir / "flags2.npy"},
+         "flags2.npy: voxel (x 9, y 0, z 0) is 2"},
         {{"--background-npy", dir / "ok.npy", "--observed", dir / "u8-missing.npy"}, "u8-missing.npy: cannot open"},
-        {{"--background-npy", dir / "ok.npy", "--dims", "34,30,31"}, "ok.npy: shape (30, 30, 34) is a 34 x 30 x 30 grid, expected 34 x 30 x 31"},
+        {{"--background-npy", dir / "ok.npy", "--dims", "34,30,31"},
+         "ok.npy: shape (30, 30, 34) is a 34 x 30 x 30 grid, expected 34 x 30 x 31"},
     };
     for (const Case& c : cases) {
         const Run r = run_tool(concat(concat(c.args, paper_placement()), {"--out", out}));
@@ -501,7 +509,8 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     PcdViewpoint vp;
     vp.tx = 1.0;
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
-    bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "bad"});
+    bad = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out",
+                    dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("vp.pcd: VIEWPOINT (1.000, 0.000, 0.000) is not the pose of sensor 'lidar-a'") !=
           std::string::npos);
@@ -509,17 +518,20 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
     // thresholded method, which needs one, so that the frame's checks run.)
     const Eigen::Isometry3d pose = sensors[0].pose();
     const Eigen::Quaterniond q(pose.linear());
-    vp = PcdViewpoint{pose.translation().x(), pose.translation().y(), pose.translation().z(), q.w(), q.x(), q.y(), q.z()};
+    vp = PcdViewpoint{
+        pose.translation().x(), pose.translation().y(), pose.translation().z(), q.w(), q.x(), q.y(), q.z()};
     REQUIRE(write_pcd((dir / "vp.pcd").c_str(), {&p, 1}, 1U, 1U, vp, PcdDataKind::kAscii).ok());
-    const Run good = run_tool({"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "vp"});
+    const Run good = run_tool(
+        {"--frame", "lidar-a=" + (dir / "vp.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "vp"});
     INFO(good.err);
     CHECK(good.status == kExitOk);
     // More points than the sensor's image has pixels: not a frame of this sensor.
     std::vector<PcdPoint> many(176U * 144U + 1U, PcdPoint{0.0F, 0.0F, 1.0F});
-    REQUIRE(write_pcd((dir / "many.pcd").c_str(), {many.data(), many.size()}, static_cast<std::uint32_t>(many.size()), 1U,
-                      PcdViewpoint{}, PcdDataKind::kBinary)
+    REQUIRE(write_pcd((dir / "many.pcd").c_str(), {many.data(), many.size()}, static_cast<std::uint32_t>(many.size()),
+                      1U, PcdViewpoint{}, PcdDataKind::kBinary)
                 .ok());
-    bad = run_tool({"--frame", "lidar-a=" + (dir / "many.pcd"), "--config", config, "--method", "thresholded", "--out", dir / "bad"});
+    bad = run_tool({"--frame", "lidar-a=" + (dir / "many.pcd"), "--config", config, "--method", "thresholded", "--out",
+                    dir / "bad"});
     CHECK(bad.status == kExitInputError);
     CHECK(bad.err.find("many.pcd: 25345 points, more than sensor 'lidar-a' delivers (176 x 144)") != std::string::npos);
     bad = run_tool({"--frame", "lidar-z=" + (dir / "vp.pcd"), "--config", config, "--out", dir / "bad"});
@@ -550,7 +562,8 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
                     .ok());
     }
     // paper-cell.toml with pcd_files (relative to the config's folder) in every sensor table.
-    const std::vector<std::uint8_t> toml = read_bytes(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml");
+    const std::vector<std::uint8_t> toml = read_bytes(std::string(CELLGUARD_SOURCE_DIR) +
+                                                      "/apps/monitor/config/paper-cell.toml");
     std::istringstream in(std::string(toml.begin(), toml.end()));
     std::string line, text, name;
     while (std::getline(in, line)) {
@@ -567,18 +580,19 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
     const Run few = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "few"});
     CHECK(few.status == kExitInputError);
     CHECK(few.err.find("1 background frame(s) are too few for the probabilistic method") != std::string::npos);
-    const Run a = run_tool({"--config-frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out", dir / "a"});
+    const Run a = run_tool(
+        {"--config-frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out", dir / "a"});
     INFO(a.err);
     REQUIRE(a.status == kExitOk);
     CHECK(a.out.find("recorded frames (1;") != std::string::npos);
-    const Run b = run_tool({"--frames", dir / "frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out",
-                            dir / "b"});
+    const Run b = run_tool(
+        {"--frames", dir / "frames", "--config", dir / "cell.toml", "--method", "thresholded", "--out", dir / "b"});
     REQUIRE(b.status == kExitOk);
     CHECK(read_bytes(dir / "a/prior.cgprior") == read_bytes(dir / "b/prior.cgprior"));
     // The configuration without pcd_files has nothing to replay.
-    const Run none = run_tool({"--config-frames", "--config", std::string(CELLGUARD_SOURCE_DIR) +
-                                                                  "/apps/monitor/config/paper-cell.toml",
-                               "--out", dir / "c"});
+    const Run none = run_tool({"--config-frames", "--config",
+                               std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/paper-cell.toml", "--out",
+                               dir / "c"});
     CHECK(none.status == kExitInputError);
     CHECK(none.err.find("have no pcd_files") != std::string::npos);
 }

@@ -44,7 +44,8 @@ struct Regions {
 // verifies: SR-CTRL-003, SR-CTRL-010
 TEST_CASE("ram check: an unchanged block passes every pass, and the reference is the block's CRC-32") {
     std::vector<std::uint8_t> block(1000U);
-    for (std::size_t i = 0; i < block.size(); ++i) block[i] = static_cast<std::uint8_t>(i * 7U + 3U);
+    for (std::size_t i = 0; i < block.size(); ++i)
+        block[i] = static_cast<std::uint8_t>(i * 7U + 3U);
     SignatureCheck check(SignatureRegion(block.data(), block.size()));
     CHECK(check.reference() == crc32(SignatureRegion(block.data(), block.size())));
     CHECK(check.total_bytes() == 1000U);
@@ -57,7 +58,9 @@ TEST_CASE("ram check: an unchanged block passes every pass, and the reference is
 }
 
 // verifies: SR-PRIOR-012, SR-FUSE-007
-TEST_CASE("ram check: regions are one stream: the reference is the CRC-32 of their concatenation and a slice runs across region boundaries") {
+TEST_CASE(
+    "ram check: regions are one stream: the reference is the CRC-32 of their concatenation and a slice runs across "
+    "region boundaries") {
     const Regions r;
     REQUIRE(r.stream.size() == 59U);
     const SignatureCheck taken(r.list());
@@ -101,10 +104,11 @@ TEST_CASE("ram check: one flipped bit anywhere is found within two passes from a
     std::vector<std::uint8_t> block(300U, 0x5AU);
     const std::size_t slice = 32U;
     const std::size_t pass = (block.size() + slice - 1U) / slice;
-    for (std::size_t start = 0; start < pass; ++start) {        // where in the pass the flip happens
+    for (std::size_t start = 0; start < pass; ++start) {  // where in the pass the flip happens
         for (const std::size_t at : {std::size_t{0}, std::size_t{31}, std::size_t{32}, std::size_t{299}}) {
             SignatureCheck check(SignatureRegion(block.data(), block.size()));
-            for (std::size_t k = 0; k < start; ++k) REQUIRE_FALSE(check.step(slice));
+            for (std::size_t k = 0; k < start; ++k)
+                REQUIRE_FALSE(check.step(slice));
             block[at] ^= 0x10U;
             std::size_t steps = 0U;
             while (!check.step(slice)) {
@@ -113,17 +117,21 @@ TEST_CASE("ram check: one flipped bit anywhere is found within two passes from a
             }
             CHECK(steps < 2U * pass);
             block[at] ^= 0x10U;  // repaired: the verdict stays
-            for (std::size_t k = 0; k < 2U * pass; ++k) CHECK(check.step(slice));
+            for (std::size_t k = 0; k < 2U * pass; ++k)
+                CHECK(check.step(slice));
             CHECK(check.failed());
         }
     }
 }
 
 // verifies: SR-PRIOR-012, SR-FUSE-007
-TEST_CASE("ram check: a flip in any region before a pass is found by the step that ends it, one behind the position by the end of the next") {
+TEST_CASE(
+    "ram check: a flip in any region before a pass is found by the step that ends it, one behind the position by the "
+    "end of the next") {
     for (const std::size_t slice : {1U, 7U, 16U, 59U}) {
         for (std::size_t region = 0; region < kRegionSizes.size(); ++region) {
-            if (kRegionSizes[region] == 0U) continue;
+            if (kRegionSizes[region] == 0U)
+                continue;
             for (const std::size_t at : {std::size_t{0}, kRegionSizes[region] - 1U}) {
                 CAPTURE(slice);
                 CAPTURE(region);
@@ -132,22 +140,26 @@ TEST_CASE("ram check: a flip in any region before a pass is found by the step th
                 SignatureCheck check(r.list());
                 const std::size_t pass = check.steps_per_pass(slice);
                 r.bytes[region][at] ^= 0x01U;  // before the pass: found by its last step
-                for (std::size_t k = 0; k + 1U < pass; ++k) CHECK_FALSE(check.step(slice));
+                for (std::size_t k = 0; k + 1U < pass; ++k)
+                    CHECK_FALSE(check.step(slice));
                 CHECK(check.step(slice));
                 r.bytes[region][at] ^= 0x01U;
 
                 // Behind the position: flipped after the pass read it, so this
                 // pass ends intact and the next one's last step reports it.
                 std::size_t offset = at;  // in the stream
-                for (std::size_t q = 0; q < region; ++q) offset += kRegionSizes[q];
+                for (std::size_t q = 0; q < region; ++q)
+                    offset += kRegionSizes[q];
                 SignatureCheck behind(r.list());
                 std::size_t taken = 0U;
                 while (behind.position() <= offset) {
                     REQUIRE_FALSE(behind.step(slice));
                     ++taken;
-                    if (behind.position() == 0U) break;  // read by the pass's last step: the case above
+                    if (behind.position() == 0U)
+                        break;  // read by the pass's last step: the case above
                 }
-                if (behind.position() == 0U) continue;
+                if (behind.position() == 0U)
+                    continue;
                 r.bytes[region][at] ^= 0x01U;
                 std::size_t calls = 1U;
                 while (!behind.step(slice)) {
@@ -161,18 +173,23 @@ TEST_CASE("ram check: a flip in any region before a pass is found by the step th
 }
 
 // verifies: SR-GEN-003
-TEST_CASE("ram check: a slice of zero bytes or more regions than kMaxSignatureRegions violates the contract, an empty check never fails") {
+TEST_CASE(
+    "ram check: a slice of zero bytes or more regions than kMaxSignatureRegions violates the contract, an empty check "
+    "never fails") {
     std::uint8_t b[4] = {1, 2, 3, 4};
     SignatureCheck check{SignatureRegion(b)};
     CHECK(test::violates_contract([&] { (void)check.step(0U); }));
     CHECK(test::violates_contract([&] { (void)check.steps_per_pass(0U); }));
 
     std::array<SignatureRegion, kMaxSignatureRegions + 1U> many{};
-    for (SignatureRegion& region : many) region = SignatureRegion(b);
-    CHECK(test::violates_contract([&] { (void)SignatureCheck(Span<const SignatureRegion>(many.data(), many.size())); }));
+    for (SignatureRegion& region : many)
+        region = SignatureRegion(b);
+    CHECK(
+        test::violates_contract([&] { (void)SignatureCheck(Span<const SignatureRegion>(many.data(), many.size())); }));
     CHECK(test::violates_contract(
         [&] { (void)SignatureCheck(Span<const SignatureRegion>(many.data(), many.size()), 0U); }));
-    const SignatureCheck full(Span<const SignatureRegion>(many.data(), kMaxSignatureRegions));  // the capacity itself is fine
+    const SignatureCheck full(
+        Span<const SignatureRegion>(many.data(), kMaxSignatureRegions));  // the capacity itself is fine
     CHECK(full.total_bytes() == 4U * kMaxSignatureRegions);
 
     SignatureCheck none;
@@ -205,7 +222,8 @@ TEST_CASE("ram check: making and stepping a check allocates nothing") {
     const test::AllocationScope scope;
     SignatureCheck check(r.list());
     bool failed = false;
-    for (int i = 0; i < 1000; ++i) failed = check.step(16U) || failed;
+    for (int i = 0; i < 1000; ++i)
+        failed = check.step(16U) || failed;
     CHECK(scope.allocations() == 0U);
     CHECK_FALSE(failed);
 }

@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "ray_table_vectors.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/grid/ray_table.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "ray_table_vectors.hpp"
 
 using namespace cellguard;
 
@@ -43,7 +43,6 @@ struct OwnedGrid {
         grid.clear();
     }
 };
-
 
 /// The sensor model applied ray by ray to the table's entries, with each
 /// reading placed by fuse_sensor's rule (depth_pixel_point, reading_in_cell,
@@ -123,7 +122,8 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     // The paper's grid lowered by half a voxel: the simulated floor (exactly z = 0) would
     // otherwise lie on the grid's bottom face, where every floor reading is a boundary case.
-    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, -0.025), 0.05, GridDims{34, 30, 30}).value();
+    const GridGeometry g =
+        GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, -0.025), 0.05, GridDims{34, 30, 30}).value();
     const SensorModelTable model;
     OwnedGrid direct(g);
     OwnedGrid tabled(g);
@@ -137,10 +137,12 @@ TEST_CASE("ray table: fusing through precomputed rays matches on-the-fly fusion 
     CHECK(table_stats.rays_fused == direct_stats.rays_fused);
     CHECK(table_stats.skipped() == direct_stats.skipped());
     // Boundary cases (readings within rounding of a face, grazing rays) differ; bound them.
-    const double updates_ratio = static_cast<double>(table_stats.voxel_updates) / static_cast<double>(direct_stats.voxel_updates);
+    const double updates_ratio = static_cast<double>(table_stats.voxel_updates) /
+                                 static_cast<double>(direct_stats.voxel_updates);
     CHECK(updates_ratio == doctest::Approx(1.0).epsilon(0.001));
-    CHECK(std::abs(static_cast<long>(table_stats.readings_in_grid) - static_cast<long>(direct_stats.readings_in_grid)) <=
-          static_cast<long>(direct_stats.readings_in_grid / 1000U));
+    CHECK(
+        std::abs(static_cast<long>(table_stats.readings_in_grid) - static_cast<long>(direct_stats.readings_in_grid)) <=
+        static_cast<long>(direct_stats.readings_in_grid / 1000U));
     std::size_t observed_differ = 0;
     std::size_t sign_differ = 0;
     std::size_t value_differ = 0;
@@ -166,7 +168,8 @@ TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of 
     // The paper's grid (compact entries) and the same cell in 2.5 cm voxels
     // (244,800 voxels: wide entries).
     const GridGeometry paper = paper_grid_geometry();
-    const GridGeometry fine = GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
+    const GridGeometry fine =
+        GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
     REQUIRE(ray_table_is_compact(paper, frame.readings[0]));
     REQUIRE(!ray_table_is_compact(fine, frame.readings[0]));
     const SensorModelTable model;
@@ -211,7 +214,8 @@ TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of 
                 const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
                 const ExactOpinions exact = walk_per_ray(t, r, model, g);
                 CHECK(st.voxel_updates > 0U);
-                MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count() << " entries walked");
+                MESSAGE("case " << c << ": " << st.voxel_updates << " of " << t.table().step_count()
+                                << " entries walked");
                 CHECK(differs_from_exact(fused, exact, model) == 0U);
             }
         }
@@ -219,7 +223,9 @@ TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of 
 }
 
 // verifies: SR-FUSE-006
-TEST_CASE("ray table: readings exactly on an entry's exit, or a ramp before it, give the exact opinions for rays of every length") {
+TEST_CASE(
+    "ray table: readings exactly on an entry's exit, or a ramp before it, give the exact opinions for rays of every "
+    "length") {
     // The search for the end of the constant part compares keys with a
     // limit. A search that ends one entry late gives a ramp voxel only the
     // constant, and readings on a boundary are where that shows (tried: it
@@ -295,7 +301,8 @@ TEST_CASE("ray table: wrong image size, wrong grid and too-small storage are ref
     const SensorReading& r = frame.readings[0];
     const OwnedTable t = make_table(g, r);
     OwnedGrid grid(g);
-    CHECK(t.table.fuse(grid.grid, r.depth.subspan(0, r.depth.size() - 1U), model).error() == ErrorCode::kMalformedInput);
+    CHECK(t.table.fuse(grid.grid, r.depth.subspan(0, r.depth.size() - 1U), model).error() ==
+          ErrorCode::kMalformedInput);
     OwnedGrid other(whole_cell_grid_geometry());
     CHECK(t.table.fuse(other.grid, r.depth, model).error() == ErrorCode::kGeometryMismatch);
     CHECK(RayTable{}.fuse(grid.grid, r.depth, model).error() == ErrorCode::kInvalidArgument);
@@ -379,7 +386,8 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     CHECK(table.checked_bytes() ==
           57U * 4U + 4U * n + 4U * (px + 1U) + 12U * px + 4U * g.voxel_count() + 4U * crossed_count);
     CHECK(regions[0].size() == 57U * 4U);
-    CHECK(regions[1].data() == reinterpret_cast<const std::uint8_t*>(v.voxels.data()));  // NOLINT: the byte view of the entries
+    CHECK(regions[1].data() ==
+          reinterpret_cast<const std::uint8_t*>(v.voxels.data()));  // NOLINT: the byte view of the entries
     // build()'s CRC is the CRC of the regions read in order.
     CHECK(SignatureCheck(list).reference() == table.storage_crc());
     CHECK(table.limits_intact());
@@ -445,7 +453,8 @@ TEST_CASE("ray table: a bit flipped in any part of its constant RAM is found wit
     RayTable copy = table;
     const RayTableSignatureRegions copy_regions = copy.signature_regions();
     CHECK(copy_regions[0].data() != regions[0].data());  // a copy's regions view the copy's words
-    for (std::size_t k = 1U; k < copy_regions.size(); ++k) CHECK(copy_regions[k].data() == regions[k].data());
+    for (std::size_t k = 1U; k < copy_regions.size(); ++k)
+        CHECK(copy_regions[k].data() == regions[k].data());
     SignatureCheck of_copy(Span<const SignatureRegion>(copy_regions.data(), copy_regions.size()), copy.storage_crc());
     std::uint8_t* const words = const_cast<std::uint8_t*>(copy_regions[0].data());  // NOLINT: bit flip for the test
     words[5] ^= 0x02U;

@@ -56,8 +56,8 @@ struct RefSegment {
     LD u0[3];
     LD u1[3];
     LD du[3];
-    LD length;          // metres
-    double length_d;    // metres, as the library computes it
+    LD length;        // metres
+    double length_d;  // metres, as the library computes it
     bool start_inside;
     bool end_inside;
     VoxelCoord start_voxel;
@@ -196,18 +196,23 @@ void compare_sequence(const GridGeometry& g, const V3& a, const V3& b, const std
             fail(st, "voxel outside or wrong index", a, b);
             return;
         }
-        if (!seen.insert(key(v.coord)).second) fail(st, "voxel visited twice", a, b);
-        if (!(0.0 <= v.t_enter && v.t_enter <= v.t_exit && v.t_exit <= s.length_d)) fail(st, "t out of order", a, b);
+        if (!seen.insert(key(v.coord)).second)
+            fail(st, "voxel visited twice", a, b);
+        if (!(0.0 <= v.t_enter && v.t_enter <= v.t_exit && v.t_exit <= s.length_d))
+            fail(st, "t out of order", a, b);
         if (i > 0) {
             const VoxelCoord& p = t[i - 1].coord;
             const int dx = std::abs(v.coord.x - p.x);
             const int dy = std::abs(v.coord.y - p.y);
             const int dz = std::abs(v.coord.z - p.z);
-            if (dx > 1 || dy > 1 || dz > 1 || dx + dy + dz == 0) fail(st, "consecutive voxels not adjacent", a, b);
-            if (t[i - 1].t_exit != v.t_enter) fail(st, "t_exit of one voxel is not t_enter of the next", a, b);
+            if (dx > 1 || dy > 1 || dz > 1 || dx + dy + dz == 0)
+                fail(st, "consecutive voxels not adjacent", a, b);
+            if (t[i - 1].t_exit != v.t_enter)
+                fail(st, "t_exit of one voxel is not t_enter of the next", a, b);
         }
     }
-    if (max_voxels_per_segment(g) < t.size()) fail(st, "more visits than the bound", a, b);
+    if (max_voxels_per_segment(g) < t.size())
+        fail(st, "more visits than the bound", a, b);
 
     // Endpoint voxels: exactly GridGeometry's voxel of start and end.
     if (s.start_inside && (t.empty() || t.front().coord != s.start_voxel || t.front().t_enter != 0.0)) {
@@ -218,7 +223,8 @@ void compare_sequence(const GridGeometry& g, const V3& a, const V3& b, const std
     }
     // Clip agrees with the traversal's range.
     const ClippedSegment clip = clip_segment_to_grid(g, a, b);
-    if (clip.hits != !t.empty()) fail(st, "clip_segment_to_grid disagrees on hitting", a, b);
+    if (clip.hits != !t.empty())
+        fail(st, "clip_segment_to_grid disagrees on hitting", a, b);
     if (!t.empty() && (clip.t_enter != t.front().t_enter || clip.t_exit != t.back().t_exit)) {
         fail(st, "clip range is not the traversal's range", a, b);
     }
@@ -238,7 +244,8 @@ void compare_sequence(const GridGeometry& g, const V3& a, const V3& b, const std
         LD len0 = 0.0L;
         LD g0 = 0.0L;
         LD g1 = 0.0L;
-        if (ref_slab(s, v.coord, 0.0L, g0, g1)) len0 = (g1 - g0) * s.length;
+        if (ref_slab(s, v.coord, 0.0L, g0, g1))
+            len0 = (g1 - g0) * s.length;
         if (touches && len0 <= kGrazing) {
             // Passing through for a positive length below 1e-9 m is right; for none, tolerated.
             tolerated += len0 > 0.0L ? 0 : 1;
@@ -247,8 +254,9 @@ void compare_sequence(const GridGeometry& g, const V3& a, const V3& b, const std
         }
     }
     if (required_in_t.size() != ref.size()) {
-        fail(st, "misses a voxel passed through for more than 1e-9 m (" + std::to_string(ref.size()) + " expected, " +
-                     std::to_string(required_in_t.size()) + " found)",
+        fail(st,
+             "misses a voxel passed through for more than 1e-9 m (" + std::to_string(ref.size()) + " expected, " +
+                 std::to_string(required_in_t.size()) + " found)",
              a, b);
     } else {
         for (std::size_t i = 0; i < ref.size(); ++i) {
@@ -264,7 +272,8 @@ void compare_sequence(const GridGeometry& g, const V3& a, const V3& b, const std
         }
     }
     for (const RefVoxel& r : grazing) {
-        if (seen.count(key(r.c)) == 0U) ++tolerated;
+        if (seen.count(key(r.c)) == 0U)
+            ++tolerated;
     }
     if (tolerated > 0) {
         ++st.tolerated_segments;
@@ -298,8 +307,10 @@ public:
         double down = x;
         double up = x;
         for (int i = 0; i < 8; ++i) {
-            if ((up - o) / s == static_cast<double>(k)) return up;
-            if ((down - o) / s == static_cast<double>(k)) return down;
+            if ((up - o) / s == static_cast<double>(k))
+                return up;
+            if ((down - o) / s == static_cast<double>(k))
+                return down;
             up = std::nextafter(up, std::numeric_limits<double>::infinity());
             down = std::nextafter(down, -std::numeric_limits<double>::infinity());
         }
@@ -308,13 +319,17 @@ public:
     double random_coord(int axis, double margin) {
         return uni(g_.origin()[axis] - margin, g_.max_corner()[axis] + margin);
     }
-    V3 random_point(double margin) { return V3(random_coord(0, margin), random_coord(1, margin), random_coord(2, margin)); }
+    V3 random_point(double margin) {
+        return V3(random_coord(0, margin), random_coord(1, margin), random_coord(2, margin));
+    }
     V3 lattice_point() {
-        return V3(lattice(0, integer(-2, dim(0) + 2)), lattice(1, integer(-2, dim(1) + 2)), lattice(2, integer(-2, dim(2) + 2)));
+        return V3(lattice(0, integer(-2, dim(0) + 2)), lattice(1, integer(-2, dim(1) + 2)),
+                  lattice(2, integer(-2, dim(2) + 2)));
     }
     V3 mixed_point() {
         V3 p;
-        for (int a = 0; a < 3; ++a) p[a] = integer(0, 1) == 0 ? lattice(a, integer(-1, dim(a) + 1)) : random_coord(a, 0.2);
+        for (int a = 0; a < 3; ++a)
+            p[a] = integer(0, 1) == 0 ? lattice(a, integer(-1, dim(a) + 1)) : random_coord(a, 0.2);
         return p;
     }
     V3 random_direction() {
@@ -422,7 +437,8 @@ void report(const char* name, const CompareStats& st) {
     os << name << ": " << st.segments << " segments, " << st.nonempty << " reach the grid, " << st.visited
        << " voxels visited; grazing mismatches tolerated in " << st.tolerated_segments << " segments ("
        << st.tolerated_voxels << " voxels); failures " << st.failures;
-    for (const std::string& f : st.first_failures) os << "\n  " << f;
+    for (const std::string& f : st.first_failures)
+        os << "\n  " << f;
     MESSAGE(os.str());
 }
 
@@ -524,11 +540,13 @@ TEST_CASE("traversal: a segment lying in a face plane visits only the voxels abo
     // y = 1.0 is the face between rows 1 and 2.
     std::vector<TraversedVoxel> t = collect(Rasterization::kExact, g, V3(0.1, 1.0, 0.3), V3(1.9, 1.0, 0.3));
     REQUIRE(t.size() == 4U);
-    for (const TraversedVoxel& v : t) CHECK(v.coord.y == 2);
+    for (const TraversedVoxel& v : t)
+        CHECK(v.coord.y == 2);
     // On an edge line (y = 1.0 and z = 0.5): the voxels above both faces.
     t = collect(Rasterization::kExact, g, V3(0.1, 1.0, 0.5), V3(1.9, 1.0, 0.5));
     REQUIRE(t.size() == 4U);
-    for (const TraversedVoxel& v : t) CHECK((v.coord.y == 2 && v.coord.z == 1));
+    for (const TraversedVoxel& v : t)
+        CHECK((v.coord.y == 2 && v.coord.z == 1));
     // On the grid's minimum face: inside; on its maximum face: outside (half-open cells).
     CHECK(collect(Rasterization::kExact, g, V3(0.1, 0.0, 0.3), V3(1.9, 0.0, 0.3)).size() == 4U);
     CHECK(collect(Rasterization::kExact, g, V3(0.1, 2.0, 0.3), V3(1.9, 2.0, 0.3)).empty());
@@ -623,7 +641,7 @@ TEST_CASE("traversal: non-finite, far-away and missing segments visit nothing") 
         CHECK(collect(m, g, V3(nan, 0.0, 0.0), in).empty());
         CHECK(collect(m, g, in, V3(0.0, inf, 0.0)).empty());
         CHECK(collect(m, g, V3(-inf, 0.0, 0.0), V3(inf, 0.0, 0.0)).empty());
-        CHECK(collect(m, g, in, V3(0.0, 0.0, 1e300)).empty());  // beyond kMaxSegmentVoxelCoordinate
+        CHECK(collect(m, g, in, V3(0.0, 0.0, 1e300)).empty());                 // beyond kMaxSegmentVoxelCoordinate
         CHECK(collect(m, g, V3(5.0, 5.0, 5.0), V3(6.0, 5.0, 5.0)).empty());    // misses
         CHECK(collect(m, g, V3(-5.0, 0.0, 0.0), V3(5.0, 0.0, 10.0)).empty());  // passes beside
         CHECK(count_traversed_voxels(m, g, V3(nan, nan, nan), in) == 0U);
@@ -724,9 +742,7 @@ TEST_CASE("traversal: dispatch runs the chosen method and rejects an unknown one
     CHECK(bres == 7U);
     CHECK(exact > bres);
     CHECK(count_traversed_voxels(Rasterization::kExact, g, a, b) == exact);
-    CHECK(test::violates_contract([&] {
-        (void)count_traversed_voxels(static_cast<Rasterization>(7), g, a, b);
-    }));
+    CHECK(test::violates_contract([&] { (void)count_traversed_voxels(static_cast<Rasterization>(7), g, a, b); }));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -746,13 +762,15 @@ std::vector<VoxelCoord> plain_bresenham(const GridGeometry& g, const V3& a, cons
     for (long long i = 0; i <= big; ++i) {
         long long c[3] = {v0.x, v0.y, v0.z};
         for (int k = 0; k < 3; ++k) {
-            if (big == 0) continue;
+            if (big == 0)
+                continue;
             const LD f = static_cast<LD>(i) * static_cast<LD>(std::llabs(d[k])) / static_cast<LD>(big);
             const long long q = static_cast<long long>(std::floor(f + 0.5L));
             c[k] += d[k] < 0 ? -q : q;
         }
         const VoxelCoord v{static_cast<int>(c[0]), static_cast<int>(c[1]), static_cast<int>(c[2])};
-        if (g.contains(v)) out.push_back(v);
+        if (g.contains(v))
+            out.push_back(v);
     }
     return out;
 }
@@ -769,7 +787,8 @@ TEST_CASE("traversal: Bresenham equals the plain integer line on 24000 random se
     std::vector<std::string> first;
     const auto fail_b = [&](const std::string& what, const V3& a, const V3& b) {
         ++failures;
-        if (first.size() < 8U) first.push_back(what + " for " + str(a) + " -> " + str(b));
+        if (first.size() < 8U)
+            first.push_back(what + " for " + str(a) + " -> " + str(b));
     };
     for (int i = 0; i < 24000; ++i) {
         const auto seg = maker.make(i);
@@ -787,18 +806,22 @@ TEST_CASE("traversal: Bresenham equals the plain integer line on 24000 random se
         const double half = length > 0.0 ? 0.5 * g.voxel_size() / dir.cwiseAbs().maxCoeff() : 0.0;
         for (std::size_t k = 0; k < t.size(); ++k) {
             const TraversedVoxel& v = t[k];
-            if (v.coord != ref[k] || v.index != g.index_of(v.coord)) fail_b("voxel " + std::to_string(k) + " differs", a, b);
+            if (v.coord != ref[k] || v.index != g.index_of(v.coord))
+                fail_b("voxel " + std::to_string(k) + " differs", a, b);
             const double centre = (g.voxel_center(v.coord) - a).dot(dir);
             const double te = std::min(std::max(centre - half, 0.0), length);
             const double tx = std::min(std::max(centre + half, 0.0), length);
-            if (std::fabs(v.t_enter - te) > kGrazing || std::fabs(v.t_exit - tx) > kGrazing) fail_b("t differs", a, b);
+            if (std::fabs(v.t_enter - te) > kGrazing || std::fabs(v.t_exit - tx) > kGrazing)
+                fail_b("t differs", a, b);
             if (k > 0) {
                 const VoxelCoord& p = t[k - 1].coord;
                 const int dx = std::abs(v.coord.x - p.x);
                 const int dy = std::abs(v.coord.y - p.y);
                 const int dz = std::abs(v.coord.z - p.z);
-                if (dx > 1 || dy > 1 || dz > 1 || dx + dy + dz == 0) fail_b("not 26-connected", a, b);
-                if (v.t_enter < t[k - 1].t_enter) fail_b("t_enter decreases", a, b);
+                if (dx > 1 || dy > 1 || dz > 1 || dx + dy + dz == 0)
+                    fail_b("not 26-connected", a, b);
+                if (v.t_enter < t[k - 1].t_enter)
+                    fail_b("t_enter decreases", a, b);
             }
         }
         const Result<VoxelCoord> sv = g.world_to_voxel(a);
@@ -809,14 +832,17 @@ TEST_CASE("traversal: Bresenham equals the plain integer line on 24000 random se
             const VoxelCoord s1 = ev.value();
             const std::size_t expected = static_cast<std::size_t>(
                 std::max({std::abs(s1.x - s0.x), std::abs(s1.y - s0.y), std::abs(s1.z - s0.z)}) + 1);
-            if (t.size() != expected) fail_b("not max(|dx|,|dy|,|dz|)+1 voxels", a, b);
-            if (t.empty() || t.front().coord != s0 || t.back().coord != s1) fail_b("endpoints not included", a, b);
+            if (t.size() != expected)
+                fail_b("not max(|dx|,|dy|,|dz|)+1 voxels", a, b);
+            if (t.empty() || t.front().coord != s0 || t.back().coord != s1)
+                fail_b("endpoints not included", a, b);
         }
     }
     std::ostringstream os;
-    os << "Bresenham: 24000 segments, " << inside_segments << " fully inside, " << visited << " voxels visited; failures "
-       << failures;
-    for (const std::string& f : first) os << "\n  " << f;
+    os << "Bresenham: 24000 segments, " << inside_segments << " fully inside, " << visited
+       << " voxels visited; failures " << failures;
+    for (const std::string& f : first)
+        os << "\n  " << f;
     MESSAGE(os.str());
     CHECK(failures == 0);
     CHECK(inside_segments > 3000);
@@ -833,10 +859,12 @@ TEST_CASE("traversal: Bresenham misses voxels the exact traversal passes through
     CHECK(bres.size() == 7U);
     CHECK(exact.size() == 10U);
     std::set<std::tuple<int, int, int>> in_bres;
-    for (const TraversedVoxel& v : bres) in_bres.insert(key(v.coord));
+    for (const TraversedVoxel& v : bres)
+        in_bres.insert(key(v.coord));
     double longest_missed = 0.0;
     for (const TraversedVoxel& v : exact) {
-        if (in_bres.count(key(v.coord)) == 0U) longest_missed = std::max(longest_missed, v.t_exit - v.t_enter);
+        if (in_bres.count(key(v.coord)) == 0U)
+            longest_missed = std::max(longest_missed, v.t_exit - v.t_enter);
     }
     // The ray crosses a missed voxel for over a fifth of a voxel: real free space left unobserved.
     CHECK(longest_missed > 0.2 * g.voxel_size());
@@ -855,7 +883,8 @@ TEST_CASE("traversal: Bresenham misses voxels the exact traversal passes through
         ++segments;
         fewer += e.size() < r.size() ? 1 : 0;
         std::set<std::tuple<int, int, int>> rs;
-        for (const TraversedVoxel& v : r) rs.insert(key(v.coord));
+        for (const TraversedVoxel& v : r)
+            rs.insert(key(v.coord));
         bool misses = false;
         for (const TraversedVoxel& v : e) {
             misses = misses || (rs.count(key(v.coord)) == 0U && v.t_exit - v.t_enter > 0.1 * g.voxel_size());

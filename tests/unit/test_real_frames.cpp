@@ -19,13 +19,13 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/host/io/pcd.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/scenario.hpp"
+#include "cellguard/host/io/pcd.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 #include "cellguard/safety/zones.hpp"
 
@@ -40,7 +40,9 @@ const char* const kFrames[] = {
 };
 
 /// The camera of issue 24's reference.
-sim::SensorSpec camera() { return sim::SensorSpec{"kinect", {0.0, 0.0, 0.0}, {3.0, 0.0, 0.0}, 640, 480, 57.0, 43.0, 5.0F}; }
+sim::SensorSpec camera() {
+    return sim::SensorSpec{"kinect", {0.0, 0.0, 0.0}, {3.0, 0.0, 0.0}, 640, 480, 57.0, 43.0, 5.0F};
+}
 
 GridGeometry grid_geometry() {
     return GridGeometry::make(Eigen::Vector3d(0.4, -1.6, -0.6), 0.05, GridDims{64, 64, 48}).value();
@@ -146,10 +148,11 @@ std::vector<std::int16_t> prior_from(const GridGeometry& g, Span<const SensorRea
     std::vector<std::uint32_t> words(size.words);
     std::vector<std::uint8_t> bytes(size.bytes);
     std::vector<std::int16_t> prior(g.voxel_count());
-    REQUIRE(compute_accessibility_prior(background.grid, params,
-                                        AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                                        {prior.data(), prior.size()}, {})
-                .ok());
+    REQUIRE(
+        compute_accessibility_prior(background.grid, params,
+                                    AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+                                    {prior.data(), prior.size()}, {})
+            .ok());
     return prior;
 }
 
@@ -179,7 +182,8 @@ TEST_CASE("real frames: every voxel that holds readings is occupied, though hund
         for (const std::size_t v : holding) {
             not_occupied += fused.lo[v] <= 0 ? 1U : 0U;
         }
-        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << ": " << holding.size() << " voxels hold readings, " << not_occupied << " of them not occupied");
+        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1)
+                << ": " << holding.size() << " voxels hold readings, " << not_occupied << " of them not occupied");
         CHECK(holding.size() > 800U);  // the per-ray model lost 221 to 259 of about 900 (issue 24)
         CHECK(not_occupied == 0U);
     }
@@ -229,7 +233,8 @@ TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion, voxel
             differ += (direct.lo[v] != tabled.lo[v] || direct.ob[v] != tabled.ob[v]) ? 1U : 0U;
             occupied_differ += ((direct.lo[v] > 0) != (tabled.lo[v] > 0)) ? 1U : 0U;
         }
-        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << ": " << differ << " voxels differ, " << occupied_differ << " in occupied or not");
+        MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1)
+                << ": " << differ << " voxels differ, " << occupied_differ << " in occupied or not");
         // Voxel for voxel (the per-ray model: 169, 169 and 189 voxels; before
         // readings on a face were placed by fuse_sensor's rule: 2, 4 and 3).
         CHECK(differ == 0U);
@@ -237,8 +242,9 @@ TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion, voxel
 }
 
 // verifies: SR-FUSE-002, SR-EVAL-003
-TEST_CASE("real frames: replayed against a prior commissioned from itself a frame is CLEAR, and with a person INTRUDED, "
-          "with both methods") {
+TEST_CASE(
+    "real frames: replayed against a prior commissioned from itself a frame is CLEAR, and with a person INTRUDED, "
+    "with both methods") {
     const GridGeometry g = grid_geometry();
     const WholeViewZone zone(g);
     for (const char* path : kFrames) {
@@ -251,8 +257,9 @@ TEST_CASE("real frames: replayed against a prior commissioned from itself a fram
             const std::vector<std::int16_t> prior = prior_from(g, {&background, 1U}, method);
             const ZoneReport empty = replay(g, point_reading(points), prior, zone);
             const ZoneReport intruded = replay(g, point_reading(person), prior, zone);
-            MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1) << " method " << static_cast<int>(method) << ": background " << empty.foreground
-                         << " foreground voxels, with the person " << intruded.foreground);
+            MESSAGE(std::string(path).substr(std::string(path).rfind('/') + 1)
+                    << " method " << static_cast<int>(method) << ": background " << empty.foreground
+                    << " foreground voxels, with the person " << intruded.foreground);
             CHECK(empty.state == ZoneState::kClear);
             CHECK(empty.foreground == 0U);
             CHECK(intruded.state == ZoneState::kIntruded);
@@ -277,7 +284,8 @@ TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted
         configs.push_back(z.zone);
     }
     std::vector<std::uint32_t> mask(g.voxel_count());
-    const CompiledZones zones = CompiledZones::compile(g, {configs.data(), configs.size()}, {mask.data(), mask.size()}).value();
+    const CompiledZones zones =
+        CompiledZones::compile(g, {configs.data(), configs.size()}, {mask.data(), mask.size()}).value();
     const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
     sim::Scene with_person = sim::reference_scene();
     with_person.boxes.push_back(cell::person_box(cell::demo_person(18)));  // in the protective zone

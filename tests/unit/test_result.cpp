@@ -47,7 +47,10 @@ TEST_CASE("result: a failed Result holds its code and no value, a successful one
 TEST_CASE("result: reading the value of a failed Result, or failing without a code, violates the contract") {
     const Result<std::int32_t> bad(ErrorCode::kTruncatedInput);
     CHECK(test::violates_contract([&] { (void)bad.value(); }));
-    CHECK(test::violates_contract([] { const Result<std::int32_t> r(ErrorCode::kOk); (void)r; }));
+    CHECK(test::violates_contract([] {
+        const Result<std::int32_t> r(ErrorCode::kOk);
+        (void)r;
+    }));
     const Result<std::int32_t> good(1);
     CHECK_FALSE(test::violates_contract([&] { (void)good.value(); }));
 }

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "cellguard/firmware/scenario.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
-#include "cellguard/prior/accessibility.hpp"
-#include "cellguard/firmware/scenario.hpp"
-#include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 
@@ -54,9 +54,15 @@ struct Workcell {
     SensorModelTable model;
 
     Workcell()
-        : frame_lo(g.voxel_count()), bg_lo(g.voxel_count()), prior(g.voxel_count()), scratch(g.voxel_count()),
-          frame_ob(g.voxel_count()), bg_ob(g.voxel_count()), mask(g.voxel_count()) {
-        frame_grid = EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
+        : frame_lo(g.voxel_count()),
+          bg_lo(g.voxel_count()),
+          prior(g.voxel_count()),
+          scratch(g.voxel_count()),
+          frame_ob(g.voxel_count()),
+          bg_ob(g.voxel_count()),
+          mask(g.voxel_count()) {
+        frame_grid =
+            EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
         EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
         bg.clear();
         const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
@@ -69,8 +75,9 @@ struct Workcell {
         const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
         std::vector<std::uint32_t> words(size.words);
         std::vector<std::uint8_t> bytes(size.bytes);
-        REQUIRE(compute_accessibility_prior(bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                                            {prior.data(), prior.size()}, {})
+        REQUIRE(compute_accessibility_prior(
+                    bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+                    {prior.data(), prior.size()}, {})
                     .ok());
         // The firmware scenario's zones: zone 0 protective, on the floor in
         // front of box B; zone 1 a warning zone across it.
@@ -84,10 +91,13 @@ struct Workcell {
 
     // A controller over this cell's grid, prior, zones and model.
     SafetyController controller(const ControllerConfig& c, MonotonicClock& clock, CycleOutput* out = nullptr) {
-        return SafetyController(c, frame_grid, fusion_scratch(), {prior.data(), prior.size()}, zones, model, clock, out);
+        return SafetyController(c, frame_grid, fusion_scratch(), {prior.data(), prior.size()}, zones, model, clock,
+                                out);
     }
     Span<std::int16_t> fusion_scratch() { return {scratch.data(), scratch.size()}; }
-    SafetyController controller(MonotonicClock& clock, CycleOutput* out = nullptr) { return controller(config(), clock, out); }
+    SafetyController controller(MonotonicClock& clock, CycleOutput* out = nullptr) {
+        return controller(config(), clock, out);
+    }
 };
 
 struct Frame {
@@ -181,7 +191,9 @@ TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives 
 }
 
 // verifies: SR-CTRL-008
-TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time stamps is frozen after max_repeated_frames new frames") {
+TEST_CASE(
+    "controller: a sensor whose image stays bit-identical under fresh time stamps is frozen after max_repeated_frames "
+    "new frames") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -200,8 +212,9 @@ TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time
         }
     };
     next_frame(0);
-    const std::uint64_t all_rays = c.run_cycle(f.span(), false).fusion.rays_fused;  // the first frame: nothing to compare
-    for (int k = 1; k <= 2; ++k) {  // repeats 1 and 2 of sensor 2: below the limit
+    const std::uint64_t all_rays =
+        c.run_cycle(f.span(), false).fusion.rays_fused;  // the first frame: nothing to compare
+    for (int k = 1; k <= 2; ++k) {                       // repeats 1 and 2 of sensor 2: below the limit
         next_frame(k);
         const CycleReport& r = c.run_cycle(f.span(), false);
         CHECK((r.detected_faults & stale) == 0U);
@@ -212,7 +225,7 @@ TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time
     CHECK((frozen.detected_faults & stale) != 0U);
     CHECK(frozen.safety.stop_requested);
     CHECK(frozen.fusion.rays_fused < all_rays);  // sensor 2's frame was not fused
-    next_frame(4);  // still frozen
+    next_frame(4);                               // still frozen
     CHECK((c.run_cycle(f.span(), false).detected_faults & stale) != 0U);
     // Recovery: sensor 2's image changes; after fault_recovery_cycles (2)
     // clean cycles the latch clears (restart delay 0 in this configuration).
@@ -228,7 +241,9 @@ TEST_CASE("controller: a sensor whose image stays bit-identical under fresh time
 }
 
 // verifies: SR-CTRL-008
-TEST_CASE("controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by default") {
+TEST_CASE(
+    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by "
+    "default") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -273,7 +288,8 @@ TEST_CASE("controller: a corrupted prior is caught while running within one chec
         CHECK(cycles <= 2U * pass);
         CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
         w.prior[at] ^= 0x0100;  // even repaired, the fault stays latched
-        for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+        for (int i = 0; i < 5; ++i)
+            CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     }
 }
 
@@ -313,11 +329,14 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
     CHECK(c.report().safety.stop_requested);
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
     storage[2].full_hits[storage[2].crossed[5]] ^= 0x4U;  // even repaired, the fault stays latched
-    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    for (int i = 0; i < 5; ++i)
+        CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 }
 
 // verifies: SR-CTRL-007, SR-LOGIC-006
-TEST_CASE("controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or limits changed is caught at its next turn") {
+TEST_CASE(
+    "controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or "
+    "limits changed is caught at its next turn") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -334,12 +353,14 @@ TEST_CASE("controller: a sensor slot's table check starts afresh on another tabl
     const std::size_t round = f.inputs.size();  // cycles per turn of slot 0
     SafetyController c = w.controller(config, clock);
     f.inputs[0].table = &a;
-    for (std::size_t k = 0U; k < round * (pass / 2U + 1U); ++k) REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
+    for (std::size_t k = 0U; k < round * (pass / 2U + 1U); ++k)
+        REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
     // Mid-pass, slot 0 shows another table: its check is remade over that
     // table, which passes pass after pass, and a flip in that table's RAM
     // (not a's) is found.
     f.inputs[0].table = &b;
-    for (std::size_t k = 0U; k < 3U * round * pass; ++k) REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
+    for (std::size_t k = 0U; k < 3U * round * pass; ++k)
+        REQUIRE(c.run_cycle(f.span(), false).detected_faults == 0U);
     second.full_hits[second.crossed[5]] ^= 0x4U;
     std::size_t cycles = 1U;
     while ((c.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
@@ -352,7 +373,8 @@ TEST_CASE("controller: a sensor slot's table check starts afresh on another tabl
     // The table object at the same address replaced by one over other
     // storage: the check no longer reads the table's regions, at once.
     SafetyController d = w.controller(config, clock);
-    for (std::size_t k = 0U; k < round; ++k) REQUIRE(d.run_cycle(f.span(), false).detected_faults == 0U);
+    for (std::size_t k = 0U; k < round; ++k)
+        REQUIRE(d.run_cycle(f.span(), false).detected_faults == 0U);
     b = RayTable::build(w.g, r0, third.storage()).value();
     cycles = 1U;
     while ((d.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
@@ -364,8 +386,10 @@ TEST_CASE("controller: a sensor slot's table check starts afresh on another tabl
     // The table's stored limits no longer match the ones fuse() uses: at
     // the next turn, not only at the end of a pass.
     SafetyController e = w.controller(config, clock);
-    for (std::size_t k = 0U; k < round; ++k) REQUIRE(e.run_cycle(f.span(), false).detected_faults == 0U);
-    std::uint8_t* const words = const_cast<std::uint8_t*>(b.signature_regions()[0].data());  // NOLINT: bit flip for the test
+    for (std::size_t k = 0U; k < round; ++k)
+        REQUIRE(e.run_cycle(f.span(), false).detected_faults == 0U);
+    std::uint8_t* const words = const_cast<std::uint8_t*>(
+        b.signature_regions()[0].data());  // NOLINT: bit flip for the test
     words[0] ^= 0x01U;
     cycles = 1U;
     while ((e.run_cycle(f.span(), false).detected_faults & fault_bit(Fault::kInternalCheck)) == 0U) {
@@ -376,7 +400,8 @@ TEST_CASE("controller: a sensor slot's table check starts afresh on another tabl
 }
 
 // verifies: SR-CTRL-010, SR-LOGIC-006
-TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check passes, changed zone settings at once") {
+TEST_CASE(
+    "controller: a zone mask bit flipped in RAM is caught within two check passes, changed zone settings at once") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -395,7 +420,8 @@ TEST_CASE("controller: a zone mask bit flipped in RAM is caught within two check
     }
     CHECK(c.report().safety.stop_requested);
     *in_zone |= 1U;  // repaired: the fault stays latched
-    for (int i = 0; i < 4; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    for (int i = 0; i < 4; ++i)
+        CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
 
     // The zones object rewritten under a running controller: the protective
     // zone turned into a warning zone. Caught in the next cycle.
@@ -422,7 +448,8 @@ TEST_CASE("controller: with commissioned background views, a bumped or covered s
         refs[s].depth = Span<const float>(empty.depth[s].data(), empty.depth[s].size());
     }
     const auto with_refs = [&](Frame& f) {
-        for (std::size_t s = 0; s < f.inputs.size(); ++s) f.inputs[s].background = &refs[s];
+        for (std::size_t s = 0; s < f.inputs.size(); ++s)
+            f.inputs[s].background = &refs[s];
         return f.span();
     };
     Frame clear(w, sim::reference_scene(), clock.t);
@@ -458,18 +485,21 @@ TEST_CASE("controller: a prior of the wrong size is refused for good") {
     SafetyController c(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size() - 1U}, w.zones,
                        w.model, clock, nullptr);
     const Frame f(w, sim::reference_scene(), clock.t);
-    for (int i = 0; i < 5; ++i) CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    for (int i = 0; i < 5; ++i)
+        CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U);
 }
 
 // verifies: SR-CTRL-009, SR-LOGIC-006
-TEST_CASE("controller: zones of another grid, or no sensors or more than eight, latch an internal-check fault for good") {
+TEST_CASE(
+    "controller: zones of another grid, or no sensors or more than eight, latch an internal-check fault for good") {
     Workcell w;
     TestClock clock;
     const Frame f(w, sim::reference_scene(), clock.t);
     // Zones compiled for a grid shifted by one voxel.
-    const GridGeometry shifted =
-        GridGeometry::make(w.g.origin() + Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0), w.g.voxel_size(), w.g.dims()).value();
+    const GridGeometry shifted = GridGeometry::make(w.g.origin() + Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0),
+                                                    w.g.voxel_size(), w.g.dims())
+                                     .value();
     std::vector<std::uint32_t> other_mask(shifted.voxel_count());
     const auto zs = firmware::scenario_zone_configs();
     ZoneConfig inside = zs[0];  // the protective zone moved into the shifted grid
@@ -477,9 +507,8 @@ TEST_CASE("controller: zones of another grid, or no sensors or more than eight, 
     inside.box_max += Eigen::Vector3d(w.g.voxel_size(), 0.0, 0.0);
     const CompiledZones other_zones =
         CompiledZones::compile(shifted, {&inside, 1U}, {other_mask.data(), other_mask.size()}).value();
-    SafetyController wrong_grid(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size()}, other_zones,
-                                w.model, clock,
-                                nullptr);
+    SafetyController wrong_grid(w.config(), w.frame_grid, w.fusion_scratch(), {w.prior.data(), w.prior.size()},
+                                other_zones, w.model, clock, nullptr);
     ControllerConfig none = w.config();
     none.sensor_count = 0U;
     SafetyController no_sensors = w.controller(none, clock);

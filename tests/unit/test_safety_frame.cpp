@@ -58,9 +58,9 @@ TEST_CASE("safety frame: the encoder puts every field at the bit the layout tabl
     CHECK(f.data[4] == 0x02);
     CHECK(f.data[5] == 0x02);  // ZoneUnseen 0x0402
     CHECK(f.data[6] == 0x04);
-    CHECK(f.data[7] == 11U);   // ZoneCount
-    CHECK(f.data[0] == e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId,
-                                   E2eP01DataIdMode::kBoth, 9U));
+    CHECK(f.data[7] == 11U);  // ZoneCount
+    CHECK(f.data[0] ==
+          e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth, 9U));
     const CanFrame n = encode_safety_frame(sample_message(), 9U, channel(E2eP01DataIdMode::kNibble)).value();
     CHECK(n.data[1] == 0xC9);  // data ID 0x0C51: nibble 0xC in bits 12..15
 }
@@ -255,7 +255,8 @@ TEST_CASE("safety frame: the diagnostics frame round-trips every prior CRC page 
             DiagnosticsMessage m;
             m.cycle_time = diagnostics_time_saturating(33350U);
             m.max_cycle_time = kDiagnosticsTimeSaturated;
-            m.active_faults = static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) | fault_bit(FaultCode::kCanSendFailed));
+            m.active_faults = static_cast<std::uint16_t>(fault_bit(FaultCode::kCanBusOff) |
+                                                         fault_bit(FaultCode::kCanSendFailed));
             m.prior_crc_page = page;
             m.prior_crc_part = prior_crc_part(prior_crc, page);
             const CanFrame f = encode_diagnostics_frame(m, page, channel(mode)).value();
@@ -311,7 +312,9 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
 }
 
 // verifies: SR-CAN-005
-TEST_CASE("safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
+TEST_CASE(
+    "safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a "
+    "name and an error code") {
     for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
         CHECK(fault_bit(static_cast<FaultCode>(f)) == fault_bit(static_cast<Fault>(f)));
     }
@@ -334,6 +337,8 @@ TEST_CASE("safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..
 }
 
 // verifies: SR-GEN-004
-TEST_CASE("safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback name") {
+TEST_CASE(
+    "safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback "
+    "name") {
     test::check_enum_names<FrameCheck>(7U, "unknown frame check");
 }

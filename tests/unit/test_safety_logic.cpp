@@ -35,9 +35,12 @@ struct Cell {
         eval.zones[1].state = warning;
         for (std::uint32_t z = 0; z < 2U; ++z) {
             const ZoneState s = eval.zones[z].state;
-            if (s == ZoneState::kIntruded) eval.intruded_mask |= 1U << z;
-            if (s == ZoneState::kUnseen) eval.unseen_mask |= 1U << z;
-            if (s != ZoneState::kClear) eval.not_clear_mask |= 1U << z;
+            if (s == ZoneState::kIntruded)
+                eval.intruded_mask |= 1U << z;
+            if (s == ZoneState::kUnseen)
+                eval.unseen_mask |= 1U << z;
+            if (s != ZoneState::kClear)
+                eval.not_clear_mask |= 1U << z;
         }
     }
     SafetyOutputs step(SafetyLogic& logic, std::uint32_t faults = 0U, bool reset = false, std::uint64_t dt = 10000U) {
@@ -65,8 +68,9 @@ TEST_CASE("safety logic: the stop is requested at start-up until the restart int
     SafetyLogic logic(config(50000U, false), c.zones);
     CHECK(logic.outputs().stop_requested);
     CHECK(c.step(logic).stop_requested);  // t = 0 of the clear period
-    for (int i = 0; i < 4; ++i) CHECK(c.step(logic).stop_requested);  // 40 ms < 50 ms
-    CHECK_FALSE(c.step(logic).stop_requested);                          // 50 ms
+    for (int i = 0; i < 4; ++i)
+        CHECK(c.step(logic).stop_requested);    // 40 ms < 50 ms
+    CHECK_FALSE(c.step(logic).stop_requested);  // 50 ms
 }
 
 // verifies: SR-LOGIC-002
@@ -102,8 +106,9 @@ TEST_CASE("safety logic: the restart interlock keeps the stop for its full time,
     c.set(ZoneState::kIntruded, ZoneState::kClear);
     (void)c.step(logic);
     c.set(ZoneState::kClear, ZoneState::kClear);
-    for (int i = 0; i < 5; ++i) CHECK(c.step(logic).stop_requested);  // 0..40 ms clear
-    c.set(ZoneState::kIntruded, ZoneState::kClear);                      // interrupted
+    for (int i = 0; i < 5; ++i)
+        CHECK(c.step(logic).stop_requested);         // 0..40 ms clear
+    c.set(ZoneState::kIntruded, ZoneState::kClear);  // interrupted
     CHECK(c.step(logic).stop_requested);
     c.set(ZoneState::kClear, ZoneState::kClear);
     int cycles = 0;
@@ -118,9 +123,9 @@ TEST_CASE("safety logic: the restart interlock keeps the stop for its full time,
 TEST_CASE("safety logic: with reset required, only a rising edge after the delay releases the stop") {
     Cell c;
     SafetyLogic logic(config(20000U, true), c.zones);
-    CHECK(c.step(logic, 0U, true).stop_requested);   // reset held high before the delay: no edge later
+    CHECK(c.step(logic, 0U, true).stop_requested);  // reset held high before the delay: no edge later
     CHECK(c.step(logic, 0U, true).stop_requested);
-    CHECK(c.step(logic, 0U, true).stop_requested);   // delay over, but the input never rose
+    CHECK(c.step(logic, 0U, true).stop_requested);  // delay over, but the input never rose
     CHECK(c.step(logic, 0U, false).stop_requested);
     CHECK_FALSE(c.step(logic, 0U, true).stop_requested);  // rising edge after the delay
 }
@@ -134,7 +139,7 @@ TEST_CASE("safety logic: a recoverable fault latches the safe state and clears a
     CHECK(o.stop_requested);
     CHECK(o.latched_faults == fault_bit(Fault::kSensorStale));
     CHECK(o.fault_zone_mask == 0b11U);
-    CHECK(o.warning);  // warning zones are FAULT too
+    CHECK(o.warning);                     // warning zones are FAULT too
     CHECK(c.step(logic).stop_requested);  // 1 clean cycle
     CHECK(c.step(logic).stop_requested);  // 2
     o = c.step(logic);                    // 3: cleared, then the interlock (0 delay) releases

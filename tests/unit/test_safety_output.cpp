@@ -63,7 +63,8 @@ CycleReport report_with(bool stop, std::uint32_t intruded, std::uint32_t latched
 }  // namespace
 
 // verifies: SR-CAN-006
-TEST_CASE("safety output: one cycle sends the safety frame, its inverted copy and the diagnostics frame, in that order") {
+TEST_CASE(
+    "safety output: one cycle sends the safety frame, its inverted copy and the diagnostics frame, in that order") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
     REQUIRE(out.status().ok());
@@ -81,14 +82,16 @@ TEST_CASE("safety output: one cycle sends the safety frame, its inverted copy an
     }
     const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
     CHECK(d.counter == 0U);
-    CHECK(d.message.cycle_time == 13U);      // 1234 us, rounded up to 100 us units
+    CHECK(d.message.cycle_time == 13U);  // 1234 us, rounded up to 100 us units
     CHECK(d.message.max_cycle_time == 46U);
     CHECK(d.message.prior_crc_page == 0U);
     CHECK(d.message.prior_crc_part == 0x0DU);
 }
 
 // verifies: SR-CAN-006, SR-CAN-009
-TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the report") {
+TEST_CASE(
+    "safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the "
+    "report") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
     PlcReceiverConfig rc;
@@ -108,7 +111,8 @@ TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the co
         const SafetyFrameContent s = decode_safety_frame(sender.frames[first], SafetyChannelConfig{}).value();
         CHECK(s.counter == cycle % 15);
         CHECK(s.message.protective_stop == stop);
-        const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[first + 2U], SafetyChannelConfig{}).value();
+        const DiagnosticsFrameContent d =
+            decode_diagnostics_frame(sender.frames[first + 2U], SafetyChannelConfig{}).value();
         CHECK(d.counter == cycle % 15);
         CHECK(d.message.prior_crc_page == cycle % 4);
         prior_crc |= static_cast<std::uint32_t>(d.message.prior_crc_part) << (8U * d.message.prior_crc_page);
@@ -118,7 +122,7 @@ TEST_CASE("safety output: the PLC receiver accepts a run of cycles across the co
             CHECK(st.stop_requested == stop);
         }
     }
-    CHECK(prior_crc == 0xCAFEF00DU);  // the four pages give the whole CRC
+    CHECK(prior_crc == 0xCAFEF00DU);                  // the four pages give the whole CRC
     CHECK(plc.poll(now + 1000U).fault_events == 0U);  // no fault detected in the whole run
 }
 
@@ -131,8 +135,8 @@ TEST_CASE("safety output: latched faults go to ActiveFaults bits 0..8 and the CA
     REQUIRE(out.publish(report_with(true, 0U, fault_bit(Fault::kSensorStale) | fault_bit(Fault::kCanError))));
     CHECK(sender.detail_queries == 1);  // once per cycle
     const DiagnosticsFrameContent d = decode_diagnostics_frame(sender.frames[2], SafetyChannelConfig{}).value();
-    CHECK(d.message.active_faults == (fault_bit(FaultCode::kSensorStale) | fault_bit(FaultCode::kCanError) |
-                                      fault_bit(FaultCode::kCanBusOff)));
+    CHECK(d.message.active_faults ==
+          (fault_bit(FaultCode::kSensorStale) | fault_bit(FaultCode::kCanError) | fault_bit(FaultCode::kCanBusOff)));
     const SafetyFrameContent s = decode_safety_frame(sender.frames[0], SafetyChannelConfig{}).value();
     CHECK(s.message.fault);
     CHECK(s.message.protective_stop);

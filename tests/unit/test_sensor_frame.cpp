@@ -6,9 +6,9 @@
 
 #include <cmath>
 #include <cstring>
-#include <utility>
 #include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "cellguard/grid/sensor_frame.hpp"
@@ -64,14 +64,15 @@ TEST_CASE("sensor frame: each defect of a depth image's description is refused w
         {"max_range infinite", [](SensorReading& r) { r.max_range = HUGE_VALF; }, ErrorCode::kNonFiniteValue},
         {"rotation scaled by 1.001", [](SensorReading& r) { r.pose.linear() *= 1.001; }, ErrorCode::kInvalidArgument},
         {"rotation sheared", [](SensorReading& r) { r.pose.linear()(0, 1) += 1e-3; }, ErrorCode::kInvalidArgument},
-        {"a mirror (det -1)",
-         [](SensorReading& r) { r.pose.linear() = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal(); },
+        {"a mirror (det -1)", [](SensorReading& r) { r.pose.linear() = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal(); },
          ErrorCode::kInvalidArgument},
         {"min_range negative", [](SensorReading& r) { r.min_range = -0.01F; }, ErrorCode::kInvalidArgument},
-        {"min_range equal to max_range", [](SensorReading& r) { r.min_range = r.max_range; }, ErrorCode::kInvalidArgument},
-        {"max_range above the limit",
-         [](SensorReading& r) { r.max_range = std::nextafter(kMaxSensorRange, 1000.0F); }, ErrorCode::kInvalidArgument},
-        {"unknown data kind", [](SensorReading& r) { r.kind = static_cast<SensorDataKind>(7); }, ErrorCode::kInvalidArgument},
+        {"min_range equal to max_range", [](SensorReading& r) { r.min_range = r.max_range; },
+         ErrorCode::kInvalidArgument},
+        {"max_range above the limit", [](SensorReading& r) { r.max_range = std::nextafter(kMaxSensorRange, 1000.0F); },
+         ErrorCode::kInvalidArgument},
+        {"unknown data kind", [](SensorReading& r) { r.kind = static_cast<SensorDataKind>(7); },
+         ErrorCode::kInvalidArgument},
         {"fx NaN", [](SensorReading& r) { r.intrinsics.fx = kNaN; }, ErrorCode::kNonFiniteValue},
         {"fy infinite", [](SensorReading& r) { r.intrinsics.fy = kInf; }, ErrorCode::kNonFiniteValue},
         {"cx NaN", [](SensorReading& r) { r.intrinsics.cx = kNaN; }, ErrorCode::kNonFiniteValue},
@@ -81,9 +82,13 @@ TEST_CASE("sensor frame: each defect of a depth image's description is refused w
         {"width zero", [](SensorReading& r) { r.intrinsics.width = 0; }, ErrorCode::kInvalidArgument},
         {"height negative", [](SensorReading& r) { r.intrinsics.height = -3; }, ErrorCode::kInvalidArgument},
         {"641 x 480 pixels",
-         [](SensorReading& r) { r.intrinsics.width = 641; r.intrinsics.height = 480; }, ErrorCode::kCapacityExceeded},
-        {"one depth value short",
-         [](SensorReading& r) { r.depth = r.depth.subspan(0U, r.depth.size() - 1U); }, ErrorCode::kMalformedInput},
+         [](SensorReading& r) {
+             r.intrinsics.width = 641;
+             r.intrinsics.height = 480;
+         },
+         ErrorCode::kCapacityExceeded},
+        {"one depth value short", [](SensorReading& r) { r.depth = r.depth.subspan(0U, r.depth.size() - 1U); },
+         ErrorCode::kMalformedInput},
         {"no depth values", [](SensorReading& r) { r.depth = Span<const float>(); }, ErrorCode::kMalformedInput},
     };
     for (const Defect& d : defects) {
@@ -115,7 +120,8 @@ TEST_CASE("sensor frame: 640 x 480 pixels are accepted and a point set over that
 }
 
 // verifies: SR-CTRL-008
-TEST_CASE("sensor frame: the fingerprint is equal for equal data and changes with any single bit, the order or the count") {
+TEST_CASE(
+    "sensor frame: the fingerprint is equal for equal data and changes with any single bit, the order or the count") {
     DepthFixture a;
     DepthFixture b;  // the same values in other memory
     for (std::size_t i = 0; i < a.depth.size(); ++i) {

@@ -31,8 +31,8 @@ TEST_CASE("sensor model: pooling is occupied-wins, commutative and associative, 
     const std::int16_t ramp = t.free_evidence(0.01);
     CHECK(t.pool(0, hit) == hit);
     CHECK(t.pool(0, miss) == miss);
-    CHECK(t.pool(miss, hit) == hit);   // a hit after a free opinion: occupied
-    CHECK(t.pool(hit, miss) == hit);   // a free opinion after a hit: still occupied
+    CHECK(t.pool(miss, hit) == hit);  // a hit after a free opinion: occupied
+    CHECK(t.pool(hit, miss) == hit);  // a free opinion after a hit: still occupied
     CHECK(t.pool(hit, hit) == std::min<std::int32_t>(2 * hit, t.pooled_max()));
     CHECK(t.pool(miss, miss) == std::max<std::int32_t>(2 * miss, t.pooled_min()));
     // Every order of every multiset of up to four opinions pools to the same value.

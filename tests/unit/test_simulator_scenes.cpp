@@ -214,7 +214,8 @@ path = [[0.0, 0.0], [1.0, 0.0]]
     CHECK(defaults.scene.noise[0].kind == sim::SensorKind::kFlashLidar);
     CHECK(defaults.scene.noise[2].kind == sim::SensorKind::kStereo);
 
-    const sim::SceneLoad bad_key = sim::parse_scene("[[box]]\ncenter = [0,0,0]\nsize = [1,1,1]\nrole = \"background\"\ncolour = 1\n", "b.toml");
+    const sim::SceneLoad bad_key = sim::parse_scene(
+        "[[box]]\ncenter = [0,0,0]\nsize = [1,1,1]\nrole = \"background\"\ncolour = 1\n", "b.toml");
     CHECK_FALSE(bad_key.ok);
     CHECK(bad_key.error.find("b.toml:5") != std::string::npos);
     CHECK(bad_key.error.find("unknown key") != std::string::npos);
@@ -252,8 +253,9 @@ TEST_CASE("simulator: the person walks along the path at its speed and stops at 
 }
 
 // verifies: SR-EVAL-001
-TEST_CASE("simulator: the ideal ground truth labels the visible surface of a foreground box foreground and its "
-          "hidden interior unknown") {
+TEST_CASE(
+    "simulator: the ideal ground truth labels the visible surface of a foreground box foreground and its "
+    "hidden interior unknown") {
     const GridGeometry g = paper_grid_geometry();
     sim::Scene scene = sim::reference_scene();
     const sim::Box fg{{0.33, 0.43, 0.235}, {0.4, 0.35, 0.47}, 0.0, false};
@@ -287,8 +289,8 @@ TEST_CASE("simulator: precision-recall sweep counts exactly from the histograms"
     sim::ScoreHistogram h;
     std::vector<std::int16_t> sub = {1000, -1000, 0, kNeverForeground, 500};
     sim::GroundTruth t;
-    t.label = {sim::Truth::kForeground, sim::Truth::kForeground, sim::Truth::kNotForeground,
-               sim::Truth::kNotForeground, sim::Truth::kUnknown};
+    t.label = {sim::Truth::kForeground, sim::Truth::kForeground, sim::Truth::kNotForeground, sim::Truth::kNotForeground,
+               sim::Truth::kUnknown};
     sim::add_scores(h, sub, t);
     const std::vector<sim::PrPoint> c = sim::pr_curve(h, {0.001, 0.5, 0.9});
     CHECK(c[0].tp == 2U);  // -1000 units = -3.9 nats, P 0.02 >= 0.001

@@ -59,7 +59,8 @@ TEST_CASE("socketcan: error frames map to bus-off, error-passive and controller-
     CHECK(warn.raised_faults == 0U);  // the warning level is reported, not a fault
     CHECK(classify_error_frame(error_frame(CAN_ERR_CRTL, CAN_ERR_CRTL_ACTIVE)).back_to_error_active);
     CHECK(classify_error_frame(error_frame(CAN_ERR_RESTARTED)).restarted);
-    const ErrorFrameReport both = classify_error_frame(error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL, CAN_ERR_CRTL_TX_PASSIVE));
+    const ErrorFrameReport both = classify_error_frame(
+        error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL, CAN_ERR_CRTL_TX_PASSIVE));
     CHECK(both.raised_faults == (bit(FaultCode::kCanBusOff) | bit(FaultCode::kCanErrorPassive)));
     can_frame data{};
     data.can_id = CAN_ERR_BUSOFF;  // no CAN_ERR_FLAG: a data frame with ID 0x40, not an error
@@ -187,13 +188,14 @@ TEST_CASE("socketcan: as a CanSender it reports a refused send as false and its 
 }
 
 // verifies: SR-CAN-011
-TEST_CASE("socketcan: every fault the port raises is an ActiveFaults CAN detail bit (9..14), never a safety logic bit") {
+TEST_CASE(
+    "socketcan: every fault the port raises is an ActiveFaults CAN detail bit (9..14), never a safety logic bit") {
     CanFaultMonitor m;
     m.on_send(SocketCanError::kTxBufferFull);
     m.on_send(SocketCanError::kNetworkDown);
     m.on_send(SocketCanError::kSendFailed);
-    m.on_error_frame(classify_error_frame(error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL | CAN_ERR_ACK,
-                                                      CAN_ERR_CRTL_TX_PASSIVE)));
+    m.on_error_frame(
+        classify_error_frame(error_frame(CAN_ERR_BUSOFF | CAN_ERR_CRTL | CAN_ERR_ACK, CAN_ERR_CRTL_TX_PASSIVE)));
     CHECK(m.active_faults() == kCanDetailFaultBits);
     CHECK((m.active_faults() & kSafetyLogicFaultBits) == 0U);
     CHECK(bit(FaultCode::kCanTxBufferFull) == 0x0200U);

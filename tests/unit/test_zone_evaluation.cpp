@@ -14,7 +14,7 @@ namespace {
 struct Fixture {
     GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{10, 10, 10}).value();
     std::vector<std::int16_t> lo = std::vector<std::int16_t>(1000, 0);
-    std::vector<std::uint8_t> ob = std::vector<std::uint8_t>(1000, 1);  // all observed
+    std::vector<std::uint8_t> ob = std::vector<std::uint8_t>(1000, 1);     // all observed
     std::vector<std::int16_t> prior = std::vector<std::int16_t>(1000, 0);  // P(fore) = 0.5 everywhere
     std::vector<std::uint32_t> mask = std::vector<std::uint32_t>(1000);
     EvidenceGrid frame;
@@ -79,7 +79,8 @@ TEST_CASE("zone evaluation: the prior removes background: a never-foreground vox
     CHECK(e.zones[0].state == ZoneState::kClear);
     std::vector<std::int16_t> sub(1000);
     ZoneEvaluation e2;
-    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e2, {sub.data(), 1000U}).ok());
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e2, {sub.data(), 1000U})
+                .ok());
     CHECK(sub[f.at(2, 2, 2)] == kNeverForeground);
     CHECK(sub[f.at(3, 3, 3)] == 100);
 }
@@ -87,7 +88,8 @@ TEST_CASE("zone evaluation: the prior removes background: a never-foreground vox
 // verifies: SR-ZONE-004
 TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowance makes it UNSEEN") {
     Fixture f;
-    for (int i = 0; i < 3; ++i) f.ob[f.at(i, 0, 0)] = 0U;
+    for (int i = 0; i < 3; ++i)
+        f.ob[f.at(i, 0, 0)] = 0U;
     CHECK(f.run().zones[0].state == ZoneState::kClear);  // 3 unseen: within the allowance
     f.ob[f.at(3, 0, 0)] = 0U;
     ZoneEvaluation e = f.run();
@@ -95,7 +97,8 @@ TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowa
     CHECK(e.zones[0].unseen == 4U);
     CHECK(e.zones[1].state == ZoneState::kUnseen);  // the warning zone allows none
     // Unobserved but inaccessible (inside background objects) does not count.
-    for (int i = 0; i < 4; ++i) f.prior[f.at(i, 0, 0)] = kNeverForeground;
+    for (int i = 0; i < 4; ++i)
+        f.prior[f.at(i, 0, 0)] = kNeverForeground;
     e = f.run();
     CHECK(e.zones[0].state == ZoneState::kClear);
     CHECK(e.zones[1].state == ZoneState::kClear);
@@ -104,7 +107,8 @@ TEST_CASE("zone evaluation: unobserved accessible space beyond the zone's allowa
 // verifies: SR-ZONE-005
 TEST_CASE("zone evaluation: INTRUDED outranks UNSEEN") {
     Fixture f;
-    for (int i = 0; i < 8; ++i) f.ob[f.at(i % 5, 1, 1)] = 0U;
+    for (int i = 0; i < 8; ++i)
+        f.ob[f.at(i % 5, 1, 1)] = 0U;
     f.lo[f.at(4, 4, 4)] = 1000;
     CHECK(f.run().zones[0].state == ZoneState::kIntruded);
 }
@@ -171,7 +175,8 @@ TEST_CASE("zone evaluation: counts per run of equal zone masks equal counting vo
                 continue;
             }
             fg += add_saturating(lo[i], prior[i]) >= params.foreground_threshold ? 1U : 0U;
-            unseen += (ob[i] == 0U && prior[i] != kNeverForeground && prior[i] >= params.accessible_min_prior) ? 1U : 0U;
+            unseen += (ob[i] == 0U && prior[i] != kNeverForeground && prior[i] >= params.accessible_min_prior) ? 1U
+                                                                                                               : 0U;
         }
         CHECK(fg > 0U);
         CHECK(unseen > 0U);

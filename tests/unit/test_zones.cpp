@@ -24,7 +24,8 @@ ZoneConfig box(double x0, double y0, double z0, double x1, double y1, double z1)
 ZoneConfig prism(std::initializer_list<PolygonVertex> pts, double z0, double z1) {
     ZoneConfig z;
     z.shape = ZoneShape::kPrism;
-    for (const auto& p : pts) z.polygon[z.polygon_size++] = p;
+    for (const auto& p : pts)
+        z.polygon[z.polygon_size++] = p;
     z.z_min = z0;
     z.z_max = z1;
     return z;
@@ -77,11 +78,11 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
     CHECK(rejected(box(0.5, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kInvalidArgument));  // empty
     CHECK(rejected(box(0.6, 0, 0, 0.5, 0.5, 0.5), ErrorCode::kInvalidArgument));  // inverted
     CHECK(rejected(box(0, 0, std::numeric_limits<double>::quiet_NaN(), 0.5, 0.5, 0.5), ErrorCode::kNonFiniteValue));
-    CHECK(rejected(box(0.01, 0.01, 0.01, 0.02, 0.02, 0.02), ErrorCode::kInvalidArgument));  // holds no voxel centre
-    CHECK(rejected(prism({{0, 0}, {1, 0}}, 0, 0.5), ErrorCode::kInvalidArgument));             // too few vertices
+    CHECK(rejected(box(0.01, 0.01, 0.01, 0.02, 0.02, 0.02), ErrorCode::kInvalidArgument));    // holds no voxel centre
+    CHECK(rejected(prism({{0, 0}, {1, 0}}, 0, 0.5), ErrorCode::kInvalidArgument));            // too few vertices
     CHECK(rejected(prism({{0, 0}, {0.5, 0}, {1, 0}}, 0, 0.5), ErrorCode::kInvalidArgument));  // collinear
     CHECK(rejected(prism({{0, 0}, {1, 0}, {0.2, 0.2}, {0, 1}}, 0, 0.5), ErrorCode::kInvalidArgument));  // not convex
-    CHECK(rejected(prism({{0, 0}, {1, 0}, {0, 1}}, 0.5, 0.5), ErrorCode::kInvalidArgument));  // no height
+    CHECK(rejected(prism({{0, 0}, {1, 0}, {0, 1}}, 0.5, 0.5), ErrorCode::kInvalidArgument));            // no height
     CHECK(rejected(prism({{0, 0}, {1.5, 0}, {0, 1}}, 0, 0.5), ErrorCode::kOutOfGrid));
     // A pentagram turns the same way at every vertex but is not convex.
     CHECK(rejected(prism({{0.5, 1.0}, {0.2, 0.0}, {1.0, 0.65}, {0.0, 0.65}, {0.8, 0.0}}, 0, 0.5),
@@ -92,7 +93,8 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
 }
 
 // verifies: SR-ZONE-002
-TEST_CASE("zones: every coordinate of a zone is checked on its own: non-finite, outside each face, unknown kind or shape") {
+TEST_CASE(
+    "zones: every coordinate of a zone is checked on its own: non-finite, outside each face, unknown kind or shape") {
     std::vector<std::uint32_t> mask(1000);
     const auto refused = [&](const ZoneConfig& bad, ErrorCode code) {
         const ZoneConfig zs[] = {bad};

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-eval: the paper's experiments (sections IV-V) on the simulated
 // workcell. Four methods (thresholded, probabilistic and their baselines
 // without accessibility analysis) on the scenes "large" and "small", with
@@ -5,6 +7,7 @@
 // precision-recall plots (gnuplot, when installed) and voxel renders like
 // the paper's Figs. 4-7. Optionally the same on a 256 x 256 x 128 cell, with
 // its fusion, prior and subtraction times.
+#include <sys/stat.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,13 +15,12 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
-#include "cellguard/host/command_line.hpp"
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/host/sim/experiment.hpp"
+#include "cellguard/host/command_line.hpp"
 #include "cellguard/host/io/png.hpp"
+#include "cellguard/host/sim/experiment.hpp"
 #include "render.hpp"
 
 using namespace cellguard;
@@ -172,8 +174,9 @@ void write_renders(const Options& o, const sim::SceneResult& r, const sim::Senso
     for (const sim::MethodResult& m : r.methods) {
         const std::string path = o.out_dir + "/render-" + r.name + "-" + sim::method_name(m.method) + ".png";
         std::string error;
-        if (!host::write_png(path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480),
-                             error)) {
+        if (!host::write_png(
+                path, eval::render_voxels(g, classes_for(r, &m.last_subtracted, nullptr, 0.73), camera, 640, 480),
+                error)) {
             static_cast<void>(std::fprintf(stderr, "cellguard-eval: cannot write %s\n", path.c_str()));
         }
     }
@@ -192,8 +195,8 @@ struct EmptyCheck {
 };
 
 EmptyCheck empty_check(const sim::SceneResult& r, const sim::MethodResult& m, double t_f) {
-    const std::vector<std::uint8_t> interior =
-        sim::background_interior_mask(r.background_grid.grid.geometry(), r.background);
+    const std::vector<std::uint8_t> interior = sim::background_interior_mask(r.background_grid.grid.geometry(),
+                                                                             r.background);
     const std::int16_t fg = threshold_log_odds(t_f);
     EmptyCheck c;
     for (std::size_t i = 0; i < interior.size(); ++i) {
@@ -243,8 +246,9 @@ int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostrings
     cfg.foreground_frames = 2;
     sim::SceneFile file;
     sim::SceneResult result(cfg.geometry);
-    std::printf("scale run: 256 x 256 x 128 voxels of 1.5625 cm over the whole cell, r = 6 voxels, %d background frames\n",
-                cfg.background_frames);
+    std::printf(
+        "scale run: 256 x 256 x 128 voxels of 1.5625 cm over the whole cell, r = 6 voxels, %d background frames\n",
+        cfg.background_frames);
     if (!run(o, "large", cfg, file, result)) {
         return 1;
     }
@@ -255,7 +259,8 @@ int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostrings
        << " foreground frames; one thread, wall-clock times on a 2-core machine shared with other jobs (they vary "
           "by up to 2x between runs).\n\n"
        << "| step | time (ms) |\n|---|---|\n"
-       << "| simulation of one frame (4 sensors, ray casting and noise) | " << fmt(result.render_ms_per_frame, 1) << " |\n"
+       << "| simulation of one frame (4 sensors, ray casting and noise) | " << fmt(result.render_ms_per_frame, 1)
+       << " |\n"
        << "| fusion of one frame (204,288 rays) | " << fmt(result.fuse_ms_per_frame, 1) << " |\n";
     for (const sim::MethodResult& m : result.methods) {
         md << "| prior, " << sim::method_name(m.method) << " | " << fmt(m.prior_ms, 1) << " |\n";
@@ -282,7 +287,8 @@ int parse_args(int argc, char** argv, Options& o) {
     cli.text("--scenes", o.scenes_dir, "DIR",
              "scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)");
     cli.text("--out", o.out_dir, "DIR", "output folder, created if missing (default eval-results)");
-    cli.integer("--background-frames", o.background_frames, 1, 100000, "N", "empty frames summed into G_B (default 100)");
+    cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
+                "empty frames summed into G_B (default 100)");
     cli.integer("--foreground-frames", o.foreground_frames, 1, 10000, "N",
                 "frames with the foreground, scores summed (default 5)");
     cli.flag("--ideal", o.ideal, "ideal sensors instead of the scenes' noise models");
@@ -330,7 +336,8 @@ void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std
           "(2 voxels), t_B = "
        << cfg.params.t_b << ", t_E = " << cfg.params.t_e << ", sensor model: per sensor and frame p_miss "
        << cfg.sensor_model.p_miss << ", p_hit " << cfg.sensor_model.p_hit << ", pooled frame evidence clamped to ["
-       << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
+       << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max
+       << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
        << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham") << "; one G_B (background.toml) from "
        << cfg.background_frames << " empty frames; scores summed over " << cfg.foreground_frames
        << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "render.hpp"
 
 #include <cmath>
@@ -14,9 +16,9 @@ constexpr std::uint8_t kFirstShade = 1U;  // 1 + 4 * (class - 1) + shade (0..2),
 
 std::vector<std::array<std::uint8_t, 3>> palette() {
     return {
-        {255, 255, 255},                                                 // background of the image
-        {200, 200, 200}, {165, 165, 165}, {135, 135, 135}, {80, 80, 80},  // background voxels
-        {235, 45, 35},   {195, 30, 25},   {155, 20, 20},   {95, 10, 10},  // foreground voxels
+        {255, 255, 255},                                                     // background of the image
+        {200, 200, 200}, {165, 165, 165}, {135, 135, 135}, {80, 80, 80},     // background voxels
+        {235, 45, 35},   {195, 30, 25},   {155, 20, 20},   {95, 10, 10},     // foreground voxels
         {232, 232, 224}, {215, 215, 206}, {200, 200, 192}, {185, 185, 176},  // floor
     };
 }
@@ -74,7 +76,8 @@ IndexedImage render_voxels(const GridGeometry& g, const std::vector<VoxelClass>&
                 const int cls = static_cast<int>(c) - 1;
                 colour = static_cast<std::uint8_t>(kFirstShade + 4 * cls + (edge ? 3 : shade));
             });
-            img.pixels[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u)] = colour;
+            img.pixels[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u)] =
+                colour;
         }
     }
     return img;

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file render.hpp
 /// Voxel renders in the spirit of the paper's Figs. 4-7: foreground voxels in
 /// red over the background in grey, seen through a pinhole camera (a
@@ -11,8 +13,8 @@
 #include <vector>
 
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/host/io/png.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 
 namespace cellguard::eval {
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The frames blob's reader (canned_frames.hpp).
 #include "cellguard/firmware/canned_frames.hpp"
 
@@ -128,8 +130,7 @@ const char* CannedFrames::scene_name(std::size_t i) const noexcept {
 Span<const float> CannedFrames::depth(std::size_t i, std::size_t s) const noexcept {
     CG_ENFORCE(i < scene_count_ && s < sensor_count_, "scene or sensor index out of range");
     const CannedSensor& c = sensors_[s];
-    return floats_.subspan(first_float_[i][s],
-                           static_cast<std::size_t>(c.width) * static_cast<std::size_t>(c.height));
+    return floats_.subspan(first_float_[i][s], static_cast<std::size_t>(c.width) * static_cast<std::size_t>(c.height));
 }
 
 }  // namespace cellguard::firmware

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /* The firmware's generated data, embedded byte for byte from
  * apps/firmware/generated/ (written by cellguard-firmware-gen): the same
  * files on every target (x86-64, aarch64, Cortex-M7). Declared for C++ in

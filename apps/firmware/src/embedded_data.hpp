@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file embedded_data.hpp
 /// The firmware's generated data as embedded by embedded_data.S (.incbin of
 /// apps/firmware/generated/prior.cgprior and frames.bin into .rodata, flash

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-firmware-gen: renders the firmware's canned inputs on the host.
 // Usage: cellguard-firmware-gen OUTPUT_DIR (and --help, --version)
 // Writes prior.cgprior (the prior image, byte for byte the file cellguard-prior
@@ -149,8 +151,7 @@ int parse_args(int argc, char** argv, std::string& dir) {
                           "scenes), binary, doubles and floats as their exact bits. The checked-in\n"
                           "copies are in apps/firmware/generated.",
                           "Exit status: 0 written, 1 a computation or a write failed, 2 bad command line.");
-    cli.argument("OUTPUT_DIR", "the existing folder the two files go into",
-                 [&dir](const std::string& v) { dir = v; });
+    cli.argument("OUTPUT_DIR", "the existing folder the two files go into", [&dir](const std::string& v) { dir = v; });
     return cli.parse(argc, argv);
 }
 
@@ -164,7 +165,8 @@ bool background_prior(const GridGeometry& g, const std::vector<sim::SensorSpec>&
     std::vector<std::int16_t> bg_lo(g.voxel_count());
     std::vector<std::uint8_t> frame_ob(g.voxel_count());
     std::vector<std::uint8_t> bg_ob(g.voxel_count());
-    EvidenceGrid frame = EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
+    EvidenceGrid frame =
+        EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
     EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
     bg.clear();
     const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
@@ -180,7 +182,8 @@ bool background_prior(const GridGeometry& g, const std::vector<sim::SensorSpec>&
     const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
     std::vector<std::uint32_t> words(size.words);
     std::vector<std::uint8_t> bytes(size.bytes);
-    if (!compute_accessibility_prior(bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
+    if (!compute_accessibility_prior(bg, params,
+                                     AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
                                      {prior.data(), prior.size()}, {})
              .ok()) {
         static_cast<void>(std::fprintf(stderr, "the accessibility prior failed\n"));

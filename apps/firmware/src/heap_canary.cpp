@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // An image that links the allocator, for the test that the firmware's ELF
 // check (check_elf.cmake) rejects it: never part of the firmware.
 #include <cstddef>

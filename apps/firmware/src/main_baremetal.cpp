@@ -1,15 +1,18 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The Cortex-M7 image for qemu-system-arm -M mps2-an500: the canned run
 // (scenario.hpp) with the SysTick clock and the semihosting CAN backend.
 #include <cstdint>
 
-#include "cellguard/port/semihosting.hpp"
-#include "cellguard/port/can.hpp"
-#include "cellguard/port/clock.hpp"
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/firmware/scenario.hpp"
+#include "cellguard/port/can.hpp"
+#include "cellguard/port/clock.hpp"
+#include "cellguard/port/semihosting.hpp"
 
 extern "C" {
-extern std::uint32_t __stack_bottom;  // NOLINT(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,cppcoreguidelines-avoid-non-const-global-variables): defined by the linker script
+// NOLINTNEXTLINE(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,cppcoreguidelines-avoid-non-const-global-variables): defined by the linker script
+extern std::uint32_t __stack_bottom;
 }
 
 namespace {
@@ -19,7 +22,8 @@ constexpr std::uint32_t kStackPaint = 0x5AFE57ACU;
 /// Fills the unused stack below @p in_use (an address in the current frame) with kStackPaint.
 void paint_stack(const volatile std::uint32_t* in_use) noexcept {
     // cppcheck-suppress comparePointers ; the stack region from the linker script
-    for (volatile std::uint32_t* p = &__stack_bottom; p + 64 < in_use; ++p) {  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
+    for (volatile std::uint32_t* p = &__stack_bottom; p + 64 < in_use; ++p) {
         *p = kStackPaint;
     }
 }
@@ -31,8 +35,10 @@ std::uint32_t stack_used_below(const volatile std::uint32_t* in_use) noexcept {
     while (p < in_use && *p == kStackPaint) {
         ++p;  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
     }
-    return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(in_use) -  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): address difference
-                                      reinterpret_cast<std::uintptr_t>(p));       // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): address difference
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): address difference
+    return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(in_use) -
+                                      // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): address difference
+                                      reinterpret_cast<std::uintptr_t>(p));
 }
 
 /// The MPS2 FPGA images run the processor at 25 MHz.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-firmware-digest: the firmware's canned run (scenario.hpp) on a
 // Linux host (x86-64 natively, aarch64 under qemu-user): prints the same
 // lines and digest as the Cortex-M7 image. With an argument 0x........ it
@@ -101,8 +103,8 @@ int parse_args(int argc, char** argv, const char*& expected_text, unsigned long&
         return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[2] + "'");
     }
     if (argc == 2 && !parse_digest(argv[1], expected)) {
-        return cellguard::host::usage_error(kProgram,
-                                            std::string("EXPECTED expects 0x and 1 to 8 hex digits, got '") + argv[1] + "'");
+        return cellguard::host::usage_error(
+            kProgram, std::string("EXPECTED expects 0x and 1 to 8 hex digits, got '") + argv[1] + "'");
     }
     expected_text = argc == 2 ? argv[1] : nullptr;
     return -1;

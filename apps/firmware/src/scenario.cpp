@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The firmware's canned run (scenario.hpp): the same source on the MCU and the hosts.
 #include "cellguard/firmware/scenario.hpp"
 
@@ -19,22 +21,25 @@ namespace {
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
 // The frame grid and the zone membership mask: static storage (.bss).
-GridStorage g_grid;                              // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the frame grid's storage, in .bss by design
-std::int16_t g_fusion_scratch[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): fusion's per-sensor working memory, in .bss by design
-std::uint32_t g_zone_mask[GridStorage::kVoxels]; // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): the frame grid's storage, in .bss by design
+GridStorage g_grid;
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): fusion's per-sensor working memory, in .bss by design
+std::int16_t g_fusion_scratch[GridStorage::kVoxels];
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
+std::uint32_t g_zone_mask[GridStorage::kVoxels];
 
 // The controller reads the prior image's payload in place as int16 values.
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the prior payload is little-endian int16");
 
 /// One cycle of the script.
 struct Step {
-    std::uint8_t scene;           // scene index in the frames blob
-    std::uint8_t missing_sensors; // bit s: sensor s delivers no frame this cycle
-    bool reset;                   // level of the reset input
+    std::uint8_t scene;            // scene index in the frames blob
+    std::uint8_t missing_sensors;  // bit s: sensor s delivers no frame this cycle
+    bool reset;                    // level of the reset input
 };
 // Empty cell, a person in the warning zone, a person in the protective zone,
 // empty again, a sensor missing, then recovery.
-constexpr Step kScript[kScenarioCycles] = {{0U, 0U, false}, {1U, 0U, false}, {2U, 0U, false}, {0U, 0U, false},
+constexpr Step kScript[kScenarioCycles] = {{0U, 0U, false},   {1U, 0U, false}, {2U, 0U, false}, {0U, 0U, false},
                                            {0U, 0x4U, false}, {0U, 0U, false}, {0U, 0U, false}, {0U, 0U, false}};
 
 /// Feeds values, little-endian, to the cycle's and the whole run's CRC.
@@ -72,9 +77,9 @@ public:
     bool send(const CanFrame& frame) noexcept override {
         CanFrame m = frame;
         if (m.id == diagnostics_id_) {
-            m.data[0] = 0U;                                   // E2E CRC (covers the timing)
-            m.data[4] = 0U;                                   // CycleTime bits 32..39
-            m.data[5] = 0U;                                   // CycleTime 40..42, MaxCycleTime 43..47
+            m.data[0] = 0U;                                            // E2E CRC (covers the timing)
+            m.data[4] = 0U;                                            // CycleTime bits 32..39
+            m.data[5] = 0U;                                            // CycleTime 40..42, MaxCycleTime 43..47
             m.data[6] = static_cast<std::uint8_t>(m.data[6] & 0xC0U);  // MaxCycleTime 48..53; keep the CRC page
         }
         digest_->u32(m.id);
@@ -215,9 +220,9 @@ std::array<ZoneConfig, kScenarioZones> scenario_zone_configs() noexcept {
 ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept {
     ControllerConfig config;
     config.sensor_count = sensor_count;
-    config.logic.restart_delay_us = 0U;       // the interlock is not under test here
+    config.logic.restart_delay_us = 0U;  // the interlock is not under test here
     config.logic.fault_recovery_cycles = 2U;
-    config.cycle_budget_us = 10000000U;       // generous: timing must not change the results
+    config.cycle_budget_us = 10000000U;  // generous: timing must not change the results
     return config;
 }
 
@@ -231,7 +236,8 @@ bool prior_in_flash_ok(const Result<PriorImageView, PriorImageError>& view, Text
         text.write("error: the prior image in flash fails its checks\n");
         return false;
     }
-    if (static_cast<const void*>(cellguard_firmware_prior_values) != static_cast<const void*>(view.value().payload().data()) ||
+    if (static_cast<const void*>(cellguard_firmware_prior_values) !=
+            static_cast<const void*>(view.value().payload().data()) ||
         view.value().voxel_count() != GridStorage::kVoxels) {
         text.write("error: the prior values symbol is not the image's payload\n");
         return false;
@@ -328,13 +334,13 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     }
     const CannedFrames& frames = frames_result.value();
 
-    const Result<EvidenceGrid> grid =
-        EvidenceGrid::make(geometry, Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
-                           Span<std::uint8_t>(g_grid.observed, GridStorage::kVoxels));
+    const Result<EvidenceGrid> grid = EvidenceGrid::make(geometry,
+                                                         Span<std::int16_t>(g_grid.log_odds, GridStorage::kVoxels),
+                                                         Span<std::uint8_t>(g_grid.observed, GridStorage::kVoxels));
     const std::array<ZoneConfig, kScenarioZones> zone_configs = scenario_zone_configs();
-    const Result<CompiledZones, ZoneError> zones =
-        CompiledZones::compile(geometry, Span<const ZoneConfig>(zone_configs.data(), zone_configs.size()),
-                               Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels));
+    const Result<CompiledZones, ZoneError> zones = CompiledZones::compile(
+        geometry, Span<const ZoneConfig>(zone_configs.data(), zone_configs.size()),
+        Span<std::uint32_t>(g_zone_mask, GridStorage::kVoxels));
     if (!grid.ok() || !zones.ok()) {
         text.write("error: grid or zones refused\n");
         return summary;
@@ -351,8 +357,7 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of g_grid
     SafetyController controller(config, frame_grid, Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels),
-                                prior_values, zones.value(),
-                                model, clock, &output);
+                                prior_values, zones.value(), model, clock, &output);
     summary.prior_crc = controller.prior_crc();
     if (!output.status().ok() || controller.prior_crc() != output_config.prior_crc) {
         text.write("error: CAN output refused or prior CRC differs from the image's payload CRC\n");

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/owned_ray_table.hpp"
 
 namespace cellguard::host {
@@ -8,8 +10,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
     if (!n.ok()) {
         return n.error();
     }
-    const std::size_t pixels =
-        static_cast<std::size_t>(sensor.intrinsics.width) * static_cast<std::size_t>(sensor.intrinsics.height);
+    const std::size_t pixels = static_cast<std::size_t>(sensor.intrinsics.width) *
+                               static_cast<std::size_t>(sensor.intrinsics.height);
     const bool compact = ray_table_is_compact(grid, sensor);
     compact_voxels_.assign(compact ? n.value() : 0U, 0U);
     compact_exit_steps_.assign(compact ? n.value() : 0U, 0U);
@@ -50,7 +52,8 @@ Status OwnedRayTable::build(const GridGeometry& grid, const SensorReading& senso
 std::size_t OwnedRayTable::storage_bytes() const noexcept {
     return (compact_voxels_.size() + compact_exit_steps_.size()) * sizeof(std::uint16_t) +
            wide_voxels_.size() * sizeof(std::uint32_t) + wide_exits_.size() * sizeof(float) +
-           (pixel_begin_.size() + full_hits_.size() + crossed_voxels_.size() + pixel_walked_.size() + hit_count_.size()) *
+           (pixel_begin_.size() + full_hits_.size() + crossed_voxels_.size() + pixel_walked_.size() +
+            hit_count_.size()) *
                sizeof(std::uint32_t) +
            (pixel_enter_.size() + pixel_exit_.size() + pixel_norm_.size()) * sizeof(float) +
            sensor_opinion_.size() * sizeof(std::int16_t);

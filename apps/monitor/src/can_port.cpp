@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The monitor's CAN port (can_port.hpp).
 #include "cellguard/monitor/can_port.hpp"
 
@@ -34,17 +36,10 @@ void CanPort::use_sender(CanSender& sender) noexcept {
 bool CanPort::send(const CanFrame& frame) noexcept {
     bool sent = false;
     switch (kind_) {
-        case Kind::kInterface:
-            sent = socket_.send(frame);
-            break;
-        case Kind::kLog:
-            sent = log_.send(frame);
-            break;
-        case Kind::kSender:
-            sent = sender_->send(frame);
-            break;
-        case Kind::kNone:
-            break;
+        case Kind::kInterface: sent = socket_.send(frame); break;
+        case Kind::kLog: sent = log_.send(frame); break;
+        case Kind::kSender: sent = sender_->send(frame); break;
+        case Kind::kNone: break;
     }
     if (sent) {
         ++sent_;

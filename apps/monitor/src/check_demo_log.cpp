@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-monitor-check-log: checks a candump log written by
 // `cellguard-monitor --demo` as the robot's PLC would receive it: the PLC-side
 // receiver gets every frame at its time stamp and is polled on the log's clock
@@ -9,9 +11,9 @@
 #include <cstdio>
 #include <string>
 
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cli.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The check of a demo run's candump log with the PLC receiver, polled on the
 // log's clock. See demo_log_check.hpp.
 #include "cellguard/monitor/demo_log_check.hpp"
@@ -9,8 +11,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "cellguard/host/io/candump_log.hpp"
 #include "cellguard/host/cell/scenario.hpp"
+#include "cellguard/host/io/candump_log.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -67,9 +69,9 @@ private:
     int lines_ = 0;
     int diagnostics_ = 0;
     int valid_pairs_ = 0;
-    std::vector<bool> stop_;       // the stop bit of each safety frame
+    std::vector<bool> stop_;  // the stop bit of each safety frame
     CanFrame last_safety_{};
-    bool have_safety_ = false;     // a safety frame waits for its copy
+    bool have_safety_ = false;  // a safety frame waits for its copy
     bool have_time_ = false;
     std::uint64_t start_us_ = 0U;  // the first frame's time stamp
     std::uint64_t last_us_ = 0U;   // the latest time stamp so far
@@ -218,7 +220,8 @@ void LogChecker::finish() {
              std::to_string(stop_.size()));
     }
     const int entry = check_entry_cycle();
-    const bool stop_there = entry >= 0 && entry < static_cast<int>(stop_.size()) && stop_[static_cast<std::size_t>(entry)];
+    const bool stop_there = entry >= 0 && entry < static_cast<int>(stop_.size()) &&
+                            stop_[static_cast<std::size_t>(entry)];
     out_.summary = std::to_string(lines_) + " lines, " + std::to_string(stop_.size()) + " safety pairs (" +
                    std::to_string(valid_pairs_) + " accepted by the PLC receiver), " + std::to_string(diagnostics_) +
                    " diagnostics frames; PLC receiver " + polled + ", " + std::to_string(faults_seen_) +

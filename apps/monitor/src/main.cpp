@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-monitor: the protective-zone monitor on Linux. Runs the cycle
 // executive on the (simulated) workcell and sends the CAN safety output on a
 // SocketCAN interface or into a candump log. This file holds the command
@@ -19,16 +21,16 @@
 #include <vector>
 
 #include "cellguard/base/crc32.hpp"
-#include "cellguard/host/command_line.hpp"
-#include "cellguard/port/clock.hpp"
-#include "cellguard/monitor/can_port.hpp"
 #include "cellguard/host/cell/config.hpp"
-#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
+#include "cellguard/host/command_line.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
-#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/monitor/picture.hpp"
+#include "cellguard/port/clock.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -59,17 +61,16 @@ struct Options {
 /// after --help or --version, 2 after a usage error). No arguments, or
 /// options without --config: the built-in demo configuration.
 int parse_args(int argc, char** argv, Options& o) {
-    host::CommandLine cli(
-        "cellguard-monitor", "cellguard-monitor [--demo | --config FILE] [options]",
-        "Protective-zone monitor: fuses the workcell's depth sensors every cycle,\n"
-        "evaluates the protective and warning zones, and sends the CAN safety\n"
-        "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
-        "interface or into a candump-format log. The sensor input is the workcell\n"
-        "simulator (a scripted person walking through the cell), or for sensors\n"
-        "with `pcd_files` in the configuration, recorded PCD frames, each checked.",
-        "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
-        "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
-        "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
+    host::CommandLine cli("cellguard-monitor", "cellguard-monitor [--demo | --config FILE] [options]",
+                          "Protective-zone monitor: fuses the workcell's depth sensors every cycle,\n"
+                          "evaluates the protective and warning zones, and sends the CAN safety\n"
+                          "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
+                          "interface or into a candump-format log. The sensor input is the workcell\n"
+                          "simulator (a scripted person walking through the cell), or for sensors\n"
+                          "with `pcd_files` in the configuration, recorded PCD frames, each checked.",
+                          "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
+                          "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
+                          "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
     CLI::Option* demo = cli.flag("--demo", o.demo, "the built-in paper cell (the default with no arguments)");
     CLI::Option* config = cli.text("--config", o.config_path, "FILE",
                                    "load the configuration from a TOML file\n"
@@ -77,7 +78,8 @@ int parse_args(int argc, char** argv, Options& o) {
     demo->excludes(config);
     cli.integer("--cycles", o.cycles, 1, 1000000, "N", "run N cycles (default: the config's demo.cycles, 60)");
     CLI::Option* log = cli.text("--log", o.log_file, "FILE", "candump log path (default: the config's can.log_file)");
-    CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF", "send on SocketCAN interface IF instead of the log");
+    CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF",
+                                "send on SocketCAN interface IF instead of the log");
     log->excludes(can);
     cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
@@ -87,7 +89,8 @@ int parse_args(int argc, char** argv, Options& o) {
     cli.flag("--quiet", o.quiet, "no per-cycle status lines");
     cli.text("--picture", o.picture, "FILE",
              "write a PNG of the grid, the background and the zones\n(top view and one sensor's view) and exit");
-    cli.text("--picture-sensor", o.picture_sensor, "S", "the sensor of that view, by name or number from 1 (default 1)");
+    cli.text("--picture-sensor", o.picture_sensor, "S",
+             "the sensor of that view, by name or number from 1 (default 1)");
     const int status = cli.parse(argc, argv);
     if (o.config_path.empty()) {
         o.demo = true;  // no arguments, or options only: the built-in demo configuration
@@ -102,15 +105,17 @@ void enter_realtime() {
     if (sched_setscheduler(0, SCHED_FIFO, &sp) == 0) {
         std::printf("realtime: SCHED_FIFO priority 50\n");
     } else {
-        std::printf("realtime: SCHED_FIFO not permitted (%s); running with the normal scheduler "
-                    "(needs CAP_SYS_NICE or an rtprio limit)\n",
-                    std::strerror(errno));
+        std::printf(
+            "realtime: SCHED_FIFO not permitted (%s); running with the normal scheduler "
+            "(needs CAP_SYS_NICE or an rtprio limit)\n",
+            std::strerror(errno));
     }
     if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
         std::printf("realtime: memory locked (mlockall)\n");
     } else {
-        std::printf("realtime: mlockall not permitted (%s); pages may be swapped (needs CAP_IPC_LOCK or a memlock limit)\n",
-                    std::strerror(errno));
+        std::printf(
+            "realtime: mlockall not permitted (%s); pages may be swapped (needs CAP_IPC_LOCK or a memlock limit)\n",
+            std::strerror(errno));
     }
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -188,8 +193,8 @@ SetupError open_can(const MonitorConfig& cfg, CycleClock& clock, CanPort& can) {
 /// --picture: the configuration drawn to a PNG.
 int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell) {
     std::string error;
-    const std::string title =
-        "cellguard zones: " + (opt.demo ? std::string("built-in demo (paper-cell.toml)") : opt.config_path);
+    const std::string title = "cellguard zones: " +
+                              (opt.demo ? std::string("built-in demo (paper-cell.toml)") : opt.config_path);
     if (!write_config_picture(opt.picture, title, cfg, cell.grid, cell.zones, cell.specs,
                               {cell.prior.data(), cell.prior.size()}, opt.picture_sensor, error)) {
         static_cast<void>(std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str()));

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The monitor's start-up: sensors, grid, zones, prior, ray tables (monitor_cell.hpp).
 #include "cellguard/monitor/monitor_cell.hpp"
 
@@ -5,10 +7,10 @@
 #include <cmath>
 #include <cstdarg>
 
-#include "cellguard/prior/accessibility.hpp"
-#include "cellguard/safety/cycle.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/io/prior_files.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/safety/cycle.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -70,8 +72,9 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
     if (s.has_target) {
         spec.target = s.target;
         if (std::abs((s.target - s.position).normalized().z()) > 0.999) {
-            error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
-                    "': looking straight up or down needs `rotation` (the simulator derives the roll from the vertical)";
+            error =
+                "line " + std::to_string(s.line) + ": sensor '" + s.name +
+                "': looking straight up or down needs `rotation` (the simulator derives the roll from the vertical)";
         }
     } else {
         const Eigen::Matrix3d r = s.rotation.toRotationMatrix();
@@ -122,13 +125,13 @@ SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
         zone_configs.push_back(z.zone);
     }
     zone_mask.assign(grid.voxel_count(), 0U);
-    const Result<CompiledZones, ZoneError> compiled =
-        CompiledZones::compile(grid, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()});
+    const Result<CompiledZones, ZoneError> compiled = CompiledZones::compile(
+        grid, {zone_configs.data(), zone_configs.size()}, {zone_mask.data(), zone_mask.size()});
     if (!compiled.ok()) {
         const ZoneError zone_error = compiled.error();
         const cell::ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
-        return failure(2, "configuration error: line %d: zone '%s': %s (%s)", z.line, z.name.c_str(),
-                       zone_error.reason, to_string(zone_error.code));
+        return failure(2, "configuration error: line %d: zone '%s': %s (%s)", z.line, z.name.c_str(), zone_error.reason,
+                       to_string(zone_error.code));
     }
     zones = compiled.value();
     frame_log_odds.assign(grid.voxel_count(), 0);
@@ -167,8 +170,7 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
     if (!st.ok()) {
         return failure(1, "prior: computing the accessibility prior failed: %s", to_string(st.error()));
     }
-    say(out, "prior: probabilistic accessibility prior from %d simulated empty frames\n",
-        cfg.prior.background_frames);
+    say(out, "prior: probabilistic accessibility prior from %d simulated empty frames\n", cfg.prior.background_frames);
     return {};
 }
 
@@ -198,8 +200,10 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
         backgrounds[s].min_match_fraction = cfg.background_match;
     }
     if (cfg.background_match > 0.0F) {
-        say(out, "background check: every frame must show %.0f %% of its sensor's view of the empty cell (within %.0f mm)\n",
-            100.0 * static_cast<double>(cfg.background_match), 1000.0 * static_cast<double>(cfg.background_tolerance_m));
+        say(out,
+            "background check: every frame must show %.0f %% of its sensor's view of the empty cell (within %.0f mm)\n",
+            100.0 * static_cast<double>(cfg.background_match),
+            1000.0 * static_cast<double>(cfg.background_tolerance_m));
     }
     say(out, "ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
         static_cast<double>(total_bytes) / 1e6);

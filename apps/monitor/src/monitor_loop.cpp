@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The monitor's cycle without the heap (monitor_loop.hpp).
 #include "cellguard/monitor/monitor_loop.hpp"
 
@@ -80,8 +82,9 @@ const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capaci
     return out;
 }
 
-MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
-                         CanPort& can, CycleClock& clock, std::FILE* status_out)
+MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
+                         const std::vector<cell::FrameSource*>& sources, CanPort& can, CycleClock& clock,
+                         std::FILE* status_out)
     : cfg_(&cfg),
       sources_(sources),
       can_(&can),

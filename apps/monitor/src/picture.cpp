@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The configuration picture: top view and one sensor's view of the grid,
 // the background and the zones (picture.hpp).
 #include "cellguard/monitor/picture.hpp"
@@ -136,7 +138,8 @@ std::string pair_text(double a, double b) {
 /// Each voxel column's zone membership bits (the OR over its height), 0 outside the grid.
 class ColumnBits {
 public:
-    ColumnBits(int nx, int ny) : nx_(nx), ny_(ny), bits_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0U) {}
+    ColumnBits(int nx, int ny)
+        : nx_(nx), ny_(ny), bits_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0U) {}
     void set(int ix, int iy, std::uint32_t bits) { bits_[index(ix, iy)] = bits; }
     [[nodiscard]] std::uint32_t at(int ix, int iy) const {
         if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) {
@@ -265,8 +268,8 @@ void draw_zone_numbers(RgbImage& img, const PictureInput& in, const PictureLayou
         if (n > 0) {
             int px = 0;
             int py = 0;
-            top_view_pixel(L, in.grid, static_cast<int>(std::lround(sx / n)), static_cast<int>(std::lround(sy / n)),
-                           px, py);
+            top_view_pixel(L, in.grid, static_cast<int>(std::lround(sx / n)), static_cast<int>(std::lround(sy / n)), px,
+                           py);
             const std::string t = std::to_string(z + 1U);
             label(img, px - static_cast<int>(t.size()) * 6, py - 8, t, edge_colour(in.zones->config(z)), 2);
         }
@@ -370,8 +373,8 @@ void draw_sensor_view(RgbImage& img, const PictureInput& in, const PictureLayout
         for (int px = 0; px < L.view_w; ++px) {
             const double u = (px + 0.5) / L.view_scale - 0.5;
             const double v = (py + 0.5) / L.view_scale - 0.5;
-            const Eigen::Vector3d dir = (s.pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0))
-                                            .normalized();
+            const Eigen::Vector3d dir =
+                (s.pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0)).normalized();
             // Front to back: zone tints, then the first background voxel.
             double r = 0.0;
             double g = 0.0;

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 """Checks a PNG written by cellguard-monitor --picture with Python's own zlib:
 signature, IHDR, every chunk's CRC-32, the zlib stream (decompressed by
 zlib, Adler-32 checked by it), one filter byte 0 or 2 (Up) per row, and that pixels of

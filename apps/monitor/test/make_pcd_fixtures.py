@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-FileCopyrightText: 2026 The cellguard authors
+# SPDX-License-Identifier: Apache-2.0
 """Writes the recorded-frame fixtures of apps/monitor/test/pcd-cell.toml into
 apps/monitor/test/pcd/: a 16 x 12 sensor 'recorded' at (-1.9, 0, 1.9) aimed
 at the centre of the floor (the simulator's pose convention: x right

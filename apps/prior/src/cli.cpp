@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-prior's command line: options, progress bar, report. See prior_tool.hpp.
 #include <sys/stat.h>
 
@@ -16,10 +18,10 @@
 #include <utility>
 #include <vector>
 
-#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/cli.hpp"
 #include "cellguard/host/command_line.hpp"
-#include "cellguard/grid/log_odds.hpp"
+#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 
 namespace cellguard::prior_tool {
@@ -36,8 +38,10 @@ std::string too_few_frames(std::size_t frames, const AccessibilityParams& params
         return "";
     }
     return std::to_string(frames) + " background frame(s) are too few for the " + method_name(params.method) +
-           " method: it needs at least " + std::to_string(need) + ", so that space seen free in every frame counts "
-           "as empty (below t_E); record more frames of the empty cell, or give the same frame again for a static scene";
+           " method: it needs at least " + std::to_string(need) +
+           ", so that space seen free in every frame counts "
+           "as empty (below t_E); record more frames of the empty cell, or give the same frame again for a static "
+           "scene";
 }
 
 /// Voxels from which the progress bar is on by default (on a terminal).
@@ -186,13 +190,12 @@ void add_grid_options(host::CommandLine& cli, Options& o, const InputOptions& in
         o.has_origin = true;
         o.origin = Eigen::Vector3d(t[0], t[1], t[2]);
     });
-    cli.value("--voxel-size", "S", "voxel edge, metres",
-              [&o](const std::string& v) {
-                  if (!parse_double(v, o.voxel_size) || !(o.voxel_size > 0.0)) {
-                      reject("--voxel-size expects a positive length in metres, got '" + v + "'");
-                  }
-                  o.has_voxel_size = true;
-              });
+    cli.value("--voxel-size", "S", "voxel edge, metres", [&o](const std::string& v) {
+        if (!parse_double(v, o.voxel_size) || !(o.voxel_size > 0.0)) {
+            reject("--voxel-size expects a positive length in metres, got '" + v + "'");
+        }
+        o.has_voxel_size = true;
+    });
     cli.value("--dims", "NX,NY,NZ",
               "voxels per axis; with --background-npy the shape gives\n"
               "the dims, --dims or --config then only check it\n"
@@ -215,9 +218,8 @@ void add_grid_options(host::CommandLine& cli, Options& o, const InputOptions& in
                   o.dims = GridDims{static_cast<std::int32_t>(d[0]), static_cast<std::int32_t>(d[1]),
                                     static_cast<std::int32_t>(d[2])};
               });
-    CLI::Option* background_frames =
-        cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
-                    "frames --simulated accumulates (default: --config's, or 8)");
+    CLI::Option* background_frames = cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
+                                                 "frames --simulated accumulates (default: --config's, or 8)");
     background_frames->excludes(input.npy);
     for (CLI::Option* r : input.recorded) {
         background_frames->excludes(r);
@@ -234,8 +236,10 @@ void add_analysis_options(host::CommandLine& cli, Options& o) {
               "probabilistic-baseline            (default probabilistic)",
               [&o](const std::string& v) {
                   if (!parse_method(v, o.params.method)) {
-                      reject("--method expects probabilistic, thresholded, thresholded-baseline or "
-                             "probabilistic-baseline, got '" + v + "'");
+                      reject(
+                          "--method expects probabilistic, thresholded, thresholded-baseline or "
+                          "probabilistic-baseline, got '" +
+                          v + "'");
                   }
               });
     auto probability = [](const char* name, double& target) {
@@ -256,8 +260,10 @@ void add_analysis_options(host::CommandLine& cli, Options& o) {
               "list of xmin,xmax,ymin,ymax,zmin,zmax (sides)",
               [&o](const std::string& v) {
                   if (!parse_open_faces(v, o.params.open_faces)) {
-                      reject("--open-faces expects sides, all, none or a comma list of xmin,xmax,ymin,ymax,zmin,zmax, "
-                             "got '" + v + "'");
+                      reject(
+                          "--open-faces expects sides, all, none or a comma list of xmin,xmax,ymin,ymax,zmin,zmax, "
+                          "got '" +
+                          v + "'");
                   }
               });
 }
@@ -267,12 +273,14 @@ CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progre
     CLI::App& app = cli.app();
     using host::reject;
     app.option_defaults()->group("OUTPUT");
-    cli.value("--out", "DIR", "output directory, created if missing (required)", [&o](const std::string& v) {
-           if (v.empty()) {
-               reject("--out expects a directory, got ''");
-           }
-           o.out_dir = v;
-       })->required();
+    cli.value("--out", "DIR", "output directory, created if missing (required)",
+              [&o](const std::string& v) {
+                  if (v.empty()) {
+                      reject("--out expects a directory, got ''");
+                  }
+                  o.out_dir = v;
+              })
+        ->required();
     cli.text("--namespace", o.name_space, "NS", "namespace of prior_flash.hpp (cellguard_prior)");
     cli.text("--config-header", o.config_header, "H",
              "header prior_flash.hpp includes first, e.g. the one that\n"
@@ -324,8 +332,9 @@ public:
         }
         constexpr std::size_t kWidth = 30U;
         const std::size_t filled = done * kWidth / total;
-        std::string line = "\r" + std::string(stage) + " [" + std::string(filled, '#') + std::string(kWidth - filled, '.') +
-                           "] " + std::to_string(done) + "/" + std::to_string(total) + "   ";
+        std::string line = "\r" + std::string(stage) + " [" + std::string(filled, '#') +
+                           std::string(kWidth - filled, '.') + "] " + std::to_string(done) + "/" +
+                           std::to_string(total) + "   ";
         err_ << line << (done == total ? "\n" : "") << std::flush;
     }
 
@@ -419,8 +428,8 @@ RunFailure check_source_options(const Options& o) {
     const IoStatus st = view.ok() ? prior_source_text(view.value(), probe, text) : IoStatus{};
     if (!view.ok() || !st.ok()) {
         return run_failure(kExitInputError, "--namespace '" + o.name_space + "' or --config-header '" +
-                                                o.config_header + "' refused by the source generator: " +
-                                                (st.ok() ? "" : st.message()));
+                                                o.config_header +
+                                                "' refused by the source generator: " + (st.ok() ? "" : st.message()));
     }
     return {};
 }
@@ -428,9 +437,10 @@ RunFailure check_source_options(const Options& o) {
 /// The grid's placement the options ask for: each of origin, voxel size, dims given, else --config's, else the
 /// paper grid's.
 struct GridChoice {
-    GridGeometry grid = paper_grid_geometry();   ///< --config's or the paper grid; the chosen one unless --background-npy
-    std::vector<RecordedSensor> sensors;          ///< --config's sensors (for recorded frames)
-    int config_frames = 8;                        ///< --config's [prior] background_frames
+    GridGeometry grid =
+        paper_grid_geometry();            ///< --config's or the paper grid; the chosen one unless --background-npy
+    std::vector<RecordedSensor> sensors;  ///< --config's sensors (for recorded frames)
+    int config_frames = 8;                ///< --config's [prior] background_frames
     Eigen::Vector3d origin = Eigen::Vector3d::Zero();
     double voxel_size = 0.0;
     GridDims dims{};
@@ -445,8 +455,9 @@ RunFailure choose_grid(const Options& o, GridChoice& c) {
         }
     }
     if (o.input == InputKind::kNpy && o.config.empty() && !(o.has_origin && o.has_voxel_size)) {
-        return run_failure(kExitInputError, "--background-npy needs the grid's placement: --origin X,Y,Z and "
-                                            "--voxel-size S, or --config FILE");
+        return run_failure(kExitInputError,
+                           "--background-npy needs the grid's placement: --origin X,Y,Z and "
+                           "--voxel-size S, or --config FILE");
     }
     c.origin = o.has_origin ? o.origin : c.grid.origin();
     c.voxel_size = o.has_voxel_size ? o.voxel_size : c.grid.voxel_size();
@@ -507,8 +518,8 @@ RunFailure add_recorded_files(const Options& o, std::vector<RecordedSensor>& sen
             }
         }
         if (!found) {
-            return run_failure(kExitInputError,
-                               "--frame " + sf.first + "=" + sf.second + ": no sensor '" + sf.first + "' in " + o.config);
+            return run_failure(kExitInputError, "--frame " + sf.first + "=" + sf.second + ": no sensor '" + sf.first +
+                                                    "' in " + o.config);
         }
     }
     return {};
@@ -571,8 +582,9 @@ RunFailure make_out_dir(const std::string& dir) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir, ec)) {
-        return run_failure(kExitOutputError, dir + ": cannot create the output directory" +
-                                                 (ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
+        return run_failure(kExitOutputError,
+                           dir + ": cannot create the output directory" +
+                               (ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
     }
     return {};
 }
@@ -669,8 +681,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     IoStatus st;
     {
         Progress progress(err, progress_on);
-        st = write_prior_outputs(o.out_dir, c.grid, o.params, result, source_options, written,
-                                 [&](std::size_t done, std::size_t total) { progress.bar("writing, verifying", done, total); });
+        st = write_prior_outputs(
+            o.out_dir, c.grid, o.params, result, source_options, written,
+            [&](std::size_t done, std::size_t total) { progress.bar("writing, verifying", done, total); });
     }
     const auto t_written = std::chrono::steady_clock::now();
     if (!st.ok()) {

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-prior: the accessibility prior of an empty workcell, as a prior
 // image, flash source and .npy files. The tool is run_prior_tool (prior_tool.hpp).
 #include <unistd.h>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-prior: the background of an empty cell -> the accessibility prior
 // as an image file, flash source and .npy files. See prior_tool.hpp.
 #include "cellguard/prior_tool/prior_tool.hpp"
@@ -14,14 +16,14 @@
 #include <filesystem>
 #include <utility>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
-#include "cellguard/host/io/npy.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/io/file.hpp"
-#include "cellguard/prior/prior_image.hpp"
+#include "cellguard/host/io/npy.hpp"
 #include "cellguard/host/sim/experiment.hpp"
+#include "cellguard/prior/accessibility.hpp"
+#include "cellguard/prior/prior_image.hpp"
 
 namespace cellguard::prior_tool {
 
@@ -47,7 +49,8 @@ std::string join_path(const std::string& dir, const char* name) {
 IoStatus read_npy_file_header(const std::string& path, NpyHeader& header, std::uint64_t& file_size) {
     const host::FilePtr f = host::open_file(path.c_str(), "rb");
     if (!f) {
-        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(), std::strerror(errno));
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(),
+                                 std::strerror(errno));
     }
     struct stat st {};
     if (fstat(fileno(f.get()), &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -144,8 +147,8 @@ IoStatus BackgroundGrid::allocate(const GridGeometry& geometry) {
     }
     log_odds.assign(geometry.voxel_count(), kLogOddsUnknown);
     observed.assign(geometry.voxel_count(), 0U);
-    const Result<EvidenceGrid> g =
-        EvidenceGrid::make(geometry, {log_odds.data(), log_odds.size()}, {observed.data(), observed.size()});
+    const Result<EvidenceGrid> g = EvidenceGrid::make(geometry, {log_odds.data(), log_odds.size()},
+                                                      {observed.data(), observed.size()});
     if (!g.ok()) {
         return IoStatus::failure(g.error(), "background: %s", to_string(g.error()));
     }
@@ -172,9 +175,8 @@ IoStatus check_background_shape(const std::string& path, const NpyHeader& h, con
     }
     for (std::size_t d = 0U; d < 3U; ++d) {
         if (h.shape[d] < 1U || h.shape[d] > static_cast<std::uint64_t>(kMaxDimension)) {
-            return IoStatus::failure(ErrorCode::kGeometryMismatch,
-                                     "%s: shape %s: every extent must be 1..%d", path.c_str(), shape_text(h).c_str(),
-                                     kMaxDimension);
+            return IoStatus::failure(ErrorCode::kGeometryMismatch, "%s: shape %s: every extent must be 1..%d",
+                                     path.c_str(), shape_text(h).c_str(), kMaxDimension);
         }
     }
     dims = GridDims{static_cast<std::int32_t>(h.shape[2]), static_cast<std::int32_t>(h.shape[1]),
@@ -221,9 +223,8 @@ IoStatus read_probability_background(const std::string& path, GridDims dims, Bac
                                      path.c_str(), voxel_name(i, dims).c_str(), std::isnan(v) ? "NaN" : "infinite");
         }
         if (v < 0.0F || v > 1.0F) {
-            return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                     "%s: voxel %s is %g, not a probability in [0, 1]", path.c_str(),
-                                     voxel_name(i, dims).c_str(), static_cast<double>(v));
+            return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: voxel %s is %g, not a probability in [0, 1]",
+                                     path.c_str(), voxel_name(i, dims).c_str(), static_cast<double>(v));
         }
         bg.log_odds[i] = v == 0.0F ? kLogOddsMin : log_odds_from_probability(static_cast<double>(v));
     }
@@ -249,8 +250,8 @@ IoStatus read_observed_flags(const std::string& observed_path, GridDims dims, Ba
 
 }  // namespace
 
-IoStatus load_background_npy(const std::string& path, const std::string& observed_path,
-                             const NpyPlacement& placement, BackgroundGrid& out, NpyBackgroundInfo& info) {
+IoStatus load_background_npy(const std::string& path, const std::string& observed_path, const NpyPlacement& placement,
+                             BackgroundGrid& out, NpyBackgroundInfo& info) {
     out = BackgroundGrid{};
     info = NpyBackgroundInfo{};
     NpyHeader h;
@@ -345,15 +346,15 @@ IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readin
     return IoStatus{};
 }
 
-IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files,
-                             std::vector<RecordedSensor>& sensors, GridGeometry& grid, int& background_frames) {
+IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files, std::vector<RecordedSensor>& sensors,
+                             GridGeometry& grid, int& background_frames) {
     const cell::ConfigLoad load = cell::load_monitor_config(config_path);
     if (!load.ok) {
         return IoStatus::failure(ErrorCode::kMalformedInput, "%s", load.error.c_str());
     }
     const cell::MonitorConfig& cfg = load.config;
-    const Result<GridGeometry> g = GridGeometry::make(
-        cfg.grid.origin, cfg.grid.voxel_size, GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]});
+    const Result<GridGeometry> g = GridGeometry::make(cfg.grid.origin, cfg.grid.voxel_size,
+                                                      GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]});
     if (!g.ok()) {
         return IoStatus::failure(g.error(), "%s: [grid]: %s", config_path.c_str(), to_string(g.error()));
     }
@@ -399,15 +400,16 @@ IoStatus add_frames_dir(const std::string& dir, std::vector<RecordedSensor>& sen
             continue;  // loose files (notes, calibration) are not frames
         }
         const std::string name = entry.path().filename().string();
-        auto sensor = std::find_if(sensors.begin(), sensors.end(), [&](const RecordedSensor& s) { return s.name == name; });
+        auto sensor = std::find_if(sensors.begin(), sensors.end(),
+                                   [&](const RecordedSensor& s) { return s.name == name; });
         if (sensor == sensors.end()) {
             std::string known;
             for (const RecordedSensor& s : sensors) {
                 known += (known.empty() ? "" : ", ") + s.name;
             }
             return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                     "%s: folder '%s' names no sensor of the configuration (sensors: %s)",
-                                     dir.c_str(), name.c_str(), known.c_str());
+                                     "%s: folder '%s' names no sensor of the configuration (sensors: %s)", dir.c_str(),
+                                     name.c_str(), known.c_str());
         }
         std::vector<std::string> files;
         for (fs::directory_iterator f(entry.path(), ec2), fend; !ec2 && f != fend; f.increment(ec2)) {
@@ -455,9 +457,8 @@ IoStatus accumulate_frames(FrameSource& frames, BackgroundGrid& background, cons
         if (!st.ok()) {
             return st;
         }
-        const Result<FusionStats> fused = fuse_background_frame(background.grid, frame.grid,
-                                                                {readings.data(), readings.size()}, model,
-                                                                {scratch.data(), scratch.size()});
+        const Result<FusionStats> fused = fuse_background_frame(
+            background.grid, frame.grid, {readings.data(), readings.size()}, model, {scratch.data(), scratch.size()});
         if (!fused.ok()) {
             return IoStatus::failure(fused.error(), "frame %zu: fusing it into the background failed: %s", k,
                                      to_string(fused.error()));
@@ -553,9 +554,8 @@ IoStatus make_output_dir(const std::string& dir) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir, ec)) {
-        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create the output directory%s%s",
-                                 dir.c_str(), ec ? ": " : " (a file of that name exists)",
-                                 ec ? ec.message().c_str() : "");
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create the output directory%s%s", dir.c_str(),
+                                 ec ? ": " : " (a file of that name exists)", ec ? ec.message().c_str() : "");
     }
     return IoStatus{};
 }

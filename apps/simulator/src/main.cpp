@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // cellguard-sim: the simulated workcell of the paper, fused frame by frame.
 // Builds the background grid G_B from empty-cell frames, then fuses a frame
 // with a foreground box and reports what the grid holds. Prints figures only
@@ -27,8 +29,7 @@ int parse_args(int argc, char** argv, Options& o) {
                           "34 x 30 x 30 grid: N background frames into G_B, then one frame with a person-sized box.",
                           "Exit status: 0 done, 1 fusion failed, 2 bad command line.");
     cli.integer("--frames", o.frames, 1, 10000, "N", "background frames to accumulate (default 20)");
-    cli.flag("--bresenham", o.bresenham,
-             "rasterise rays with the paper's 3D Bresenham instead of the exact traversal");
+    cli.flag("--bresenham", o.bresenham, "rasterise rays with the paper's 3D Bresenham instead of the exact traversal");
     return cli.parse(argc, argv);
 }
 
@@ -71,7 +72,8 @@ int main(int argc, char** argv) {
         stats = r.value();
     }
     std::printf("background: %d frames, %u rays/frame (%u skipped), %.2f M voxel updates/frame, %.2f ms/frame mean\n",
-                frames, stats.rays_fused, stats.skipped(), static_cast<double>(stats.voxel_updates) / 1e6, fuse_ms / frames);
+                frames, stats.rays_fused, stats.skipped(), static_cast<double>(stats.voxel_updates) / 1e6,
+                fuse_ms / frames);
     std::size_t occupied = 0;
     std::size_t free_seen = 0;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
@@ -89,13 +91,15 @@ int main(int argc, char** argv) {
     const sim::SimulatedFrame person = sim::render_frame(sensors, with_person);
     frame_grid.clear();
     const FusionStats ps = fuse_frame(frame_grid, {person.readings.data(), person.readings.size()}, model,
-                                       {scratch.data(), scratch.size()}, raster)
-                                .value();
+                                      {scratch.data(), scratch.size()}, raster)
+                               .value();
     std::size_t new_occupied = 0;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
         new_occupied += (fr_ob[i] != 0U && fr_lo[i] > 0 && bg_lo[i] <= 0) ? 1U : 0U;
     }
-    std::printf("frame with a 0.3 x 0.3 x 1.7 m box: %u readings in the grid, %zu voxels occupied that are free or unknown in G_B\n",
-                ps.readings_in_grid, new_occupied);
+    std::printf(
+        "frame with a 0.3 x 0.3 x 1.7 m box: %u readings in the grid, %zu voxels occupied that are free or unknown in "
+        "G_B\n",
+        ps.readings_in_grid, new_occupied);
     return 0;
 }

@@ -33,11 +33,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/candump_log.hpp"
-#include "cellguard/host/cell/config.hpp"
-#include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/scenario.hpp"
+#include "cellguard/host/io/candump_log.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -56,22 +56,22 @@ void expect(bool ok, const std::string& what) {
 
 /// What the log holds for one cycle of the monitor.
 struct CycleFrames {
-    bool safety = false;      // safety frame recorded
-    bool copy = false;        // its inverted copy recorded (and exact)
-    bool diagnostics = false; // diagnostics frame recorded
+    bool safety = false;       // safety frame recorded
+    bool copy = false;         // its inverted copy recorded (and exact)
+    bool diagnostics = false;  // diagnostics frame recorded
     SafetyMessage message;
     DiagnosticsMessage diag;
-    std::uint64_t t_us = 0U;          // timestamp of the safety frame
-    ReceiverStatus after_copy;        // receiver status after the copy
+    std::uint64_t t_us = 0U;    // timestamp of the safety frame
+    ReceiverStatus after_copy;  // receiver status after the copy
 };
 
 struct Parsed {
     std::vector<CycleFrames> cycles;  // index = monitor cycle
     int lines = 0;
     std::uint32_t prior_crc = 0U;
-    bool silence_seen = false;        // a poll found the SCT expired
-    std::uint64_t silence_at_us = 0U; // time of the first such poll
-    int invalid_polls_after_valid = 0;  // polls reporting a fault after the first valid status
+    bool silence_seen = false;               // a poll found the SCT expired
+    std::uint64_t silence_at_us = 0U;        // time of the first such poll
+    int invalid_polls_after_valid = 0;       // polls reporting a fault after the first valid status
     std::vector<ReceiverFault> faults_seen;  // distinct receiver faults after the first valid status
 };
 
@@ -110,8 +110,8 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         std::printf("cannot open %s\n", path);
         return false;
     }
-    int cycle = -1;            // cycle of the last safety frame
-    int expect_next = 0;       // 0: safety frame, 1: copy, 2: diagnostics
+    int cycle = -1;       // cycle of the last safety frame
+    int expect_next = 0;  // 0: safety frame, 1: copy, 2: diagnostics
     CanFrame last_safety{};
     std::uint64_t last_t = 0U;
     bool was_valid = false;
@@ -152,7 +152,8 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         if (f.id == ch.safety_can_id) {
             const Result<SafetyFrameContent> c = decode_safety_frame(f, ch);
             SafetyFrameContent ignored;
-            expect(c.ok(), where + "safety frame does not decode (" + to_string(check_safety_frame(f, ch, ignored)) + ")");
+            expect(c.ok(),
+                   where + "safety frame does not decode (" + to_string(check_safety_frame(f, ch, ignored)) + ")");
             expect(!c.ok() || c.value().message.zone_count == cfg.zones.size(), where + "zone count differs");
             if (!c.ok()) {
                 continue;
@@ -199,9 +200,9 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
                 // Both counters and the CRC page advance once per cycle, sent or not.
                 expect(dc.counter == cycle % 15, where + "diagnostics counter " + std::to_string(dc.counter) +
                                                      " is not cycle " + std::to_string(cycle) + " mod 15");
-                expect(dc.message.prior_crc_page == cycle % 4,
-                       where + "prior CRC page " + std::to_string(dc.message.prior_crc_page) +
-                           " is not cycle " + std::to_string(cycle) + " mod 4");
+                expect(dc.message.prior_crc_page == cycle % 4, where + "prior CRC page " +
+                                                                   std::to_string(dc.message.prior_crc_page) +
+                                                                   " is not cycle " + std::to_string(cycle) + " mod 4");
                 const std::uint8_t page = dc.message.prior_crc_page & 3U;
                 expect(!crc_page_seen[page] || crc_bytes[page] == dc.message.prior_crc_part,
                        where + "prior CRC byte changed");
@@ -252,11 +253,10 @@ int check_normal(const MonitorConfig& cfg, const char* log, int cycles) {
         return 2;
     }
     const PlcReceiverConfig rc = receiver_config(cfg);
-    expect(p.lines == 3 * cycles, "expected " + std::to_string(3 * cycles) + " frames, recorded " +
-                                      std::to_string(p.lines));
-    expect(static_cast<int>(p.cycles.size()) == cycles, "expected " + std::to_string(cycles) +
-                                                            " cycles, the counters span " +
-                                                            std::to_string(p.cycles.size()));
+    expect(p.lines == 3 * cycles,
+           "expected " + std::to_string(3 * cycles) + " frames, recorded " + std::to_string(p.lines));
+    expect(static_cast<int>(p.cycles.size()) == cycles,
+           "expected " + std::to_string(cycles) + " cycles, the counters span " + std::to_string(p.cycles.size()));
     int valid_pairs = 0;
     for (std::size_t k = 0U; k < p.cycles.size(); ++k) {
         const CycleFrames& c = p.cycles[k];
@@ -264,37 +264,38 @@ int check_normal(const MonitorConfig& cfg, const char* log, int cycles) {
         expect(complete(c), where + "not every frame recorded");
         valid_pairs += c.after_copy.communication_valid ? 1 : 0;
         if (k >= rc.recovery_good_pairs) {  // the reference pair and the recovery pairs before
-            expect(c.after_copy.communication_valid,
-                   where + "receiver not valid: " + to_string(c.after_copy.fault));
+            expect(c.after_copy.communication_valid, where + "receiver not valid: " + to_string(c.after_copy.fault));
             expect(c.after_copy.stop_requested == c.message.protective_stop,
                    where + "receiver's stop differs from the frame's");
         }
         expect(!c.message.fault, where + "fault bit set");
         expect(c.diag.active_faults == 0U, where + "diagnostics report faults " + faults_text(c.diag.active_faults));
     }
-    expect(p.invalid_polls_after_valid == 0 && p.faults_seen.empty(),
-           "the receiver left the valid state after start-up (" + std::to_string(p.invalid_polls_after_valid) +
-               " polls)");
+    expect(
+        p.invalid_polls_after_valid == 0 && p.faults_seen.empty(),
+        "the receiver left the valid state after start-up (" + std::to_string(p.invalid_polls_after_valid) + " polls)");
     const int entry = entry_cycle(cfg, cycles);
-    expect(entry > 0 && entry < static_cast<int>(p.cycles.size()), "the person enters the protective zone during the run");
+    expect(entry > 0 && entry < static_cast<int>(p.cycles.size()),
+           "the person enters the protective zone during the run");
     double latency_ms = -1.0;
     bool entry_stop = false;
     if (entry > 0 && entry < static_cast<int>(p.cycles.size())) {
         const CycleFrames& before = p.cycles[static_cast<std::size_t>(entry - 1)];
         const CycleFrames& at = p.cycles[static_cast<std::size_t>(entry)];
-        expect(!before.message.protective_stop, "no stop in the cycle before the entry (cycle " +
-                                                     std::to_string(entry - 1) + ")");
+        expect(!before.message.protective_stop,
+               "no stop in the cycle before the entry (cycle " + std::to_string(entry - 1) + ")");
         expect(at.message.protective_stop, "stop in the entry cycle " + std::to_string(entry));
         expect(at.after_copy.communication_valid && at.after_copy.stop_requested,
                "the receiver reports the stop with the entry cycle's pair");
         latency_ms = static_cast<double>(at.t_us - before.t_us) / 1000.0;
         entry_stop = at.message.protective_stop;
     }
-    std::printf("normal run: %d frames, %zu cycles, %d pairs valid at the PLC receiver, prior CRC 0x%08X; person "
-                "enters the protective zone in cycle %d, stop bit in that cycle's frame: %d, sent %.1f ms after the "
-                "previous cycle's (period %.0f ms, SCT %.0f ms); %d failures\n",
-                p.lines, p.cycles.size(), valid_pairs, p.prior_crc, entry, entry_stop ? 1 : 0, latency_ms,
-                static_cast<double>(cfg.period_us) / 1000.0, static_cast<double>(rc.sct_us) / 1000.0, g_failures);
+    std::printf(
+        "normal run: %d frames, %zu cycles, %d pairs valid at the PLC receiver, prior CRC 0x%08X; person "
+        "enters the protective zone in cycle %d, stop bit in that cycle's frame: %d, sent %.1f ms after the "
+        "previous cycle's (period %.0f ms, SCT %.0f ms); %d failures\n",
+        p.lines, p.cycles.size(), valid_pairs, p.prior_crc, entry, entry_stop ? 1 : 0, latency_ms,
+        static_cast<double>(cfg.period_us) / 1000.0, static_cast<double>(rc.sct_us) / 1000.0, g_failures);
     return g_failures == 0 ? 0 : 1;
 }
 
@@ -390,8 +391,8 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
         expect(!c.message.fault, "cycle " + std::to_string(k) + ": fault bit before the outage");
         if (k >= rc.recovery_good_pairs) {
             expect(c.after_copy.communication_valid,
-                   "cycle " + std::to_string(k) + ": receiver not valid before the outage: " +
-                       to_string(c.after_copy.fault));
+                   "cycle " + std::to_string(k) +
+                       ": receiver not valid before the outage: " + to_string(c.after_copy.fault));
         }
     }
     expect(!last_before.message.protective_stop, "no stop in the last cycle before the outage (cycle " +
@@ -420,8 +421,8 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     }
 
     // First cycle back on the bus: stop, fault, and why.
-    expect(back.message.protective_stop && back.message.fault, "cycle " + std::to_string(r) +
-                                                                 " (first back on the bus): stop and fault set");
+    expect(back.message.protective_stop && back.message.fault,
+           "cycle " + std::to_string(r) + " (first back on the bus): stop and fault set");
     const std::uint16_t need = static_cast<std::uint16_t>(fault_bit(FaultCode::kCanError) |
                                                           fault_bit(FaultCode::kCanNetworkDown));
     expect((back.diag.active_faults & need) == need,
@@ -445,8 +446,8 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     // reference. Either way recovery_good_pairs more good pairs are needed.
     const bool silence_first = p.silence_seen && p.silence_at_us < back.t_us;
     if (gap_us > rc.sct_us + 10000U) {
-        expect(silence_first, "receiver reported the SCT expired during the " + std::to_string(gap_us / 1000U) +
-                                  " ms gap");
+        expect(silence_first,
+               "receiver reported the SCT expired during the " + std::to_string(gap_us / 1000U) + " ms gap");
     }
     bool jump_seen = false;
     for (ReceiverFault k : p.faults_seen) {
@@ -485,13 +486,13 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     // The send of cycle r-1 failed, so cycle r still detects the CAN error;
     // cycles r+1 .. r+N are the N clean cycles that clear it.
     const int want_cleared = r + static_cast<int>(cfg.fault_recovery_cycles);
-    expect(cleared == want_cleared, "fault bit clears in cycle " + std::to_string(want_cleared) +
-                                        " (cycle back " + std::to_string(r) + " + fault_recovery_cycles " +
+    expect(cleared == want_cleared, "fault bit clears in cycle " + std::to_string(want_cleared) + " (cycle back " +
+                                        std::to_string(r) + " + fault_recovery_cycles " +
                                         std::to_string(cfg.fault_recovery_cycles) + "); it cleared in cycle " +
                                         std::to_string(cleared));
     expect(released > cleared && cleared >= 0, "stop released after the fault cleared (cleared " +
-                                                   std::to_string(cleared) + ", released " +
-                                                   std::to_string(released) + ")");
+                                                   std::to_string(cleared) + ", released " + std::to_string(released) +
+                                                   ")");
     double held_ms = -1.0;
     if (released > cleared && cleared >= 0) {
         // Restart interlock: held restart_delay after the fault cleared (the
@@ -516,15 +517,15 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     for (ReceiverFault k : p.faults_seen) {
         rfaults += (rfaults.empty() ? "" : ",") + std::string(to_string(k));
     }
-    std::printf("fault run: %d frames over %d cycles; first send failed in cycle %d, monitor STOP + CAN error from "
-                "cycle %d; %d cycles lost; back on the bus in cycle %d after %.0f ms with stop+fault, diagnostics "
-                "faults %s; receiver: %s%s, valid again in cycle %d; fault cleared in cycle %d, stop released in "
-                "cycle %d (%.0f ms after); %d failures\n",
-                p.lines, n, f, f + 1, r - f, r, static_cast<double>(gap_us) / 1000.0,
-                faults_text(back.diag.active_faults).c_str(), rfaults.empty() ? "-" : rfaults.c_str(),
-                silence_first ? " (SCT expired in the gap)" : " (no silence: counter jump)",
-                reference + rc.recovery_good_pairs, cleared, released,
-                held_ms, g_failures);
+    std::printf(
+        "fault run: %d frames over %d cycles; first send failed in cycle %d, monitor STOP + CAN error from "
+        "cycle %d; %d cycles lost; back on the bus in cycle %d after %.0f ms with stop+fault, diagnostics "
+        "faults %s; receiver: %s%s, valid again in cycle %d; fault cleared in cycle %d, stop released in "
+        "cycle %d (%.0f ms after); %d failures\n",
+        p.lines, n, f, f + 1, r - f, r, static_cast<double>(gap_us) / 1000.0,
+        faults_text(back.diag.active_faults).c_str(), rfaults.empty() ? "-" : rfaults.c_str(),
+        silence_first ? " (SCT expired in the gap)" : " (no silence: counter jump)", reference + rc.recovery_good_pairs,
+        cleared, released, held_ms, g_failures);
     return g_failures == 0 ? 0 : 1;
 }
 

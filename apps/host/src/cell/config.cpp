@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The monitor's TOML configuration loader (toml++).
 #include "cellguard/host/cell/config.hpp"
 
@@ -12,11 +14,11 @@
 #include <optional>
 #include <sstream>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/host/io/toml_loader.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility.hpp"
 
 namespace cellguard::cell {
 namespace {
@@ -82,10 +84,10 @@ void load_grid(const Loader& L, const toml::table& root, MonitorConfig& c) {
         }
         c.grid.dims[i] = static_cast<int>(*v);
     }
-    const Result<GridGeometry> g =
-        GridGeometry::make(c.grid.origin, c.grid.voxel_size,
-                           GridDims{static_cast<std::int32_t>(c.grid.dims[0]), static_cast<std::int32_t>(c.grid.dims[1]),
-                                    static_cast<std::int32_t>(c.grid.dims[2])});
+    const Result<GridGeometry> g = GridGeometry::make(
+        c.grid.origin, c.grid.voxel_size,
+        GridDims{static_cast<std::int32_t>(c.grid.dims[0]), static_cast<std::int32_t>(c.grid.dims[1]),
+                 static_cast<std::int32_t>(c.grid.dims[2])});
     if (!g.ok()) {
         L.fail(t.source(), "grid", std::string("not a valid grid: ") + to_string(g.error()));
     }
@@ -203,8 +205,9 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
     for (std::size_t i = 0U; i < arr.size(); ++i) {
         const toml::table& t = *arr.get(i)->as_table();
         const std::string p = "zones[" + std::to_string(i) + "]";
-        L.check_keys(t, p, {"name", "kind", "shape", "min", "max", "polygon", "z_min", "z_max",
-                            "min_foreground_voxels", "max_unseen_voxels"});
+        L.check_keys(t, p,
+                     {"name", "kind", "shape", "min", "max", "polygon", "z_min", "z_max", "min_foreground_voxels",
+                      "max_unseen_voxels"});
         ZoneSettings z;
         z.line = static_cast<int>(t.source().begin.line);
         z.name = L.string(t, p, "name");
@@ -245,8 +248,8 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
         } else {
             L.fail(t.get("shape")->source(), p + ".shape", R"(expected "box" or "prism", got ")" + shape + "\"");
         }
-        z.zone.min_foreground_voxels =
-            static_cast<std::uint32_t>(L.integer_or(t, p, "min_foreground_voxels", 1, 1000000, 1));
+        z.zone.min_foreground_voxels = static_cast<std::uint32_t>(
+            L.integer_or(t, p, "min_foreground_voxels", 1, 1000000, 1));
         z.zone.max_unseen_voxels = static_cast<std::uint32_t>(L.integer_or(t, p, "max_unseen_voxels", 0, 1000000, 0));
         c.zones.push_back(z);
     }
@@ -258,9 +261,10 @@ void load_thresholds(const Loader& L, const toml::table& root, MonitorConfig& c)
         const toml::table& t = L.table(root, "", "thresholds");
         (void)n;
         L.check_keys(t, "thresholds", {"foreground", "accessible_min_prior"});
-        c.foreground_threshold = static_cast<std::int16_t>(L.integer_or(t, "thresholds", "foreground", -32767, 32767, 255));
-        c.accessible_min_prior =
-            static_cast<std::int16_t>(L.integer_or(t, "thresholds", "accessible_min_prior", -32767, 0, -754));
+        c.foreground_threshold = static_cast<std::int16_t>(
+            L.integer_or(t, "thresholds", "foreground", -32767, 32767, 255));
+        c.accessible_min_prior = static_cast<std::int16_t>(
+            L.integer_or(t, "thresholds", "accessible_min_prior", -32767, 0, -754));
     }
 }
 
@@ -298,25 +302,28 @@ void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, cons
 void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const toml::table& t = L.table(root, "", "can");
     const std::string p = "can";
-    L.check_keys(t, p, {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
-                        "diagnostics_data_id", "data_id_mode"});
+    L.check_keys(t, p,
+                 {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
+                  "diagnostics_data_id", "data_id_mode"});
     c.can.interface_name = L.string_or(t, p, "interface", "");
     c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
     c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
     if (c.can.log_interface_name.empty() || c.can.log_interface_name.size() > 15U ||
         c.can.log_interface_name.find_first_of(" ()#\t") != std::string::npos) {
-        L.fail(t.get("log_interface")->source(), "can.log_interface", "expected 1..15 characters without blanks, '(', ')' or '#'");
+        L.fail(t.get("log_interface")->source(), "can.log_interface",
+               "expected 1..15 characters without blanks, '(', ')' or '#'");
     }
     if (c.can.interface_name.empty() && c.can.log_file.empty()) {
         L.fail(t.source(), "can.log_file", "give an interface or a log file");
     }
     SafetyChannelConfig& ch = c.can.channel;
     ch.safety_can_id = static_cast<std::uint32_t>(L.integer_or(t, p, "safety_id", 0, 0x7FE, kDefaultSafetyCanId));
-    ch.diagnostics_can_id =
-        static_cast<std::uint32_t>(L.integer_or(t, p, "diagnostics_id", 0, 0x7FF, kDefaultDiagnosticsCanId));
-    ch.safety_data_id = static_cast<std::uint16_t>(L.integer_or(t, p, "safety_data_id", 0, 0xFFFF, kDefaultSafetyDataId));
-    ch.diagnostics_data_id =
-        static_cast<std::uint16_t>(L.integer_or(t, p, "diagnostics_data_id", 0, 0xFFFF, kDefaultDiagnosticsDataId));
+    ch.diagnostics_can_id = static_cast<std::uint32_t>(
+        L.integer_or(t, p, "diagnostics_id", 0, 0x7FF, kDefaultDiagnosticsCanId));
+    ch.safety_data_id = static_cast<std::uint16_t>(
+        L.integer_or(t, p, "safety_data_id", 0, 0xFFFF, kDefaultSafetyDataId));
+    ch.diagnostics_data_id = static_cast<std::uint16_t>(
+        L.integer_or(t, p, "diagnostics_data_id", 0, 0xFFFF, kDefaultDiagnosticsDataId));
     const std::string mode = L.string_or(t, p, "data_id_mode", "both");
     if (mode == "both") {
         ch.data_id_mode = E2eP01DataIdMode::kBoth;
@@ -340,8 +347,9 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
 /// The [cycle] table: period, budget, frame age, background checks (after [sensors]: it checks them).
 void load_cycle(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const toml::table& t = L.table(root, "", "cycle");
-    L.check_keys(t, "cycle", {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
-                              "background_match", "background_tolerance_m"});
+    L.check_keys(t, "cycle",
+                 {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib",
+                  "max_repeated_frames", "background_match", "background_tolerance_m"});
     const double period = L.number(t, "cycle", "period_ms");
     if (!(period >= 1.0 && period <= 10000.0)) {
         L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
@@ -420,7 +428,8 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
     try {
         const toml::table root = toml::parse(text, source_name);
         const Loader L(source_name);
-        L.check_keys(root, "", {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo"});
+        L.check_keys(root, "",
+                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo"});
         MonitorConfig c;
         load_grid(L, root, c);
         load_sensors(L, root, c, base_dir);

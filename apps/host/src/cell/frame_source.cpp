@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The simulated sensors of the demo cell as frame sources (frame_source.hpp).
 #include "cellguard/host/cell/frame_source.hpp"
 
@@ -20,9 +22,8 @@ bool SimulatedFrameSource::load_frame(std::uint64_t cycle, SensorReading& readin
     status = FrameStatus{};
     // The scene of the cycle, as the demo always made it: the reference
     // scene plus the person. Within the reserved capacity nothing allocates.
-    const int k = cycle > static_cast<std::uint64_t>(std::numeric_limits<int>::max())
-                      ? std::numeric_limits<int>::max()
-                      : static_cast<int>(cycle);
+    const int k = cycle > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? std::numeric_limits<int>::max()
+                                                                                      : static_cast<int>(cycle);
     scene_.floor = reference_.floor;
     scene_.boxes.clear();
     for (const sim::Box& b : reference_.boxes) {

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Recorded PCD frames as sensor input, each frame checked (pcd_input.hpp).
 #include "cellguard/host/cell/pcd_input.hpp"
 
@@ -44,8 +46,9 @@ PcdFrameSource::PcdFrameSource(std::string name, std::vector<std::string> files,
       width_(width),
       height_(height),
       max_range_(max_range),
-      buffer_(std::min(static_cast<std::size_t>(width > 0 ? width : 0) * static_cast<std::size_t>(height > 0 ? height : 0),
-                       kMaxReadingsPerSensor)) {
+      buffer_(
+          std::min(static_cast<std::size_t>(width > 0 ? width : 0) * static_cast<std::size_t>(height > 0 ? height : 0),
+                   kMaxReadingsPerSensor)) {
     points_.reserve(buffer_.size());
     std::size_t largest = 0U;
     for (const std::string& f : files_) {
@@ -83,14 +86,14 @@ IoStatus PcdFrameSource::read_file(const char* path, PcdCloudInfo& info) noexcep
     if (::fstat(fd, &st) != 0) {
         result = IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot stat: %s", path, std::strerror(errno));
     } else if (static_cast<std::uint64_t>(st.st_size) > kPcdMaxFileBytes) {
-        result = IoStatus::failure(ErrorCode::kCapacityExceeded,
-                                   "%s: pcd: file of %llu bytes above the limit of %llu", path,
-                                   static_cast<unsigned long long>(st.st_size),
+        result = IoStatus::failure(ErrorCode::kCapacityExceeded, "%s: pcd: file of %llu bytes above the limit of %llu",
+                                   path, static_cast<unsigned long long>(st.st_size),
                                    static_cast<unsigned long long>(kPcdMaxFileBytes));
     } else if (static_cast<std::uint64_t>(st.st_size) > bytes_.size()) {
-        result = IoStatus::failure(ErrorCode::kCapacityExceeded,
-                                   "%s: pcd: file of %llu bytes, more than the %zu bytes this sensor's files had at start-up",
-                                   path, static_cast<unsigned long long>(st.st_size), bytes_.size());
+        result = IoStatus::failure(
+            ErrorCode::kCapacityExceeded,
+            "%s: pcd: file of %llu bytes, more than the %zu bytes this sensor's files had at start-up", path,
+            static_cast<unsigned long long>(st.st_size), bytes_.size());
     } else {
         const auto size = static_cast<std::size_t>(st.st_size);
         std::size_t done = 0U;

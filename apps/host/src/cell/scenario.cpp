@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The demo's scripted person path.
 #include "cellguard/host/cell/scenario.hpp"
 
@@ -16,15 +18,9 @@ struct Waypoint {
 // Cycle numbers at which the person is at (x, y); linear in between. The
 // phase names the stretch that starts at the waypoint.
 constexpr Waypoint kPath[] = {
-    {0, 1.30, 0.60, "outside"},
-    {8, 1.30, 0.60, "walking in"},
-    {14, 0.70, 0.60, "walking in"},
-    {15, 0.45, 0.60, "protective zone"},
-    {22, 0.20, 0.45, "leaving"},
-    {28, -0.45, 0.62, "walking to box A"},
-    {34, -0.74, 0.20, "behind box A"},
-    {42, -0.74, 0.20, "leaving"},
-    {50, -1.40, 0.20, "outside"},
+    {0, 1.30, 0.60, "outside"},          {8, 1.30, 0.60, "walking in"}, {14, 0.70, 0.60, "walking in"},
+    {15, 0.45, 0.60, "protective zone"}, {22, 0.20, 0.45, "leaving"},   {28, -0.45, 0.62, "walking to box A"},
+    {34, -0.74, 0.20, "behind box A"},   {42, -0.74, 0.20, "leaving"},  {50, -1.40, 0.20, "outside"},
 };
 constexpr std::size_t kWaypoints = sizeof(kPath) / sizeof(kPath[0]);
 

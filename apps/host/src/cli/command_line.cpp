@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // The host programs' command lines on CLI11: help layout, --help/--version,
 // the value checks and the one-line usage errors. See command_line.hpp.
 #include "cellguard/host/command_line.hpp"
@@ -28,8 +30,8 @@ public:
             out << "\n" << app->get_description() << "\n";
         }
         for (const std::string& group : app->get_groups()) {
-            const std::vector<const CLI::Option*> options =
-                app->get_options([&group](const CLI::Option* o) { return o->get_group() == group; });
+            const std::vector<const CLI::Option*> options = app->get_options(
+                [&group](const CLI::Option* o) { return o->get_group() == group; });
             if (group.empty() || options.empty()) {
                 continue;
             }
@@ -137,10 +139,11 @@ CLI::Option* CommandLine::text(const std::string& name, std::string& target, con
     return value(name, value_name, help, [&target](const std::string& v) { target = v; });
 }
 
-CLI::Option* CommandLine::integer(const std::string& name, int& target, long lo, long hi,
-                                  const std::string& value_name, const std::string& help) {
-    return value(name, value_name, help,
-                 [&target, name, lo, hi](const std::string& v) { target = static_cast<int>(integer_value(name, v, lo, hi)); });
+CLI::Option* CommandLine::integer(const std::string& name, int& target, long lo, long hi, const std::string& value_name,
+                                  const std::string& help) {
+    return value(name, value_name, help, [&target, name, lo, hi](const std::string& v) {
+        target = static_cast<int>(integer_value(name, v, lo, hi));
+    });
 }
 
 CLI::Option* CommandLine::flag(const std::string& names, bool& target, const std::string& help) {
@@ -155,7 +158,8 @@ CLI::Option* CommandLine::argument(const std::string& name, const std::string& h
 int CommandLine::parse(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
     if (app_.get_option_no_throw("--help") == nullptr) {
         // Listed last, in the current default group; answered as soon as parsed.
-        app_.add_flag_callback("-h,--help", [] { throw CLI::CallForHelp(); }, "print this help and exit")
+        app_.add_flag_callback(
+                "-h,--help", [] { throw CLI::CallForHelp(); }, "print this help and exit")
             ->trigger_on_parse();
         app_.set_version_flag("--version", version_text(program_), "print the version and exit")->trigger_on_parse();
     }

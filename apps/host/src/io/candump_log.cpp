@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/io/candump_log.hpp"
 
 #include <cerrno>
@@ -54,8 +56,8 @@ bool read_decimal(const char*& p, std::size_t count, std::uint64_t& value) noexc
 
 }  // namespace
 
-std::size_t format_candump_line(char* out, std::size_t capacity, std::uint64_t timestamp_us,
-                                const char* interface_name, const CanFrame& frame) noexcept {
+std::size_t format_candump_line(char* out, std::size_t capacity, std::uint64_t timestamp_us, const char* interface_name,
+                                const CanFrame& frame) noexcept {
     if (out == nullptr || !interface_name_valid(interface_name) || frame.id > kCanMaxStandardId ||
         frame.dlc > kCanMaxDataLength) {
         return 0U;
@@ -95,8 +97,7 @@ IoStatus parse_candump_line(const char* line, CandumpRecord& out) noexcept {
     ++p;
     std::uint64_t micros = 0U;
     if (!read_decimal(p, 6U, micros) || *p != ')' || p[1] != ' ') {
-        return IoStatus::failure(ErrorCode::kMalformedInput,
-                                 "candump line: timestamp needs six decimals, then ') '");
+        return IoStatus::failure(ErrorCode::kMalformedInput, "candump line: timestamp needs six decimals, then ') '");
     }
     p += 2;
     CandumpRecord r;
@@ -161,9 +162,10 @@ IoStatus CandumpLogWriter::open(const char* path, const char* interface_name, Mo
     failed_ = false;
     lines_ = 0U;
     if (!interface_name_valid(interface_name)) {
-        return IoStatus::failure(ErrorCode::kInvalidArgument,
-                                 "candump log: interface name must be 1..%zu characters without blanks, '(', ')' or '#'",
-                                 kCandumpMaxInterfaceName);
+        return IoStatus::failure(
+            ErrorCode::kInvalidArgument,
+            "candump log: interface name must be 1..%zu characters without blanks, '(', ')' or '#'",
+            kCandumpMaxInterfaceName);
     }
     if (path == nullptr || path[0] == '\0') {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "candump log: empty path");

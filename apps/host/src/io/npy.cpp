@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/io/npy.hpp"
 
 #include <sys/stat.h>
@@ -284,9 +286,7 @@ void format_shape(const std::uint64_t* shape, std::size_t ndim, char* out, std::
     put(")");
 }
 
-bool dims_valid(GridDims dims) noexcept {
-    return dims.nx >= 1 && dims.ny >= 1 && dims.nz >= 1;
-}
+bool dims_valid(GridDims dims) noexcept { return dims.nx >= 1 && dims.ny >= 1 && dims.nz >= 1; }
 
 std::size_t element_count_of(GridDims dims) noexcept {
     return static_cast<std::size_t>(dims.nx) * static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(dims.nz);
@@ -339,8 +339,8 @@ IoStatus read_npy(const char* path, NpyDtype dtype, GridDims dims, void* out, st
             return IoStatus::failure(ErrorCode::kCapacityExceeded, "%s: npy: cannot allocate the header buffer", path);
         }
         std::memcpy(prefix.get(), preamble, sizeof preamble);
-        const std::size_t rest =
-            std::fread(prefix.get() + sizeof preamble, 1, prefix_size - sizeof preamble, file.get());
+        const std::size_t rest = std::fread(prefix.get() + sizeof preamble, 1, prefix_size - sizeof preamble,
+                                            file.get());
         st = parse_npy_header(prefix.get(), sizeof preamble + rest, header);
     }
     if (!st) {
@@ -580,8 +580,8 @@ IoStatus format_npy_header(NpyDtype dtype, GridDims dims, Span<std::uint8_t> out
     const int growth_digits = std::snprintf(nz_digits, sizeof nz_digits, "%d", dims.nz);
     // numpy: spare spaces for the growth axis, then pad (with the final '\n')
     // so that preamble + header is a multiple of 64; a full block when it already is.
-    const std::size_t unpadded =
-        static_cast<std::size_t>(n) + kGrowthAxisMaxDigits - static_cast<std::size_t>(growth_digits) + 1U;  // + '\n'
+    const std::size_t unpadded = static_cast<std::size_t>(n) + kGrowthAxisMaxDigits -
+                                 static_cast<std::size_t>(growth_digits) + 1U;  // + '\n'
     const std::size_t pad = kArrayAlign - (kNpyPreambleV1 + unpadded) % kArrayAlign;
     const std::size_t header_len = unpadded + pad;
     const std::size_t total = kNpyPreambleV1 + header_len;

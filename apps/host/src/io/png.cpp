@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // PNG writer on libpng: the image is written into memory, then to the file.
 // libpng reports an error by calling the error function, which must not
 // return: it copies the message and longjmps back to write_with_libpng(),
@@ -78,8 +80,8 @@ bool write_with_libpng(const Pixels& p, WriteState& state) {
         return false;
     }
     png_set_write_fn(png, &state, on_write, on_flush);
-    png_set_IHDR(png, info, static_cast<png_uint_32>(p.width), static_cast<png_uint_32>(p.height), 8,
-                 p.colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, static_cast<png_uint_32>(p.width), static_cast<png_uint_32>(p.height), 8, p.colour_type,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     if (p.palette_size > 0) {
         png_set_PLTE(png, info, p.palette, p.palette_size);
     }

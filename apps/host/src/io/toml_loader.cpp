@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Checked access to TOML tables with file:line:column error messages.
 #include "cellguard/host/io/toml_loader.hpp"
 
@@ -10,7 +12,8 @@ namespace cellguard::host {
 
 std::string toml_syntax_error(const std::string& source, const toml::parse_error& e) {
     std::ostringstream m;
-    m << source << ':' << e.source().begin.line << ':' << e.source().begin.column << ": TOML syntax: " << e.description();
+    m << source << ':' << e.source().begin.line << ':' << e.source().begin.column
+      << ": TOML syntax: " << e.description();
     return m.str();
 }
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/experiment.hpp"
 
 #include <algorithm>
@@ -13,9 +15,7 @@ namespace cellguard::sim {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 /// The histogram bin of a log-odds value: -32768 .. 32767 to 0 .. 65535 (no overflow in int32).
 std::size_t bin_of(std::int16_t v) {
@@ -48,14 +48,10 @@ OwnedGrid::OwnedGrid(const GridGeometry& g)
 
 const char* method_name(PriorMethod method) {
     switch (method) {
-        case PriorMethod::kThresholded:
-            return "thresholded";
-        case PriorMethod::kProbabilistic:
-            return "probabilistic";
-        case PriorMethod::kThresholdedBaseline:
-            return "thresholded-baseline";
-        case PriorMethod::kProbabilisticBaseline:
-            return "probabilistic-baseline";
+        case PriorMethod::kThresholded: return "thresholded";
+        case PriorMethod::kProbabilistic: return "probabilistic";
+        case PriorMethod::kThresholdedBaseline: return "thresholded-baseline";
+        case PriorMethod::kProbabilisticBaseline: return "probabilistic-baseline";
     }
     return "unknown";
 }
@@ -136,14 +132,9 @@ void subtract_prior(const EvidenceGrid& frame, const std::vector<std::int16_t>& 
 void add_scores(ScoreHistogram& h, const std::vector<std::int16_t>& subtracted, const GroundTruth& truth) {
     for (std::size_t i = 0; i < subtracted.size(); ++i) {
         switch (truth.label[i]) {
-            case Truth::kForeground:
-                ++h.foreground[bin_of(subtracted[i])];
-                break;
-            case Truth::kNotForeground:
-                ++h.not_foreground[bin_of(subtracted[i])];
-                break;
-            case Truth::kUnknown:
-                break;
+            case Truth::kForeground: ++h.foreground[bin_of(subtracted[i])]; break;
+            case Truth::kNotForeground: ++h.not_foreground[bin_of(subtracted[i])]; break;
+            case Truth::kUnknown: break;
         }
     }
 }
@@ -161,8 +152,9 @@ bool build_background(const SceneFile& file, const ExperimentConfig& cfg, Eviden
         const Clock::time_point t0 = Clock::now();
         const SimulatedFrame f = render(file, cfg, bg, file.seed * kSeedStride + static_cast<std::uint64_t>(i));
         const Clock::time_point t1 = Clock::now();
-        const Result<FusionStats> r = fuse_background_frame(background, frame.grid, {f.readings.data(), f.readings.size()},
-                                                            model.value(), frame.fusion_scratch(), cfg.rasterization);
+        const Result<FusionStats> r = fuse_background_frame(background, frame.grid,
+                                                            {f.readings.data(), f.readings.size()}, model.value(),
+                                                            frame.fusion_scratch(), cfg.rasterization);
         if (fuse_ms_total != nullptr) {
             *fuse_ms_total += ms_since(t1);
         }
@@ -176,7 +168,8 @@ bool build_background(const SceneFile& file, const ExperimentConfig& cfg, Eviden
     return true;
 }
 
-bool compute_prior(const EvidenceGrid& background, const AccessibilityParams& params, std::vector<std::int16_t>& prior) {
+bool compute_prior(const EvidenceGrid& background, const AccessibilityParams& params,
+                   std::vector<std::int16_t>& prior) {
     const AccessibilityScratchSize size = accessibility_scratch_size(background.geometry().dims(), params);
     std::vector<std::uint32_t> words(size.words);
     std::vector<std::uint8_t> bytes(size.bytes);
@@ -251,8 +244,8 @@ bool compute_priors(const ExperimentConfig& cfg, SceneResult& out, std::string& 
 }
 
 /// The foreground frames: each rendered, fused, and scored against the ground truth after each method's subtraction.
-bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const SensorModelTable& model,
-                    SceneResult& out, SceneTimes& times, std::string& error) {
+bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const SensorModelTable& model, SceneResult& out,
+                    SceneTimes& times, std::string& error) {
     const bool moving = !file.people.empty();
     for (int j = 0; j < cfg.foreground_frames; ++j) {
         const double t = j * cfg.frame_interval_s;
@@ -263,8 +256,8 @@ bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const Se
             out.truth_ms += ms_since(t0);
         }
         const Clock::time_point t0 = Clock::now();
-        const SimulatedFrame f =
-            render(file, cfg, scene, file.seed * kSeedStride + kForegroundSeedOffset + static_cast<std::uint64_t>(j));
+        const SimulatedFrame f = render(
+            file, cfg, scene, file.seed * kSeedStride + kForegroundSeedOffset + static_cast<std::uint64_t>(j));
         const Clock::time_point t1 = Clock::now();
         times.render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
         out.last_frame.grid.clear();

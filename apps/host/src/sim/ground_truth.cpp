@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/ground_truth.hpp"
 
 namespace cellguard::sim {
@@ -56,7 +58,8 @@ GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSp
                     }
                 });
                 if (end_inside) {
-                    seen[end_index] = static_cast<std::uint8_t>(seen[end_index] | (foreground ? kHitForeground : kHitBackground));
+                    seen[end_index] = static_cast<std::uint8_t>(seen[end_index] |
+                                                                (foreground ? kHitForeground : kHitBackground));
                 }
             }
         }
@@ -82,8 +85,8 @@ std::vector<std::uint8_t> background_interior_mask(const GridGeometry& g, const 
     const double extent = g.voxel_size() + 2.0 * margin;
     for (std::size_t i = 0; i < g.voxel_count(); ++i) {
         const VoxelCoord c = g.coord_of(i);
-        const Eigen::Vector3d lo =
-            g.origin() + g.voxel_size() * Eigen::Vector3d(c.x, c.y, c.z) - Eigen::Vector3d::Constant(margin);
+        const Eigen::Vector3d lo = g.origin() + g.voxel_size() * Eigen::Vector3d(c.x, c.y, c.z) -
+                                   Eigen::Vector3d::Constant(margin);
         for (const Box& b : scene.boxes) {
             if (!b.background) {
                 continue;

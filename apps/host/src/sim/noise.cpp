@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/noise.hpp"
 
 #include <cmath>
@@ -35,7 +37,8 @@ EdgeNeighbour largest_jump(const std::vector<float>& depth, std::int32_t w, std:
         if (nu < 0 || nv < 0 || nu >= w || nv >= h) {
             continue;
         }
-        const float d = depth[static_cast<std::size_t>(nv) * static_cast<std::size_t>(w) + static_cast<std::size_t>(nu)];
+        const float d =
+            depth[static_cast<std::size_t>(nv) * static_cast<std::size_t>(w) + static_cast<std::size_t>(nu)];
         if (!(d > 0.0F)) {
             continue;
         }
@@ -53,7 +56,8 @@ void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, std::vector
     const std::vector<float> ideal = depth;  // edges are found on the ideal image
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
-            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u);
+            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) +
+                                  static_cast<std::size_t>(u);
             // Draw the same count of numbers for every pixel, so that a change in one
             // pixel's state does not shift the noise of all later pixels.
             const double mix_draw = rng.uniform();
@@ -86,7 +90,8 @@ void apply_stereo(const SensorSpec& sensor, const StereoNoise& p, std::vector<fl
     const double fb = k.fx * p.baseline_m;
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
-            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u);
+            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) +
+                                  static_cast<std::size_t>(u);
             const double miss_draw = rng.uniform();
             const double n = rng.normal();
             const auto z = static_cast<double>(ideal[i]);
@@ -111,12 +116,9 @@ void apply_stereo(const SensorSpec& sensor, const StereoNoise& p, std::vector<fl
 
 const char* to_string(SensorKind kind) {
     switch (kind) {
-        case SensorKind::kIdeal:
-            return "ideal";
-        case SensorKind::kFlashLidar:
-            return "flash_lidar";
-        case SensorKind::kStereo:
-            return "stereo";
+        case SensorKind::kIdeal: return "ideal";
+        case SensorKind::kFlashLidar: return "flash_lidar";
+        case SensorKind::kStereo: return "stereo";
     }
     return "unknown";
 }
@@ -154,14 +156,9 @@ double Rng::normal() {
 
 void apply_noise(const SensorSpec& sensor, const NoiseModel& model, std::vector<float>& depth, Rng& rng) {
     switch (model.kind) {
-        case SensorKind::kIdeal:
-            return;
-        case SensorKind::kFlashLidar:
-            apply_lidar(sensor, model.lidar, depth, rng);
-            return;
-        case SensorKind::kStereo:
-            apply_stereo(sensor, model.stereo, depth, rng);
-            return;
+        case SensorKind::kIdeal: return;
+        case SensorKind::kFlashLidar: apply_lidar(sensor, model.lidar, depth, rng); return;
+        case SensorKind::kStereo: apply_stereo(sensor, model.stereo, depth, rng); return;
     }
 }
 

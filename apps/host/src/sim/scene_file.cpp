@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 // Scene files of the simulated workcell (TOML, toml++), and walking people.
 #include "cellguard/host/sim/scene_file.hpp"
 
@@ -64,7 +66,6 @@ public:
         }
         return *n->as_array();
     }
-
 };
 
 NoiseModel load_noise(const Loader& L, const toml::table& s, const std::string& path, SensorKind kind) {
@@ -80,15 +81,17 @@ NoiseModel load_noise(const Loader& L, const toml::table& s, const std::string& 
     }
     const toml::table& t = *n->as_table();
     if (kind == SensorKind::kFlashLidar) {
-        L.check_keys(t, p, {"range_sigma_base_m", "range_sigma_per_m", "mixed_pixel_edge_m", "mixed_pixel_probability"});
+        L.check_keys(t, p,
+                     {"range_sigma_base_m", "range_sigma_per_m", "mixed_pixel_edge_m", "mixed_pixel_probability"});
         FlashLidarNoise& q = m.lidar;
         q.range_sigma_base_m = L.ranged_or(t, p, "range_sigma_base_m", 0.0, 1.0, q.range_sigma_base_m);
         q.range_sigma_per_m = L.ranged_or(t, p, "range_sigma_per_m", 0.0, 1.0, q.range_sigma_per_m);
         q.mixed_pixel_edge_m = L.ranged_or(t, p, "mixed_pixel_edge_m", 0.0, 100.0, q.mixed_pixel_edge_m);
         q.mixed_pixel_probability = L.ranged_or(t, p, "mixed_pixel_probability", 0.0, 1.0, q.mixed_pixel_probability);
     } else if (kind == SensorKind::kStereo) {
-        L.check_keys(t, p, {"baseline_m", "disparity_sigma_px", "disparity_quantum_px", "min_disparity_px",
-                            "missing_probability", "edge_missing_m", "edge_missing_probability"});
+        L.check_keys(t, p,
+                     {"baseline_m", "disparity_sigma_px", "disparity_quantum_px", "min_disparity_px",
+                      "missing_probability", "edge_missing_m", "edge_missing_probability"});
         StereoNoise& q = m.stereo;
         q.baseline_m = L.ranged_or(t, p, "baseline_m", 1e-3, 10.0, q.baseline_m);
         q.disparity_sigma_px = L.ranged_or(t, p, "disparity_sigma_px", 0.0, 100.0, q.disparity_sigma_px);
@@ -96,7 +99,8 @@ NoiseModel load_noise(const Loader& L, const toml::table& s, const std::string& 
         q.min_disparity_px = L.ranged_or(t, p, "min_disparity_px", 0.0, 10000.0, q.min_disparity_px);
         q.missing_probability = L.ranged_or(t, p, "missing_probability", 0.0, 1.0, q.missing_probability);
         q.edge_missing_m = L.ranged_or(t, p, "edge_missing_m", 0.0, 100.0, q.edge_missing_m);
-        q.edge_missing_probability = L.ranged_or(t, p, "edge_missing_probability", 0.0, 1.0, q.edge_missing_probability);
+        q.edge_missing_probability = L.ranged_or(t, p, "edge_missing_probability", 0.0, 1.0,
+                                                 q.edge_missing_probability);
     } else {
         L.check_keys(t, p, {});
     }
@@ -109,8 +113,9 @@ void load_sensors(const Loader& L, const toml::table& root, SceneFile& f) {
     for (const toml::node& node : arr) {
         const toml::table& s = *node.as_table();
         const std::string p = "sensor[" + std::to_string(i++) + "]";
-        L.check_keys(s, p, {"name", "kind", "position", "target", "width", "height", "hfov_deg", "vfov_deg", "focal_px",
-                            "max_range", "noise"});
+        L.check_keys(s, p,
+                     {"name", "kind", "position", "target", "width", "height", "hfov_deg", "vfov_deg", "focal_px",
+                      "max_range", "noise"});
         SensorSpec spec;
         spec.name = L.string_or(s, p, "name", p);
         const std::string kind_name = L.string_or(s, p, "kind", "");
@@ -356,14 +361,14 @@ std::vector<Box> person_boxes(const PersonSpec& person, double t) {
     };
     const double hip = 0.47 * h;
     const double shoulder = 0.81 * h;
-    add(swing, 0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                     // left leg
-    add(-swing, -0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                   // right leg
-    add(0.0, 0.0, hip, shoulder, 0.22 * k, 0.38 * k);                       // torso
+    add(swing, 0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                    // left leg
+    add(-swing, -0.09 * k, 0.0, hip, 0.13 * k, 0.12 * k);                  // right leg
+    add(0.0, 0.0, hip, shoulder, 0.22 * k, 0.38 * k);                      // torso
     add(-0.8 * swing, 0.245 * k, 0.45 * h, shoulder, 0.09 * k, 0.09 * k);  // left arm
     add(0.8 * swing, -0.245 * k, 0.45 * h, shoulder, 0.09 * k, 0.09 * k);  // right arm
-    add(0.0, 0.0, shoulder, 0.86 * h, 0.10 * k, 0.10 * k);                  // neck
-    add(0.01 * k, 0.0, 0.86 * h, h, 0.20 * k, 0.16 * k);                    // head
-    add(0.0, 0.0, 0.40 * h, hip, 0.20 * k, 0.36 * k);                       // hips
+    add(0.0, 0.0, shoulder, 0.86 * h, 0.10 * k, 0.10 * k);                 // neck
+    add(0.01 * k, 0.0, 0.86 * h, h, 0.20 * k, 0.16 * k);                   // head
+    add(0.0, 0.0, 0.40 * h, hip, 0.20 * k, 0.36 * k);                      // hips
     return boxes;
 }
 

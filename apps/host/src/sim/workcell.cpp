@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/workcell.hpp"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file canned_frames.hpp
 /// The firmware's canned depth frames as one binary blob
 /// (apps/firmware/generated/frames.bin, written by cellguard-firmware-gen,
@@ -35,21 +37,21 @@ namespace cellguard::firmware {
 
 /// Byte sizes and offsets of the frames blob (see the table above).
 namespace frames_layout {
-constexpr std::size_t kMagic = 0U;           ///< 4 bytes 'C' 'G' 'F' 'R'
-constexpr std::size_t kVersion = 4U;         ///< u32 format version
-constexpr std::size_t kSensorCount = 8U;     ///< u32 S
-constexpr std::size_t kSceneCount = 12U;     ///< u32 N
-constexpr std::size_t kBlobSize = 16U;       ///< u32 total size
-constexpr std::size_t kReserved = 20U;       ///< u32, zero
-constexpr std::size_t kHeaderBytes = 24U;    ///< first sensor record
-constexpr std::size_t kSensorBytes = 144U;   ///< one sensor record
-constexpr std::size_t kPoseOffset = 0U;      ///< 12 binary64 in a sensor record
+constexpr std::size_t kMagic = 0U;              ///< 4 bytes 'C' 'G' 'F' 'R'
+constexpr std::size_t kVersion = 4U;            ///< u32 format version
+constexpr std::size_t kSensorCount = 8U;        ///< u32 S
+constexpr std::size_t kSceneCount = 12U;        ///< u32 N
+constexpr std::size_t kBlobSize = 16U;          ///< u32 total size
+constexpr std::size_t kReserved = 20U;          ///< u32, zero
+constexpr std::size_t kHeaderBytes = 24U;       ///< first sensor record
+constexpr std::size_t kSensorBytes = 144U;      ///< one sensor record
+constexpr std::size_t kPoseOffset = 0U;         ///< 12 binary64 in a sensor record
 constexpr std::size_t kIntrinsicsOffset = 96U;  ///< fx, fy, cx, cy binary64
-constexpr std::size_t kWidthOffset = 128U;   ///< i32 width
-constexpr std::size_t kHeightOffset = 132U;  ///< i32 height
-constexpr std::size_t kMaxRangeOffset = 136U;  ///< binary32 max range
-constexpr std::size_t kSceneNameBytes = 32U; ///< one scene name field
-constexpr std::size_t kCrcBytes = 4U;        ///< the trailing CRC-32
+constexpr std::size_t kWidthOffset = 128U;      ///< i32 width
+constexpr std::size_t kHeightOffset = 132U;     ///< i32 height
+constexpr std::size_t kMaxRangeOffset = 136U;   ///< binary32 max range
+constexpr std::size_t kSceneNameBytes = 32U;    ///< one scene name field
+constexpr std::size_t kCrcBytes = 4U;           ///< the trailing CRC-32
 }  // namespace frames_layout
 
 /// The four magic bytes at offset 0.
@@ -66,14 +68,14 @@ constexpr std::int32_t kMaxCannedImageSide = 4096;
 /// A depth sensor as stored: pose rows (3 x 4, sensor -> workcell), pinhole
 /// intrinsics, image size and range.
 struct CannedSensor {
-    double pose[12] = {};          ///< rows of the 3 x 4 pose, row-major
-    double fx = 0.0;               ///< focal length x, pixels
-    double fy = 0.0;               ///< focal length y, pixels
-    double cx = 0.0;               ///< principal point x, pixels
-    double cy = 0.0;               ///< principal point y, pixels
-    std::int32_t width = 0;        ///< image width, pixels
-    std::int32_t height = 0;       ///< image height, pixels
-    float max_range = 0.0F;        ///< metres
+    double pose[12] = {};     ///< rows of the 3 x 4 pose, row-major
+    double fx = 0.0;          ///< focal length x, pixels
+    double fy = 0.0;          ///< focal length y, pixels
+    double cx = 0.0;          ///< principal point x, pixels
+    double cy = 0.0;          ///< principal point y, pixels
+    std::int32_t width = 0;   ///< image width, pixels
+    std::int32_t height = 0;  ///< image height, pixels
+    float max_range = 0.0F;   ///< metres
 };
 
 /// A checked frames blob: the sensors and scene names decoded, the depth

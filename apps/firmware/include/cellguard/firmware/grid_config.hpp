@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file grid_config.hpp
 /// The grid the firmware is compiled for: the paper's 34 x 30 x 30 voxels
 /// at 5 cm (paper_grid_geometry, grid.hpp): the size of the static grid

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file scenario.hpp
 /// The firmware's canned run, the same code on every target: the prior
 /// image (generated/prior.cgprior, embedded in read-only data: flash on the
@@ -23,8 +25,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/can/safety_output.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::firmware {
@@ -46,10 +48,10 @@ protected:
 
 /// Outcome of run_scenario.
 struct ScenarioSummary {
-    bool setup_ok = false;        ///< prior, zones and CAN output were accepted
-    std::uint32_t cycles = 0U;    ///< cycles run
-    std::uint32_t digest = 0U;    ///< CRC-32 over every cycle's digested content
-    std::uint32_t prior_crc = 0U; ///< SafetyController::prior_crc
+    bool setup_ok = false;         ///< prior, zones and CAN output were accepted
+    std::uint32_t cycles = 0U;     ///< cycles run
+    std::uint32_t digest = 0U;     ///< CRC-32 over every cycle's digested content
+    std::uint32_t prior_crc = 0U;  ///< SafetyController::prior_crc
 };
 
 /// Number of cycles in the script.

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file cli.hpp
 /// What every host program's command line does alike (apps/; issues 15 and
 /// 16): `--version` prints "<program> <version>" to stdout and exits 0,

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file command_line.hpp
 /// The host programs' command lines on CLI11 (Debian libcli11-dev), set up
 /// alike (cli.hpp says what every program does): `-h`/`--help` prints the

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file owned_ray_table.hpp
 /// A ray table (lib/'s ray_table.hpp) with its storage on the host heap: the
 /// one way the host programs, benchmarks and tests build one, so the storage

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file can_port.hpp
 /// The monitor's CAN port: the CanSender its CanSafetyOutput sends through,
 /// one of a SocketCAN interface (the Linux port's SocketCan, cellguard/port/can.hpp),
@@ -22,7 +24,8 @@
 namespace cellguard::monitor {
 
 /// See the file comment.
-class CanPort final : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+class CanPort final : public CanSender {
 public:
     /// What the port sends on.
     enum class Kind : std::uint8_t {

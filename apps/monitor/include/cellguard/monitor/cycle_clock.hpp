@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file cycle_clock.hpp
 /// The monitor's clock for the SafetyController. Paced (--paced, one cycle
 /// per period): the source clock (CLOCK_MONOTONIC) unchanged, so a clock that

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file demo_log_check.hpp
 /// The check behind cellguard-monitor-check-log: a candump log written by
 /// `cellguard-monitor --demo` is read back as the robot's PLC would receive
@@ -28,8 +30,8 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/cell/config.hpp"
 #include "cellguard/can/plc_receiver.hpp"
+#include "cellguard/host/cell/config.hpp"
 
 namespace cellguard::monitor {
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file monitor_cell.hpp
 /// What the monitor's cycle works on, built once at start-up from its
 /// configuration: the sensors, the grid and its storage, the compiled zones,
@@ -16,11 +18,11 @@
 
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/host/cell/config.hpp"
-#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/grid/sensor_model.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
@@ -64,18 +66,18 @@ public:
     /// the background check, the tables and the work bound to @p out.
     SetupError build_tables(const cell::MonitorConfig& cfg, std::FILE* out);
 
-    std::vector<sim::SensorSpec> specs;          ///< one per configured sensor
-    GridGeometry grid;                           ///< the grid
-    std::vector<std::uint32_t> zone_mask;        ///< the zones' membership mask
-    CompiledZones zones;                         ///< compiled into zone_mask
-    SensorModelTable model;                      ///< the sensor model
-    std::vector<std::int16_t> frame_log_odds;    ///< the frame grid's log-odds
-    std::vector<std::uint8_t> frame_observed;    ///< the frame grid's observed flags
-    EvidenceGrid frame_grid;                     ///< the cycle's evidence grid
-    std::vector<std::int16_t> fusion_scratch;    ///< fuse_sensor's per-sensor opinions
-    std::vector<std::int16_t> prior;             ///< one prior value per voxel
-    sim::SimulatedFrame layout;                  ///< every sensor's view of the empty (reference) cell
-    std::vector<host::OwnedRayTable> tables;     ///< per sensor; built for the simulated ones
+    std::vector<sim::SensorSpec> specs;            ///< one per configured sensor
+    GridGeometry grid;                             ///< the grid
+    std::vector<std::uint32_t> zone_mask;          ///< the zones' membership mask
+    CompiledZones zones;                           ///< compiled into zone_mask
+    SensorModelTable model;                        ///< the sensor model
+    std::vector<std::int16_t> frame_log_odds;      ///< the frame grid's log-odds
+    std::vector<std::uint8_t> frame_observed;      ///< the frame grid's observed flags
+    EvidenceGrid frame_grid;                       ///< the cycle's evidence grid
+    std::vector<std::int16_t> fusion_scratch;      ///< fuse_sensor's per-sensor opinions
+    std::vector<std::int16_t> prior;               ///< one prior value per voxel
+    sim::SimulatedFrame layout;                    ///< every sensor's view of the empty (reference) cell
+    std::vector<host::OwnedRayTable> tables;       ///< per sensor; built for the simulated ones
     std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
 };
 

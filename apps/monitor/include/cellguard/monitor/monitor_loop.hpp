@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file monitor_loop.hpp
 /// The monitor's cycle. A MonitorLoop takes the wiring (the configuration,
 /// the cell built at start-up, one frame source per sensor, the CAN port and
@@ -25,13 +27,13 @@
 #include <cstdio>
 #include <vector>
 
-#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/can/safety_output.hpp"
 #include "cellguard/host/cell/config.hpp"
-#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard::monitor {
 
@@ -53,9 +55,9 @@ struct MonitorStats {
 
 /// How run_cycles() ended.
 struct RunResult {
-    bool stopped_by_signal = false;     ///< the stop flag ended it early
-    bool paced = false;                 ///< one cycle per period on the real clock
-    std::uint64_t skipped_periods = 0U; ///< paced: periods skipped after a cycle that ran past its period
+    bool stopped_by_signal = false;      ///< the stop flag ended it early
+    bool paced = false;                  ///< one cycle per period on the real clock
+    std::uint64_t skipped_periods = 0U;  ///< paced: periods skipped after a cycle that ran past its period
 };
 
 /// Writes the names of the faults in @p mask, comma-separated ("-" for none),
@@ -63,13 +65,14 @@ struct RunResult {
 const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capacity) noexcept;
 
 /// See the file comment. All references must outlive the loop.
-class MonitorLoop final : private CycleOutput {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+class MonitorLoop final : private CycleOutput {
 public:
     /// Binds the wiring: @p sources holds one source per configured sensor,
     /// in configuration order; @p status_out receives the status lines and
     /// refused-frame reports (nullptr: quiet).
-    MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources, CanPort& can,
-                CycleClock& clock, std::FILE* status_out);
+    MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
+                CanPort& can, CycleClock& clock, std::FILE* status_out);
     MonitorLoop(const MonitorLoop&) = delete;
     MonitorLoop& operator=(const MonitorLoop&) = delete;
     MonitorLoop(MonitorLoop&&) = delete;
@@ -116,7 +119,7 @@ private:
     std::size_t line_length_ = 0U;
     cell::FrameStatus frame_status_{};
     SafetyController controller_;
-    CanSafetyOutput output_;           ///< made after the controller: it sends the controller's prior CRC
+    CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC
     MonitorStats stats_{};
 };
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file picture.hpp
 /// A picture of the configuration for the integrator to check before a robot
 /// moves: the grid, the background (the prior's voxels that an object cannot
@@ -22,12 +24,12 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/grid/grid.hpp"
-#include "cellguard/host/io/png.hpp"
-#include "cellguard/host/cell/config.hpp"
-#include "cellguard/host/sim/workcell.hpp"
-#include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/grid.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/io/png.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::monitor {
@@ -36,33 +38,33 @@ using host::RgbImage;  ///< the picture is an RGB image (written by host::write_
 
 /// One sensor as the picture needs it.
 struct PictureSensor {
-    std::string name;                                          ///< label
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();    ///< sensor -> cell (x right, y down, z forward)
-    PinholeIntrinsics intrinsics{};                            ///< its image
-    double max_range = 10.0;                                   ///< metres
+    std::string name;                                        ///< label
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell (x right, y down, z forward)
+    PinholeIntrinsics intrinsics{};                          ///< its image
+    double max_range = 10.0;                                 ///< metres
 };
 
 /// What to draw.
 struct PictureInput {
-    std::string title;                      ///< first line (e.g. the config file)
-    GridGeometry grid{};                    ///< the grid
-    const CompiledZones* zones = nullptr;   ///< compiled for @ref grid (required)
-    std::vector<std::string> zone_names;    ///< one per zone
-    Span<const std::int16_t> prior{};       ///< one value per voxel
+    std::string title;                         ///< first line (e.g. the config file)
+    GridGeometry grid{};                       ///< the grid
+    const CompiledZones* zones = nullptr;      ///< compiled for @ref grid (required)
+    std::vector<std::string> zone_names;       ///< one per zone
+    Span<const std::int16_t> prior{};          ///< one value per voxel
     std::int16_t accessible_min_prior = -754;  ///< below this (or the sentinel) a voxel is background
-    std::vector<PictureSensor> sensors;     ///< every sensor
-    std::size_t view_sensor = 0U;           ///< index of the sensor whose view is drawn
+    std::vector<PictureSensor> sensors;        ///< every sensor
+    std::size_t view_sensor = 0U;              ///< index of the sensor whose view is drawn
 };
 
 /// Where the top view landed in the picture (for tests and tools).
 struct PictureLayout {
-    int top_x = 0;      ///< pixel column of the top view's left edge (grid x minimum)
-    int top_y = 0;      ///< pixel row of the top view's top edge (grid y maximum)
-    int voxel_px = 0;   ///< pixels per voxel edge in the top view
-    int view_x = 0;     ///< pixel column of the sensor view's left edge
-    int view_y = 0;     ///< pixel row of the sensor view's top edge
-    int view_w = 0;     ///< sensor view width, pixels
-    int view_h = 0;     ///< sensor view height, pixels
+    int top_x = 0;            ///< pixel column of the top view's left edge (grid x minimum)
+    int top_y = 0;            ///< pixel row of the top view's top edge (grid y maximum)
+    int voxel_px = 0;         ///< pixels per voxel edge in the top view
+    int view_x = 0;           ///< pixel column of the sensor view's left edge
+    int view_y = 0;           ///< pixel row of the sensor view's top edge
+    int view_w = 0;           ///< sensor view width, pixels
+    int view_h = 0;           ///< sensor view height, pixels
     double view_scale = 1.0;  ///< picture pixels per sensor pixel
 };
 

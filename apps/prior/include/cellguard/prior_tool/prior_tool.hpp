@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file prior_tool.hpp
 /// cellguard-prior, the commissioning tool that turns the background of an
 /// empty workcell into the accessibility prior (the paper's sections II-IV)
@@ -32,15 +34,15 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility_params.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/host/io/io_status.hpp"
-#include "cellguard/host/io/prior_files.hpp"
-#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/grid/sensor_model.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
+#include "cellguard/host/io/io_status.hpp"
+#include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
 
 namespace cellguard::prior_tool {
 
@@ -109,9 +111,9 @@ struct NpyPlacement {
 
 /// What load_background_npy found.
 struct NpyBackgroundInfo {
-    bool float_input = false;          ///< float32 probability (else int16 log-odds)
-    std::string observed_source;       ///< file the observed flags came from, or how they were derived
-    std::size_t observed_voxels = 0;   ///< voxels flagged observed
+    bool float_input = false;         ///< float32 probability (else int16 log-odds)
+    std::string observed_source;      ///< file the observed flags came from, or how they were derived
+    std::size_t observed_voxels = 0;  ///< voxels flagged observed
 };
 
 /// Reads a background grid from @p path: a 3-D .npy of shape (nz, ny, nx),
@@ -127,8 +129,8 @@ struct NpyBackgroundInfo {
 /// kTruncatedInput, kMalformedInput, kUnsupportedType (dtype), kGeometryMismatch
 /// (not 3-D, or the shape differs from placement.dims), kNonFiniteValue,
 /// kInvalidArgument (unreadable, or a value out of range), kCapacityExceeded.
-IoStatus load_background_npy(const std::string& path, const std::string& observed_path,
-                             const NpyPlacement& placement, BackgroundGrid& out, NpyBackgroundInfo& info);
+IoStatus load_background_npy(const std::string& path, const std::string& observed_path, const NpyPlacement& placement,
+                             BackgroundGrid& out, NpyBackgroundInfo& info);
 
 /// Background frames to fuse: frame k is a set of sensor readings.
 class FrameSource {
@@ -166,12 +168,12 @@ private:
 /// recorded .pcd files (points in the sensor frame: x right, y down, z along
 /// the optical axis).
 struct RecordedSensor {
-    std::string name;                                          ///< as in the configuration
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();    ///< sensor -> cell
-    int width = 0;                                             ///< image columns (capacity: width x height points)
-    int height = 0;                                            ///< image rows
-    float max_range = 10.0F;                                   ///< readings beyond are not fused
-    std::vector<std::string> files;                            ///< its frames, in order
+    std::string name;                                        ///< as in the configuration
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell
+    int width = 0;                                           ///< image columns (capacity: width x height points)
+    int height = 0;                                          ///< image rows
+    float max_range = 10.0F;                                 ///< readings beyond are not fused
+    std::vector<std::string> files;                          ///< its frames, in order
 };
 
 /// Recorded .pcd frames: frame k holds the k-th file of every sensor that
@@ -199,8 +201,8 @@ private:
 /// recorded frames; also its grid and [prior] background_frames. Errors: the
 /// loader's message (file, line, key), or a `target` straight above or below
 /// the sensor (no horizontal axis; give `rotation`).
-IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files,
-                             std::vector<RecordedSensor>& sensors, GridGeometry& grid, int& background_frames);
+IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files, std::vector<RecordedSensor>& sensors,
+                             GridGeometry& grid, int& background_frames);
 
 /// Adds the recordings in @p dir: one subfolder per sensor, named as in the
 /// configuration, holding that sensor's .pcd files (taken in name order).
@@ -227,17 +229,16 @@ struct PriorResult {
 
 /// Runs compute_accessibility_prior on @p background with @p params.
 /// Errors: kInvalidArgument (params), kCapacityExceeded (allocation), lib's errors.
-IoStatus compute_prior(const EvidenceGrid& background, const AccessibilityParams& params,
-                       PriorResult& result);
+IoStatus compute_prior(const EvidenceGrid& background, const AccessibilityParams& params, PriorResult& result);
 
 /// What write_prior_outputs wrote and read back.
 struct WrittenOutputs {
-    std::string image_path;          ///< the prior image
-    std::string source_path;         ///< the flash source
-    std::string p_acc_path;          ///< P(acc) .npy
-    std::string p_fore_path;         ///< P(fore) .npy
-    std::size_t image_bytes = 0U;    ///< size of the image
-    PriorImageHeader header{};       ///< the header as re-read by the loader
+    std::string image_path;        ///< the prior image
+    std::string source_path;       ///< the flash source
+    std::string p_acc_path;        ///< P(acc) .npy
+    std::string p_fore_path;       ///< P(fore) .npy
+    std::size_t image_bytes = 0U;  ///< size of the image
+    PriorImageHeader header{};     ///< the header as re-read by the loader
 };
 
 /// Writes the four outputs into @p dir (created with its parents when

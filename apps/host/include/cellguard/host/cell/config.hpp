@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file config.hpp
 /// The monitor's configuration, loaded from one TOML file, and the built-in
 /// demo configuration (the same as apps/monitor/config/paper-cell.toml).
@@ -29,20 +31,20 @@ struct GridSettings {
 
 /// One static depth sensor.
 struct SensorSettings {
-    std::string name;                                      ///< label
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();    ///< optical centre, metres
-    bool has_target = false;                               ///< aimed at `target` (else `rotation`)
-    Eigen::Vector3d target = Eigen::Vector3d::Zero();      ///< point on the optical axis
+    std::string name;                                              ///< label
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();            ///< optical centre, metres
+    bool has_target = false;                                       ///< aimed at `target` (else `rotation`)
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();              ///< point on the optical axis
     Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  ///< sensor -> cell rotation (w, x, y, z)
-    int width = 0;                                         ///< image columns
-    int height = 0;                                        ///< image rows
-    double hfov_deg = 0.0;                                 ///< horizontal field of view
-    double vfov_deg = 0.0;                                 ///< vertical field of view
-    double max_range = 10.0;                               ///< metres
+    int width = 0;                                                 ///< image columns
+    int height = 0;                                                ///< image rows
+    double hfov_deg = 0.0;                                         ///< horizontal field of view
+    double vfov_deg = 0.0;                                         ///< vertical field of view
+    double max_range = 10.0;                                       ///< metres
     /// Recorded frames (PCD files, relative paths resolved against the config
     /// file's directory), one per cycle in order, cycled; empty: the simulator.
     std::vector<std::string> pcd_files;
-    int line = 0;                                          ///< line of its table in the file
+    int line = 0;  ///< line of its table in the file
 };
 
 /// One zone and where it was configured.
@@ -61,46 +63,48 @@ enum class PriorSource : std::uint8_t {
 /// The prior.
 struct PriorSettings {
     PriorSource source = PriorSource::kSimulatedBackground;  ///< where it comes from
-    std::string file;                 ///< kFile: path (relative paths: to the config file's directory)
-    int background_frames = 8;        ///< kSimulatedBackground: empty frames accumulated
+    std::string file;           ///< kFile: path (relative paths: to the config file's directory)
+    int background_frames = 8;  ///< kSimulatedBackground: empty frames accumulated
 };
 
 /// The CAN output: an interface, or a candump log file.
 struct CanSettings {
-    std::string interface_name;                ///< SocketCAN interface; empty: write the log
-    std::string log_file = "monitor-demo.log"; ///< candump log path when no interface is given (relative: to the working directory)
+    std::string interface_name;  ///< SocketCAN interface; empty: write the log
+    std::string log_file =
+        "monitor-demo.log";  ///< candump log path when no interface is given (relative: to the working directory)
     std::string log_interface_name = "vcan0";  ///< interface name written in the log lines
     SafetyChannelConfig channel{};             ///< CAN IDs, data IDs, data ID mode
 };
 
 /// Everything the monitor needs.
 struct MonitorConfig {
-    GridSettings grid;                    ///< the grid
-    std::vector<SensorSettings> sensors;  ///< 1..kMaxSensors sensors
-    std::vector<ZoneSettings> zones;      ///< 1..16 zones
-    PriorSettings prior;                  ///< the prior
-    CanSettings can;                      ///< the CAN output
-    std::uint64_t period_us = 100000U;    ///< cycle period
-    std::uint64_t budget_us = 100000U;    ///< cycle deadline
+    GridSettings grid;                         ///< the grid
+    std::vector<SensorSettings> sensors;       ///< 1..kMaxSensors sensors
+    std::vector<ZoneSettings> zones;           ///< 1..16 zones
+    PriorSettings prior;                       ///< the prior
+    CanSettings can;                           ///< the CAN output
+    std::uint64_t period_us = 100000U;         ///< cycle period
+    std::uint64_t budget_us = 100000U;         ///< cycle deadline
     std::uint64_t max_frame_age_us = 200000U;  ///< older frames are stale
     std::size_t table_check_bytes = 262144U;   ///< ray-table bytes CRC-checked per cycle (cycle.table_check_kib)
     std::uint32_t max_repeated_frames = 0U;    ///< frozen-sensor limit, 0 = off (cycle.max_repeated_frames)
     std::size_t zone_check_bytes = 16384U;     ///< zone-mask bytes CRC-checked per cycle (cycle.zone_check_kib)
-    float background_match = 0.0F;             ///< fraction of the commissioned view a frame must show, 0 = off (cycle.background_match)
-    float background_tolerance_m = 0.05F;      ///< depth tolerance of that comparison (cycle.background_tolerance_m)
-    std::uint64_t restart_delay_us = 500000U;  ///< restart interlock delay
-    bool reset_required = false;          ///< restart also needs a reset edge
+    float background_match =
+        0.0F;  ///< fraction of the commissioned view a frame must show, 0 = off (cycle.background_match)
+    float background_tolerance_m = 0.05F;       ///< depth tolerance of that comparison (cycle.background_tolerance_m)
+    std::uint64_t restart_delay_us = 500000U;   ///< restart interlock delay
+    bool reset_required = false;                ///< restart also needs a reset edge
     std::uint32_t fault_recovery_cycles = 10U;  ///< clean cycles before a recoverable fault clears
     std::int16_t foreground_threshold = 255;    ///< t_f, log-odds
     std::int16_t accessible_min_prior = -754;   ///< unseen counts voxels with a prior at least this
-    int demo_cycles = 60;                 ///< cycles the simulated run lasts
+    int demo_cycles = 60;                       ///< cycles the simulated run lasts
 };
 
 /// Outcome of loading: the config, or a message naming file, line and key.
 struct ConfigLoad {
-    bool ok = false;         ///< true when `config` is valid
-    MonitorConfig config;    ///< the loaded configuration
-    std::string error;       ///< "file:line:column: key: what is wrong"
+    bool ok = false;       ///< true when `config` is valid
+    MonitorConfig config;  ///< the loaded configuration
+    std::string error;     ///< "file:line:column: key: what is wrong"
 };
 
 /// Parses @p text (named @p source_name in messages; relative prior paths

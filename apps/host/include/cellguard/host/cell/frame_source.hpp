@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file frame_source.hpp
 /// Where the monitor's sensor frames come from, one frame per sensor and
 /// cycle, each into a buffer the source allocated when it was made: the
@@ -22,8 +24,8 @@ constexpr std::size_t kFrameReasonCapacity = 512U;
 
 /// What loading one frame found.
 struct FrameStatus {
-    bool ok = false;                         ///< true: the frame is fused
-    const char* file = "";                   ///< the file it came from ("" for a rendered frame); valid until the source changes
+    bool ok = false;        ///< true: the frame is fused
+    const char* file = "";  ///< the file it came from ("" for a rendered frame); valid until the source changes
     char reason[kFrameReasonCapacity] = {};  ///< why it was refused (empty when ok)
     std::uint64_t points = 0U;               ///< recorded frames: finite points fused
     std::uint64_t nonfinite = 0U;            ///< recorded frames: points skipped as NaN or infinite

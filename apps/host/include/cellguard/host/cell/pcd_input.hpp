@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file pcd_input.hpp
 /// Sensor input from recorded PCD files (PCL's ASCII, binary and
 /// binary_compressed formats, read by port/linux's pcd.hpp): a sensor with
@@ -36,19 +38,19 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/pcd.hpp"
-#include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/host/io/pcd.hpp"
 
 namespace cellguard::cell {
 
 /// What the check of one recorded frame found.
 struct PcdFrameCheck {
-    bool ok = false;                  ///< true: the frame is fused
-    std::string file;                 ///< the file it came from
-    std::string reason;               ///< why it was refused (empty when ok)
-    std::uint64_t points = 0U;        ///< finite points fused
-    std::uint64_t nonfinite = 0U;     ///< points skipped as NaN or infinite
+    bool ok = false;               ///< true: the frame is fused
+    std::string file;              ///< the file it came from
+    std::string reason;            ///< why it was refused (empty when ok)
+    std::uint64_t points = 0U;     ///< finite points fused
+    std::uint64_t nonfinite = 0U;  ///< points skipped as NaN or infinite
 };
 
 /// The recorded frames of one sensor.

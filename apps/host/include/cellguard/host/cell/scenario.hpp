@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file scenario.hpp
 /// The demo's scripted person: a 0.3 m x 0.3 m x 1.7 m box (the simulator's
 /// stand-in for a person) who waits outside the cell, walks into the warning

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file candump_log.hpp
 /// CAN frames as a candump log file: the format `candump -L` writes and
 /// `canplayer` replays, one frame per line:
@@ -18,9 +20,9 @@
 #include <cstdio>
 
 #include "cellguard/can/can_frame.hpp"
+#include "cellguard/can/safety_output.hpp"
 #include "cellguard/host/io/io_status.hpp"
 #include "cellguard/safety/safety_controller.hpp"
-#include "cellguard/can/safety_output.hpp"
 
 namespace cellguard {
 
@@ -39,9 +41,9 @@ constexpr std::size_t kCandumpLineCapacity = 64U;
 
 /// One parsed candump line.
 struct CandumpRecord {
-    std::uint64_t timestamp_us = 0U;                      ///< timestamp, microseconds
+    std::uint64_t timestamp_us = 0U;                          ///< timestamp, microseconds
     char interface_name[kCandumpMaxInterfaceName + 1U] = {};  ///< interface, NUL-terminated
-    CanFrame frame{0U, 0U, {}};                           ///< the frame
+    CanFrame frame{0U, 0U, {}};                               ///< the frame
 };
 
 /// Parses one line (without or with a trailing newline) in the format above:
@@ -50,7 +52,8 @@ struct CandumpRecord {
 [[nodiscard]] IoStatus parse_candump_line(const char* line, CandumpRecord& out) noexcept;
 
 /// A CanSender that appends candump lines to a file, timestamped by a clock.
-class CandumpLogWriter final : public CanSender {  // NOLINT(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class CandumpLogWriter final : public CanSender {
 public:
     /// A writer with no file; send() fails until open() succeeds.
     CandumpLogWriter() noexcept = default;

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file file.hpp
 /// `FilePtr`: a C stdio FILE* that closes itself on scope exit, and
 /// `open_file` / `close_file`, so that host code that writes or reads whole

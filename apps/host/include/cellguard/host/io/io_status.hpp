@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file io_status.hpp
 /// `IoStatus`: the result of reading or writing a host-side file (.npy,
 /// .pcd): an ErrorCode plus a human-readable message such as

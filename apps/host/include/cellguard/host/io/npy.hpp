@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file npy.hpp
 /// NumPy .npy files for grids: export for inspection in Python, import of a
 /// background grid G_B.
@@ -27,10 +29,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "cellguard/base/span.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/host/io/io_status.hpp"
-#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file pcd.hpp
 /// PCL point cloud files (.pcd) as sensor input: the reader takes x, y, z of
 /// every point as float, skips points with a NaN or infinite coordinate and
@@ -32,8 +34,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cellguard/host/io/io_status.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/host/io/io_status.hpp"
 
 namespace cellguard {
 

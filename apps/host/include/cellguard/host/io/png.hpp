@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file png.hpp
 /// The host programs' PNG writer, on libpng (Debian libpng-dev): 8-bit RGB
 /// or 8-bit indexed colour, no interlace, per row filter None or Up, zlib's

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file prior_files.hpp
 /// The prior image on a Linux host: as a binary file (for the Linux daemon)
 /// and as generated C++ source (for a firmware that keeps the prior in
@@ -31,11 +33,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility_params.hpp"
+#include "cellguard/base/span.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/host/io/io_status.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
 #include "cellguard/prior/prior_image.hpp"
-#include "cellguard/base/span.hpp"
 
 namespace cellguard {
 

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file toml_loader.hpp
 /// What the host programs' TOML loaders (the monitor's configuration, the
 /// simulator's scene files) share: the error type whose message names the

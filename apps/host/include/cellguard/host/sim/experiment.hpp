@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file experiment.hpp
 /// The paper's experiment (sections IV-V) as a library, shared by the
 /// evaluation program (apps/evaluation) and the claim tests
@@ -29,11 +31,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/prior/accessibility.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/sim/ground_truth.hpp"
 #include "cellguard/host/sim/scene_file.hpp"
+#include "cellguard/prior/accessibility.hpp"
 
 namespace cellguard::sim {
 
@@ -69,16 +71,16 @@ const char* method_name(PriorMethod method);
 /// How to run one scene.
 struct ExperimentConfig {
     GridGeometry geometry = paper_grid_geometry();  ///< the grid
-    AccessibilityParams params{};                   ///< t_B, t_E, r, A_0 (the paper's by default; method is set per run)
-    SensorModelParams sensor_model{};               ///< the 1-D profile (0.44 / 0.56 by default)
+    AccessibilityParams params{};      ///< t_B, t_E, r, A_0 (the paper's by default; method is set per run)
+    SensorModelParams sensor_model{};  ///< the 1-D profile (0.44 / 0.56 by default)
     /// Ray rasterisation of fusion and of the ground truth: the paper's 3D
     /// Bresenham by default (the exact traversal visits every voxel a ray
     /// grazes and so clears more of the voxels that a surface only clips).
     Rasterization rasterization = Rasterization::kBresenham3d;
-    int background_frames = 100;                    ///< empty frames summed into G_B
-    int foreground_frames = 5;                      ///< frames with the foreground, scores summed
-    double frame_interval_s = 0.1;                  ///< time between foreground frames
-    bool ideal_sensors = false;                     ///< ignore the scene's noise models
+    int background_frames = 100;    ///< empty frames summed into G_B
+    int foreground_frames = 5;      ///< frames with the foreground, scores summed
+    double frame_interval_s = 0.1;  ///< time between foreground frames
+    bool ideal_sensors = false;     ///< ignore the scene's noise models
 };
 
 /// Counts of subtracted log-odds values (index value + 32768, the sentinel
@@ -90,22 +92,22 @@ struct ScoreHistogram {
 
 /// One point of a precision-recall curve.
 struct PrPoint {
-    double t_f = 0.0;          ///< foreground threshold (probability)
-    std::uint64_t tp = 0U;     ///< foreground voxels called foreground
-    std::uint64_t fp = 0U;     ///< not-foreground voxels called foreground
-    std::uint64_t fn = 0U;     ///< foreground voxels missed
-    double precision = 1.0;    ///< tp / (tp + fp); 1 when nothing is called foreground
-    double recall = 0.0;       ///< tp / (tp + fn)
-    double f1 = 0.0;           ///< harmonic mean of precision and recall
+    double t_f = 0.0;        ///< foreground threshold (probability)
+    std::uint64_t tp = 0U;   ///< foreground voxels called foreground
+    std::uint64_t fp = 0U;   ///< not-foreground voxels called foreground
+    std::uint64_t fn = 0U;   ///< foreground voxels missed
+    double precision = 1.0;  ///< tp / (tp + fp); 1 when nothing is called foreground
+    double recall = 0.0;     ///< tp / (tp + fn)
+    double f1 = 0.0;         ///< harmonic mean of precision and recall
 };
 
 /// The curve summarised.
 struct PrSummary {
-    double best_f1 = 0.0;                 ///< largest F1 over the sweep
-    double best_f1_t_f = 0.0;             ///< t_f where it occurs (the smallest such t_f)
-    double precision_at_recall_90 = -1.0; ///< largest precision among points with recall >= 0.9; -1 when none
-    double recall_at_precision_90 = -1.0; ///< largest recall among points with precision >= 0.9; -1 when none
-    double max_recall = 0.0;              ///< largest recall over the sweep
+    double best_f1 = 0.0;                  ///< largest F1 over the sweep
+    double best_f1_t_f = 0.0;              ///< t_f where it occurs (the smallest such t_f)
+    double precision_at_recall_90 = -1.0;  ///< largest precision among points with recall >= 0.9; -1 when none
+    double recall_at_precision_90 = -1.0;  ///< largest recall among points with precision >= 0.9; -1 when none
+    double max_recall = 0.0;               ///< largest recall over the sweep
 };
 
 /// Largest precision among points of @p curve with recall >= @p recall
@@ -141,17 +143,17 @@ struct MethodResult {
 
 /// Results of one scene.
 struct SceneResult {
-    std::string name;                    ///< the scene's name
-    Scene background;                    ///< what G_B was built from
-    Scene last_scene;                    ///< the scene of the last foreground frame
-    OwnedGrid background_grid;           ///< G_B
-    OwnedGrid last_frame;                ///< the fused last foreground frame
-    GroundTruth last_truth;              ///< ground truth of the last foreground frame
-    std::array<MethodResult, 4> methods; ///< in kAllMethods order
-    double fuse_ms_per_frame = 0.0;      ///< mean fusion time of one frame (background and foreground)
-    double render_ms_per_frame = 0.0;    ///< mean simulation (ray casting and noise) time of one frame
-    double truth_ms = 0.0;               ///< time for the ground truth (all foreground frames)
-    double subtract_ms_per_frame = 0.0;  ///< mean time of one subtraction (one method, whole grid)
+    std::string name;                     ///< the scene's name
+    Scene background;                     ///< what G_B was built from
+    Scene last_scene;                     ///< the scene of the last foreground frame
+    OwnedGrid background_grid;            ///< G_B
+    OwnedGrid last_frame;                 ///< the fused last foreground frame
+    GroundTruth last_truth;               ///< ground truth of the last foreground frame
+    std::array<MethodResult, 4> methods;  ///< in kAllMethods order
+    double fuse_ms_per_frame = 0.0;       ///< mean fusion time of one frame (background and foreground)
+    double render_ms_per_frame = 0.0;     ///< mean simulation (ray casting and noise) time of one frame
+    double truth_ms = 0.0;                ///< time for the ground truth (all foreground frames)
+    double subtract_ms_per_frame = 0.0;   ///< mean time of one subtraction (one method, whole grid)
     /// Scene result for grids of geometry @p g.
     explicit SceneResult(const GridGeometry& g) : background_grid(g), last_frame(g) {}
 };

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file ground_truth.hpp
 /// Ground truth for the paper's experiments (section IV): the ideal 0-1
 /// sensor model on the same sensors without noise. Every pixel's ray runs to
@@ -37,10 +39,10 @@ enum class Truth : std::uint8_t {
 
 /// Labels of every voxel of a grid (linear index order) and their counts.
 struct GroundTruth {
-    std::vector<Truth> label;            ///< one label per voxel
-    std::size_t foreground = 0U;         ///< voxels labelled kForeground
-    std::size_t not_foreground = 0U;     ///< voxels labelled kNotForeground
-    std::size_t unknown = 0U;            ///< voxels labelled kUnknown
+    std::vector<Truth> label;         ///< one label per voxel
+    std::size_t foreground = 0U;      ///< voxels labelled kForeground
+    std::size_t not_foreground = 0U;  ///< voxels labelled kNotForeground
+    std::size_t unknown = 0U;         ///< voxels labelled kUnknown
 };
 
 /// The ideal 0-1 ground truth of @p scene seen by @p sensors (their noise

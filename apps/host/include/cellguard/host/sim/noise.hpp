@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file noise.hpp
 /// Sensor noise models for the simulated workcell: a flash lidar (SR4000
 /// class) and a stereo camera (TYZX G3 EVS class). They act on the ideal depth

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file scene_file.hpp
 /// Scenes of the simulated workcell in TOML: sensors with their noise models,
 /// boxes marked background or foreground, people made of boxes walking along
@@ -55,10 +57,10 @@ namespace cellguard::sim {
 /// A person of simple solids (legs, torso, arms, neck, head: boxes) walking
 /// along a polyline at constant speed, facing the direction of travel.
 struct PersonSpec {
-    double height_m = 1.75;                  ///< standing height; every part scales with it
-    double speed_mps = 1.0;                  ///< walking speed along the path
-    std::vector<Eigen::Vector2d> path;       ///< waypoints on the floor
-    bool loop = false;                       ///< repeat the closed path instead of stopping at its end
+    double height_m = 1.75;             ///< standing height; every part scales with it
+    double speed_mps = 1.0;             ///< walking speed along the path
+    std::vector<Eigen::Vector2d> path;  ///< waypoints on the floor
+    bool loop = false;                  ///< repeat the closed path instead of stopping at its end
 };
 
 /// The boxes of @p person at time @p t seconds (foreground, 8 boxes): the
@@ -68,20 +70,20 @@ std::vector<Box> person_boxes(const PersonSpec& person, double t);
 
 /// A scene as read from a file.
 struct SceneFile {
-    std::string name;                ///< label
-    std::string description;         ///< free text
-    std::uint64_t seed = 1U;         ///< base seed of the noise
-    Scene scene;                     ///< floor and boxes (people not included)
-    std::vector<PersonSpec> people;  ///< walking people
-    std::vector<SensorSpec> sensors; ///< the sensors
-    std::vector<NoiseModel> noise;   ///< one model per sensor
+    std::string name;                 ///< label
+    std::string description;          ///< free text
+    std::uint64_t seed = 1U;          ///< base seed of the noise
+    Scene scene;                      ///< floor and boxes (people not included)
+    std::vector<PersonSpec> people;   ///< walking people
+    std::vector<SensorSpec> sensors;  ///< the sensors
+    std::vector<NoiseModel> noise;    ///< one model per sensor
 };
 
 /// The outcome of loading a scene file: ok, or the first error with its place.
 struct SceneLoad {
-    bool ok = false;     ///< whether scene is valid
-    std::string error;   ///< "source:line:column: key: what" when not ok
-    SceneFile scene;     ///< the scene when ok
+    bool ok = false;    ///< whether scene is valid
+    std::string error;  ///< "source:line:column: key: what" when not ok
+    SceneFile scene;    ///< the scene when ok
 };
 
 /// Parses scene TOML @p text; @p source_name labels errors, @p base_dir

@@ -1,3 +1,5 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
 /// @file workcell.hpp
 /// A simulated workcell in the paper's arrangement: a 4 m x 4 m x 2 m frame
 /// (x and y in [-2, 2] m, floor at z = 0), one sensor in each upper corner
@@ -34,14 +36,14 @@ struct Scene {
 
 /// A depth sensor: where it is, where it looks, its image.
 struct SensorSpec {
-    std::string name;                                   ///< a label for reports
-    Eigen::Vector3d position = Eigen::Vector3d::Zero(); ///< optical centre, workcell frame
-    Eigen::Vector3d target = Eigen::Vector3d::Zero();   ///< point on the optical axis
-    std::int32_t width = 0;                             ///< image columns
-    std::int32_t height = 0;                            ///< image rows
-    double hfov_deg = 0.0;                              ///< horizontal field of view, degrees
-    double vfov_deg = 0.0;                              ///< vertical field of view, degrees
-    float max_range = 10.0F;                            ///< readings beyond are dropped by fusion
+    std::string name;                                    ///< a label for reports
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< optical centre, workcell frame
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();    ///< point on the optical axis
+    std::int32_t width = 0;                              ///< image columns
+    std::int32_t height = 0;                             ///< image rows
+    double hfov_deg = 0.0;                               ///< horizontal field of view, degrees
+    double vfov_deg = 0.0;                               ///< vertical field of view, degrees
+    float max_range = 10.0F;                             ///< readings beyond are dropped by fusion
     /// Sensor frame -> workcell frame (x right, y down, z along the optical axis).
     [[nodiscard]] Eigen::Isometry3d pose() const;
     /// Pinhole intrinsics matching the fields of view.
