@@ -155,10 +155,15 @@ def find_tests():
         with open(path, encoding="utf-8", errors="replace") as f:
             lines = f.readlines()
         for i, line in enumerate(lines):
-            m = TEST_CASE.match(line)
+            if not line.lstrip().startswith(("TEST_CASE", "SCENARIO")):
+                continue
+            # The name may start on the next line (clang-format breaks after
+            # "TEST_CASE(" when the name does not fit).
+            text = "".join(lines[i:i + 4])
+            m = TEST_CASE.match(text)
             if not m:
                 continue
-            name = join_literals("".join(lines[i:i + 4]), m.start(1) - 1)
+            name = join_literals(text, m.start(1) - 1)
             ids = tagged_ids(lines, i, "//", CPP_TAG, rel(path), name, errors)
             tests.append({"name": name, "file": rel(path), "kind": "doctest", "ids": ids})
     cmakes = [p for p in walk(lambda d, f: f == "CMakeLists.txt")]

@@ -193,10 +193,10 @@ std::uint64_t count_zone_visits(const EvidenceGrid& frame, const std::vector<std
 }
 
 [[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr,
-                 "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings "
-                 "max-range|grid-exit|mid-ray|random]\n",
-                 message);
+    std::fprintf(
+        stderr,
+        "bench_cycle: %s\nusage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray|random]\n",
+        message);
     std::exit(2);
 }
 

@@ -246,8 +246,7 @@ int main(int argc, char** argv) {
     }
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     std::printf(
-        "cellguard fusion benchmark: 4 sensors (2 x 176x144, 2 x 320x240), %d frames, one thread, fresh grid per "
-        "frame\n",
+        "cellguard fusion benchmark: 4 sensors (2 x 176x144, 2 x 320x240), %d frames, one thread, fresh grid per frame\n",
         frames);
     const GridRun paper = run_cellguard(paper_grid_geometry(), frame.readings, frames, Rasterization::kExact);
     const GridRun large = run_cellguard(whole_cell_grid_geometry(), frame.readings, frames, Rasterization::kExact);
@@ -283,8 +282,7 @@ int main(int argc, char** argv) {
         "ratio (same clipped segments, paper grid vs OctoMap):  %.1fx exact traversal, %.1fx precomputed rays\n",
         oct_clip.median_ms / paper.t.median_ms, oct_clip.median_ms / paper_t.t.median_ms);
     std::printf(
-        "note: OctoMap applies a voxel at most once per scan and stops at its clamping limits; the evidence grid adds "
-        "every ray.\n");
+        "note: OctoMap applies a voxel at most once per scan and stops at its clamping limits; the evidence grid adds every ray.\n");
     std::printf("goal: at least 20x OctoMap on the same rays: %s\n",
                 oct_whole.median_ms / best_large >= 20.0 ? "met" : "NOT met");
 #else

@@ -19,8 +19,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // verifies: SR-CTRL-011
 TEST_CASE(
-    "background check: a pixel matches when both hold a reading within the tolerance, and only referenced pixels "
-    "count") {
+    "background check: a pixel matches when both hold a reading within the tolerance, and only referenced pixels count") {
     const std::vector<float> ref = {1.0F, 2.0F, 3.0F, kNaN, 0.0F, -1.0F, kInf, 4.0F};
     BackgroundReference r;
     r.depth = Span<const float>(ref.data(), ref.size());
@@ -55,8 +54,7 @@ TEST_CASE("background check: images of another size and a tolerance that is not 
 
 // verifies: SR-CTRL-011
 TEST_CASE(
-    "background check: the fraction is exact in integers, and a reference without readings or a bad fraction never "
-    "passes") {
+    "background check: the fraction is exact in integers, and a reference without readings or a bad fraction never passes") {
     BackgroundMatch m;
     m.referenced = 10U;
     m.matching = 5U;

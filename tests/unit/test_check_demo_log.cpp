@@ -170,8 +170,7 @@ TEST_CASE("cellguard-monitor-check-log on the demo log: one safety frame delayed
 
 // verifies: SR-SYS-006, SR-CAN-008
 TEST_CASE(
-    "cellguard-monitor-check-log on the demo log: a pair split by more than the SRVT fails, by exactly the SRVT "
-    "passes" *
+    "cellguard-monitor-check-log on the demo log: a pair split by more than the SRVT fails, by exactly the SRVT passes" *
     doctest::skip()) {
     // Cycle 30's inverted copy (line 92) moved to its safety frame's time + d;
     // re-sorted by time it follows its cycle's diagnostics frame, as line 93.
@@ -221,8 +220,7 @@ TEST_CASE("cellguard-monitor-check-log: an unreadable log or a bad cycle count i
 
 // verifies: SR-SYS-006
 TEST_CASE(
-    "cellguard-monitor-check-log: an empty log, foreign or malformed lines, and time stamps far apart fail without "
-    "hanging") {
+    "cellguard-monitor-check-log: an empty log, foreign or malformed lines, and time stamps far apart fail without hanging") {
     const DemoLogCheck empty = check_text("", kCycles);
     CHECK(empty.input_ok);
     CHECK(has_failure(empty, "the log holds no frame"));

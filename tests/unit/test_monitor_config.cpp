@@ -81,8 +81,7 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
 
 // verifies: SR-CFG-001
 TEST_CASE(
-    "monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's "
-    "directory") {
+    "monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's directory") {
     std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]",
                               "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
     text = edited("source = \"simulated-background\"", "source = \"file\"\nfile = \"cell.cgprior\"");
@@ -188,8 +187,7 @@ TEST_CASE("monitor config: an unknown key, a missing key or a missing table name
 TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame carries 16") {
     std::string text = demo_config_text();
     const std::string zone =
-        "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, "
-        "0.1]\n";
+        "\n[[zones]]\nname = \"z\"\nkind = \"warning\"\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n";
     std::string extra;
     for (int i = 0; i < 15; ++i)
         extra += zone;

@@ -300,8 +300,7 @@ TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a diffe
 
 // verifies: SR-CAN-009
 TEST_CASE(
-    "plc receiver: after a fault it recovers after a reference pair and N good pairs in a row, a fault restarting the "
-    "count") {
+    "plc receiver: after a fault it recovers after a reference pair and N good pairs in a row, a fault restarting the count") {
     PlcReceiverConfig c = receiver_config();
     c.recovery_good_pairs = 3U;
     Link link(c);

@@ -59,8 +59,7 @@ TEST_CASE("ram check: an unchanged block passes every pass, and the reference is
 
 // verifies: SR-PRIOR-012, SR-FUSE-007
 TEST_CASE(
-    "ram check: regions are one stream: the reference is the CRC-32 of their concatenation and a slice runs across "
-    "region boundaries") {
+    "ram check: regions are one stream: the reference is the CRC-32 of their concatenation and a slice runs across region boundaries") {
     const Regions r;
     REQUIRE(r.stream.size() == 59U);
     const SignatureCheck taken(r.list());
@@ -126,8 +125,7 @@ TEST_CASE("ram check: one flipped bit anywhere is found within two passes from a
 
 // verifies: SR-PRIOR-012, SR-FUSE-007
 TEST_CASE(
-    "ram check: a flip in any region before a pass is found by the step that ends it, one behind the position by the "
-    "end of the next") {
+    "ram check: a flip in any region before a pass is found by the step that ends it, one behind the position by the end of the next") {
     for (const std::size_t slice : {1U, 7U, 16U, 59U}) {
         for (std::size_t region = 0; region < kRegionSizes.size(); ++region) {
             if (kRegionSizes[region] == 0U)
@@ -174,8 +172,7 @@ TEST_CASE(
 
 // verifies: SR-GEN-003
 TEST_CASE(
-    "ram check: a slice of zero bytes or more regions than kMaxSignatureRegions violates the contract, an empty check "
-    "never fails") {
+    "ram check: a slice of zero bytes or more regions than kMaxSignatureRegions violates the contract, an empty check never fails") {
     std::uint8_t b[4] = {1, 2, 3, 4};
     SignatureCheck check{SignatureRegion(b)};
     CHECK(test::violates_contract([&] { (void)check.step(0U); }));

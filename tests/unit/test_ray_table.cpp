@@ -224,8 +224,7 @@ TEST_CASE("ray table: each crossed voxel gets the sensor model's one opinion of 
 
 // verifies: SR-FUSE-006
 TEST_CASE(
-    "ray table: readings exactly on an entry's exit, or a ramp before it, give the exact opinions for rays of every "
-    "length") {
+    "ray table: readings exactly on an entry's exit, or a ramp before it, give the exact opinions for rays of every length") {
     // The search for the end of the constant part compares keys with a
     // limit. A search that ends one entry late gives a ramp voxel only the
     // constant, and readings on a boundary are where that shows (tried: it

@@ -192,8 +192,7 @@ TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives 
 
 // verifies: SR-CTRL-008
 TEST_CASE(
-    "controller: a sensor whose image stays bit-identical under fresh time stamps is frozen after max_repeated_frames "
-    "new frames") {
+    "controller: a sensor whose image stays bit-identical under fresh time stamps is frozen after max_repeated_frames new frames") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -242,8 +241,7 @@ TEST_CASE(
 
 // verifies: SR-CTRL-008
 TEST_CASE(
-    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by "
-    "default") {
+    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by default") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -335,8 +333,7 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
 
 // verifies: SR-CTRL-007, SR-LOGIC-006
 TEST_CASE(
-    "controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or "
-    "limits changed is caught at its next turn") {
+    "controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or limits changed is caught at its next turn") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();

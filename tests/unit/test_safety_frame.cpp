@@ -313,8 +313,7 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
 
 // verifies: SR-CAN-005
 TEST_CASE(
-    "safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a "
-    "name and an error code") {
+    "safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
     for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
         CHECK(fault_bit(static_cast<FaultCode>(f)) == fault_bit(static_cast<Fault>(f)));
     }
@@ -338,7 +337,6 @@ TEST_CASE(
 
 // verifies: SR-GEN-004
 TEST_CASE(
-    "safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback "
-    "name") {
+    "safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback name") {
     test::check_enum_names<FrameCheck>(7U, "unknown frame check");
 }

@@ -90,8 +90,7 @@ TEST_CASE(
 
 // verifies: SR-CAN-006, SR-CAN-009
 TEST_CASE(
-    "safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the "
-    "report") {
+    "safety output: the PLC receiver accepts a run of cycles across the counter wrap and the stop bit follows the report") {
     RecordingSender sender;
     CanSafetyOutput out(output_config(), sender);
     PlcReceiverConfig rc;

@@ -40,8 +40,7 @@ std::string too_few_frames(std::size_t frames, const AccessibilityParams& params
     return std::to_string(frames) + " background frame(s) are too few for the " + method_name(params.method) +
            " method: it needs at least " + std::to_string(need) +
            ", so that space seen free in every frame counts "
-           "as empty (below t_E); record more frames of the empty cell, or give the same frame again for a static "
-           "scene";
+           "as empty (below t_E); record more frames of the empty cell, or give the same frame again for a static scene";
 }
 
 /// Voxels from which the progress bar is on by default (on a terminal).

@@ -98,8 +98,7 @@ int main(int argc, char** argv) {
         new_occupied += (fr_ob[i] != 0U && fr_lo[i] > 0 && bg_lo[i] <= 0) ? 1U : 0U;
     }
     std::printf(
-        "frame with a 0.3 x 0.3 x 1.7 m box: %u readings in the grid, %zu voxels occupied that are free or unknown in "
-        "G_B\n",
+        "frame with a 0.3 x 0.3 x 1.7 m box: %u readings in the grid, %zu voxels occupied that are free or unknown in G_B\n",
         ps.readings_in_grid, new_occupied);
     return 0;
 }
