@@ -41,7 +41,6 @@
 
 using namespace cellguard;
 using namespace cellguard::cell;
-using namespace cellguard::monitor;
 
 namespace {
 
