@@ -275,10 +275,11 @@ TEST_CASE("safety frame: the diagnostics frame round-trips every prior CRC page 
     const CanFrame f = encode_diagnostics_frame(DiagnosticsMessage{}, 0U, channel()).value();
     CHECK(get_signal(f, diagnostics_layout::kCycleTime) == 0U);
     CanFrame g = f;
-    g.data[3] = 0x80U;  // fault bit 15 has no code
+    g.data[3] = 0x80U;  // fault bit 15: FaultCode::kCommandInvalid
     reprotect(g, kDefaultDiagnosticsDataId, E2eP01DataIdMode::kBoth);
     DiagnosticsFrameContent out;
-    CHECK(check_diagnostics_frame(g, channel(), out) == FrameCheck::kMalformedContent);
+    REQUIRE(check_diagnostics_frame(g, channel(), out) == FrameCheck::kOk);
+    CHECK(out.message.active_faults == fault_bit(FaultCode::kCommandInvalid));
     g = f;
     g.data[6] = static_cast<std::uint8_t>(g.data[6] ^ 0x01U);
     CHECK(check_diagnostics_frame(g, channel(), out) == FrameCheck::kWrongCrc);
@@ -301,8 +302,6 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
     m.prior_crc_page = 4U;
     CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
     m = DiagnosticsMessage{};
-    m.active_faults = 0x8000U;  // bit 15 has no code
-    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
     m.active_faults = kAssignedFaultBits;  // every assigned bit at once is valid
     CHECK(encode_diagnostics_frame(m, 0U, channel()).ok());
     CHECK(encode_diagnostics_frame(DiagnosticsMessage{}, 15U, channel()).error() == ErrorCode::kInvalidArgument);
@@ -313,18 +312,21 @@ TEST_CASE("safety frame: cycle times are sent in 100 us units, rounded up and sa
 
 // verifies: SR-CAN-005
 TEST_CASE(
-    "safety frame: fault codes 0..8 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
-    for (std::uint8_t f = 0U; f < kFaultCount; ++f) {
+    "safety frame: fault codes 0..8 and 15 are the safety logic's Fault bits, 9..14 the CAN details, and every check has a name and an error code") {
+    for (std::uint8_t f = 0U; f < 9U; ++f) {
         CHECK(fault_bit(static_cast<FaultCode>(f)) == fault_bit(static_cast<Fault>(f)));
     }
     CHECK(fault_bit(FaultCode::kSensorStale) == 0x0001U);
     CHECK(fault_bit(FaultCode::kZoneEvaluation) == 0x0100U);
     CHECK(fault_bit(FaultCode::kCanTxBufferFull) == 0x0200U);
     CHECK(fault_bit(FaultCode::kCanSendFailed) == 0x4000U);
-    CHECK(kSafetyLogicFaultBits == kAllFaults);
+    CHECK(fault_bit(FaultCode::kCommandInvalid) == 0x8000U);
+    CHECK(wire_fault_bits(fault_bit(Fault::kCommandInvalid)) == 0x8000U);
+    CHECK(wire_fault_bits(fault_bit(Fault::kZoneEvaluation)) == 0x0100U);
+    CHECK(wire_fault_bits(0xFFFFFC00U) == 0U);  // bits beyond the Faults are dropped
+    CHECK(kSafetyLogicFaultBits == 0x81FFU);
     CHECK(kCanDetailFaultBits == 0x7E00U);
-    CHECK((fault_bit(FaultCode::kCanSendFailed) & kAssignedFaultBits) != 0U);
-    CHECK((0x8000U & kAssignedFaultBits) == 0U);
+    CHECK((kSafetyLogicFaultBits | kCanDetailFaultBits) == kAssignedFaultBits);
     CHECK(std::string(to_string(FrameCheck::kWrongCrc)) == "wrong CRC");
     CHECK(std::string(to_string(static_cast<FrameCheck>(200))) == "unknown frame check");
     CHECK(to_error_code(FrameCheck::kOk) == ErrorCode::kOk);

@@ -40,7 +40,7 @@ DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t p
     DiagnosticsMessage m;
     m.cycle_time = diagnostics_time_saturating(report.timing.total_us);
     m.max_cycle_time = diagnostics_time_saturating(report.worst.total_us);
-    m.active_faults = static_cast<std::uint16_t>((report.safety.latched_faults & kSafetyLogicFaultBits) |
+    m.active_faults = static_cast<std::uint16_t>(wire_fault_bits(report.safety.latched_faults) |
                                                  (static_cast<unsigned>(can_detail_faults) & kCanDetailFaultBits));
     m.prior_crc_page = page;
     m.prior_crc_part = prior_crc_part(prior_crc, page);

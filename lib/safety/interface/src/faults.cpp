@@ -15,6 +15,7 @@ const char* to_string(Fault fault) noexcept {
         case Fault::kInternalCheck: return "internal check failed";
         case Fault::kClockFault: return "clock fault";
         case Fault::kZoneEvaluation: return "zone evaluation failed";
+        case Fault::kCommandInvalid: return "command invalid";
     }
     return "unknown fault";
 }

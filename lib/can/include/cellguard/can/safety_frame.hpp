@@ -77,7 +77,7 @@ inline constexpr SignalLayout kCounter{"E2E_Counter", 8U, 4U, ByteOrder::kIntel,
 /// Data ID bits 8..11 in kNibble mode, else 0.
 inline constexpr SignalLayout kDataIdNibble{"E2E_DataIdNibble", 12U, 4U, ByteOrder::kIntel, 1U, "", 15U,
                                             Multiplex::kNone,   0U};
-/// Active fault codes, bit n = FaultCode n: 0..8 safety logic Faults, 9..14 CAN details (kAssignedFaultBits).
+/// Active fault codes, bit n = FaultCode n: 0..8 and 15 safety logic Faults, 9..14 CAN details.
 inline constexpr SignalLayout kActiveFaults{"ActiveFaults",   16U, 16U, ByteOrder::kIntel, 1U, "", 65535U,
                                             Multiplex::kNone, 0U};
 /// Duration of the last cycle, 100 us units, rounded up, saturating at 2047.
@@ -112,7 +112,8 @@ static_assert(~layout_used_bits(kSignals) == 0U, "the diagnostics frame has no r
 /// Fault codes of the diagnostics frame's ActiveFaults bitmask: bit n is code n.
 /// Codes 0..8 are the safety logic's Fault bits (safety_logic.hpp) unchanged;
 /// codes 9..14 detail the CAN port's faults (all of which the safety logic
-/// sees as Fault::kCanError); bit 15 is unassigned and zero on the wire.
+/// sees as Fault::kCanError); code 15 is the safety logic's Fault 9
+/// (kCommandInvalid), added after the CAN details: wire_fault_bits maps.
 enum class FaultCode : std::uint8_t {
     kSensorStale = 0,            ///< Fault::kSensorStale: a sensor frame older than its age limit
     kSensorMissing = 1,          ///< Fault::kSensorMissing: a configured sensor delivered no frame
@@ -129,6 +130,7 @@ enum class FaultCode : std::uint8_t {
     kCanErrorPassive = 12,       ///< CAN controller is error-passive
     kCanControllerProblem = 13,  ///< CAN controller overflow, TX timeout or missing acknowledgement
     kCanSendFailed = 14,         ///< any other CAN send error
+    kCommandInvalid = 15,        ///< Fault::kCommandInvalid: the PLC's command is missing, late, corrupt or unfit
 };
 static_assert(static_cast<unsigned>(FaultCode::kSensorStale) == static_cast<unsigned>(Fault::kSensorStale) &&
                   static_cast<unsigned>(FaultCode::kSensorMissing) == static_cast<unsigned>(Fault::kSensorMissing) &&
@@ -142,19 +144,24 @@ static_assert(static_cast<unsigned>(FaultCode::kSensorStale) == static_cast<unsi
                   static_cast<unsigned>(FaultCode::kClockFault) == static_cast<unsigned>(Fault::kClockFault) &&
                   static_cast<unsigned>(FaultCode::kZoneEvaluation) == static_cast<unsigned>(Fault::kZoneEvaluation),
               "ActiveFaults bits 0..8 are the safety logic's Fault bits unchanged");
-static_assert(kFaultCount == 9U, "a new safety logic Fault needs a FaultCode before the CAN details");
+static_assert(kFaultCount == 10U, "a new safety logic Fault needs a FaultCode and a place in wire_fault_bits");
 /// The bit of @p code in ActiveFaults.
 [[nodiscard]] constexpr std::uint16_t fault_bit(FaultCode code) noexcept {
     return static_cast<std::uint16_t>(1U << static_cast<unsigned>(code));
 }
-/// ActiveFaults bits that are safety logic Fault bits (0..8).
-constexpr std::uint16_t kSafetyLogicFaultBits = static_cast<std::uint16_t>(kAllFaults);
+/// ActiveFaults bits that are safety logic Fault bits (0..8 and 15).
+constexpr std::uint16_t kSafetyLogicFaultBits = 0x81FFU;
 /// ActiveFaults bits that detail CAN port faults (9..14).
 constexpr std::uint16_t kCanDetailFaultBits = 0x7E00U;
-/// Bits with an assigned FaultCode; the others are zero on the wire.
-constexpr std::uint16_t kAssignedFaultBits = 0x7FFFU;
-static_assert(kAssignedFaultBits == 2U * fault_bit(FaultCode::kCanSendFailed) - 1U,
-              "kAssignedFaultBits covers exactly the codes up to the last one");
+/// Bits with an assigned FaultCode: all 16.
+constexpr std::uint16_t kAssignedFaultBits = 0xFFFFU;
+/// The ActiveFaults bits of a safety logic fault mask @p faults (Fault bits):
+/// Faults 0..8 on bits 0..8, Fault::kCommandInvalid (9) on bit 15.
+[[nodiscard]] constexpr std::uint16_t wire_fault_bits(std::uint32_t faults) noexcept {
+    return static_cast<std::uint16_t>((faults & 0x1FFU) |
+                                      (((faults >> static_cast<unsigned>(Fault::kCommandInvalid)) & 1U) << 15U));
+}
+static_assert(wire_fault_bits(kAllFaults) == kSafetyLogicFaultBits, "every safety logic Fault has its wire bit");
 static_assert((kSafetyLogicFaultBits | kCanDetailFaultBits) == kAssignedFaultBits &&
                   (kSafetyLogicFaultBits & kCanDetailFaultBits) == 0U,
               "safety logic bits and CAN detail bits partition the assigned bits");

@@ -24,10 +24,11 @@ enum class Fault : std::uint8_t {
     kInternalCheck = 6,      ///< an internal consistency check failed (non-recoverable)
     kClockFault = 7,         ///< the monotonic clock did not advance (non-recoverable)
     kZoneEvaluation = 8,     ///< zone evaluation could not run
+    kCommandInvalid = 9,     ///< the PLC's command is missing, late, corrupt or does not fit the cell
 };
 
 /// Number of defined faults.
-constexpr std::uint8_t kFaultCount = 9U;
+constexpr std::uint8_t kFaultCount = 10U;
 
 /// The mask bit of @p fault.
 constexpr std::uint32_t fault_bit(Fault fault) noexcept { return 1U << static_cast<std::uint32_t>(fault); }

@@ -1,0 +1,3 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+#include "cellguard/robot/robot_model.hpp"
