@@ -16,54 +16,14 @@
 
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/grid.hpp"
-#include "cellguard/host/io/toml_loader.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "config_loader.hpp"
 #include "cellguard/prior/accessibility.hpp"
 
 namespace cellguard::cell {
+using config_detail::Loader;
+using config_detail::ms_to_us;
 namespace {
-
-/// The loader's error: "file:line:column: key: what".
-using ConfigError = host::TomlError;
-
-/// The shared checked getters plus the monitor's own (arrays, vectors, positive numbers).
-class Loader : public host::TomlLoader {
-public:
-    using TomlLoader::TomlLoader;
-
-    /// An array of exactly @p count finite numbers.
-    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
-        const toml::array* a = n.as_array();
-        if (a == nullptr || a->size() != count) {
-            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
-        }
-        std::vector<double> v;
-        for (const toml::node& e : *a) {
-            if (!e.is_number()) {
-                fail(e.source(), key, "expected an array of " + std::to_string(count) + " numbers");
-            }
-            const double x = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
-            if (!std::isfinite(x)) {
-                fail(e.source(), key, "expected finite numbers");
-            }
-            v.push_back(x);
-        }
-        return v;
-    }
-
-    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
-        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
-        return {v[0], v[1], v[2]};
-    }
-
-    void positive(const toml::table& t, const std::string& path, const char* key, double v) const {
-        if (!(v > 0.0)) {
-            fail(t.get(key)->source(), join(path, key), "must be greater than 0");
-        }
-    }
-};
-
-std::uint64_t ms_to_us(double ms) { return static_cast<std::uint64_t>(std::llround(ms * 1000.0)); }
 
 void load_grid(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const std::string p = "grid";
@@ -419,6 +379,8 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     load_cycle(L, root, c);
     load_restart_interlock(L, root, c);
     load_demo(L, root, c);
+    config_detail::load_cases(L, root, c);
+    config_detail::load_robot(L, root, c, base_dir);
 }
 
 }  // namespace
@@ -429,7 +391,8 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         const toml::table root = toml::parse(text, source_name);
         const Loader L(source_name);
         L.check_keys(root, "",
-                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo"});
+                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo", "cases",
+                      "robot", "separation", "speed_classes"});
         MonitorConfig c;
         load_grid(L, root, c);
         load_sensors(L, root, c, base_dir);
@@ -439,7 +402,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         out.ok = true;
     } catch (const toml::parse_error& e) {
         out.error = host::toml_syntax_error(source_name, e);
-    } catch (const ConfigError& e) {
+    } catch (const host::TomlError& e) {
         out.error = e.message;
     }
     return out;

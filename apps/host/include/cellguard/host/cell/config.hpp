@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/robot/separation.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::cell {
@@ -54,6 +55,35 @@ struct ZoneSettings {
     int line = 0;      ///< line of its table in the file
 };
 
+/// One monitoring case: a number the PLC selects and the zones it activates.
+struct CaseSettings {
+    std::string name;              ///< label
+    int number = 0;                ///< case number on CAN, 0..15
+    std::vector<std::string> zones;  ///< names of its zones (each configured)
+    std::uint32_t zone_mask = 0U;  ///< the same as bits, zone z = bit z (configuration order)
+    int line = 0;                  ///< line of its table in the file
+};
+
+/// The robot in the cell, its command from the PLC, and speed and separation monitoring.
+struct RobotSettings {
+    bool enabled = false;                   ///< a [robot] table is present
+    std::string urdf;                       ///< robot description (relative: to the config file's directory)
+    std::vector<std::string> joints;        ///< movable joints in the PLC's command order
+    Eigen::Vector3d base = Eigen::Vector3d::Zero();  ///< robot base position in the cell, metres
+    double base_yaw_deg = 0.0;              ///< rotation of the base about the cell's z axis
+    double margin_m = 0.0;                  ///< growth of every capsule for the robot's voxel mask
+    std::uint64_t max_command_age_us = 0U;  ///< a command older than this at a cycle's start is stale
+    SeparationParams separation{};          ///< speed and separation monitoring
+    int line = 0;                           ///< line of the [robot] table
+};
+
+/// The smallest mask margin that covers the robot's motion between its
+/// command and the sensors' frames: the fastest robot point (class 0) over
+/// the command's age limit plus one period, the sensing uncertainty Z_d,
+/// and the joints' raw resolution (half a unit per joint over a reach of
+/// 2 m). certification/safety-manual.md derives it.
+double minimum_mask_margin(const RobotSettings& robot, std::uint64_t period_us);
+
 /// Where the prior comes from.
 enum class PriorSource : std::uint8_t {
     kFile = 0,                 ///< a prior image file (certification/prior-image-format.md)
@@ -81,6 +111,8 @@ struct MonitorConfig {
     GridSettings grid;                         ///< the grid
     std::vector<SensorSettings> sensors;       ///< 1..kMaxSensors sensors
     std::vector<ZoneSettings> zones;           ///< 1..16 zones
+    std::vector<CaseSettings> cases;           ///< monitoring cases; empty: one case 0 with every zone
+    RobotSettings robot;                       ///< the robot (robot.enabled false: none)
     PriorSettings prior;                       ///< the prior
     CanSettings can;                           ///< the CAN output
     std::uint64_t period_us = 100000U;         ///< cycle period

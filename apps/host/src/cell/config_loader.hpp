@@ -1,0 +1,67 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// The configuration loader's checked getters, shared by config.cpp and
+// robot_config.cpp (private to the host library's cell/ sources).
+#ifndef CELLGUARD_HOST_CELL_CONFIG_LOADER_HPP
+#define CELLGUARD_HOST_CELL_CONFIG_LOADER_HPP
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/io/toml_loader.hpp"
+
+namespace cellguard::cell::config_detail {
+
+/// The shared checked getters plus the monitor's own (arrays, vectors, positive numbers).
+class Loader : public host::TomlLoader {
+public:
+    using TomlLoader::TomlLoader;
+
+    /// An array of exactly @p count finite numbers.
+    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+        const toml::array* a = n.as_array();
+        if (a == nullptr || a->size() != count) {
+            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+        }
+        std::vector<double> v;
+        for (const toml::node& e : *a) {
+            if (!e.is_number()) {
+                fail(e.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+            }
+            const double x = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
+            if (!std::isfinite(x)) {
+                fail(e.source(), key, "expected finite numbers");
+            }
+            v.push_back(x);
+        }
+        return v;
+    }
+
+    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
+        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
+        return {v[0], v[1], v[2]};
+    }
+
+    void positive(const toml::table& t, const std::string& path, const char* key, double v) const {
+        if (!(v > 0.0)) {
+            fail(t.get(key)->source(), join(path, key), "must be greater than 0");
+        }
+    }
+};
+
+/// Milliseconds (finite, checked by the caller) to microseconds, rounded.
+inline std::uint64_t ms_to_us(double ms) { return static_cast<std::uint64_t>(std::llround(ms * 1000.0)); }
+
+/// The [[cases]] tables (optional; after [[zones]]).
+void load_cases(const Loader& L, const toml::table& root, MonitorConfig& c);
+/// The [robot], [separation] and [[speed_classes]] tables (optional; after [cycle]).
+void load_robot(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir);
+
+}  // namespace cellguard::cell::config_detail
+
+#endif  // CELLGUARD_HOST_CELL_CONFIG_LOADER_HPP
