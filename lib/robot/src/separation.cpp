@@ -21,6 +21,31 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 bool finite_non_negative(double v) noexcept { return std::isfinite(v) && v >= 0.0; }
 
+// Plain minimum and maximum (std::fmin and std::fmax are library calls on
+// some targets); the operands here are never NaN.
+double min_of(double a, double b) noexcept { return b < a ? b : a; }
+double max_of(double a, double b) noexcept { return b > a ? b : a; }
+
+/// Bit 0: the voxel is foreground (frame + prior, add_saturating, >= the
+/// threshold); bit 1: it is unseen (not observed, prior not kNeverForeground
+/// and >= accessible_min_prior) inside an active zone. The definitions of
+/// zone_evaluation.cpp, written without branches.
+std::uint32_t kinds_of(const SeparationInputs& in, std::int16_t frame, std::int16_t prior, std::uint8_t observed,
+                       std::uint32_t zones) noexcept {
+    const std::int32_t f = frame;
+    const std::int32_t p = prior;
+    const std::int32_t sum = f + p;
+    const std::int32_t clamped = sum < kLogOddsMin ? kLogOddsMin : (sum > kLogOddsMax ? kLogOddsMax : sum);
+    const bool sentinel = (f == kNeverForeground) | (p == kNeverForeground);
+    const std::int32_t value = sentinel ? static_cast<std::int32_t>(kNeverForeground) : clamped;
+    const std::uint32_t fg = static_cast<std::uint32_t>(value >= in.foreground_threshold);
+    const std::uint32_t hidden = static_cast<std::uint32_t>(observed == 0U) &
+                                 static_cast<std::uint32_t>(p != kNeverForeground) &
+                                 static_cast<std::uint32_t>(p >= in.accessible_min_prior) &
+                                 static_cast<std::uint32_t>((zones & in.active_zones) != 0U);
+    return fg | (hidden << 1U);
+}
+
 /// Metres to millimetres, rounded down (a distance) or up (a requirement),
 /// saturated at kDistanceFarMm. Rounding up forgives 1e-6 mm (a nanometre),
 /// so that the binary64 sum of decimal parameters (0.878 m is
@@ -136,7 +161,7 @@ double prepare_row(const Segment* seg, std::size_t count, double y, double z, Ro
             dist2 = row.w2_yz[c] - row.dot_yz[c] * (row.dot_yz[c] / dd_yz);
         }
         row.lower[c] = std::sqrt(dist2 < 0.0 ? 0.0 : dist2) - s.grow - kPruneSlack;
-        lower = std::fmin(lower, row.lower[c]);
+        lower = min_of(lower, row.lower[c]);
     }
     return lower;
 }
@@ -166,43 +191,106 @@ double voxel_distance(const Segment* seg, std::size_t count, const RowTerms& row
             continue;
         }
         const double d = std::sqrt(dist2 < 0.0 ? 0.0 : dist2) - s.grow;
-        best = std::fmin(best, d < 0.0 ? 0.0 : d);
+        best = min_of(best, d < 0.0 ? 0.0 : d);
     }
     return best;
 }
 
-/// The search's state: both kinds' k smallest distances and the candidates counted.
+/// The search's state: both kinds' k smallest distances and the candidates
+/// counted. A kind is active when the grid holds at least k voxels of it
+/// (else its distance is kDistanceFarMm and the search ignores it).
 struct Search {
     KSmallest foreground;
     KSmallest hidden;
-    bool hidden_possible;
+    bool foreground_active;
+    bool hidden_active;
     std::uint32_t candidates = 0U;
-    /// True when nothing can lower either kind's distance any more (both at 0 or impossible).
-    [[nodiscard]] bool settled() const noexcept {
-        return foreground.threshold() <= 0.0 && (!hidden_possible || hidden.threshold() <= 0.0);
+    /// The larger of the active kinds' thresholds: a voxel farther cannot count (-infinity: none active).
+    [[nodiscard]] double threshold() const noexcept {
+        return max_of(foreground_active ? foreground.threshold() : -kInfinity,
+                      hidden_active ? hidden.threshold() : -kInfinity);
     }
+    /// True when nothing can lower either kind's distance any more (at 0 or not active).
+    [[nodiscard]] bool settled() const noexcept { return !(threshold() > 0.0); }
 };
 
-/// One row of the grid: classifies its voxels and offers the candidates' distances.
+/// Counts the voxels of each kind outside the robot's voxels (the one full pass over the grid).
+void count_kinds(const SeparationInputs& in, std::size_t n, std::uint32_t& foreground, std::uint32_t& hidden) noexcept {
+    const std::int16_t* frame = in.frame_log_odds.data();
+    const std::int16_t* prior = in.prior.data();
+    const std::uint8_t* observed = in.observed.data();
+    const std::uint8_t* mask = in.robot_mask.data();
+    const std::uint32_t* zones = in.zone_membership.data();
+    std::uint32_t fg = 0U;
+    std::uint32_t hid = 0U;
+    for (std::size_t i = 0U; i < n; ++i) {
+        const std::uint32_t kinds = mask[i] == 0U ? kinds_of(in, frame[i], prior[i], observed[i], zones[i]) : 0U;
+        fg += kinds & 1U;
+        hid += kinds >> 1U;
+    }
+    foreground = fg;
+    hidden = hid;
+}
+
+/// The voxels of a row that may lie within @p threshold of a capsule: the
+/// hull of the x extents of the capsules whose row bound is below it, each
+/// grown by threshold + radius + half diagonal; false when there are none.
+/// All of the row when the threshold is infinite.
+bool row_range(const GridGeometry& grid, const Segment* seg, std::size_t count, const RowTerms& row, double threshold,
+               std::int32_t& lo, std::int32_t& hi) noexcept {
+    const std::int32_t nx = grid.dims().nx;
+    lo = 0;
+    hi = nx - 1;
+    if (!std::isfinite(threshold)) {
+        return true;
+    }
+    double min = kInfinity;
+    double max = -kInfinity;
+    for (std::size_t c = 0U; c < count; ++c) {
+        if (row.lower[c] >= threshold) {
+            continue;
+        }
+        const double reach = threshold + seg[c].grow + kPruneSlack;
+        const double b = seg[c].a[0] + seg[c].d[0];
+        min = min_of(min, min_of(seg[c].a[0], b) - reach);
+        max = max_of(max, max_of(seg[c].a[0], b) + reach);
+    }
+    const double first = std::floor((min - grid.origin()(0)) / grid.voxel_size());
+    const double last = std::floor((max - grid.origin()(0)) / grid.voxel_size());
+    if (!(last >= 0.0) || !(first <= static_cast<double>(nx - 1))) {
+        return false;
+    }
+    lo = first > 0.0 ? static_cast<std::int32_t>(first) : 0;
+    hi = last < static_cast<double>(nx - 1) ? static_cast<std::int32_t>(last) : nx - 1;
+    return true;
+}
+
+/// One row of the grid: classifies its voxels within reach and offers the candidates' distances.
 void search_row(const GridGeometry& grid, const SeparationInputs& in, const Segment* seg, std::size_t count,
                 std::size_t row_start, const RowTerms& row, Search& s) noexcept {
-    const std::int32_t nx = grid.dims().nx;
+    const double th_row = s.threshold();
+    std::int32_t lo = 0;
+    std::int32_t hi = 0;
+    if (!row_range(grid, seg, count, row, th_row, lo, hi)) {
+        return;
+    }
+    const std::int16_t* frame = in.frame_log_odds.data() + row_start;
+    const std::int16_t* prior = in.prior.data() + row_start;
+    const std::uint8_t* observed = in.observed.data() + row_start;
+    const std::uint8_t* mask = in.robot_mask.data() + row_start;
+    const std::uint32_t* zones = in.zone_membership.data() + row_start;
+    const std::uint32_t active = (s.foreground_active ? 1U : 0U) | (s.hidden_active ? 2U : 0U);
     const double x0 = grid.origin()(0) + 0.5 * grid.voxel_size();
-    for (std::int32_t x = 0; x < nx; ++x) {
-        const std::size_t i = row_start + static_cast<std::size_t>(x);
-        if (in.robot_mask[i] != 0U) {
+    for (std::int32_t x = lo; x <= hi; ++x) {
+        const std::uint32_t kinds = kinds_of(in, frame[x], prior[x], observed[x], zones[x]) & active;
+        if (kinds == 0U || mask[x] != 0U) {
             continue;
         }
-        const std::int16_t prior = in.prior[i];
-        const bool fg = add_saturating(in.frame_log_odds[i], prior) >= in.foreground_threshold;
-        const bool hidden = s.hidden_possible && in.observed[i] == 0U && prior != kNeverForeground &&
-                            prior >= in.accessible_min_prior && (in.zone_membership[i] & in.active_zones) != 0U;
-        if (!fg && !hidden) {
-            continue;
-        }
+        const bool fg = (kinds & 1U) != 0U;
+        const bool hidden = (kinds & 2U) != 0U;
         const double th_fg = fg ? s.foreground.threshold() : -kInfinity;
         const double th_hidden = hidden ? s.hidden.threshold() : -kInfinity;
-        const double threshold = std::fmax(th_fg, th_hidden);
+        const double threshold = max_of(th_fg, th_hidden);
         if (!(threshold > 0.0)) {
             continue;  // that kind already has k voxels at distance 0
         }
@@ -228,8 +316,8 @@ VoxelCoord prepare_segments(const GridGeometry& grid, const RobotPose& pose, Seg
         for (int k = 0; k < 3; ++k) {
             s.a[k] = p.a[k];
             s.d[k] = p.b[k] - p.a[k];
-            lo[k] = std::fmin(lo[k], std::fmin(p.a[k], p.b[k]));
-            hi[k] = std::fmax(hi[k], std::fmax(p.a[k], p.b[k]));
+            lo[k] = min_of(lo[k], min_of(p.a[k], p.b[k]));
+            hi[k] = max_of(hi[k], max_of(p.a[k], p.b[k]));
         }
         s.dd = s.d[0] * s.d[0] + s.d[1] * s.d[1] + s.d[2] * s.d[2];
         s.grow = p.radius + half_diagonal;
@@ -317,7 +405,11 @@ Status compute_separation(const GridGeometry& grid, const SeparationInputs& in, 
     }
     Segment seg[kMaxRobotCapsules];
     const VoxelCoord centre = prepare_segments(grid, pose, seg);
-    Search s{KSmallest(params.min_foreground_voxels), KSmallest(params.min_hidden_voxels), in.active_zones != 0U};
+    std::uint32_t foreground_count = 0U;
+    std::uint32_t hidden_count = 0U;
+    count_kinds(in, n, foreground_count, hidden_count);
+    Search s{KSmallest(params.min_foreground_voxels), KSmallest(params.min_hidden_voxels),
+             foreground_count >= params.min_foreground_voxels, hidden_count >= params.min_hidden_voxels};
     const GridDims dims = grid.dims();
     const double s_vox = grid.voxel_size();
     RowTerms row;
@@ -332,8 +424,7 @@ Status compute_separation(const GridGeometry& grid, const SeparationInputs& in, 
         while (ys.next(y) && !s.settled()) {
             const double yc = grid.origin()(1) + s_vox * (static_cast<double>(y) + 0.5);
             const double lower = prepare_row(seg, pose.count, yc, zc, row);
-            const double th_hidden = s.hidden_possible ? s.hidden.threshold() : -kInfinity;
-            if (lower >= std::fmax(s.foreground.threshold(), th_hidden)) {
+            if (lower >= s.threshold()) {
                 continue;
             }
             const std::size_t start = static_cast<std::size_t>(dims.nx) *

@@ -27,7 +27,9 @@
 /// - kReduced when d < S_p(0) + (v_h + v_r(0)) t_slowdown, the distance the
 ///   robot needs to reach its reduced class before S_p(0) is crossed;
 /// - kFull otherwise.
-/// Work: at most one pass over the grid's rows, visited outward from the
+/// Work: one pass over the grid counts each kind's voxels (outside the
+/// robot's); a kind with fewer than k is kDistanceFarMm and drops out of the
+/// search. Then at most one pass over the grid's rows, visited outward from the
 /// robot (layers outward from the robot's centre in z, rows outward in y), so
 /// near voxels set the distances early. Each kind keeps its k smallest
 /// distances in a fixed max-heap (k <= kMaxSeparationVoxelCount; no sort, no
@@ -35,7 +37,8 @@
 /// row whose lower bound (for each capsule, the distance from the row's y-z
 /// position to the capsule's segment projected onto the y-z plane, less
 /// radius and half diagonal) is not below both kinds' thresholds is skipped
-/// unread; in the other rows each voxel is classified, and a candidate's
+/// unread; in the other rows each voxel within the x extent of the capsules
+/// that may count (grown by the threshold) is classified, and a candidate's
 /// distance is computed against the capsules whose row bound is below its
 /// kind's threshold, with squared distances compared first and one square
 /// root for a capsule that may count. The search stops when both kinds have
