@@ -287,3 +287,13 @@ TEST_CASE("a model from another robot gives another image CRC and robot id") {
     CHECK(robot_id(stored_crc(encode(moved))) != robot_id(stored_crc(img)));
     CHECK(robot_id(0x89ABCDEFU) == 0xCDEFU);
 }
+
+// verifies: SR-ROB-004
+TEST_CASE("the writer's bytes equal an image made independently from the format page") {
+    // tests/fuzz/corpus/fuzz_robot_image/test_arm (after its mode byte) was made with Python's struct and
+    // zlib.crc32 from certification/robot-image-format.md: 1,288 bytes, CRC-32 0xE811646A.
+    const std::vector<std::uint8_t> img = encode(make_test_arm());
+    CHECK(img.size() == 1288U);
+    CHECK(stored_crc(img) == 0xE811646AU);
+    CHECK(robot_id(stored_crc(img)) == 0x646AU);
+}
