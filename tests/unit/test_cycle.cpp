@@ -1,13 +1,16 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Requirements: cycle stage timing, deadline monitor, worst-case work bound.
+// Requirements: cycle stage timing, deadline monitor, worst-case work bound
+// (with a robot: its mask and the separation distances).
 #include <doctest/doctest.h>
 
 #include <vector>
 
 #include "cellguard/grid/ray_traversal.hpp"
+#include "cellguard/robot/robot_mask.hpp"
 #include "cellguard/safety/cycle.hpp"
 #include "contract_capture.hpp"
+#include "test_robot.hpp"
 
 using namespace cellguard;
 
@@ -81,4 +84,33 @@ TEST_CASE("cycle: the work bound follows from sensors, grid and zones") {
     // clear + subtract, and per depth image the ray table's three grid passes
     CHECK(b.grid_voxels == (2U + 3U * 2U) * 30600U);
     CHECK(b.zone_updates == 2U * zones.voxel_count(0));
+}
+
+// verifies: SR-CTRL-006, SR-ROB-205
+TEST_CASE("cycle: with a robot, the work bound adds the mask's tests, voxels x capsules and two grid passes") {
+    const GridGeometry g = paper_grid_geometry();
+    std::vector<std::uint32_t> mask(g.voxel_count());
+    ZoneConfig z;
+    z.box_min = Eigen::Vector3d(-0.5, -0.5, 0.0);
+    z.box_max = Eigen::Vector3d(0.5, 0.5, 1.0);
+    const CompiledZones zones = CompiledZones::compile(g, {&z, 1U}, {mask.data(), mask.size()}).value();
+    SensorReading cam;
+    cam.kind = SensorDataKind::kDepthImage;
+    cam.intrinsics.width = 320;
+    cam.intrinsics.height = 240;
+    const SensorReading sensors[] = {cam};
+    const RobotModel arm = test::make_test_arm();
+    const CycleWorkBound without = compute_work_bound(g, sensors, zones);
+    const CycleWorkBound with = compute_work_bound(g, sensors, zones, arm, 0.05);
+    CHECK(without.robot_mask_tests == 0U);
+    CHECK(without.separation_distances == 0U);
+    CHECK(with.rays == without.rays);
+    CHECK(with.voxel_steps == without.voxel_steps);
+    CHECK(with.zone_updates == without.zone_updates);
+    CHECK(with.grid_voxels == without.grid_voxels + 2U * 30600U);
+    CHECK(with.robot_mask_tests == robot_mask_work_bound(arm, 0.05, 0.05));
+    CHECK(with.robot_mask_tests > 0U);
+    CHECK(with.separation_distances == 30600U * 7U);  // the test arm's seven capsules
+    // A larger margin never lowers the bound.
+    CHECK(compute_work_bound(g, sensors, zones, arm, 0.2).robot_mask_tests >= with.robot_mask_tests);
 }

@@ -3,20 +3,29 @@
 // Requirements: the cycle executive on the simulated workcell: intrusion
 // gives a stop in the same cycle, a quiet or stale sensor gives a fault, a
 // corrupted prior is caught while running, unseen space is not clear, and a
-// cycle allocates no memory.
+// cycle allocates no memory. With a robot and the PLC's command: the case
+// switch takes effect in the cycle whose command arrived before it starts and
+// is echoed; an unknown case, a missing, stale or kept-too-long command, or
+// another robot's command stops; the robot's voxels are not foreground;
+// separation gives REDUCED then STOP; the robot model is checked in RAM.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "alloc_counter.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
+#include "cellguard/robot/robot_image.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
+#include "test_robot.hpp"
 
 using namespace cellguard;
 
@@ -119,6 +128,71 @@ sim::Scene with_person(double x, double y) {
     sim::Scene s = sim::reference_scene();
     s.boxes.push_back(sim::Box{{x, y, 0.85}, {0.3, 0.3, 1.7}, 0.0, false});
     return s;
+}
+
+// The robot side on the paper cell: the 6-axis test arm standing straight
+// up (all joints 0) at (x, y), three monitoring cases over the scenario's
+// zones (0: both, 1: the warning zone, 2: the protective zone), and
+// separation parameters scaled to the 1.7 m cell: S_p(0) = 1.6 (0.03 +
+// 0.02) + 0.3 0.03 + 0.01 + 0.01 + 0.005 = 0.114 m, REDUCED below 0.114 +
+// (1.6 + 0.3) 0.06 = 0.228 m.
+struct RobotCell {
+    static constexpr std::uint32_t kImageCrc = 0xC0FFEE42U;
+    double x;
+    double y;
+    RobotModel arm;
+    std::vector<std::uint8_t> mask;
+    MonitoringCases cases;
+
+    RobotCell(const Workcell& w, double x_m, double y_m)
+        : x(x_m), y(y_m), arm(test::make_test_arm(x_m, y_m)), mask(w.g.voxel_count()) {
+        const std::uint32_t zone_masks[] = {0b11U, 0b10U, 0b01U};
+        cases = MonitoringCases::make(w.zones, zone_masks).value();
+    }
+    ControllerConfig config(const Workcell& w) {
+        ControllerConfig c = w.config();
+        c.robot.model = &arm;
+        c.robot.image_crc = kImageCrc;
+        c.robot.mask_margin_m = 0.05;
+        c.robot.mask = Span<std::uint8_t>(mask.data(), mask.size());
+        SeparationParams& p = c.robot.separation;
+        p.reaction_time_s = 0.03;
+        p.classes[0] = SpeedClassLimits{0.3, 0.02, 0.01};
+        p.classes[1] = SpeedClassLimits{0.1, 0.01, 0.002};
+        p.class_count = 2U;
+        p.reduced_class = 1U;
+        p.slowdown_time_s = 0.06;
+        p.sensing_uncertainty_m = 0.01;
+        p.robot_uncertainty_m = 0.005;
+        p.min_hidden_voxels = 8U;
+        c.cases = &cases;
+        c.max_command_age_us = 250000U;
+        return c;
+    }
+    // The arm as the sensors see it: a column of the upper arm's width up to the grid's top.
+    sim::Box box() const { return sim::Box{{x, y, 0.75}, {0.12, 0.12, 1.5}, 0.0, false}; }
+    sim::Scene scene() const {
+        sim::Scene s = sim::reference_scene();
+        s.boxes.push_back(box());
+        return s;
+    }
+    sim::Scene scene_with_person(double px, double py) const {
+        sim::Scene s = with_person(px, py);
+        s.boxes.push_back(box());
+        return s;
+    }
+};
+
+// A good command for the arm straight up: case @p monitoring_case, received at @p received_us.
+CommandInput arm_command(std::uint8_t monitoring_case, std::uint64_t received_us, std::uint8_t counter = 0U) {
+    CommandInput in;
+    in.valid = true;
+    in.received_us = received_us;
+    in.counter = counter;
+    in.command.monitoring_case = monitoring_case;
+    in.command.joint_count = 6U;
+    in.command.robot_id = robot_id(RobotCell::kImageCrc);
+    return in;
 }
 
 }  // namespace
@@ -610,4 +684,387 @@ TEST_CASE("controller: a whole cycle allocates no memory") {
     const test::AllocationScope scope;
     (void)c.run_cycle(f.span(), false);
     CHECK(scope.allocations() == 0U);
+}
+
+// verifies: SR-ROB-201
+TEST_CASE(
+    "controller: the robot standing in the protective zone is not foreground; the same frames without a robot configured stop") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, 0.2, 0.4);  // in the protective zone, reaching into the warning zone
+    SafetyController plain = w.controller(clock);
+    const CycleReport& a = plain.run_cycle(Frame(w, rc.scene(), clock.t).span(), false);
+    CHECK(a.zones.zones[0].state == ZoneState::kIntruded);
+    CHECK(a.safety.stop_requested);
+    CHECK_FALSE(a.robot.configured);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const CycleReport& b = c.run_cycle(Frame(w, rc.scene(), clock.t).span(), false, arm_command(0U, clock.t));
+    INFO("protective: fg " << b.zones.zones[0].foreground << " unseen " << b.zones.zones[0].unseen << " robot "
+                           << b.zones.zones[0].robot << "; distance " << b.robot.distance_mm << " mm");
+    CHECK(b.detected_faults == 0U);
+    CHECK(b.zones.zones[0].state == ZoneState::kClear);
+    CHECK(b.zones.zones[0].foreground == 0U);
+    CHECK(b.zones.zones[0].robot > 100U);
+    CHECK(b.zones.zones[1].state == ZoneState::kClear);
+    CHECK(b.robot.configured);
+    CHECK(b.robot.command_valid);
+    CHECK(b.robot.robot_voxels >= b.zones.zones[0].robot);
+    CHECK(b.robot.speed_request == SpeedRequest::kFull);
+    CHECK(b.robot.distance_mm == kDistanceFarMm);
+    CHECK_FALSE(b.safety.stop_requested);
+    CHECK_FALSE(b.safety.reduced_speed);
+}
+
+// verifies: SR-ROB-203
+TEST_CASE("controller: a refused command uses no pose at all: the robot is foreground again and separation stops") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, 0.2, 0.4);
+    SafetyController c = w.controller(rc.config(w), clock);
+    REQUIRE_FALSE(
+        c.run_cycle(Frame(w, rc.scene(), clock.t).span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+    CommandInput lost = arm_command(0U, clock.t);
+    lost.valid = false;
+    const CycleReport& r = c.run_cycle(Frame(w, rc.scene(), clock.t).span(), false, lost);
+    CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+    CHECK(r.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kMissing));
+    CHECK_FALSE(r.robot.command_valid);
+    CHECK(r.robot.robot_voxels == 0U);
+    CHECK(r.zones.zones[0].robot == 0U);
+    CHECK(r.zones.zones[0].state == ZoneState::kIntruded);  // the unmasked arm
+    CHECK(r.robot.speed_request == SpeedRequest::kProtectiveStop);
+    CHECK(r.robot.distance_mm == 0U);
+    CHECK(r.safety.stop_requested);
+    CHECK(r.safety.reduced_speed);
+}
+
+// verifies: SR-SSM-010, SR-SSM-011
+TEST_CASE("controller: a person walking up to the robot gives FULL, then REDUCED, then STOP at the computed distance") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);  // away from the zones: only separation acts
+    const ControllerConfig config = rc.config(w);
+    const SeparationParams& p = config.robot.separation;
+    const double sp = protective_separation_distance(p, 0U);
+    const double reduced = reduced_speed_distance(p);
+    REQUIRE(sp == doctest::Approx(0.114));
+    REQUIRE(reduced == doctest::Approx(0.228));
+    SafetyController c = w.controller(config, clock);
+    SpeedRequest last = SpeedRequest::kFull;
+    std::uint16_t last_mm = kDistanceFarMm;
+    bool saw_reduced = false;
+    bool saw_stop = false;
+    for (const double px : {0.1, 0.0, -0.05, -0.1, -0.15, -0.2, -0.25}) {
+        CAPTURE(px);
+        const CycleReport& r = c.run_cycle(Frame(w, rc.scene_with_person(px, -0.5), clock.t).span(), false,
+                                           arm_command(1U, clock.t));
+        CAPTURE(r.robot.distance_mm);
+        REQUIRE(r.detected_faults == 0U);
+        CHECK(r.robot.distance_mm < last_mm);  // the person comes closer
+        CHECK(r.robot.required_mm == static_cast<std::uint16_t>(std::ceil(sp * 1000.0)));
+        const double d = r.robot.distance_mm / 1000.0;
+        const SpeedRequest expected = d < sp ? SpeedRequest::kProtectiveStop
+                                             : (d < reduced ? SpeedRequest::kReduced : SpeedRequest::kFull);
+        CHECK(r.robot.speed_request == expected);
+        CHECK(static_cast<int>(r.robot.speed_request) >= static_cast<int>(last));  // never back to a faster one
+        CHECK(r.safety.stop_requested == (expected == SpeedRequest::kProtectiveStop));
+        CHECK(r.safety.separation_stop == (expected == SpeedRequest::kProtectiveStop));
+        CHECK(r.safety.reduced_speed == (expected != SpeedRequest::kFull));
+        saw_reduced = saw_reduced || expected == SpeedRequest::kReduced;
+        saw_stop = saw_stop || expected == SpeedRequest::kProtectiveStop;
+        last = r.robot.speed_request;
+        last_mm = r.robot.distance_mm;
+    }
+    CHECK(saw_reduced);
+    CHECK(saw_stop);
+    // The person steps back: the stop ends in that cycle (no restart interlock for separation).
+    const CycleReport& back = c.run_cycle(Frame(w, rc.scene_with_person(0.1, -0.5), clock.t).span(), false,
+                                          arm_command(1U, clock.t));
+    CHECK(back.robot.speed_request == SpeedRequest::kFull);
+    CHECK_FALSE(back.safety.stop_requested);
+    CHECK(back.detected_faults == 0U);
+}
+
+// verifies: SR-CASE-010
+TEST_CASE(
+    "controller: a case switch takes effect in the cycle whose command arrived before it started, and is echoed") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame person(w, rc.scene_with_person(0.2, 0.4), clock.t);  // in the protective and the warning zone
+    // Case 1: the warning zone only: a warning, no stop; the protective zone's bits are 0.
+    CycleReport r = c.run_cycle(person.span(), false, arm_command(1U, clock.t, 3U));
+    CHECK(r.robot.active_case == 1U);
+    CHECK(r.robot.command_counter == 3U);
+    CHECK(r.zones.active_mask == 0b10U);
+    CHECK(r.safety.warning);
+    CHECK_FALSE(r.safety.stop_requested);
+    CHECK(r.safety.intruded_mask == 0b10U);
+    // The PLC switches to case 2 (the protective zone only): stop in this very cycle, echoed.
+    r = c.run_cycle(person.span(), false, arm_command(2U, clock.t, 4U));
+    CHECK(r.robot.active_case == 2U);
+    CHECK(r.robot.command_counter == 4U);
+    CHECK(r.safety.stop_requested);
+    CHECK_FALSE(r.safety.warning);
+    CHECK(r.safety.intruded_mask == 0b01U);
+    // A command that arrives after the cycle has started is not this cycle's
+    // (refused as stale: it is stamped after the cycle's start), and the case
+    // in force stays the last good one.
+    r = c.run_cycle(person.span(), false, arm_command(1U, clock.t + 1000U, 5U));
+    CHECK(r.robot.active_case == 2U);
+    CHECK(r.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kStale));
+    CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
+// verifies: SR-CASE-011
+TEST_CASE(
+    "controller: an unknown case number stops in that cycle and keeps the last good case; good commands recover") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    REQUIRE_FALSE(c.run_cycle(empty.span(), false, arm_command(1U, clock.t)).safety.stop_requested);
+    for (const std::uint8_t unknown : {3U, 15U, 16U, 255U}) {
+        CAPTURE(static_cast<int>(unknown));
+        const CycleReport& r = c.run_cycle(empty.span(), false, arm_command(unknown, clock.t));
+        CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+        CHECK(r.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kUnknownCase));
+        CHECK(r.robot.active_case == 1U);
+        CHECK_FALSE(r.robot.command_valid);
+        CHECK(r.safety.stop_requested);
+    }
+    // fault_recovery_cycles (2) good cycles clear the fault; no restart delay in this configuration.
+    CHECK(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+    const CycleReport& ok = c.run_cycle(empty.span(), false, arm_command(0U, clock.t));
+    CHECK_FALSE(ok.safety.stop_requested);
+    CHECK(ok.robot.active_case == 0U);
+}
+
+// verifies: SR-ROB-210
+TEST_CASE("controller: a missing, stale or kept-too-long command stops within the documented cycles") {
+    Workcell w;
+    test::SettableClock clock(10000000U);
+    RobotCell rc(w, -0.6, -0.5);
+    ControllerConfig config = rc.config(w);
+    config.max_command_age_us = 250000U;  // 250 ms; cycles every 100 ms below
+    SafetyController c = w.controller(config, clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    const auto cycle = [&](const CommandInput& in) -> const CycleReport& {
+        clock.t += 100000U;
+        Frame f(w, rc.scene(), clock.t);
+        return c.run_cycle(f.span(), false, in);
+    };
+    // A sample the receiver keeps (the PLC fell silent) is used while it is
+    // at most 250 ms old: cycles 100 and 200 ms after it; the cycle at 300
+    // ms stops, the first one after max_command_age_us.
+    const CommandInput kept = arm_command(0U, clock.t);
+    CHECK_FALSE(cycle(kept).safety.stop_requested);
+    CHECK_FALSE(cycle(kept).safety.stop_requested);
+    const CycleReport& stale = cycle(kept);
+    CHECK((stale.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+    CHECK(stale.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kStale));
+    CHECK(stale.robot.command_age_us == 300000U);
+    CHECK(stale.safety.stop_requested);
+    // The receiver's own verdict (missing, repeated counter, corrupt): the same cycle.
+    CHECK(cycle(arm_command(0U, clock.t)).safety.stop_requested);  // 1 of 2 recovery cycles
+    CHECK_FALSE(cycle(arm_command(0U, clock.t)).safety.stop_requested);
+    CommandInput refused = arm_command(0U, clock.t);
+    refused.valid = false;
+    const CycleReport& missing = cycle(refused);
+    CHECK(missing.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kMissing));
+    CHECK(missing.safety.stop_requested);
+    // A robot cell run without a command (the legacy run_cycle) is a missing command.
+    clock.t += 100000U;
+    const CycleReport& legacy = c.run_cycle(Frame(w, rc.scene(), clock.t).span(), false);
+    CHECK((legacy.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+    CHECK(legacy.safety.stop_requested);
+}
+
+// verifies: SR-ROB-211
+TEST_CASE("controller: a command for another robot, with another joint count or outside the limits, stops") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    REQUIRE_FALSE(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+    CommandInput other = arm_command(0U, clock.t);
+    other.command.robot_id = static_cast<std::uint16_t>(other.command.robot_id ^ 0x0100U);
+    CommandInput five = arm_command(0U, clock.t);
+    five.command.joint_count = 5U;
+    CommandInput beyond = arm_command(0U, clock.t);
+    beyond.command.joint_raw[2] = 20000;  // 4 rad: the elbow's limit is pi
+    CommandInput fast = arm_command(0U, clock.t);
+    fast.command.speed_class = 2U;  // two classes commissioned
+    const std::pair<const CommandInput*, CommandRefusal> cases[] = {
+        {&other, CommandRefusal::kRobotIdMismatch},
+        {&five, CommandRefusal::kJointCountMismatch},
+        {&beyond, CommandRefusal::kOutsideLimits},
+        {&fast, CommandRefusal::kUnknownSpeedClass},
+    };
+    for (const auto& [in, why] : cases) {
+        CAPTURE(to_string(why));
+        const CycleReport& r = c.run_cycle(empty.span(), false, *in);
+        CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
+        CHECK(r.robot.command_check == static_cast<std::uint8_t>(why));
+        CHECK(r.safety.stop_requested);
+        CHECK(r.robot.speed_request == SpeedRequest::kProtectiveStop);
+    }
+}
+
+// verifies: SR-ROB-212
+TEST_CASE("controller: the robot model corrupted in RAM is an internal-check fault within two check passes, for good") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    ControllerConfig config = rc.config(w);
+    config.robot_check_slice_bytes = 512U;
+    SafetyController c = w.controller(config, clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    const std::size_t pass = (sizeof(RobotModel) + 511U) / 512U;
+    for (std::size_t k = 0U; k < 2U * pass; ++k)
+        REQUIRE(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).detected_faults == 0U);
+    rc.arm.capsules[3].radius = 0.01;  // the forearm shrinks in RAM
+    std::size_t cycles = 1U;
+    while ((c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).detected_faults &
+            fault_bit(Fault::kInternalCheck)) == 0U) {
+        ++cycles;
+        REQUIRE(cycles <= 2U * pass);
+    }
+    CHECK(c.report().safety.stop_requested);
+    rc.arm.capsules[3].radius = 0.06;  // repaired: the fault stays latched
+    for (int i = 0; i < 4; ++i)
+        CHECK(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+}
+
+// verifies: SR-ROB-213
+TEST_CASE("controller: a refused robot configuration latches an internal-check fault at construction") {
+    Workcell w;
+    TestClock clock;
+    const Frame f(w, sim::reference_scene(), clock.t);
+    RobotCell rc(w, -0.6, -0.5);
+    RobotModel broken = rc.arm;
+    broken.capsules[0].radius = -1.0;
+    std::vector<ControllerConfig> configs(6U, rc.config(w));
+    configs[0].robot.mask = Span<std::uint8_t>(rc.mask.data(), rc.mask.size() - 1U);
+    configs[1].robot.mask_margin_m = std::numeric_limits<double>::quiet_NaN();
+    configs[2].robot.mask_margin_m = -0.01;
+    configs[3].robot.separation.class_count = 0U;
+    configs[4].robot.model = &broken;
+    // Cases made for other zones (three zones, here two).
+    std::vector<std::uint32_t> other_mask(w.g.voxel_count());
+    const auto zs = firmware::scenario_zone_configs();
+    const ZoneConfig three[] = {zs[0], zs[1], zs[1]};
+    const CompiledZones other = CompiledZones::compile(w.g, three, {other_mask.data(), other_mask.size()}).value();
+    const std::uint32_t zone2[] = {0b100U};
+    const MonitoringCases foreign = MonitoringCases::make(other, zone2).value();
+    configs[5].cases = &foreign;
+    for (std::size_t k = 0U; k < configs.size(); ++k) {
+        CAPTURE(k);
+        SafetyController c = w.controller(configs[k], clock);
+        for (int i = 0; i < 3; ++i) {
+            const CycleReport& r = c.run_cycle(f.span(), false, arm_command(0U, clock.t));
+            CHECK((r.safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+            CHECK(r.safety.stop_requested);
+        }
+    }
+}
+
+// verifies: SR-CASE-012
+TEST_CASE(
+    "controller: a cell without a robot or cases ignores commands; one with cases only takes a joint-less command") {
+    Workcell w;
+    TestClock clock;
+    const Frame f(w, sim::reference_scene(), clock.t);
+    SafetyController plain = w.controller(clock);
+    CommandInput junk = arm_command(9U, clock.t);
+    junk.valid = false;
+    const CycleReport& r = plain.run_cycle(f.span(), false, junk);
+    CHECK(r.detected_faults == 0U);
+    CHECK_FALSE(r.safety.stop_requested);
+    CHECK_FALSE(r.robot.configured);
+    CHECK(r.robot.active_case == 0U);
+    CHECK(r.robot.speed_request == SpeedRequest::kFull);
+    CHECK(r.robot.distance_mm == kDistanceFarMm);
+    CHECK(r.zones.active_mask == 0b11U);
+    // Cases without a robot: the command selects the case and carries no joints.
+    const std::uint32_t masks[] = {0b11U, 0b10U};
+    const MonitoringCases cases = MonitoringCases::make(w.zones, masks).value();
+    ControllerConfig config = w.config();
+    config.cases = &cases;
+    SafetyController switched = w.controller(config, clock);
+    const Frame person(w, with_person(0.2, 0.4), clock.t);
+    CommandInput in;
+    in.valid = true;
+    in.received_us = clock.t;
+    in.command.monitoring_case = 1U;
+    const CycleReport& a = switched.run_cycle(person.span(), false, in);
+    CHECK(a.detected_faults == 0U);
+    CHECK(a.robot.active_case == 1U);
+    CHECK_FALSE(a.robot.configured);
+    CHECK_FALSE(a.safety.stop_requested);
+    in.command.joint_count = 6U;  // joints for a cell without a robot
+    const CycleReport& b = switched.run_cycle(person.span(), false, in);
+    CHECK(b.robot.command_check == static_cast<std::uint8_t>(CommandRefusal::kJointCountMismatch));
+    CHECK(b.safety.stop_requested);
+}
+
+// verifies: SR-ROB-210, SR-CASE-011, SR-ROB-211
+TEST_CASE("command check: each refusal, in order, and the names") {
+    const RobotModel arm = test::make_test_arm();
+    const std::uint32_t crc = RobotCell::kImageCrc;
+    MonitoringCases cases;
+    {
+        Workcell w;
+        const std::uint32_t masks[] = {0b01U, 0b10U};
+        cases = MonitoringCases::make(w.zones, masks).value();
+    }
+    CommandLimits limits;
+    limits.cases = &cases;
+    limits.robot = &arm;
+    limits.image_crc = crc;
+    limits.speed_classes = 2U;
+    limits.max_age_us = 1000U;
+    CommandInput in = arm_command(1U, 5000U);
+    in.command.speed_class = 1U;
+    in.command.joint_raw[1] = 5000;  // 1 rad
+    const Result<CheckedCommand, CommandRefusal> ok = check_command(in, 6000U, limits);
+    REQUIRE(ok.ok());
+    CHECK(ok.value().monitoring_case == 1U);
+    CHECK(ok.value().speed_class == 1U);
+    CHECK(ok.value().joints.count == 6U);
+    CHECK(ok.value().joints.q[1] == doctest::Approx(1.0));
+    CHECK(check_command(in, 5000U, limits).ok());  // age 0
+    CHECK(check_command(in, 6001U, limits).error() == CommandRefusal::kStale);
+    CHECK(check_command(in, 4999U, limits).error() == CommandRefusal::kStale);  // arrived after the start
+    in.command.monitoring_case = 2U;
+    CHECK(check_command(in, 5500U, limits).error() == CommandRefusal::kUnknownCase);
+    in.valid = false;
+    CHECK(check_command(in, 5500U, limits).error() == CommandRefusal::kMissing);  // checked first
+    in = arm_command(0U, 5000U);
+    limits.cases = nullptr;
+    CHECK(check_command(in, 5500U, limits).error() == CommandRefusal::kUnknownCase);
+    limits.cases = &cases;
+    in.command.joint_raw[0] = kJointRawInvalid;
+    CHECK(check_command(in, 5500U, limits).error() == CommandRefusal::kInvalidRaw);
+    CHECK(std::string(to_string(CommandRefusal::kStale)) == "command stale");
+    CHECK(std::string(to_string(static_cast<CommandRefusal>(99))) == "unknown refusal");
+}
+
+// verifies: SR-GEN-002, SR-ROB-201
+TEST_CASE("controller: a whole cycle with a robot allocates no memory") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame f(w, rc.scene_with_person(-0.1, -0.5), clock.t);
+    const CommandInput in = arm_command(0U, clock.t);
+    const test::AllocationScope scope;
+    const CycleReport& r = c.run_cycle(f.span(), false, in);
+    CHECK(scope.allocations() == 0U);
+    CHECK(r.robot.command_valid);
 }

@@ -1,11 +1,13 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 // Requirements: protective stop, warning, restart interlock, fault latching
-// and recovery, clock monitoring.
+// and recovery, clock monitoring; only the active monitoring case's zones
+// count; speed and separation monitoring's stop and reduced speed.
 #include <doctest/doctest.h>
 
 #include <vector>
 
+#include "cellguard/safety/robot_command.hpp"
 #include "cellguard/safety/safety_logic.hpp"
 #include "enum_names.hpp"
 
@@ -18,6 +20,8 @@ struct Cell {
     CompiledZones zones;
     ZoneEvaluation eval;
     std::uint64_t now = 1000U;
+    std::uint32_t active = 0xFFFFFFFFU;        // the active case's zones
+    SpeedRequest speed = SpeedRequest::kFull;  // the separation's request
     Cell() {
         ZoneConfig protective;
         protective.box_max = Eigen::Vector3d(0.2, 0.2, 0.2);
@@ -50,6 +54,8 @@ struct Cell {
         in.zones = &eval;
         in.detected_faults = faults;
         in.reset_input = reset;
+        in.active_zones = active;
+        in.speed_request = speed;
         return logic.step(in);
     }
 };
@@ -193,6 +199,124 @@ TEST_CASE("safety logic: missing zone results are a fault") {
     const SafetyOutputs o = logic.step(in);
     CHECK(o.stop_requested);
     CHECK((o.latched_faults & fault_bit(Fault::kZoneEvaluation)) != 0U);
+}
+
+// verifies: SR-CASE-005
+TEST_CASE("safety logic: only the active case's zones stop or warn; the other zones' bits are 0 in every output") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    c.active = 0b10U;  // the warning zone only
+    c.set(ZoneState::kIntruded, ZoneState::kClear);
+    SafetyOutputs o = c.step(logic);
+    CHECK_FALSE(o.stop_requested);  // the protective zone is not monitored in this case
+    CHECK(o.intruded_mask == 0U);
+    c.set(ZoneState::kUnseen, ZoneState::kIntruded);
+    o = c.step(logic);
+    CHECK_FALSE(o.stop_requested);
+    CHECK(o.warning);
+    CHECK(o.intruded_mask == 0b10U);
+    CHECK(o.unseen_mask == 0U);
+    // Faults: only the active zones are FAULT.
+    o = c.step(logic, fault_bit(Fault::kSensorMissing));
+    CHECK(o.stop_requested);
+    CHECK(o.fault_zone_mask == 0b10U);
+    // A case of the protective zone only: its intrusion stops, the warning zone is silent.
+    c.active = 0b01U;
+    c.set(ZoneState::kIntruded, ZoneState::kIntruded);
+    o = c.step(logic);
+    CHECK(o.stop_requested);
+    CHECK_FALSE(o.warning);
+    CHECK(o.intruded_mask == 0U);       // the fault is still latched (recovery takes 3 clean cycles):
+    CHECK(o.fault_zone_mask == 0b01U);  // the active zones are FAULT
+    // Bits beyond the zone count mean nothing.
+    c.active = 0xFFFFFFFCU;
+    for (int i = 0; i < 4; ++i)
+        o = c.step(logic);
+    CHECK(o.latched_faults == 0U);
+    CHECK_FALSE(o.stop_requested);
+    CHECK(o.intruded_mask == 0U);
+}
+
+// verifies: SR-CASE-006
+TEST_CASE(
+    "safety logic: switching to a case whose protective zone is intruded stops in that cycle; switching away goes through the interlock") {
+    Cell c;
+    SafetyLogic logic(config(30000U, false), c.zones);  // 30 ms restart delay
+    c.active = 0b10U;
+    c.set(ZoneState::kIntruded, ZoneState::kClear);
+    for (int i = 0; i < 4; ++i)
+        (void)c.step(logic);
+    CHECK_FALSE(c.step(logic).stop_requested);
+    c.active = 0b11U;  // the case switches: the protective zone counts now
+    CHECK(c.step(logic).stop_requested);
+    c.active = 0b10U;  // and back: the interlock holds the stop for its delay
+    CHECK(c.step(logic).stop_requested);
+    CHECK(c.step(logic).stop_requested);
+    CHECK(c.step(logic).stop_requested);
+    CHECK_FALSE(c.step(logic).stop_requested);
+}
+
+// verifies: SR-SSM-001, SR-SSM-002
+TEST_CASE("safety logic: a separation stop stops in the same cycle and resumes without the restart interlock") {
+    Cell c;
+    SafetyLogic logic(config(100000U, true), c.zones);  // 100 ms delay and a reset: neither applies to SSM
+    for (int i = 0; i < 10; ++i)
+        (void)c.step(logic);
+    REQUIRE_FALSE(c.step(logic, 0U, true).stop_requested);  // released by the interlock once
+    c.speed = SpeedRequest::kReduced;
+    SafetyOutputs o = c.step(logic);
+    CHECK_FALSE(o.stop_requested);
+    CHECK(o.reduced_speed);
+    CHECK_FALSE(o.separation_stop);
+    c.speed = SpeedRequest::kProtectiveStop;
+    o = c.step(logic);
+    CHECK(o.stop_requested);
+    CHECK(o.separation_stop);
+    CHECK(o.reduced_speed);  // a stop asks for at most reduced speed too
+    CHECK_FALSE(o.interlock_holding);
+    CHECK(o.latched_faults == 0U);
+    c.speed = SpeedRequest::kReduced;  // the distance grew again: resume at once, reduced
+    o = c.step(logic);
+    CHECK_FALSE(o.stop_requested);
+    CHECK(o.reduced_speed);
+    c.speed = SpeedRequest::kFull;
+    o = c.step(logic);
+    CHECK_FALSE(o.stop_requested);
+    CHECK_FALSE(o.reduced_speed);
+}
+
+// verifies: SR-SSM-002
+TEST_CASE("safety logic: a separation stop neither starts nor shortens the restart interlock of the zones") {
+    Cell c;
+    SafetyLogic logic(config(50000U, false), c.zones);  // 50 ms
+    for (int i = 0; i < 6; ++i)
+        (void)c.step(logic);
+    REQUIRE_FALSE(c.step(logic).stop_requested);
+    // A zone stop, then the zone clears while the separation asks for a stop.
+    c.set(ZoneState::kIntruded, ZoneState::kClear);
+    CHECK(c.step(logic).stop_requested);
+    c.set(ZoneState::kClear, ZoneState::kClear);
+    c.speed = SpeedRequest::kProtectiveStop;
+    for (int i = 0; i < 3; ++i)
+        CHECK(c.step(logic).stop_requested);    // 0..20 ms of the 50 ms
+    c.speed = SpeedRequest::kFull;              // the separation clears: the interlock still runs
+    CHECK(c.step(logic).stop_requested);        // 30 ms
+    CHECK(c.step(logic).interlock_holding);     // 40 ms
+    CHECK_FALSE(c.step(logic).stop_requested);  // 50 ms
+}
+
+// verifies: SR-SSM-001
+TEST_CASE("safety logic: a speed request outside the enumeration is a stop") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    REQUIRE_FALSE(c.step(logic).stop_requested);
+    for (const std::uint8_t raw : {3U, 0x7FU, 0xFFU}) {
+        c.speed = static_cast<SpeedRequest>(raw);
+        const SafetyOutputs o = c.step(logic);
+        CHECK(o.stop_requested);
+        CHECK(o.separation_stop);
+        CHECK(o.reduced_speed);
+    }
 }
 
 // verifies: SR-GEN-004

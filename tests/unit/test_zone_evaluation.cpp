@@ -1,6 +1,8 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Requirements: background subtraction and zone states (CLEAR, INTRUDED, UNSEEN).
+// Requirements: background subtraction and zone states (CLEAR, INTRUDED, UNSEEN);
+// the robot's voxels are neither foreground nor unseen; only the active
+// monitoring case's zones are evaluated.
 #include <doctest/doctest.h>
 
 #include <vector>
@@ -183,6 +185,89 @@ TEST_CASE("zone evaluation: counts per run of equal zone masks equal counting vo
         CHECK(e.zones[z].foreground == fg);
         CHECK(e.zones[z].unseen == unseen);
     }
+}
+
+// verifies: SR-ROB-201
+TEST_CASE("zone evaluation: the robot's voxels are neither foreground nor unseen, and are counted per zone as robot") {
+    Fixture f;
+    std::vector<std::uint8_t> robot(1000U, 0U);
+    // The robot occupies a column through the protective zone: seen as
+    // occupied at (2, 2, z), unobserved behind itself at (3, 2, z).
+    for (int z = 0; z < 5; ++z) {
+        f.lo[f.at(2, 2, z)] = 1000;
+        f.ob[f.at(3, 2, z)] = 0U;
+        robot[f.at(2, 2, z)] = 1U;
+        robot[f.at(3, 2, z)] = 1U;
+    }
+    // Without the mask the robot intrudes and hides space.
+    const ZoneEvaluation without = f.run();
+    CHECK(without.zones[0].state == ZoneState::kIntruded);
+    CHECK(without.zones[0].foreground == 5U);
+    CHECK(without.zones[0].unseen == 5U);
+    CHECK(without.zones[0].robot == 0U);
+    // With it: every zone CLEAR, its voxels counted as the robot's only.
+    ZoneEvaluationScope scope;
+    scope.robot_mask = Span<const std::uint8_t>(robot.data(), robot.size());
+    ZoneEvaluation e;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).ok());
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    CHECK(e.zones[0].foreground == 0U);
+    CHECK(e.zones[0].unseen == 0U);
+    CHECK(e.zones[0].robot == 10U);
+    CHECK(e.zones[1].state == ZoneState::kClear);
+    CHECK(e.zones[1].robot == 10U);
+    CHECK(e.not_clear_mask == 0U);
+    // A person next to the robot is still foreground.
+    f.lo[f.at(1, 2, 2)] = 1000;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).ok());
+    CHECK(e.zones[0].state == ZoneState::kIntruded);
+    CHECK(e.zones[0].foreground == 1U);
+    // Any nonzero byte is the robot's; an empty mask is no robot.
+    robot[f.at(1, 2, 2)] = 0xFFU;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).ok());
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{},
+                           ZoneEvaluationScope{}, e)
+                .ok());
+    CHECK(e.zones[0].foreground == 6U);
+}
+
+// verifies: SR-ROB-201
+TEST_CASE("zone evaluation: a robot mask shorter than the grid is refused") {
+    Fixture f;
+    std::vector<std::uint8_t> robot(999U, 0U);
+    ZoneEvaluationScope scope;
+    scope.robot_mask = Span<const std::uint8_t>(robot.data(), robot.size());
+    ZoneEvaluation e;
+    CHECK(
+        evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).error() ==
+        ErrorCode::kStorageTooSmall);
+}
+
+// verifies: SR-CASE-005
+TEST_CASE("zone evaluation: zones outside the active case are not evaluated: CLEAR, no counts, in no mask") {
+    Fixture f;
+    f.lo[f.at(2, 2, 2)] = 1000;  // in both zones
+    f.ob[f.at(8, 8, 8)] = 0U;    // in the warning zone only
+    ZoneEvaluationScope scope;
+    scope.active_zones = 0b10U;  // the warning zone only
+    ZoneEvaluation e;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).ok());
+    CHECK(e.active_mask == 0b10U);
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    CHECK(e.zones[0].foreground == 0U);
+    CHECK(e.zones[1].state == ZoneState::kIntruded);
+    CHECK(e.zones[1].foreground == 1U);
+    CHECK(e.zones[1].unseen == 1U);
+    CHECK(e.intruded_mask == 0b10U);
+    CHECK(e.not_clear_mask == 0b10U);
+    // Bits beyond the zone count are ignored; the default scope is every zone.
+    scope.active_zones = 0xFFFFFFFCU | 0b01U;
+    REQUIRE(evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, e).ok());
+    CHECK(e.active_mask == 0b01U);
+    CHECK(e.intruded_mask == 0b01U);
+    CHECK(f.run().active_mask == 0b11U);
+    CHECK(f.run().intruded_mask == 0b11U);
 }
 
 // verifies: SR-GEN-004

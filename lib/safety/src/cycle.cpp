@@ -3,6 +3,7 @@
 #include "cellguard/safety/cycle.hpp"
 
 #include "cellguard/grid/ray_traversal.hpp"
+#include "cellguard/robot/robot_mask.hpp"
 
 namespace cellguard {
 
@@ -21,6 +22,16 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
     b.voxel_steps = b.rays * static_cast<std::uint64_t>(max_voxels_per_segment(grid));
     b.grid_voxels = (2U + 3U * depth_images) * static_cast<std::uint64_t>(grid.voxel_count());
     b.zone_updates = static_cast<std::uint64_t>(zones.total_memberships());
+    return b;
+}
+
+CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
+                                  const CompiledZones& zones, const RobotModel& robot, double mask_margin_m) noexcept {
+    CycleWorkBound b = compute_work_bound(grid, sensors, zones);
+    const auto voxels = static_cast<std::uint64_t>(grid.voxel_count());
+    b.grid_voxels += 2U * voxels;  // the mask's rewrite, the separation's pass
+    b.robot_mask_tests = robot_mask_work_bound(robot, mask_margin_m, grid.voxel_size());
+    b.separation_distances = voxels * static_cast<std::uint64_t>(robot.capsule_count);
     return b;
 }
 

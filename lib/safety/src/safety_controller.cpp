@@ -2,7 +2,29 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/safety/safety_controller.hpp"
 
+#include <cmath>
+
+#include "cellguard/robot/robot_mask.hpp"
+
 namespace cellguard {
+
+namespace {
+
+/// The robot model's bytes (empty without a robot).
+SignatureRegion robot_bytes(const RobotModel* model) noexcept {
+    return model == nullptr ? SignatureRegion{} : as_bytes(Span<const RobotModel>(model, 1U));
+}
+
+/// Metres to whole millimetres, rounded up and saturated at kDistanceFarMm.
+std::uint16_t ceil_mm(double metres) noexcept {
+    const double mm = std::ceil(metres * 1000.0);
+    if (!(mm >= 0.0)) {
+        return 0U;
+    }
+    return mm >= static_cast<double>(kDistanceFarMm) ? kDistanceFarMm : static_cast<std::uint16_t>(mm);
+}
+
+}  // namespace
 
 SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid& frame_grid,
                                    Span<std::int16_t> fusion_scratch, Span<const std::int16_t> prior,
@@ -20,10 +42,16 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
       monitor_(config.cycle_budget_us),
       prior_check_(as_bytes(prior)),
       zone_mask_check_(as_bytes(zones.membership())),
-      zone_settings_crc_(zones.settings_crc()) {
+      zone_settings_crc_(zones.settings_crc()),
+      cases_(config.cases != nullptr ? *config.cases : MonitoringCases::all_zones(zones)),
+      cases_crc_(cases_.settings_crc()),
+      command_expected_(config.robot.model != nullptr || config.cases != nullptr),
+      robot_check_(robot_bytes(config.robot.model)),
+      robot_settings_crc_(robot_settings_crc()) {
     CG_ENFORCE(config.prior_check_slice_bytes > 0U, "prior_check_slice_bytes must be positive");
     CG_ENFORCE(config.table_check_slice_bytes > 0U, "table_check_slice_bytes must be positive");
     CG_ENFORCE(config.zone_check_slice_bytes > 0U, "zone_check_slice_bytes must be positive");
+    CG_ENFORCE(config.robot_check_slice_bytes > 0U, "robot_check_slice_bytes must be positive");
     if (prior.size() != frame_grid.voxel_count()) {
         construction_faults_ |= fault_bit(Fault::kPriorCheckFailed);
     }
@@ -31,13 +59,56 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
         config.sensor_count > kMaxSensors) {
         construction_faults_ |= fault_bit(Fault::kInternalCheck);
     }
+    check_robot_config(frame_grid);
+}
+
+void SafetyController::check_robot_config(const EvidenceGrid& frame_grid) noexcept {
+    if (!cases_.fits(*zones_)) {
+        construction_faults_ |= fault_bit(Fault::kInternalCheck);
+    }
+    const RobotCellConfig& robot = config_.robot;
+    if (robot.model == nullptr) {
+        return;
+    }
+    if (check_robot_model(*robot.model).code != ErrorCode::kOk || robot.mask.size() < frame_grid.voxel_count() ||
+        !std::isfinite(robot.mask_margin_m) || robot.mask_margin_m < 0.0 ||
+        !check_separation_params(robot.separation).ok()) {
+        construction_faults_ |= fault_bit(Fault::kInternalCheck);
+    }
+}
+
+std::uint32_t SafetyController::robot_settings_crc() const noexcept {
+    // What the robot side reads of the configuration every cycle, as bytes
+    // of the controller's own copy (their padding included: that copy is
+    // never rewritten, so its padding does not change either).
+    Crc32 crc;
+    crc.update(as_bytes(Span<const RobotCellConfig>(&config_.robot, 1U)));
+    crc.update(as_bytes(Span<const std::uint64_t>(&config_.max_command_age_us, 1U)));
+    return crc.value();
 }
 
 bool SafetyController::step_zone_checks() noexcept {
     // The settings every cycle (a few hundred bytes); the mask in slices.
     zone_settings_failed_ = zone_settings_failed_ || zones_->settings_crc() != zone_settings_crc_;
+    zone_settings_failed_ = zone_settings_failed_ || cases_.settings_crc() != cases_crc_ ||
+                            robot_settings_crc() != robot_settings_crc_;
     const bool mask_failed = zone_mask_check_.step(config_.zone_check_slice_bytes);
     return zone_settings_failed_ || mask_failed;
+}
+
+std::uint32_t SafetyController::step_integrity_checks(Span<const SensorInput> sensors) noexcept {
+    std::uint32_t faults = 0U;
+    if (prior_check_.step(config_.prior_check_slice_bytes)) {
+        faults |= fault_bit(Fault::kPriorCheckFailed);
+    }
+    // All of them every cycle: constant work.
+    const bool table_failed = step_table_check(sensors);
+    const bool zones_failed = step_zone_checks();
+    const bool robot_failed = robot_check_.step(config_.robot_check_slice_bytes);
+    if (table_failed || zones_failed || robot_failed) {
+        faults |= fault_bit(Fault::kInternalCheck);
+    }
+    return faults;
 }
 
 bool SafetyController::step_table_check(Span<const SensorInput> sensors) noexcept {
@@ -131,7 +202,97 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
     return faults;
 }
 
+Span<const std::uint8_t> SafetyController::apply_command(const CommandInput& command, std::uint64_t now,
+                                                         RobotReport& report, std::uint32_t& detected) noexcept {
+    report = RobotReport{};
+    report.configured = config_.robot.model != nullptr;
+    report.active_case = active_case_;
+    if (!command_expected_) {
+        return {};
+    }
+    if (command.valid) {
+        report.command_counter = command.counter;
+        report.command_age_us = now >= command.received_us ? now - command.received_us : 0U;
+    }
+    CommandLimits limits;
+    limits.cases = &cases_;
+    limits.robot = config_.robot.model;
+    limits.image_crc = config_.robot.image_crc;
+    limits.speed_classes = config_.robot.separation.class_count;
+    limits.max_age_us = config_.max_command_age_us;
+    const Result<CheckedCommand, CommandRefusal> checked = check_command(command, now, limits);
+    if (!checked.ok()) {
+        // No pose this cycle, not even the last good one: no robot mask.
+        detected |= fault_bit(Fault::kCommandInvalid);
+        report.command_check = static_cast<std::uint8_t>(checked.error());
+        return {};
+    }
+    active_case_ = checked.value().monitoring_case;
+    speed_class_ = checked.value().speed_class;
+    report.active_case = active_case_;
+    report.command_valid = true;
+    if (config_.robot.model == nullptr) {
+        return {};
+    }
+    return mask_robot(checked.value().joints, report, detected);
+}
+
+Span<const std::uint8_t> SafetyController::mask_robot(const JointPositions& joints, RobotReport& report,
+                                                      std::uint32_t& detected) noexcept {
+    if (construction_faults_ != 0U) {
+        return {};  // a model or mask storage refused at construction is not used
+    }
+    place_robot(*config_.robot.model, joints, pose_);
+    RobotMaskStats stats;
+    const Span<std::uint8_t> mask = config_.robot.mask.subspan(0U, grid_->voxel_count());
+    if (!mark_robot_voxels(grid_->geometry(), pose_, config_.robot.mask_margin_m, mask, stats).ok()) {
+        detected |= fault_bit(Fault::kZoneEvaluation);
+        return {};
+    }
+    report.robot_voxels = stats.marked;
+    return Span<const std::uint8_t>(mask.data(), mask.size());
+}
+
+SpeedRequest SafetyController::separate(Span<const std::uint8_t> robot_mask, std::uint32_t active_zones,
+                                        RobotReport& report, std::uint32_t& detected) noexcept {
+    if (config_.robot.model == nullptr) {
+        return SpeedRequest::kFull;  // the report keeps its defaults: far, nothing required
+    }
+    const SeparationParams& params = config_.robot.separation;
+    report.speed_request = SpeedRequest::kProtectiveStop;
+    report.distance_mm = 0U;                                                // not measured: taken as touching
+    if (params.class_count >= 1U && params.class_count <= kSpeedClasses) {  // else refused at construction
+        report.required_mm = ceil_mm(protective_separation_distance(params, 0U));
+    }
+    if (robot_mask.empty()) {
+        return SpeedRequest::kProtectiveStop;  // no pose this cycle
+    }
+    SeparationInputs in;
+    in.frame_log_odds = Span<const std::int16_t>(grid_->log_odds().data(), grid_->voxel_count());
+    in.observed = Span<const std::uint8_t>(grid_->observed().data(), grid_->voxel_count());
+    in.prior = prior_;
+    in.robot_mask = robot_mask;
+    in.zone_membership = zones_->membership();
+    in.active_zones = active_zones;
+    in.foreground_threshold = config_.zones.foreground_threshold;
+    in.accessible_min_prior = config_.zones.accessible_min_prior;
+    SeparationResult result;
+    if (!compute_separation(grid_->geometry(), in, pose_, params, speed_class_, result).ok()) {
+        detected |= fault_bit(Fault::kZoneEvaluation);
+        return SpeedRequest::kProtectiveStop;
+    }
+    report.speed_request = result.request;
+    report.distance_mm = result.distance_mm;
+    report.required_mm = result.required_mm;
+    return result.request;
+}
+
 const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept {
+    return run_cycle(sensors, reset_input, CommandInput{});
+}
+
+const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, bool reset_input,
+                                               const CommandInput& command) noexcept {
     const std::uint64_t start = clock_->now_us();
     monitor_.begin(start);
     CycleReport r;
@@ -144,19 +305,16 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     detected |= fuse_sensors(sensors, start, r.fusion);
     monitor_.end_stage(CycleStage::kFuse, clock_->now_us());
 
+    ZoneEvaluationScope scope;
+    scope.robot_mask = apply_command(command, start, r.robot, detected);
+    scope.active_zones = cases_.contains(active_case_) ? cases_.zones_of(active_case_) : 0U;
     const bool zones_ok = (construction_faults_ == 0U) &&
-                          evaluate_zones(*grid_, prior_, *zones_, config_.zones, r.zones).ok();
+                          evaluate_zones(*grid_, prior_, *zones_, config_.zones, scope, r.zones).ok();
     if (!zones_ok) {
         detected |= fault_bit(Fault::kZoneEvaluation);
     }
-    if (prior_check_.step(config_.prior_check_slice_bytes)) {
-        detected |= fault_bit(Fault::kPriorCheckFailed);
-    }
-    const bool table_failed = step_table_check(sensors);
-    const bool zones_failed = step_zone_checks();  // both every cycle: constant work
-    if (table_failed || zones_failed) {
-        detected |= fault_bit(Fault::kInternalCheck);
-    }
+    const SpeedRequest speed = separate(scope.robot_mask, scope.active_zones, r.robot, detected);
+    detected |= step_integrity_checks(sensors);
     monitor_.end_stage(CycleStage::kSubtractAndZones, clock_->now_us());
 
     SafetyInputs in;
@@ -164,6 +322,8 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     in.zones = zones_ok ? &r.zones : nullptr;
     in.detected_faults = detected;
     in.reset_input = reset_input;
+    in.active_zones = scope.active_zones;
+    in.speed_request = speed;
     r.safety = logic_.step(in);
     r.detected_faults = detected;
     r.timing = monitor_.last();

@@ -9,7 +9,7 @@ SafetyLogic::SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& z
     CG_ENFORCE(config.fault_recovery_cycles >= 1U, "fault_recovery_cycles must be at least 1");
 }
 
-SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
+std::uint32_t SafetyLogic::latch_faults(const SafetyInputs& in) noexcept {
     std::uint32_t detected = in.detected_faults & kAllFaults;
     if (in.zones == nullptr || in.zones->count != zones_->size()) {
         detected |= fault_bit(Fault::kZoneEvaluation);
@@ -34,18 +34,44 @@ SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
         last_now_us_ = in.now_us;  // a clock that went back does not move the reference back
     }
     have_time_ = true;
+    return latched_;
+}
 
+void SafetyLogic::step_interlock(bool protective_clear, bool reset_input, std::uint64_t now_us,
+                                 SafetyOutputs& out) noexcept {
+    const bool reset_edge = reset_input && !last_reset_;
+    last_reset_ = reset_input;
+    if (!protective_clear) {
+        clear_running_ = false;
+        zone_stop_ = true;
+        out.interlock_holding = false;
+    } else if (!zone_stop_) {
+        out.interlock_holding = false;  // already running and still clear
+    } else {
+        if (!clear_running_) {
+            clear_running_ = true;
+            clear_since_us_ = now_us;
+        }
+        const bool delay_over = now_us - clear_since_us_ >= config_.restart_delay_us;
+        const bool released = delay_over && (!config_.reset_required || reset_edge);
+        zone_stop_ = !released;
+        out.interlock_holding = !released;
+    }
+}
+
+SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
     SafetyOutputs out;
-    out.latched_faults = latched_;
-    const bool faulted = latched_ != 0U;
+    out.latched_faults = latch_faults(in);
+    const bool faulted = out.latched_faults != 0U;
+    const std::uint32_t active = in.active_zones & all_zone_bits(zones_->size());
     std::uint32_t not_clear = 0U;
     if (faulted || in.zones == nullptr) {
-        out.fault_zone_mask = (zones_->size() >= 32U) ? 0xFFFFFFFFU : ((1U << zones_->size()) - 1U);
+        out.fault_zone_mask = active;
         not_clear = out.fault_zone_mask;
     } else {
-        out.intruded_mask = in.zones->intruded_mask;
-        out.unseen_mask = in.zones->unseen_mask;
-        not_clear = in.zones->not_clear_mask;
+        out.intruded_mask = in.zones->intruded_mask & active;
+        out.unseen_mask = in.zones->unseen_mask & active;
+        not_clear = in.zones->not_clear_mask & active;
     }
     // Which zones are protective, read from the zones every cycle (their
     // settings are CRC-checked every cycle, SR-CTRL-010) rather than kept in
@@ -62,26 +88,14 @@ SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
     }
     out.warning = (not_clear & warning_mask) != 0U;
     const bool protective_clear = !faulted && (not_clear & protective_mask) == 0U;
+    step_interlock(protective_clear, in.reset_input, in.now_us, out);
 
-    const bool reset_edge = in.reset_input && !last_reset_;
-    last_reset_ = in.reset_input;
-    if (!protective_clear) {
-        clear_running_ = false;
-        out.stop_requested = true;
-        out.interlock_holding = false;
-    } else if (!out_.stop_requested) {
-        out.stop_requested = false;  // already running and still clear
-        out.interlock_holding = false;
-    } else {
-        if (!clear_running_) {
-            clear_running_ = true;
-            clear_since_us_ = in.now_us;
-        }
-        const bool delay_over = in.now_us - clear_since_us_ >= config_.restart_delay_us;
-        const bool released = delay_over && (!config_.reset_required || reset_edge);
-        out.stop_requested = !released;
-        out.interlock_holding = !released;
-    }
+    // Speed and separation: outside the interlock; anything but kFull and
+    // kReduced (a value outside the enumeration included) is a stop.
+    out.separation_stop = in.speed_request != SpeedRequest::kFull && in.speed_request != SpeedRequest::kReduced;
+    out.reduced_speed = in.speed_request != SpeedRequest::kFull;
+    out.stop_requested = zone_stop_ || out.separation_stop;
+    out.interlock_holding = out.interlock_holding && !out.separation_stop;
     out_ = out;
     return out;
 }

@@ -19,6 +19,7 @@
 #include "cellguard/base/span.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/robot/robot_model.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard {
@@ -39,6 +40,8 @@ struct CycleWorkBound {
     std::uint64_t voxel_steps = 0U;   ///< rays x the most voxels one ray can visit
     std::uint64_t grid_voxels = 0U;   ///< voxels touched by whole-grid passes (clear, subtract, ray tables' hit counts)
     std::uint64_t zone_updates = 0U;  ///< zone counter updates (sum of zone voxel counts)
+    std::uint64_t robot_mask_tests = 0U;      ///< voxel tests of the robot mask (robot_mask_work_bound)
+    std::uint64_t separation_distances = 0U;  ///< voxel-to-capsule distances of separation (voxels x capsules)
 };
 
 /// The bound for @p grid, the sensors described by @p sensors (their pixel
@@ -50,6 +53,18 @@ struct CycleWorkBound {
 /// bound holds either way).
 [[nodiscard]] CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
                                                 const CompiledZones& zones) noexcept;
+
+/// The bound as above for a cell with @p robot, whose capsules are grown by
+/// @p mask_margin_m for the robot mask (the controller's RobotCellConfig).
+/// Added to it: robot_mask_tests = robot_mask_work_bound(robot,
+/// mask_margin_m, voxel size) (the tests of all capsules' grown boxes in
+/// the worst orientation); separation_distances = voxels x capsules (the
+/// separation computes a distance to every capsule for each voxel that may
+/// be a person, at most every voxel); and two more grid passes (the mask's
+/// rewrite and the separation's pass over the grid).
+[[nodiscard]] CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
+                                                const CompiledZones& zones, const RobotModel& robot,
+                                                double mask_margin_m) noexcept;
 
 /// Durations of one cycle, microseconds.
 struct CycleTiming {

@@ -28,7 +28,37 @@
 /// - zone evaluation failing (kZoneEvaluation): this cycle;
 /// - the output failing (kCanError) and the cycle overrunning its budget
 ///   (kCycleOverrun): reported in the next cycle, since the current one has
-///   already been sent.
+///   already been sent;
+/// - the PLC's command missing, stale, naming an unknown case or speed
+///   class, another robot, or joints that do not fit (kCommandInvalid,
+///   command_check.hpp): this cycle;
+/// - the robot model in RAM or flash no longer matching its CRC
+///   (kInternalCheck): at the end of the pass of the periodic check
+///   (robot_check_slice_bytes per cycle); the monitoring cases, the robot
+///   settings (separation parameters, margin, image CRC, command age): every
+///   cycle; a robot model that fails check_robot_model, a robot mask storage
+///   smaller than the grid, a bad margin or separation parameters, cases
+///   that do not fit the zones: at construction; latched for good.
+///
+/// The robot side (robot_command.hpp, robot/*.hpp). A cell expects the PLC's
+/// command when it has a robot or a case set (ControllerConfig::robot.model
+/// or ::cases); then every cycle, after fusion and in this order:
+/// 1. the command is checked (check_command) at the cycle's start time. A
+///    command that passes applies its monitoring case from this cycle on,
+///    and this cycle's report echoes it (RobotReport::active_case). One that
+///    fails is kCommandInvalid (the stop, this cycle); the case in force
+///    stays the last good one (echoed), and no pose is used at all: not the
+///    previous good one, whose joints may be stale. The cycle then has no
+///    robot mask, so the robot's own voxels are foreground in any zone it
+///    reaches, and the separation request is kProtectiveStop (distance 0);
+/// 2. with a robot: place_robot, then mark_robot_voxels into the robot mask
+///    storage, grown by mask_margin_m;
+/// 3. zone evaluation of the active case's zones, the robot's voxels left out;
+/// 4. compute_separation against the robot's capsules, in the command's speed class;
+/// 5. the safety logic (only the active case's zones; the separation's request).
+/// These steps run inside the kSubtractAndZones stage. The legacy
+/// run_cycle(sensors, reset) passes no command: fine for a cell that
+/// expects none, kCommandInvalid for one that does.
 /// The controller allocates nothing; its work per cycle is bounded by
 /// compute_work_bound (cycle.hpp).
 #ifndef CELLGUARD_SAFETY_CONTROLLER_HPP
@@ -40,10 +70,16 @@
 #include "cellguard/base/ram_check.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/ray_table.hpp"
+#include "cellguard/robot/kinematics.hpp"
+#include "cellguard/robot/robot_model.hpp"
+#include "cellguard/robot/separation.hpp"
 #include "cellguard/safety/background_check.hpp"
 #include "cellguard/safety/clock.hpp"
+#include "cellguard/safety/command_check.hpp"
 #include "cellguard/safety/cycle.hpp"
 #include "cellguard/safety/cycle_output.hpp"
+#include "cellguard/safety/monitoring_cases.hpp"
+#include "cellguard/safety/robot_command.hpp"
 #include "cellguard/safety/safety_logic.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 
@@ -59,6 +95,20 @@ struct SensorInput {
     /// sensor: a frame that shows less of it than reference.min_match_fraction
     /// is kFrameInconsistent and is not fused (background_check.hpp).
     const BackgroundReference* background = nullptr;
+};
+
+/// The robot side of a cell. The default is a cell without a robot.
+struct RobotCellConfig {
+    /// The robot model (it must pass check_robot_model and outlive the
+    /// controller: in flash, or the LoadedRobot of the image); nullptr: no robot.
+    const RobotModel* model = nullptr;
+    std::uint32_t image_crc = 0U;  ///< CRC-32 of the robot image the model came from (robot id: its low 16 bits)
+    /// Growth of every capsule for the robot mask, metres (finite, >= 0): the
+    /// safety manual derives it from the robot's speed, the command's age,
+    /// the cycle time and the sensors' uncertainty.
+    double mask_margin_m = 0.05;
+    SeparationParams separation{};  ///< speed and separation monitoring (check_separation_params)
+    Span<std::uint8_t> mask{};      ///< robot mask storage, one byte per voxel (at least the grid's voxels)
 };
 
 /// Configuration of the cycle executive.
@@ -78,6 +128,12 @@ struct ControllerConfig {
     std::size_t table_check_slice_bytes = 262144U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)
     std::size_t zone_check_slice_bytes = 16384U;    ///< bytes of the zone membership mask re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
+    RobotCellConfig robot{};                              ///< the robot, if any
+    /// The monitoring cases (copied at construction); nullptr: one case 0 = all zones.
+    const MonitoringCases* cases = nullptr;
+    /// A command that arrived longer ago than this at a cycle's start is stale (kCommandInvalid).
+    std::uint64_t max_command_age_us = 200000U;
+    std::size_t robot_check_slice_bytes = 4096U;  ///< bytes of the robot model re-checked per cycle (> 0)
 };
 
 /// The cycle executive. All references must outlive it.
@@ -97,8 +153,14 @@ public:
                      MonotonicClock& clock, CycleOutput* output) noexcept;
 
     /// Runs one cycle on @p sensors (exactly config.sensor_count entries,
-    /// else kSensorMissing) with the reset input's level @p reset_input.
+    /// else kSensorMissing) with the reset input's level @p reset_input and
+    /// no command (see the file comment).
     const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept;
+
+    /// Runs one cycle as above with the PLC's @p command as the receiver
+    /// holds it at the cycle's start (ignored by a cell that expects none).
+    const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input,
+                                 const CommandInput& command) noexcept;
 
     /// The last cycle's report.
     [[nodiscard]] const CycleReport& report() const noexcept { return report_; }
@@ -106,10 +168,21 @@ public:
     [[nodiscard]] const CycleMonitor& monitor() const noexcept { return monitor_; }
     /// CRC-32 of the prior's bytes taken at construction.
     [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_check_.reference(); }
+    /// The monitoring cases in force (the configuration's copy, or the default).
+    [[nodiscard]] const MonitoringCases& cases() const noexcept { return cases_; }
 
 private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
     bool step_zone_checks() noexcept;
+    std::uint32_t step_integrity_checks(Span<const SensorInput> sensors) noexcept;
+    std::uint32_t robot_settings_crc() const noexcept;
+    void check_robot_config(const EvidenceGrid& frame_grid) noexcept;
+    Span<const std::uint8_t> apply_command(const CommandInput& command, std::uint64_t now, RobotReport& report,
+                                           std::uint32_t& detected) noexcept;
+    Span<const std::uint8_t> mask_robot(const JointPositions& joints, RobotReport& report,
+                                        std::uint32_t& detected) noexcept;
+    SpeedRequest separate(Span<const std::uint8_t> robot_mask, std::uint32_t active_zones, RobotReport& report,
+                          std::uint32_t& detected) noexcept;
     bool step_table_check(Span<const SensorInput> sensors) noexcept;
     bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
     static bool shows_background(const SensorInput& input) noexcept;
@@ -154,6 +227,14 @@ private:
     std::size_t table_check_sensor_ = 0U;                 ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;
     std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
+    MonitoringCases cases_{};                ///< the configuration's cases (a copy), or one case 0 = all zones
+    std::uint32_t cases_crc_ = 0U;           ///< cases_.settings_crc() at construction
+    bool command_expected_ = false;          ///< the cell has a robot or a case set
+    std::uint8_t active_case_ = 0U;          ///< the case in force: the last good command's
+    std::uint8_t speed_class_ = 0U;          ///< the speed class of this cycle's good command
+    SignatureCheck robot_check_;             ///< the robot model's bytes, reference taken at construction
+    std::uint32_t robot_settings_crc_ = 0U;  ///< robot_settings_crc() at construction
+    RobotPose pose_{};                       ///< this cycle's robot pose (valid while the cycle's mask is)
 };
 
 }  // namespace cellguard

@@ -23,12 +23,28 @@
 ///   until the logic is re-initialised (a restart of the controller).
 /// - The clock must advance: a cycle whose time is not later than the
 ///   previous cycle's latches a clock fault.
+/// - Monitoring cases: only the zones of the active case (active_zones)
+///   count; the other zones' bits are 0 in every output mask, and they
+///   neither stop nor warn.
+/// - Speed and separation monitoring (separation.hpp): a kProtectiveStop
+///   request stops in the same cycle, but not through the restart
+///   interlock: the stop ends in the first cycle whose request is not
+///   kProtectiveStop (unless zones or faults hold it). This is the automatic
+///   resumption of ISO/TS 15066 5.5.4 and ISO 10218-2: the person stays
+///   detected while near the robot (unseen space counts as near), so the
+///   stop's cause is observed going away, whereas the restart interlock
+///   guards zones a person may have entered and then be hidden in. Faults
+///   (a missing command, a separation that could not be computed) are
+///   latched and go through the interlock as before. Any request other than
+///   kFull sets reduced_speed (a stop also asks for at most reduced speed);
+///   any value outside the enumeration counts as kProtectiveStop.
 #ifndef CELLGUARD_SAFETY_LOGIC_HPP
 #define CELLGUARD_SAFETY_LOGIC_HPP
 
 #include <cstdint>
 
 #include "cellguard/safety/faults.hpp"
+#include "cellguard/safety/robot_command.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 #include "cellguard/safety/zones.hpp"
 
@@ -47,6 +63,10 @@ struct SafetyInputs {
     const ZoneEvaluation* zones = nullptr;  ///< this cycle's zone results (nullptr: not available -> fault)
     std::uint32_t detected_faults = 0U;     ///< fault bits detected this cycle
     bool reset_input = false;               ///< level of the reset input
+    /// Zones of the active monitoring case (bit z: zone z); default all.
+    std::uint32_t active_zones = 0xFFFFFFFFU;
+    /// Speed and separation monitoring's request (kFull: none, or no robot).
+    SpeedRequest speed_request = SpeedRequest::kFull;
 };
 
 /// Outputs of one cycle.
@@ -54,10 +74,12 @@ struct SafetyOutputs {
     bool stop_requested = true;          ///< protective stop requested (the safe state)
     bool warning = false;                ///< a warning zone is not CLEAR
     bool interlock_holding = true;       ///< the stop is held only by the restart interlock
+    bool separation_stop = false;        ///< speed and separation monitoring requests the stop
+    bool reduced_speed = false;          ///< speed and separation monitoring requests reduced speed (or a stop)
     std::uint32_t latched_faults = 0U;   ///< fault bits latched now
-    std::uint32_t intruded_mask = 0U;    ///< zones INTRUDED (all zones FAULT while a fault is latched: 0 here)
-    std::uint32_t unseen_mask = 0U;      ///< zones UNSEEN
-    std::uint32_t fault_zone_mask = 0U;  ///< zones in FAULT (all, while a fault is latched)
+    std::uint32_t intruded_mask = 0U;    ///< active zones INTRUDED (all zones FAULT while a fault is latched: 0 here)
+    std::uint32_t unseen_mask = 0U;      ///< active zones UNSEEN
+    std::uint32_t fault_zone_mask = 0U;  ///< active zones in FAULT (all active ones, while a fault is latched)
 };
 
 /// The safety logic's state machine; one step() per cycle.
@@ -75,6 +97,9 @@ public:
     [[nodiscard]] const SafetyOutputs& outputs() const noexcept { return out_; }
 
 private:
+    std::uint32_t latch_faults(const SafetyInputs& in) noexcept;
+    void step_interlock(bool protective_clear, bool reset_input, std::uint64_t now_us, SafetyOutputs& out) noexcept;
+
     SafetyLogicConfig config_;
     const CompiledZones* zones_;
     SafetyOutputs out_{};
@@ -82,6 +107,7 @@ private:
     std::uint32_t clean_cycles_[kFaultCount] = {};
     bool have_time_ = false;
     std::uint64_t last_now_us_ = 0U;
+    bool zone_stop_ = true;  ///< the stop of zones and faults, through the restart interlock
     bool clear_running_ = false;
     std::uint64_t clear_since_us_ = 0U;
     bool last_reset_ = false;

@@ -18,6 +18,13 @@
 /// - INTRUDED: at least min_foreground_voxels foreground voxels;
 /// - UNSEEN: more than max_unseen_voxels unseen voxels (it cannot be called clear);
 /// - CLEAR: otherwise.
+///
+/// With a robot in the cell (robot_mask.hpp), the voxels of this cycle's
+/// robot mask are the robot's: neither foreground nor unseen (and never
+/// empty space either: speed and separation monitoring measures from the
+/// robot's capsules). They are counted per zone as `robot`, for the display.
+/// Zones outside the active monitoring case (monitoring_cases.hpp) are not
+/// evaluated: CLEAR with zero counts, in no mask.
 #ifndef CELLGUARD_ZONE_EVALUATION_HPP
 #define CELLGUARD_ZONE_EVALUATION_HPP
 
@@ -53,6 +60,7 @@ struct ZoneReport {
     ZoneState state = ZoneState::kFault;  ///< the zone's state
     std::uint32_t foreground = 0U;        ///< foreground voxels in the zone
     std::uint32_t unseen = 0U;            ///< unseen accessible voxels in the zone
+    std::uint32_t robot = 0U;             ///< voxels of the zone that were the robot's (neither of the above)
 };
 
 /// All zones' results of one cycle.
@@ -62,6 +70,16 @@ struct ZoneEvaluation {
     std::uint32_t intruded_mask = 0U;   ///< bit z: zone z INTRUDED
     std::uint32_t unseen_mask = 0U;     ///< bit z: zone z UNSEEN
     std::uint32_t not_clear_mask = 0U;  ///< bit z: zone z not CLEAR
+    std::uint32_t active_mask = 0U;     ///< bit z: zone z was evaluated (in the active monitoring case)
+};
+
+/// What one cycle's zone evaluation leaves out: the zones outside the active
+/// monitoring case and the robot's voxels. The default leaves out nothing.
+struct ZoneEvaluationScope {
+    /// Zones evaluated (bit z: zone z); bits beyond the zone count are ignored.
+    std::uint32_t active_zones = 0xFFFFFFFFU;
+    /// One byte per voxel, nonzero: the robot's (mark_robot_voxels). Empty: no robot.
+    Span<const std::uint8_t> robot_mask{};
 };
 
 /// Subtracts @p prior from @p frame and evaluates every zone of @p zones.
@@ -72,6 +90,15 @@ struct ZoneEvaluation {
 /// non-empty subtracted_out) holds fewer values than the grid.
 [[nodiscard]] Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
                                     const CompiledZones& zones, const ZoneEvaluationParams& params, ZoneEvaluation& out,
+                                    Span<std::int16_t> subtracted_out = {}) noexcept;
+
+/// As above, within @p scope: only the zones of scope.active_zones are
+/// evaluated, and voxels of a non-empty scope.robot_mask count only as
+/// `robot`. Work as above (the mask is read in the same pass). Errors as
+/// above, and kStorageTooSmall for a non-empty robot mask shorter than the grid.
+[[nodiscard]] Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
+                                    const CompiledZones& zones, const ZoneEvaluationParams& params,
+                                    const ZoneEvaluationScope& scope, ZoneEvaluation& out,
                                     Span<std::int16_t> subtracted_out = {}) noexcept;
 
 }  // namespace cellguard

@@ -29,6 +29,11 @@ constexpr std::size_t kMaxZones = 32U;
 /// Most vertices of a prism zone's polygon.
 constexpr std::size_t kMaxPolygonVertices = 16U;
 
+/// Zone mask with a bit for each of @p zone_count zones (all 32 bits from kMaxZones on).
+[[nodiscard]] constexpr std::uint32_t all_zone_bits(std::size_t zone_count) noexcept {
+    return zone_count >= kMaxZones ? 0xFFFFFFFFU : ((1U << zone_count) - 1U);
+}
+
 /// What a zone protects against.
 enum class ZoneKind : std::uint8_t {
     kProtective = 0,  ///< an object inside requests a protective stop
