@@ -286,7 +286,7 @@ TEST_CASE("plc receiver: wrong length, counter 15, malformed content and a diffe
     Link content;
     (void)content.bring_up();
     f = content.next_frame();
-    f.data[2] = static_cast<std::uint8_t>(f.data[2] | 0x80U);  // reserved bit 23
+    set_signal(f, safety_layout::kZoneIntrusion, 0x0010U);  // zone 4 of zones 0..3
     f.data[0] = e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth,
                             static_cast<std::uint8_t>(f.data[1] & 0x0FU));
     check_safe_state(content.deliver(f, content.now + kPeriodUs), ReceiverFault::kMalformedContent);
@@ -368,11 +368,13 @@ TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot b
 }
 
 // verifies: SR-CAN-007
-TEST_CASE("plc receiver: the safe-state message stops, warns, faults and marks every configured zone") {
+TEST_CASE("plc receiver: the safe-state message stops, warns, faults, reduces speed and marks every configured zone") {
     const SafetyMessage m = safe_state_message(16U);
     CHECK(m.protective_stop);
     CHECK(m.warning);
     CHECK(m.fault);
+    CHECK(m.reduced_speed);
+    CHECK(m.active_case == 0U);
     CHECK(m.zone_intrusion == 0xFFFFU);
     CHECK(m.zone_unseen == 0xFFFFU);
     CHECK(safe_state_message(0U).zone_intrusion == 0U);
@@ -385,4 +387,25 @@ TEST_CASE("plc receiver: the safe-state message stops, warns, faults and marks e
 TEST_CASE(
     "plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
     test::check_enum_names<ReceiverFault>(16U, "unknown receiver fault");
+}
+
+// verifies: SR-CMD-008
+TEST_CASE(
+    "plc receiver: the active case and the reduced speed bit pass through; with both stop and reduced, stop wins") {
+    Link link;
+    (void)link.bring_up();
+    SafetyMessage reduced = clear_message();
+    reduced.reduced_speed = true;
+    reduced.active_case = 15U;
+    ReceiverStatus s = link.send_pair(reduced);
+    CHECK(s.communication_valid);
+    CHECK_FALSE(s.stop_requested);
+    CHECK(s.message.reduced_speed);
+    CHECK(s.message.active_case == 15U);
+    SafetyMessage both = reduced;
+    both.protective_stop = true;  // a valid frame: stop wins
+    s = link.send_pair(both);
+    CHECK(s.communication_valid);
+    CHECK(s.stop_requested);
+    CHECK(s.message == both);
 }

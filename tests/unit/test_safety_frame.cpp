@@ -1,12 +1,13 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Requirements: safety and diagnostics frame encoding, inverted copy, field-by-field decoding, channel config rules.
+// Requirements: safety, diagnostics and separation frame encoding, inverted copy, field-by-field decoding, channel config rules.
 #include <doctest/doctest.h>
 
 #include <cstdint>
 #include <string>
 
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/can/separation_frame.hpp"
 #include "contract_capture.hpp"
 #include "enum_names.hpp"
 
@@ -164,12 +165,13 @@ TEST_CASE("safety frame: the decoder checks the CAN ID, the length, the counter 
     reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
     CHECK(check(f, c) == FrameCheck::kCounterOutOfRange);
 
-    for (unsigned bit = 19U; bit <= 23U; ++bit) {  // reserved bits
+    for (unsigned bit = 19U; bit <= 23U; ++bit) {  // once reserved, now ActiveCase and ReducedSpeed: accepted
         f = good;
         f.data[2] = static_cast<std::uint8_t>(f.data[2] | (1U << (bit - 16U)));
         reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
-        CHECK(check(f, c) == FrameCheck::kMalformedContent);
+        CHECK(check(f, c) == FrameCheck::kOk);
     }
+    CHECK(safety_layout::kReservedBits == 0U);
     f = good;  // the nibble is reserved outside NIBBLE mode
     set_signal(f, safety_layout::kDataIdNibble, 0xCU);
     reprotect(f, kDefaultSafetyDataId, E2eP01DataIdMode::kBoth);
@@ -212,7 +214,7 @@ TEST_CASE("safety frame: the encoder refuses a counter above 14, more than 16 zo
 }
 
 // verifies: SR-CAN-010
-TEST_CASE("safety frame: a channel config needs 11-bit IDs, three distinct CAN IDs and distinguishable data IDs") {
+TEST_CASE("safety frame: a channel config needs 11-bit IDs, four distinct CAN IDs and distinguishable data IDs") {
     CHECK(check_channel_config(SafetyChannelConfig{}).ok());
     for (const E2eP01DataIdMode mode : kAllModes) {
         CHECK(check_channel_config(channel(mode)).ok());  // the defaults work in every mode
@@ -238,6 +240,17 @@ TEST_CASE("safety frame: a channel config needs 11-bit IDs, three distinct CAN I
     CHECK_FALSE(check_channel_config(c).ok());
     c = channel(E2eP01DataIdMode::kLow);
     c.diagnostics_data_id = 0x0D51U;  // same low byte as the safety data ID
+    CHECK_FALSE(check_channel_config(c).ok());
+    for (const std::uint32_t id : {0x101U, 0x102U, 0x103U, 0x800U}) {  // the separation frame's ID
+        c = SafetyChannelConfig{};
+        c.separation_can_id = id;
+        CHECK_FALSE(check_channel_config(c).ok());
+    }
+    c = SafetyChannelConfig{};
+    c.separation_data_id = kDefaultSafetyDataId;
+    CHECK_FALSE(check_channel_config(c).ok());
+    c = channel(E2eP01DataIdMode::kAlt);
+    c.separation_data_id = 0x0D99U;  // the diagnostics data ID's high byte: odd counters collide
     CHECK_FALSE(check_channel_config(c).ok());
     c = SafetyChannelConfig{};
     c.data_id_mode = static_cast<E2eP01DataIdMode>(7);
@@ -341,4 +354,121 @@ TEST_CASE(
 TEST_CASE(
     "safety frame: every frame check result has its own name, and a value outside the enumeration has the fallback name") {
     test::check_enum_names<FrameCheck>(7U, "unknown frame check");
+}
+
+// verifies: SR-CMD-008
+TEST_CASE("safety frame: ActiveCase takes bits 19..22 and ReducedSpeed bit 23; every case round-trips, stop wins") {
+    SafetyMessage m = sample_message();
+    m.active_case = 9U;
+    m.reduced_speed = true;
+    const CanFrame f = encode_safety_frame(m, 1U, channel()).value();
+    CHECK(f.data[2] == (0x05 | (9 << 3) | 0x80));  // stop, fault, case 9 in bits 19..22, reduced in bit 23
+    CHECK(get_signal(f, safety_layout::kActiveCase) == 9U);
+    CHECK(get_signal(f, safety_layout::kReducedSpeed) == 1U);
+    CHECK(decode_safety_frame(f, channel()).value().message == m);  // stop and reduced together: valid
+    for (std::uint8_t k = 0U; k <= kMaxActiveCase; ++k) {
+        m.active_case = k;
+        m.reduced_speed = (k % 2U) == 0U;
+        CHECK(decode_safety_frame(encode_safety_frame(m, k % 15U, channel()).value(), channel()).value().message == m);
+    }
+    m.active_case = 16U;
+    CHECK(encode_safety_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    CHECK(SafetyMessage{}.active_case == 0U);
+    CHECK_FALSE(SafetyMessage{}.reduced_speed);
+}
+
+namespace {
+
+SeparationMessage separation_sample() {
+    SeparationMessage m;
+    m.distance_mm = 1234U;
+    m.required_mm = 0xABCDU;
+    m.active_case = 7U;
+    m.speed_request = SpeedRequest::kReduced;
+    m.command_valid = true;
+    m.command_counter = 13U;
+    return m;
+}
+
+FrameCheck check_separation(const CanFrame& f, const SafetyChannelConfig& c) {
+    SeparationFrameContent out;
+    return check_separation_frame(f, c, out);
+}
+
+}  // namespace
+
+// verifies: SR-CMD-008
+TEST_CASE("separation frame: the encoder puts every field at its bit, and every counter and mode round-trips") {
+    const CanFrame f = encode_separation_frame(separation_sample(), 4U, channel()).value();
+    CHECK(f.id == 0x104U);
+    CHECK(f.dlc == 8U);
+    CHECK(f.data[1] == 0x04);
+    CHECK(f.data[2] == 0xD2);  // distance 1234 = 0x04D2
+    CHECK(f.data[3] == 0x04);
+    CHECK(f.data[4] == 0xCD);  // required 0xABCD
+    CHECK(f.data[5] == 0xAB);
+    CHECK(f.data[6] == (7 | (1 << 4) | (1 << 6)));  // case 7, request 1 (bits 52..53), valid (bit 54)
+    CHECK(f.data[7] == 13);                         // command counter
+    CHECK(f.data[0] ==
+          e2e_p01_crc(Span<const std::uint8_t>(f.data, 8U), 0U, kDefaultSeparationDataId, E2eP01DataIdMode::kBoth, 4U));
+    for (const E2eP01DataIdMode mode : kAllModes) {
+        for (std::uint8_t counter = 0U; counter <= kE2eP01CounterMax; ++counter) {
+            SeparationMessage m = separation_sample();
+            m.speed_request = static_cast<SpeedRequest>(counter % 3U);
+            m.distance_mm = counter == 0U ? kSeparationDistanceFar : static_cast<std::uint16_t>(counter * 100U);
+            const SeparationFrameContent c = decode_separation_frame(
+                                                 encode_separation_frame(m, counter, channel(mode)).value(),
+                                                 channel(mode))
+                                                 .value();
+            CHECK(c.counter == counter);
+            CHECK(c.message == m);
+        }
+    }
+}
+
+// verifies: SR-CMD-008
+TEST_CASE("separation frame: the decoder checks ID, length, CRC, its own data ID, reserved bits and ranges") {
+    const SafetyChannelConfig c = channel();
+    const CanFrame good = encode_separation_frame(separation_sample(), 2U, c).value();
+    CHECK(check_separation(good, c) == FrameCheck::kOk);
+    CanFrame f = good;
+    f.id = kDefaultDiagnosticsCanId;
+    CHECK(check_separation(f, c) == FrameCheck::kWrongCanId);
+    f = good;
+    f.dlc = 4U;
+    CHECK(check_separation(f, c) == FrameCheck::kWrongLength);
+    for (unsigned bit = 0U; bit < 64U; ++bit) {
+        f = good;
+        f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] ^ (1U << (bit % 8U)));
+        CHECK(check_separation(f, c) == FrameCheck::kWrongCrc);
+    }
+    f = good;  // the diagnostics frame's data ID
+    reprotect(f, kDefaultDiagnosticsDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check_separation(f, c) == FrameCheck::kWrongCrc);
+    for (const unsigned bit : {55U, 60U, 61U, 62U, 63U}) {
+        f = good;
+        f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] | (1U << (bit % 8U)));
+        reprotect(f, kDefaultSeparationDataId, E2eP01DataIdMode::kBoth);
+        CHECK(check_separation(f, c) == FrameCheck::kMalformedContent);
+    }
+    f = good;
+    set_signal(f, separation_layout::kSpeedRequest, 3U);
+    reprotect(f, kDefaultSeparationDataId, E2eP01DataIdMode::kBoth);
+    CHECK(check_separation(f, c) == FrameCheck::kMalformedContent);
+    f = good;
+    set_signal(f, separation_layout::kCommandCounter, 15U);
+    reprotect(f, kDefaultSeparationDataId, E2eP01DataIdMode::kBoth);
+    CHECK(decode_separation_frame(f, c).error() == ErrorCode::kMalformedInput);
+
+    SeparationMessage m = separation_sample();
+    CHECK(encode_separation_frame(m, 15U, c).error() == ErrorCode::kInvalidArgument);
+    m.active_case = 16U;
+    CHECK_FALSE(encode_separation_frame(m, 0U, c).ok());
+    m = separation_sample();
+    m.speed_request = static_cast<SpeedRequest>(3);
+    CHECK_FALSE(encode_separation_frame(m, 0U, c).ok());
+    m = separation_sample();
+    m.command_counter = 15U;
+    CHECK_FALSE(encode_separation_frame(m, 0U, c).ok());
+    CHECK(SeparationMessage{}.speed_request == SpeedRequest::kProtectiveStop);
 }

@@ -1,6 +1,6 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Requirements: the CAN safety output: each cycle's safety frame, inverted copy and diagnostics frame decode, the PLC receiver accepts a run of cycles across the counter wrap, the stop bit follows the report, fault bits and CRC pages are carried, too many zones are refused, a failing send is reported.
+// Requirements: the CAN safety output: each cycle's safety frame, inverted copy, diagnostics frame and (with a robot) separation frame decode, the case and speed request reach the safety frame, the PLC receiver accepts a run of cycles across the counter wrap, the stop bit follows the report, fault bits and CRC pages are carried, too many zones are refused, a failing send is reported.
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -8,6 +8,8 @@
 
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/can/safety_output.hpp"
+#include "cellguard/can/separation_frame.hpp"
+#include "contract_capture.hpp"
 
 using namespace cellguard;
 
@@ -191,4 +193,102 @@ TEST_CASE("safety output: a failing send makes publish return false and the coun
     CHECK(decode_safety_frame(sender.frames[2], SafetyChannelConfig{}).value().counter == 1U);
     sender.fail_at = 7;  // the diagnostics frame of the third cycle
     CHECK_FALSE(out.publish(report_with(false, 0U, 0U)));
+}
+
+namespace {
+
+CycleReport robot_report(SpeedRequest request, std::uint8_t active_case, std::uint8_t command_counter) {
+    CycleReport r = report_with(request == SpeedRequest::kProtectiveStop, 0U, 0U);
+    r.robot.configured = true;
+    r.robot.active_case = active_case;
+    r.robot.command_valid = true;
+    r.robot.command_counter = command_counter;
+    r.robot.speed_request = request;
+    r.robot.distance_mm = 812U;
+    r.robot.required_mm = 640U;
+    return r;
+}
+
+}  // namespace
+
+// verifies: SR-CMD-008
+TEST_CASE("safety output: with a robot, the separation frame follows the diagnostics frame every cycle") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    PlcReceiverConfig rc;
+    rc.expected_zone_count = 2U;
+    PlcReceiver plc(rc);
+    std::uint64_t now = 1000000U;
+    const SpeedRequest requests[] = {SpeedRequest::kFull, SpeedRequest::kReduced, SpeedRequest::kProtectiveStop};
+    for (int cycle = 0; cycle < 20; ++cycle) {
+        const SpeedRequest request = requests[(cycle / 4) % 3];
+        const auto active_case = static_cast<std::uint8_t>(cycle % 16);
+        const std::size_t first = sender.frames.size();
+        REQUIRE(out.publish(robot_report(request, active_case, static_cast<std::uint8_t>((cycle + 3) % 15))));
+        REQUIRE(sender.frames.size() == first + 4U);
+        CHECK(out.last_frames().has_separation);
+        const SeparationFrameContent sep =
+            decode_separation_frame(sender.frames[first + 3U], SafetyChannelConfig{}).value();
+        CHECK(sep.counter == cycle % 15);
+        CHECK(sep.message.distance_mm == 812U);
+        CHECK(sep.message.required_mm == 640U);
+        CHECK(sep.message.active_case == active_case);
+        CHECK(sep.message.speed_request == request);
+        CHECK(sep.message.command_valid);
+        CHECK(sep.message.command_counter == (cycle + 3) % 15);
+        now += 20000U;
+        (void)plc.on_frame(sender.frames[first], now);
+        const ReceiverStatus st = plc.on_frame(sender.frames[first + 1U], now + 500U);
+        (void)plc.on_frame(sender.frames[first + 3U], now + 700U);  // other ID: ignored by the receiver
+        if (cycle >= 3) {
+            CHECK(st.communication_valid);
+            CHECK(st.stop_requested == (request == SpeedRequest::kProtectiveStop));
+            CHECK(st.message.reduced_speed == (request == SpeedRequest::kReduced));
+            CHECK(st.message.active_case == active_case);
+        }
+    }
+    CHECK(out.encoder().separation_counter() == 20U % 15U);
+}
+
+// verifies: SR-CMD-008
+TEST_CASE("safety output: without a robot, three frames as before: case 0, no reduced speed, no separation frame") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    REQUIRE(out.publish(report_with(false, 0U, 0U)));  // RobotReport's defaults: not configured, case 0, full
+    CHECK(sender.frames.size() == 3U);
+    CHECK_FALSE(out.last_frames().has_separation);
+    const SafetyMessage m = decode_safety_frame(sender.frames[0], SafetyChannelConfig{}).value().message;
+    CHECK(m.active_case == 0U);
+    CHECK_FALSE(m.reduced_speed);
+    CHECK(out.encoder().separation_counter() == 0U);
+}
+
+// verifies: SR-CMD-008
+TEST_CASE("safety output: the robot's speed request sets the stop and reduced bits; stop wins; a send failure shows") {
+    const SafetyOutputs clear = report_with(false, 0U, 0U).safety;
+    RobotReport robot;
+    robot.configured = true;
+    robot.active_case = 12U;
+    robot.speed_request = SpeedRequest::kReduced;
+    SafetyMessage m = safety_message(clear, robot, 2U);
+    CHECK_FALSE(m.protective_stop);
+    CHECK(m.reduced_speed);
+    CHECK(m.active_case == 12U);
+    robot.speed_request = SpeedRequest::kProtectiveStop;
+    m = safety_message(clear, robot, 2U);
+    CHECK(m.protective_stop);  // even if the safety outputs did not ask for it
+    CHECK_FALSE(m.reduced_speed);
+    robot.speed_request = SpeedRequest::kFull;
+    CHECK_FALSE(safety_message(clear, robot, 2U).protective_stop);
+    robot.speed_request = static_cast<SpeedRequest>(7);  // unknown: sent as a stop in the separation frame
+    CHECK(separation_message(robot).speed_request == SpeedRequest::kProtectiveStop);
+    robot.active_case = 16U;
+    CHECK(test::violates_contract([&] { (void)safety_message(clear, robot, 2U); }));
+
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    sender.fail_at = 3;  // the separation frame of the first cycle
+    CHECK_FALSE(out.publish(robot_report(SpeedRequest::kFull, 0U, 0U)));
+    CHECK(sender.frames.size() == 4U);
+    CHECK(out.encoder().separation_counter() == 1U);
 }

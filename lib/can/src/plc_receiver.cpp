@@ -51,6 +51,8 @@ SafetyMessage safe_state_message(std::uint8_t zone_count) noexcept {
     m.protective_stop = true;
     m.warning = true;
     m.fault = true;
+    m.active_case = 0U;
+    m.reduced_speed = true;  // stop wins; every alarm bit is set
     m.zone_intrusion = zones;
     m.zone_unseen = zones;
     m.zone_count = zone_count;

@@ -2,6 +2,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/can/safety_frame.hpp"
 
+#include "frame_protection.hpp"
+
 namespace cellguard {
 namespace {
 
@@ -14,27 +16,45 @@ static_assert(diagnostics_layout::kCrc.start_bit == safety_layout::kCrc.start_bi
                   diagnostics_layout::kDataIdNibble.start_bit == safety_layout::kDataIdNibble.start_bit,
               "both frames share the E2E header layout");
 
-/// A CAN frame with 8 zero data bytes and the given identifier.
-constexpr CanFrame empty_frame(std::uint32_t id) noexcept {
-    return {id, kCanMaxDataLength, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
-}
-
 Span<const std::uint8_t> payload(const CanFrame& frame) noexcept { return {frame.data, kCanMaxDataLength}; }
 
 /// Mask of the zone bits below @p zone_count (zone_count <= 16).
 constexpr std::uint32_t zone_mask(std::uint8_t zone_count) noexcept { return (std::uint32_t{1} << zone_count) - 1U; }
 
-/// Writes counter, data ID nibble and CRC (the E2E P01 protection) into @p frame.
-void protect(CanFrame& frame, std::uint8_t counter, std::uint16_t data_id, E2eP01DataIdMode mode) noexcept {
+bool safety_message_valid(const SafetyMessage& m) noexcept {
+    return m.zone_count <= kMaxZonesInFrame && (m.zone_intrusion & ~zone_mask(m.zone_count)) == 0U &&
+           (m.zone_unseen & ~zone_mask(m.zone_count)) == 0U && m.active_case <= kMaxActiveCase;
+}
+
+bool diagnostics_message_valid(const DiagnosticsMessage& m) noexcept {
+    return m.cycle_time <= kDiagnosticsTimeSaturated && m.max_cycle_time <= kDiagnosticsTimeSaturated &&
+           (static_cast<unsigned>(m.active_faults) & ~static_cast<unsigned>(kAssignedFaultBits)) == 0U &&
+           m.prior_crc_page < 4U;
+}
+
+/// The multiplexed signal that carries prior CRC page @p page.
+const SignalLayout& prior_crc_signal(std::uint8_t page) noexcept {
+    switch (page) {
+        case 0U: return diagnostics_layout::kPriorCrcBits0To7;
+        case 1U: return diagnostics_layout::kPriorCrcBits8To15;
+        case 2U: return diagnostics_layout::kPriorCrcBits16To23;
+        default: return diagnostics_layout::kPriorCrcBits24To31;
+    }
+}
+
+}  // namespace
+
+namespace detail {
+
+void protect_frame(CanFrame& frame, std::uint8_t counter, std::uint16_t data_id, E2eP01DataIdMode mode) noexcept {
     set_signal(frame, safety_layout::kCounter, counter);
     set_signal(frame, safety_layout::kDataIdNibble,
                mode == E2eP01DataIdMode::kNibble ? e2e_p01_data_id_nibble(data_id) : 0U);
     set_signal(frame, safety_layout::kCrc, e2e_p01_crc(payload(frame), kCrcByte, data_id, mode, counter));
 }
 
-/// The E2E part of a frame check: CAN ID, length, data ID nibble, CRC, counter range.
-FrameCheck check_protection(const CanFrame& frame, std::uint32_t can_id, std::uint16_t data_id,
-                            E2eP01DataIdMode mode) noexcept {
+FrameCheck check_frame_protection(const CanFrame& frame, std::uint32_t can_id, std::uint16_t data_id,
+                                  E2eP01DataIdMode mode) noexcept {
     if (frame.id != can_id) {
         return FrameCheck::kWrongCanId;
     }
@@ -59,42 +79,36 @@ FrameCheck check_protection(const CanFrame& frame, std::uint32_t can_id, std::ui
     return FrameCheck::kOk;
 }
 
-bool safety_message_valid(const SafetyMessage& m) noexcept {
-    return m.zone_count <= kMaxZonesInFrame && (m.zone_intrusion & ~zone_mask(m.zone_count)) == 0U &&
-           (m.zone_unseen & ~zone_mask(m.zone_count)) == 0U;
-}
-
-bool diagnostics_message_valid(const DiagnosticsMessage& m) noexcept {
-    return m.cycle_time <= kDiagnosticsTimeSaturated && m.max_cycle_time <= kDiagnosticsTimeSaturated &&
-           (static_cast<unsigned>(m.active_faults) & ~static_cast<unsigned>(kAssignedFaultBits)) == 0U &&
-           m.prior_crc_page < 4U;
-}
-
-/// The multiplexed signal that carries prior CRC page @p page.
-const SignalLayout& prior_crc_signal(std::uint8_t page) noexcept {
-    switch (page) {
-        case 0U: return diagnostics_layout::kPriorCrcBits0To7;
-        case 1U: return diagnostics_layout::kPriorCrcBits8To15;
-        case 2U: return diagnostics_layout::kPriorCrcBits16To23;
-        default: return diagnostics_layout::kPriorCrcBits24To31;
-    }
-}
-
-}  // namespace
+}  // namespace detail
 
 Status check_channel_config(const SafetyChannelConfig& config) noexcept {
     const E2eP01DataIdMode mode = config.data_id_mode;
     if (!e2e_p01_mode_valid(mode)) {
         return ErrorCode::kInvalidArgument;
     }
+    const std::uint32_t ids[] = {config.safety_can_id, inverted_can_id(config), config.diagnostics_can_id,
+                                 config.separation_can_id};
+    const std::uint16_t data_ids[] = {config.safety_data_id, config.diagnostics_data_id, config.separation_data_id};
     if (config.safety_can_id >= kCanMaxStandardId || config.diagnostics_can_id > kCanMaxStandardId ||
-        config.diagnostics_can_id == config.safety_can_id || config.diagnostics_can_id == inverted_can_id(config)) {
+        config.separation_can_id > kCanMaxStandardId) {
         return ErrorCode::kInvalidArgument;
     }
-    if (!e2e_p01_data_id_valid(config.safety_data_id, mode) ||
-        !e2e_p01_data_id_valid(config.diagnostics_data_id, mode) ||
-        !e2e_p01_data_ids_distinguishable(config.safety_data_id, config.diagnostics_data_id, mode)) {
-        return ErrorCode::kInvalidArgument;
+    for (std::size_t i = 0U; i < 4U; ++i) {
+        for (std::size_t j = i + 1U; j < 4U; ++j) {
+            if (ids[i] == ids[j]) {
+                return ErrorCode::kInvalidArgument;
+            }
+        }
+    }
+    for (std::size_t i = 0U; i < 3U; ++i) {
+        if (!e2e_p01_data_id_valid(data_ids[i], mode)) {
+            return ErrorCode::kInvalidArgument;
+        }
+        for (std::size_t j = i + 1U; j < 3U; ++j) {
+            if (!e2e_p01_data_ids_distinguishable(data_ids[i], data_ids[j], mode)) {
+                return ErrorCode::kInvalidArgument;
+            }
+        }
     }
     return Status{};
 }
@@ -130,14 +144,16 @@ Result<CanFrame> encode_safety_frame(const SafetyMessage& message, std::uint8_t 
     if (!check_channel_config(config).ok() || counter > kE2eP01CounterMax || !safety_message_valid(message)) {
         return ErrorCode::kInvalidArgument;
     }
-    CanFrame frame = empty_frame(config.safety_can_id);
+    CanFrame frame = detail::empty_frame(config.safety_can_id);
     set_signal(frame, safety_layout::kProtectiveStop, message.protective_stop ? 1U : 0U);
     set_signal(frame, safety_layout::kWarning, message.warning ? 1U : 0U);
     set_signal(frame, safety_layout::kFault, message.fault ? 1U : 0U);
+    set_signal(frame, safety_layout::kActiveCase, message.active_case);
+    set_signal(frame, safety_layout::kReducedSpeed, message.reduced_speed ? 1U : 0U);
     set_signal(frame, safety_layout::kZoneIntrusion, message.zone_intrusion);
     set_signal(frame, safety_layout::kZoneUnseen, message.zone_unseen);
     set_signal(frame, safety_layout::kZoneCount, message.zone_count);
-    protect(frame, counter, config.safety_data_id, config.data_id_mode);
+    detail::protect_frame(frame, counter, config.safety_data_id, config.data_id_mode);
     return frame;
 }
 
@@ -155,20 +171,21 @@ Result<CanFrame> encode_diagnostics_frame(const DiagnosticsMessage& message, std
     if (!check_channel_config(config).ok() || counter > kE2eP01CounterMax || !diagnostics_message_valid(message)) {
         return ErrorCode::kInvalidArgument;
     }
-    CanFrame frame = empty_frame(config.diagnostics_can_id);
+    CanFrame frame = detail::empty_frame(config.diagnostics_can_id);
     set_signal(frame, diagnostics_layout::kActiveFaults, message.active_faults);
     set_signal(frame, diagnostics_layout::kCycleTime, message.cycle_time);
     set_signal(frame, diagnostics_layout::kMaxCycleTime, message.max_cycle_time);
     set_signal(frame, diagnostics_layout::kPriorCrcPage, message.prior_crc_page);
     set_signal(frame, prior_crc_signal(message.prior_crc_page), message.prior_crc_part);
-    protect(frame, counter, config.diagnostics_data_id, config.data_id_mode);
+    detail::protect_frame(frame, counter, config.diagnostics_data_id, config.data_id_mode);
     return frame;
 }
 
 FrameCheck check_safety_frame(const CanFrame& frame, const SafetyChannelConfig& config,
                               SafetyFrameContent& out) noexcept {
     CG_ENFORCE(check_channel_config(config).ok(), "check_safety_frame needs a valid channel config");
-    const FrameCheck e2e = check_protection(frame, config.safety_can_id, config.safety_data_id, config.data_id_mode);
+    const FrameCheck e2e = detail::check_frame_protection(frame, config.safety_can_id, config.safety_data_id,
+                                                          config.data_id_mode);
     if (e2e != FrameCheck::kOk) {
         return e2e;
     }
@@ -180,6 +197,8 @@ FrameCheck check_safety_frame(const CanFrame& frame, const SafetyChannelConfig& 
     content.message.protective_stop = get_signal(frame, safety_layout::kProtectiveStop) != 0U;
     content.message.warning = get_signal(frame, safety_layout::kWarning) != 0U;
     content.message.fault = get_signal(frame, safety_layout::kFault) != 0U;
+    content.message.active_case = static_cast<std::uint8_t>(get_signal(frame, safety_layout::kActiveCase));
+    content.message.reduced_speed = get_signal(frame, safety_layout::kReducedSpeed) != 0U;
     content.message.zone_intrusion = static_cast<std::uint16_t>(get_signal(frame, safety_layout::kZoneIntrusion));
     content.message.zone_unseen = static_cast<std::uint16_t>(get_signal(frame, safety_layout::kZoneUnseen));
     const std::uint32_t zone_count = get_signal(frame, safety_layout::kZoneCount);
@@ -206,8 +225,8 @@ Result<SafetyFrameContent> decode_safety_frame(const CanFrame& frame, const Safe
 FrameCheck check_diagnostics_frame(const CanFrame& frame, const SafetyChannelConfig& config,
                                    DiagnosticsFrameContent& out) noexcept {
     CG_ENFORCE(check_channel_config(config).ok(), "check_diagnostics_frame needs a valid channel config");
-    const FrameCheck e2e = check_protection(frame, config.diagnostics_can_id, config.diagnostics_data_id,
-                                            config.data_id_mode);
+    const FrameCheck e2e = detail::check_frame_protection(frame, config.diagnostics_can_id, config.diagnostics_data_id,
+                                                          config.data_id_mode);
     if (e2e != FrameCheck::kOk) {
         return e2e;
     }

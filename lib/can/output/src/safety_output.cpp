@@ -35,6 +35,29 @@ SafetyMessage safety_message(const SafetyOutputs& outputs, std::uint8_t zone_cou
     return m;
 }
 
+SafetyMessage safety_message(const SafetyOutputs& outputs, const RobotReport& robot, std::uint8_t zone_count) noexcept {
+    CG_ENFORCE(robot.active_case <= kMaxActiveCase, "a safety frame carries cases 0..15");
+    SafetyMessage m = safety_message(outputs, zone_count);
+    m.protective_stop = m.protective_stop || robot.speed_request == SpeedRequest::kProtectiveStop;
+    m.active_case = robot.active_case;
+    m.reduced_speed = robot.speed_request == SpeedRequest::kReduced;
+    return m;
+}
+
+SeparationMessage separation_message(const RobotReport& robot) noexcept {
+    CG_ENFORCE(robot.active_case <= kMaxActiveCase && robot.command_counter <= kE2eP01CounterMax,
+               "case 0..15 and an E2E command counter 0..14");
+    SeparationMessage m;
+    m.distance_mm = robot.distance_mm;
+    m.required_mm = robot.required_mm;
+    m.active_case = robot.active_case;
+    const bool known = robot.speed_request == SpeedRequest::kFull || robot.speed_request == SpeedRequest::kReduced;
+    m.speed_request = known ? robot.speed_request : SpeedRequest::kProtectiveStop;
+    m.command_valid = robot.command_valid;
+    m.command_counter = robot.command_counter;
+    return m;
+}
+
 DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t page, std::uint32_t prior_crc,
                                        std::uint16_t can_detail_faults) noexcept {
     DiagnosticsMessage m;
@@ -52,7 +75,7 @@ CycleFrameEncoder::CycleFrameEncoder(const SafetyOutputConfig& config) noexcept 
 }
 
 CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept {
-    const Result<CanFrame> safety = encode_safety_frame(safety_message(report.safety, config_.zone_count),
+    const Result<CanFrame> safety = encode_safety_frame(safety_message(report.safety, report.robot, config_.zone_count),
                                                         safety_counter_, config_.channel);
     const Result<CanFrame> diagnostics = encode_diagnostics_frame(
         diagnostics_message(report, page_, config_.prior_crc, can_detail_faults), diagnostics_counter_,
@@ -62,7 +85,16 @@ CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t c
     safety_counter_ = e2e_p01_next_counter(safety_counter_);
     diagnostics_counter_ = e2e_p01_next_counter(diagnostics_counter_);
     page_ = static_cast<std::uint8_t>((page_ + 1U) % 4U);
-    return CycleFrames{safety.value(), inverted_copy(safety.value()), diagnostics.value()};
+    CycleFrames frames{safety.value(), inverted_copy(safety.value()), diagnostics.value(), CanFrame{}, false};
+    if (report.robot.configured) {
+        const Result<CanFrame> separation = encode_separation_frame(separation_message(report.robot),
+                                                                    separation_counter_, config_.channel);
+        CG_ENFORCE(separation.ok(), "the separation frame of a checked configuration always encodes");
+        separation_counter_ = e2e_p01_next_counter(separation_counter_);
+        frames.separation = separation.value();
+        frames.has_separation = true;
+    }
+    return frames;
 }
 
 CanSafetyOutput::CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept
@@ -73,7 +105,8 @@ bool CanSafetyOutput::publish(const CycleReport& report) noexcept {
         return false;
     }
     last_ = encoder_.encode(report, sender_->detail_faults());
-    return sender_->send(last_.safety) && sender_->send(last_.inverted) && sender_->send(last_.diagnostics);
+    return sender_->send(last_.safety) && sender_->send(last_.inverted) && sender_->send(last_.diagnostics) &&
+           (!last_.has_separation || sender_->send(last_.separation));
 }
 
 }  // namespace cellguard

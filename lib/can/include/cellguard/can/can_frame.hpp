@@ -8,7 +8,9 @@
 ///
 /// Bit numbering is the DBC one for Intel (little-endian, `@1`) signals:
 /// bit b of data byte k is bit 8k + b, and a signal's start bit is its least
-/// significant bit. All cellguard signals are Intel, unsigned, offset 0.
+/// significant bit. All cellguard signals are Intel and offset 0; most are
+/// unsigned, the command message's joint positions are signed (two's
+/// complement, DBC `@1-`).
 #ifndef CELLGUARD_CAN_FRAME_HPP
 #define CELLGUARD_CAN_FRAME_HPP
 
@@ -46,8 +48,9 @@ enum class Multiplex : std::uint8_t {
     kMultiplexed = 2,  ///< present when the selector equals multiplex_value (`m<value>`)
 };
 
-/// One signal of a frame, as a DBC `SG_` line states it. Raw values are
-/// unsigned; physical value = raw * factor (offset 0), in `unit`.
+/// One signal of a frame, as a DBC `SG_` line states it. Physical value =
+/// raw * factor (offset 0), in `unit`. Unsigned signals have the raw range
+/// 0..raw_max; signed ones (two's complement) -raw_max..raw_max.
 struct SignalLayout {
     const char* name;              ///< DBC signal name
     std::uint8_t start_bit;        ///< least significant bit, Intel numbering (8 * byte + bit)
@@ -58,6 +61,7 @@ struct SignalLayout {
     std::uint32_t raw_max;         ///< largest valid raw value (DBC maximum = raw_max * factor)
     Multiplex multiplex;           ///< multiplexing role
     std::uint8_t multiplex_value;  ///< selector value for kMultiplexed signals, else 0
+    bool is_signed = false;        ///< two's complement (DBC `-`); raw range -raw_max..raw_max
 };
 
 /// Mask of the bits @p s occupies in the frame's 64 data bits.
@@ -74,7 +78,8 @@ struct SignalLayout {
 }
 
 /// Compile-time check of a layout table: every signal is Intel, 1..32 bits
-/// wide, inside the 64 data bits, has a factor >= 1 and a raw_max that fits;
+/// wide, inside the 64 data bits, has a factor >= 1 and a raw_max that fits
+/// (for a signed signal: in length - 1 bits, and it is 2..32 bits wide);
 /// and no two coexisting signals overlap.
 template <std::size_t N>
 [[nodiscard]] constexpr bool layout_is_consistent(const SignalLayout (&table)[N]) noexcept {
@@ -82,6 +87,9 @@ template <std::size_t N>
         const SignalLayout& s = table[i];
         if (s.byte_order != ByteOrder::kIntel || s.length == 0U || s.length > 32U || s.start_bit + s.length > 64U ||
             s.factor == 0U || (s.length < 32U && s.raw_max > ((std::uint32_t{1} << s.length) - 1U))) {
+            return false;
+        }
+        if (s.is_signed && (s.length < 2U || s.raw_max > ((std::uint32_t{1} << (s.length - 1U)) - 1U))) {
             return false;
         }
         for (std::size_t j = i + 1U; j < N; ++j) {
@@ -130,6 +138,26 @@ constexpr void set_signal(CanFrame& frame, const SignalLayout& s, std::uint32_t 
     for (std::size_t k = 0U; k < kCanMaxDataLength; ++k) {
         frame.data[k] = static_cast<std::uint8_t>(bits >> (8U * k));
     }
+}
+
+/// Value of signed signal @p s in @p frame: its raw bits sign-extended
+/// (two's complement). Contract as get_signal.
+[[nodiscard]] constexpr std::int32_t get_signed_signal(const CanFrame& frame, const SignalLayout& s) noexcept {
+    const std::uint32_t raw = get_signal(frame, s);
+    const std::uint32_t sign = std::uint32_t{1} << (s.length - 1U);
+    // (raw ^ sign) - sign sign-extends without a shift of a negative number.
+    return static_cast<std::int32_t>(static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign));
+}
+
+/// Writes @p value into signed signal @p s (two's complement, the low
+/// s.length bits). Contract: @p value fits in s.length bits, signed.
+constexpr void set_signed_signal(CanFrame& frame, const SignalLayout& s, std::int32_t value) noexcept {
+    CG_ENFORCE(s.length >= 2U && s.length <= 32U, "a signed signal has 2..32 bits");
+    const std::int64_t limit = std::int64_t{1} << (s.length - 1U);
+    CG_ENFORCE(value >= -limit && value < limit, "value wider than the signed signal");
+    const std::uint64_t ones = (std::uint64_t{1} << s.length) - 1U;
+    set_signal(frame, s,
+               static_cast<std::uint32_t>(static_cast<std::uint64_t>(static_cast<std::int64_t>(value)) & ones));
 }
 
 }  // namespace cellguard

@@ -31,7 +31,10 @@
 ///
 /// While valid, the reported message is from the last good pair; the data is
 /// then at most sct_us + srvt_us old. While not valid, the reported message is
-/// the safe-state message (stop, warning and fault set, every zone intruded and unseen).
+/// the safe-state message (stop, warning, fault and reduced speed set, case 0,
+/// every zone intruded and unseen). While valid, stop_requested follows the
+/// frame's ProtectiveStop bit; the PLC reads message.reduced_speed (meaningful
+/// without a stop) and checks message.active_case against the case it commanded.
 #ifndef CELLGUARD_PLC_RECEIVER_HPP
 #define CELLGUARD_PLC_RECEIVER_HPP
 
@@ -84,8 +87,8 @@ struct ReceiverStatus {
     std::uint32_t fault_events = 0U;  ///< faults detected since construction (saturating)
 };
 
-/// The safe-state message for @p zone_count zones: stop, warning and fault set,
-/// every zone intruded and unseen.
+/// The safe-state message for @p zone_count zones: stop, warning, fault and
+/// reduced speed set, case 0, every zone intruded and unseen.
 [[nodiscard]] SafetyMessage safe_state_message(std::uint8_t zone_count) noexcept;
 
 /// Checks safety frames and their inverted copies; see the file comment.

@@ -2,7 +2,9 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file safety_frame.hpp
 /// The CAN safety output: the safety frame (with its inverted copy) and the
-/// diagnostics frame, their bit layout, encoder and decoder.
+/// diagnostics frame, their bit layout, encoder and decoder, and the channel
+/// config of all output frames (the separation frame's codec is in
+/// separation_frame.hpp).
 ///
 /// Both frames are classic CAN, 8 data bytes, protected as in AUTOSAR E2E
 /// Profile 1 (e2e_crc.hpp): CRC in byte 0 over the data ID and bytes 1..7,
@@ -16,7 +18,11 @@
 /// The layout tables below are the one statement of byte order and bit
 /// positions; certification/cellguard.dbc states the same and
 /// tests/unit/test_dbc.cpp checks that the two agree. Safety frame: up to 16
-/// zones (kMaxZonesInFrame), bit z of ZoneIntrusion / ZoneUnseen is zone z.
+/// zones (kMaxZonesInFrame), bit z of ZoneIntrusion / ZoneUnseen is zone z;
+/// the monitoring case in force (ActiveCase, 0..15) and the speed request:
+/// ProtectiveStop = 1 means stop, else ReducedSpeed = 1 means reduced speed,
+/// else full speed. ProtectiveStop wins: a frame with both bits set is valid
+/// and means stop.
 /// Diagnostics frame: cycle times in units of 100 us (rounded up, saturating
 /// at 2047 = "204.7 ms or more"); the 32-bit CRC of the prior image is split
 /// over four multiplexed pages, page p carrying its bits 8p..8p+7.
@@ -28,14 +34,14 @@
 #include "cellguard/base/result.hpp"
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/e2e_crc.hpp"
-#include "cellguard/safety/faults.hpp"
+#include "cellguard/can/fault_code.hpp"
 
 namespace cellguard {
 
 /// Largest number of zones one safety frame carries.
 constexpr std::uint8_t kMaxZonesInFrame = 16U;
 
-/// Safety frame layout (Intel, unsigned). Bits 19..23 are reserved and zero.
+/// Safety frame layout (Intel, unsigned). Every bit is used.
 namespace safety_layout {
 /// E2E Profile 1 CRC (byte 0).
 inline constexpr SignalLayout kCrc{"E2E_Crc", 0U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kNone, 0U};
@@ -51,6 +57,11 @@ inline constexpr SignalLayout kProtectiveStop{"ProtectiveStop", 16U, 1U, ByteOrd
 inline constexpr SignalLayout kWarning{"Warning", 17U, 1U, ByteOrder::kIntel, 1U, "", 1U, Multiplex::kNone, 0U};
 /// 1 = the controller has detected a fault (details in the diagnostics frame).
 inline constexpr SignalLayout kFault{"Fault", 18U, 1U, ByteOrder::kIntel, 1U, "", 1U, Multiplex::kNone, 0U};
+/// Monitoring case whose zones this frame reports, 0..15 (0 without cases).
+inline constexpr SignalLayout kActiveCase{"ActiveCase", 19U, 4U, ByteOrder::kIntel, 1U, "", 15U, Multiplex::kNone, 0U};
+/// 1 = reduced speed requested (meaningful when ProtectiveStop is 0; stop wins).
+inline constexpr SignalLayout kReducedSpeed{"ReducedSpeed",   23U, 1U, ByteOrder::kIntel, 1U, "", 1U,
+                                            Multiplex::kNone, 0U};
 /// Bit z = zone z is intruded.
 inline constexpr SignalLayout kZoneIntrusion{"ZoneIntrusion",  24U, 16U, ByteOrder::kIntel, 1U, "", 65535U,
                                              Multiplex::kNone, 0U};
@@ -60,12 +71,13 @@ inline constexpr SignalLayout kZoneUnseen{"ZoneUnseen",     40U, 16U, ByteOrder:
 /// Number of configured zones, 0..16; zone bits at and above it are zero.
 inline constexpr SignalLayout kZoneCount{"ZoneCount", 56U, 8U, ByteOrder::kIntel, 1U, "", 16U, Multiplex::kNone, 0U};
 /// Every signal of the safety frame (and, with inverted raw values, of its copy).
-inline constexpr SignalLayout kSignals[] = {kCrc,   kCounter,       kDataIdNibble, kProtectiveStop, kWarning,
-                                            kFault, kZoneIntrusion, kZoneUnseen,   kZoneCount};
+inline constexpr SignalLayout kSignals[] = {kCrc,           kCounter,    kDataIdNibble, kProtectiveStop,
+                                            kWarning,       kFault,      kActiveCase,   kReducedSpeed,
+                                            kZoneIntrusion, kZoneUnseen, kZoneCount};
 static_assert(layout_is_consistent(kSignals), "safety frame layout overlaps or overflows");
-/// Reserved bits (must be zero).
+/// Reserved bits (must be zero): none since ActiveCase and ReducedSpeed took bits 19..23.
 inline constexpr std::uint64_t kReservedBits = ~layout_used_bits(kSignals);
-static_assert(kReservedBits == 0x0000'0000'00F8'0000ULL, "bits 19..23 are the only reserved bits");
+static_assert(kReservedBits == 0U, "the safety frame has no reserved bits");
 }  // namespace safety_layout
 
 /// Diagnostics frame layout (Intel, unsigned). All 64 bits are used.
@@ -109,74 +121,23 @@ static_assert(layout_is_consistent(kSignals), "diagnostics frame layout overlaps
 static_assert(~layout_used_bits(kSignals) == 0U, "the diagnostics frame has no reserved bits");
 }  // namespace diagnostics_layout
 
-/// Fault codes of the diagnostics frame's ActiveFaults bitmask: bit n is code n.
-/// Codes 0..8 are the safety logic's Fault bits (safety_logic.hpp) unchanged;
-/// codes 9..14 detail the CAN port's faults (all of which the safety logic
-/// sees as Fault::kCanError); code 15 is the safety logic's Fault 9
-/// (kCommandInvalid), added after the CAN details: wire_fault_bits maps.
-enum class FaultCode : std::uint8_t {
-    kSensorStale = 0,            ///< Fault::kSensorStale: a sensor frame older than its age limit
-    kSensorMissing = 1,          ///< Fault::kSensorMissing: a configured sensor delivered no frame
-    kFrameInconsistent = 2,      ///< Fault::kFrameInconsistent: a frame failed its checks
-    kPriorCheckFailed = 3,       ///< Fault::kPriorCheckFailed: the prior's CRC or geometry check failed
-    kCycleOverrun = 4,           ///< Fault::kCycleOverrun: a cycle exceeded its time budget
-    kCanError = 5,               ///< Fault::kCanError: the CAN output failed (details in bits 9..14)
-    kInternalCheck = 6,          ///< Fault::kInternalCheck: an internal consistency check failed
-    kClockFault = 7,             ///< Fault::kClockFault: the monotonic clock did not advance
-    kZoneEvaluation = 8,         ///< Fault::kZoneEvaluation: zone evaluation could not run
-    kCanTxBufferFull = 9,        ///< CAN send queue full (ENOBUFS / EAGAIN) after the bounded retries
-    kCanNetworkDown = 10,        ///< CAN interface down (ENETDOWN and similar)
-    kCanBusOff = 11,             ///< CAN controller is bus-off
-    kCanErrorPassive = 12,       ///< CAN controller is error-passive
-    kCanControllerProblem = 13,  ///< CAN controller overflow, TX timeout or missing acknowledgement
-    kCanSendFailed = 14,         ///< any other CAN send error
-    kCommandInvalid = 15,        ///< Fault::kCommandInvalid: the PLC's command is missing, late, corrupt or unfit
-};
-static_assert(static_cast<unsigned>(FaultCode::kSensorStale) == static_cast<unsigned>(Fault::kSensorStale) &&
-                  static_cast<unsigned>(FaultCode::kSensorMissing) == static_cast<unsigned>(Fault::kSensorMissing) &&
-                  static_cast<unsigned>(FaultCode::kFrameInconsistent) ==
-                      static_cast<unsigned>(Fault::kFrameInconsistent) &&
-                  static_cast<unsigned>(FaultCode::kPriorCheckFailed) ==
-                      static_cast<unsigned>(Fault::kPriorCheckFailed) &&
-                  static_cast<unsigned>(FaultCode::kCycleOverrun) == static_cast<unsigned>(Fault::kCycleOverrun) &&
-                  static_cast<unsigned>(FaultCode::kCanError) == static_cast<unsigned>(Fault::kCanError) &&
-                  static_cast<unsigned>(FaultCode::kInternalCheck) == static_cast<unsigned>(Fault::kInternalCheck) &&
-                  static_cast<unsigned>(FaultCode::kClockFault) == static_cast<unsigned>(Fault::kClockFault) &&
-                  static_cast<unsigned>(FaultCode::kZoneEvaluation) == static_cast<unsigned>(Fault::kZoneEvaluation),
-              "ActiveFaults bits 0..8 are the safety logic's Fault bits unchanged");
-static_assert(kFaultCount == 10U, "a new safety logic Fault needs a FaultCode and a place in wire_fault_bits");
-/// The bit of @p code in ActiveFaults.
-[[nodiscard]] constexpr std::uint16_t fault_bit(FaultCode code) noexcept {
-    return static_cast<std::uint16_t>(1U << static_cast<unsigned>(code));
-}
-/// ActiveFaults bits that are safety logic Fault bits (0..8 and 15).
-constexpr std::uint16_t kSafetyLogicFaultBits = 0x81FFU;
-/// ActiveFaults bits that detail CAN port faults (9..14).
-constexpr std::uint16_t kCanDetailFaultBits = 0x7E00U;
-/// Bits with an assigned FaultCode: all 16.
-constexpr std::uint16_t kAssignedFaultBits = 0xFFFFU;
-/// The ActiveFaults bits of a safety logic fault mask @p faults (Fault bits):
-/// Faults 0..8 on bits 0..8, Fault::kCommandInvalid (9) on bit 15.
-[[nodiscard]] constexpr std::uint16_t wire_fault_bits(std::uint32_t faults) noexcept {
-    return static_cast<std::uint16_t>((faults & 0x1FFU) |
-                                      (((faults >> static_cast<unsigned>(Fault::kCommandInvalid)) & 1U) << 15U));
-}
-static_assert(wire_fault_bits(kAllFaults) == kSafetyLogicFaultBits, "every safety logic Fault has its wire bit");
-static_assert((kSafetyLogicFaultBits | kCanDetailFaultBits) == kAssignedFaultBits &&
-                  (kSafetyLogicFaultBits & kCanDetailFaultBits) == 0U,
-              "safety logic bits and CAN detail bits partition the assigned bits");
+/// Largest monitoring case number a safety frame carries.
+constexpr std::uint8_t kMaxActiveCase = 15U;
 
 /// Content of the safety frame. Defaults are the safe state: stop requested.
 struct SafetyMessage {
-    bool protective_stop = true;        ///< protective stop requested
+    bool protective_stop = true;        ///< protective stop requested (wins over reduced_speed)
     bool warning = false;               ///< a warning zone is intruded or unseen
     bool fault = false;                 ///< the controller has detected a fault
+    std::uint8_t active_case = 0U;      ///< monitoring case in force, 0..kMaxActiveCase
+    bool reduced_speed = false;         ///< reduced speed requested (when no stop)
     std::uint16_t zone_intrusion = 0U;  ///< bit z: zone z intruded (z < zone_count)
     std::uint16_t zone_unseen = 0U;     ///< bit z: zone z cannot be seen (z < zone_count)
     std::uint8_t zone_count = 0U;       ///< configured zones, 0..kMaxZonesInFrame
     /// Field-wise equality.
     friend constexpr bool operator==(const SafetyMessage& a, const SafetyMessage& b) noexcept {
         return a.protective_stop == b.protective_stop && a.warning == b.warning && a.fault == b.fault &&
+               a.active_case == b.active_case && a.reduced_speed == b.reduced_speed &&
                a.zone_intrusion == b.zone_intrusion && a.zone_unseen == b.zone_unseen && a.zone_count == b.zone_count;
     }
     /// Field-wise inequality.
@@ -218,7 +179,7 @@ struct DiagnosticsMessage {
 }
 
 /// Default CAN IDs (those in certification/cellguard.dbc): EN 50325-5's first
-/// SRDO pair 0x101 / 0x102, diagnostics on 0x103.
+/// SRDO pair 0x101 / 0x102, diagnostics on 0x103, separation on 0x104.
 constexpr std::uint32_t kDefaultSafetyCanId = 0x101U;
 /// Default CAN ID of the diagnostics frame.
 constexpr std::uint32_t kDefaultDiagnosticsCanId = 0x103U;
@@ -226,6 +187,10 @@ constexpr std::uint32_t kDefaultDiagnosticsCanId = 0x103U;
 constexpr std::uint16_t kDefaultSafetyDataId = 0x0C51U;
 /// Default data ID of the diagnostics frame (distinguishable from the safety one in every mode).
 constexpr std::uint16_t kDefaultDiagnosticsDataId = 0x0D52U;
+/// Default CAN ID of the separation frame.
+constexpr std::uint32_t kDefaultSeparationCanId = 0x104U;
+/// Default data ID of the separation frame (distinguishable from the other two in every mode).
+constexpr std::uint16_t kDefaultSeparationDataId = 0x0E53U;
 
 /// Identifiers shared by the sender and the PLC-side receiver.
 struct SafetyChannelConfig {
@@ -233,12 +198,14 @@ struct SafetyChannelConfig {
     std::uint32_t diagnostics_can_id = kDefaultDiagnosticsCanId;    ///< 11-bit, differs from both safety IDs
     std::uint16_t safety_data_id = kDefaultSafetyDataId;            ///< E2E data ID of the safety frame
     std::uint16_t diagnostics_data_id = kDefaultDiagnosticsDataId;  ///< E2E data ID of the diagnostics frame
-    E2eP01DataIdMode data_id_mode = E2eP01DataIdMode::kBoth;        ///< how both data IDs enter the CRC
+    E2eP01DataIdMode data_id_mode = E2eP01DataIdMode::kBoth;        ///< how the data IDs enter the CRC
+    std::uint32_t separation_can_id = kDefaultSeparationCanId;      ///< 11-bit, differs from the other three
+    std::uint16_t separation_data_id = kDefaultSeparationDataId;    ///< E2E data ID of the separation frame
 };
 
 /// Checks @p config: valid mode; 11-bit CAN IDs, safety_can_id + 1 included;
-/// three distinct CAN IDs; data IDs valid for the mode and distinguishable
-/// from each other (e2e_p01_data_ids_distinguishable). kInvalidArgument if not.
+/// four distinct CAN IDs; data IDs valid for the mode and pairwise
+/// distinguishable (e2e_p01_data_ids_distinguishable). kInvalidArgument if not.
 [[nodiscard]] Status check_channel_config(const SafetyChannelConfig& config) noexcept;
 
 /// CAN ID of the inverted copy of the safety frame.
@@ -254,7 +221,8 @@ enum class FrameCheck : std::uint8_t {
     kWrongDataIdNibble = 3,  ///< kNibble mode: the explicit nibble is not the data ID's
     kWrongCrc = 4,           ///< CRC mismatch: corrupted data or a wrong (implicit) data ID
     kCounterOutOfRange = 5,  ///< counter is 15
-    kMalformedContent = 6,   ///< reserved bits set, zone count > 16, zone bit beyond the count, unassigned fault bit
+    kMalformedContent = 6,   ///< reserved bits set, zone count > 16, zone bit beyond the count, unassigned fault
+                             ///< bit, speed request 3
 };
 /// A short, static name for @p check (never nullptr).
 [[nodiscard]] const char* to_string(FrameCheck check) noexcept;
@@ -275,7 +243,7 @@ struct DiagnosticsFrameContent {
 
 /// The protected safety frame for @p message with counter @p counter.
 /// kInvalidArgument when the config is invalid, the counter > 14, the zone
-/// count > 16, or a zone bit is set at or above the zone count.
+/// count > 16, a zone bit is set at or above the zone count, or the active case > 15.
 [[nodiscard]] Result<CanFrame> encode_safety_frame(const SafetyMessage& message, std::uint8_t counter,
                                                    const SafetyChannelConfig& config) noexcept;
 /// The inverted copy of @p frame: CAN ID + 1, same DLC, every data bit inverted.

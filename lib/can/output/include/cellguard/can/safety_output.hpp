@@ -6,19 +6,26 @@
 ///
 /// Frames of one cycle, in the order they are sent:
 /// 1. the safety frame (safety_frame.hpp): protective stop = the report's
-///    stop_requested, warning, fault = any fault latched, the zone intrusion
-///    and unseen bits of the configured zones, the zone count;
+///    stop_requested (or the robot's speed request kProtectiveStop), warning,
+///    fault = any fault latched, the active monitoring case, reduced speed =
+///    the robot's speed request kReduced, the zone intrusion and unseen bits
+///    of the configured zones, the zone count;
 /// 2. its inverted copy (inverted_copy);
 /// 3. the diagnostics frame: the previous cycle's duration and the worst so
 ///    far (the current one is still running when it is published), the
 ///    latched safety logic faults on ActiveFaults bits 0..8 and the CAN
 ///    sender's details (CanSender::detail_faults, asked once per cycle) on
 ///    bits 9..14, and one byte of the prior CRC-32, the
-///    page rotating 0, 1, 2, 3, 0, ... per cycle.
-/// The safety frame (with its copy) and the diagnostics frame each have
-/// their own E2E counter, both advancing by one per cycle (0..14, wrapping
-/// 14 -> 0) whether or not the send succeeded, so a frame lost on the way
-/// shows at the PLC as a counter jump.
+///    page rotating 0, 1, 2, 3, 0, ... per cycle;
+/// 4. in a cell with a robot (the report's robot.configured), the separation
+///    frame (separation_frame.hpp): distance, required distance, case, speed
+///    request, the command's counter and validity. A cell without a robot
+///    sends the first three only, as before the robot was added: the set of
+///    frames is fixed by the commissioned configuration, not by the cycle.
+/// The safety frame (with its copy), the diagnostics and the separation
+/// frame each have their own E2E counter, advancing by one per cycle in
+/// which the frame is encoded (0..14, wrapping 14 -> 0) whether or not the
+/// send succeeded, so a frame lost on the way shows at the PLC as a counter jump.
 ///
 /// A safety frame carries at most kMaxZonesInFrame (16) zones: a
 /// configuration with more zones, or with an invalid channel config, is
@@ -34,6 +41,7 @@
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/can_sender.hpp"
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/can/separation_frame.hpp"
 #include "cellguard/safety/cycle_output.hpp"
 
 namespace cellguard {
@@ -50,8 +58,17 @@ struct SafetyOutputConfig {
 [[nodiscard]] Status check_safety_output_config(const SafetyOutputConfig& config) noexcept;
 
 /// The content of the safety frame for @p outputs with @p zone_count zones
-/// (at most kMaxZonesInFrame, a contract): zone bits at and above the count are dropped.
+/// (at most kMaxZonesInFrame, a contract): zone bits at and above the count
+/// are dropped; case 0, no reduced speed (a cell without a robot).
 [[nodiscard]] SafetyMessage safety_message(const SafetyOutputs& outputs, std::uint8_t zone_count) noexcept;
+/// The same with the robot side of the cycle: ActiveCase = robot.active_case
+/// (0..15, a contract), ProtectiveStop also when the speed request is
+/// kProtectiveStop, ReducedSpeed when it is kReduced.
+[[nodiscard]] SafetyMessage safety_message(const SafetyOutputs& outputs, const RobotReport& robot,
+                                           std::uint8_t zone_count) noexcept;
+/// The content of the separation frame for @p robot (case 0..15 and command
+/// counter 0..14 are contracts; an unknown speed request is sent as kProtectiveStop).
+[[nodiscard]] SeparationMessage separation_message(const RobotReport& robot) noexcept;
 
 /// The content of the diagnostics frame for @p report, prior CRC page @p page
 /// (0..3, a contract) of @p prior_crc, with the CAN port's detail faults
@@ -59,27 +76,32 @@ struct SafetyOutputConfig {
 [[nodiscard]] DiagnosticsMessage diagnostics_message(const CycleReport& report, std::uint8_t page,
                                                      std::uint32_t prior_crc, std::uint16_t can_detail_faults) noexcept;
 
-/// The three frames of one cycle.
+/// The frames of one cycle.
 struct CycleFrames {
     CanFrame safety;       ///< the safety frame
     CanFrame inverted;     ///< its inverted copy
     CanFrame diagnostics;  ///< the diagnostics frame
+    CanFrame separation;   ///< the separation frame (only when has_separation)
+    bool has_separation;   ///< the cycle sends a separation frame (a robot is configured)
 };
 
-/// Encodes the frames of successive cycles: holds both E2E counters and the
-/// prior CRC page. @p config must pass check_safety_output_config (contract).
+/// Encodes the frames of successive cycles: holds the three E2E counters and
+/// the prior CRC page. @p config must pass check_safety_output_config (contract).
 class CycleFrameEncoder {
 public:
     /// Counters and page start at 0.
     explicit CycleFrameEncoder(const SafetyOutputConfig& config) noexcept;
 
-    /// The frames of the cycle in @p report; advances both counters and the page.
+    /// The frames of the cycle in @p report; advances the counters of the
+    /// frames it encodes and the page.
     [[nodiscard]] CycleFrames encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept;
 
     /// Counter the next safety frame will carry.
     [[nodiscard]] std::uint8_t safety_counter() const noexcept { return safety_counter_; }
     /// Counter the next diagnostics frame will carry.
     [[nodiscard]] std::uint8_t diagnostics_counter() const noexcept { return diagnostics_counter_; }
+    /// Counter the next separation frame will carry.
+    [[nodiscard]] std::uint8_t separation_counter() const noexcept { return separation_counter_; }
     /// Prior CRC page the next diagnostics frame will carry.
     [[nodiscard]] std::uint8_t prior_crc_page() const noexcept { return page_; }
 
@@ -87,6 +109,7 @@ private:
     SafetyOutputConfig config_;
     std::uint8_t safety_counter_ = 0U;
     std::uint8_t diagnostics_counter_ = 0U;
+    std::uint8_t separation_counter_ = 0U;
     std::uint8_t page_ = 0U;
 };
 
@@ -100,9 +123,9 @@ public:
     CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept;
 
     /// Asks the sender for its detail faults (ActiveFaults bits 9..14 of this
-    /// cycle's diagnostics frame), then sends the safety frame, its copy and
-    /// the diagnostics frame in this order, stopping at the first failed
-    /// send. False when refused (nothing is asked or sent) or when a send failed.
+    /// cycle's diagnostics frame), then sends the safety frame, its copy, the
+    /// diagnostics frame and (with a robot) the separation frame in this
+    /// order, stopping at the first failed send. False when refused (nothing is asked or sent) or when a send failed.
     bool publish(const CycleReport& report) noexcept override;
 
     /// kOk, or why the configuration was refused.

@@ -1,0 +1,241 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+#include "cellguard/can/command_receiver.hpp"
+
+namespace cellguard {
+namespace {
+
+CommandFault fault_of(FrameCheck check) noexcept {
+    switch (check) {
+        case FrameCheck::kWrongLength: return CommandFault::kWrongLength;
+        case FrameCheck::kWrongDataIdNibble: return CommandFault::kWrongDataIdNibble;
+        case FrameCheck::kWrongCrc: return CommandFault::kWrongCrc;
+        case FrameCheck::kCounterOutOfRange: return CommandFault::kCounterOutOfRange;
+        case FrameCheck::kOk:          // not a fault; never passed here
+        case FrameCheck::kWrongCanId:  // frames are dispatched by CAN ID first
+        case FrameCheck::kMalformedContent: return CommandFault::kMalformedContent;
+    }
+    return CommandFault::kMalformedContent;
+}
+
+constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
+
+/// True when @p copy is the bitwise inverse of @p frame with the same DLC.
+bool is_inverse(const CanFrame& copy, const CanFrame& frame) noexcept {
+    bool inverse = copy.dlc == frame.dlc;
+    for (std::size_t k = 0U; k < kCanMaxDataLength; ++k) {
+        inverse = inverse && copy.data[k] == static_cast<std::uint8_t>(~frame.data[k]);
+    }
+    return inverse;
+}
+
+}  // namespace
+
+const char* to_string(CommandFault fault) noexcept {
+    switch (fault) {
+        case CommandFault::kNone: return "none";
+        case CommandFault::kNoSampleYet: return "no sample yet";
+        case CommandFault::kWrongLength: return "wrong length";
+        case CommandFault::kWrongCrc: return "wrong CRC or data ID";
+        case CommandFault::kWrongDataIdNibble: return "wrong data ID nibble";
+        case CommandFault::kCounterOutOfRange: return "counter out of range";
+        case CommandFault::kMalformedContent: return "malformed content";
+        case CommandFault::kPartOutOfOrder: return "part out of order";
+        case CommandFault::kCounterMismatch: return "parts with different counters";
+        case CommandFault::kSampleIncomplete: return "sample incomplete";
+        case CommandFault::kRepeatedCounter: return "repeated counter";
+        case CommandFault::kCounterJump: return "counter jump";
+        case CommandFault::kInvertedCopyMissing: return "inverted copy missing";
+        case CommandFault::kInvertedCopyMismatch: return "inverted copy mismatch";
+        case CommandFault::kInvertedCopyLate: return "inverted copy late";
+        case CommandFault::kUnexpectedInvertedCopy: return "unexpected inverted copy";
+        case CommandFault::kSctExpired: return "safeguard cycle time expired";
+        case CommandFault::kTimeWentBackwards: return "time went backwards";
+    }
+    return "unknown command fault";
+}
+
+Status CommandReceiver::check_config(const CommandReceiverConfig& config) noexcept {
+    if (!check_command_channel_config(config.channel).ok() || config.srvt_us == 0U ||
+        config.srvt_us > config.sample_window_us || config.sample_window_us >= config.sct_us ||
+        config.max_delta_counter < 1U || config.max_delta_counter > kE2eP01CounterMax ||
+        config.recovery_good_samples < 1U) {
+        return ErrorCode::kInvalidArgument;
+    }
+    return Status{};
+}
+
+CommandReceiver::CommandReceiver(const CommandReceiverConfig& config) noexcept : config_(config) {
+    CG_ENFORCE(check_config(config).ok(), "CommandReceiver needs a configuration that passes check_config");
+}
+
+CommandStatus CommandReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (advance_time(now_us)) {
+        const std::uint32_t base = config_.channel.base_can_id;
+        if (frame.id >= base && frame.id - base < kCommandFramesPerSample) {
+            const std::size_t index = frame.id - base;
+            if (index % 2U == 0U) {
+                on_part(frame, index, now_us);
+            } else {
+                on_copy(frame, index, now_us);
+            }
+        } else {
+            check_timeouts(now_us);  // not ours: only time has passed
+        }
+    }
+    return status();
+}
+
+CommandPoll CommandReceiver::poll(std::uint64_t now_us) noexcept {
+    if (advance_time(now_us)) {
+        check_timeouts(now_us);
+    }
+    CommandPoll p;
+    p.status = status();
+    if (valid_) {
+        p.input = input_;
+    }
+    return p;
+}
+
+void CommandReceiver::on_part(const CanFrame& frame, std::size_t index, std::uint64_t now_us) noexcept {
+    const bool is_a = index == 0U;
+    if (!resync_ && next_ != index) {
+        // A part where a copy was due; an A before the sample completed; any other part out of turn.
+        enter_safe_state(next_ % 2U == 1U ? CommandFault::kInvertedCopyMissing
+                                          : (is_a ? CommandFault::kSampleIncomplete : CommandFault::kPartOutOfOrder));
+    }
+    if (resync_ && !is_a) {
+        return;  // after a fault (and at start-up) only an A starts a sample
+    }
+    if (!is_a && now_us - sample_start_us_ > config_.sample_window_us) {
+        enter_safe_state(CommandFault::kSampleIncomplete);
+        return;
+    }
+    const auto part = static_cast<CommandPart>(index / 2U);
+    CommandPartContent content;
+    const FrameCheck check = check_command_part(frame, part, config_.channel, content);
+    if (check != FrameCheck::kOk) {
+        enter_safe_state(fault_of(check));
+        return;
+    }
+    if (is_a) {
+        resync_ = false;
+        sample_counter_ = content.counter;
+        sample_start_us_ = now_us;
+        assembling_ = RobotCommand{};
+    } else if (content.counter != sample_counter_) {
+        enter_safe_state(CommandFault::kCounterMismatch);
+        return;
+    }
+    merge_command_part(content, assembling_);
+    part_frame_ = frame;
+    part_time_us_ = now_us;
+    next_ = index + 1U;
+}
+
+void CommandReceiver::on_copy(const CanFrame& frame, std::size_t index, std::uint64_t now_us) noexcept {
+    if (resync_) {
+        return;  // the rest of a broken sample
+    }
+    if (next_ != index) {
+        enter_safe_state(CommandFault::kUnexpectedInvertedCopy);  // a copy where a part, or another copy, was due
+        return;
+    }
+    if (now_us - part_time_us_ > config_.srvt_us) {
+        enter_safe_state(CommandFault::kInvertedCopyLate);
+        return;
+    }
+    if (!is_inverse(frame, part_frame_)) {
+        enter_safe_state(CommandFault::kInvertedCopyMismatch);
+        return;
+    }
+    if (now_us - sample_start_us_ > config_.sample_window_us) {
+        enter_safe_state(CommandFault::kSampleIncomplete);
+        return;
+    }
+    next_ = index + 1U;
+    if (next_ == kCommandFramesPerSample) {
+        complete_sample(now_us);
+    }
+}
+
+void CommandReceiver::complete_sample(std::uint64_t now_us) noexcept {
+    next_ = 0U;
+    if (!command_well_formed(assembling_)) {
+        enter_safe_state(CommandFault::kMalformedContent);  // a joint set beyond the joint count
+        return;
+    }
+    if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
+        enter_safe_state(CommandFault::kSctExpired);  // late; the sample may still start a new reference
+    }
+    if (have_reference_) {
+        const std::uint8_t delta = e2e_p01_counter_delta(sample_counter_, reference_counter_);
+        if (delta == 0U) {
+            enter_safe_state(CommandFault::kRepeatedCounter);
+            return;
+        }
+        if (delta > config_.max_delta_counter) {
+            enter_safe_state(CommandFault::kCounterJump);
+            return;
+        }
+        if (good_samples_ < UINT8_MAX) {
+            ++good_samples_;
+        }
+    }
+    have_reference_ = true;
+    reference_counter_ = sample_counter_;
+    reference_time_us_ = now_us;
+    input_.valid = true;
+    input_.command = assembling_;
+    input_.counter = sample_counter_;
+    input_.received_us = now_us;
+    accepted_ = saturating_increment(accepted_);
+    if (!valid_ && good_samples_ >= config_.recovery_good_samples) {
+        valid_ = true;
+        fault_ = CommandFault::kNone;
+    }
+}
+
+bool CommandReceiver::advance_time(std::uint64_t now_us) noexcept {
+    if (have_time_ && now_us < last_time_us_) {
+        last_time_us_ = now_us;  // continue on the new time line; every time reference is dropped
+        enter_safe_state(CommandFault::kTimeWentBackwards);
+        return false;
+    }
+    have_time_ = true;
+    last_time_us_ = now_us;
+    return true;
+}
+
+void CommandReceiver::check_timeouts(std::uint64_t now_us) noexcept {
+    if (next_ % 2U == 1U && now_us - part_time_us_ > config_.srvt_us) {
+        enter_safe_state(CommandFault::kInvertedCopyMissing);
+    } else if (next_ != 0U && now_us - sample_start_us_ > config_.sample_window_us) {
+        enter_safe_state(CommandFault::kSampleIncomplete);
+    }
+    if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
+        enter_safe_state(CommandFault::kSctExpired);
+    }
+}
+
+void CommandReceiver::enter_safe_state(CommandFault reason) noexcept {
+    valid_ = false;
+    fault_ = reason;
+    fault_events_ = saturating_increment(fault_events_);
+    have_reference_ = false;
+    good_samples_ = 0U;
+    next_ = 0U;  // the sample in progress is dropped; wait for the next A
+    resync_ = true;
+}
+
+CommandStatus CommandReceiver::status() const noexcept {
+    CommandStatus s;
+    s.valid = valid_;
+    s.fault = valid_ ? CommandFault::kNone : fault_;
+    s.fault_events = fault_events_;
+    s.good_samples = accepted_;
+    return s;
+}
+
+}  // namespace cellguard

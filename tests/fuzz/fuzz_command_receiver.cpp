@@ -1,0 +1,350 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// Fuzz target: the controller's command receiver on arbitrary sequences of
+// command frames, polls and time steps (good samples frame by frame, parts
+// and copies out of order, repeated, corrupted, under other data IDs, raw
+// garbage on any ID, replays, parts of the previous sample or with another
+// counter mixed in, samples abandoned half-way, time going backwards).
+// Aborts if the receiver ever reports "valid" for data that a fresh,
+// independent check rejects: the last six frames on the command IDs before
+// any sample in progress must be A, A', B, B', C, C' of one sample, each part
+// passing a bitwise CRC written from the AUTOSAR E2E Profile 1 rules with its
+// own data ID, its counter range and reserved bits, each copy the inverse of
+// its part within the SRVT, all three with one counter, the sample within its
+// window and within the SCT of now, the frames in progress a correct prefix of
+// the next sample; and the reported command and counter must be that sample's
+// (decoded here byte by byte), with a counter step of 1..max_delta_counter
+// from the previous valid report.
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+
+#include "cellguard/can/command_receiver.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+#define ORACLE(cond)                                                                \
+    do {                                                                            \
+        if (!(cond)) {                                                              \
+            std::fprintf(stderr, "oracle failed: %s (line %d)\n", #cond, __LINE__); \
+            std::abort();                                                           \
+        }                                                                           \
+    } while (false)
+
+std::uint8_t ref_update(std::uint8_t reg, std::uint8_t byte) {
+    unsigned r = static_cast<unsigned>(reg ^ byte);
+    for (int i = 0; i < 8; ++i) {
+        r = (r & 0x80U) != 0U ? ((r << 1U) ^ 0x1DU) & 0xFFU : (r << 1U) & 0xFFU;
+    }
+    return static_cast<std::uint8_t>(r);
+}
+
+std::int16_t ref_joint(const CanFrame& f, int byte) {
+    return static_cast<std::int16_t>(static_cast<std::uint16_t>(f.data[byte] | (f.data[byte + 1] << 8U)));
+}
+
+/// Independent check of command part @p part (0..2): ID, DLC, P01 CRC with the part's data ID, counter, nibble.
+bool ref_part_ok(const CanFrame& f, int part, const CommandChannelConfig& c) {
+    if (f.id != c.base_can_id + 2U * static_cast<unsigned>(part) || f.dlc != 8U) {
+        return false;
+    }
+    const unsigned counter = f.data[1] & 0x0FU;
+    const unsigned nibble = f.data[1] >> 4U;
+    if (counter > 14U) {
+        return false;
+    }
+    const std::uint16_t id = c.data_id[part];
+    const auto lo = static_cast<std::uint8_t>(id & 0xFFU);
+    const auto hi = static_cast<std::uint8_t>(id >> 8U);
+    std::uint8_t reg = 0U;
+    switch (c.data_id_mode) {
+        case E2eP01DataIdMode::kBoth: reg = ref_update(ref_update(reg, lo), hi); break;
+        case E2eP01DataIdMode::kAlt: reg = ref_update(reg, counter % 2U == 0U ? lo : hi); break;
+        case E2eP01DataIdMode::kLow: reg = ref_update(reg, lo); break;
+        case E2eP01DataIdMode::kNibble: reg = ref_update(ref_update(reg, lo), 0U); break;
+    }
+    if (nibble != (c.data_id_mode == E2eP01DataIdMode::kNibble ? (hi & 0x0FU) : 0U)) {
+        return false;
+    }
+    for (int k = 1; k < 8; ++k) {
+        reg = ref_update(reg, f.data[k]);
+    }
+    if (reg != f.data[0]) {
+        return false;
+    }
+    if (part == 0 && ((f.data[2] & 0xC0U) != 0U || (f.data[3] & 0xF8U) != 0U)) {
+        return false;  // reserved bits of part A
+    }
+    for (int byte = (part == 0 ? 4 : 2); byte < (part == 2 ? 6 : 8); byte += 2) {
+        if (ref_joint(f, byte) == -32768) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool ref_is_copy(const CanFrame& copy, const CanFrame& f) {
+    if (copy.id != f.id + 1U || copy.dlc != 8U) {
+        return false;
+    }
+    for (int k = 0; k < 8; ++k) {
+        if (static_cast<std::uint8_t>(copy.data[k] ^ f.data[k]) != 0xFFU) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// The command of a checked sample (parts at a, b, c), decoded byte by byte.
+RobotCommand ref_decode(const CanFrame& a, const CanFrame& b, const CanFrame& c) {
+    RobotCommand r;
+    r.monitoring_case = static_cast<std::uint8_t>(a.data[2] & 0x0FU);
+    r.speed_class = static_cast<std::uint8_t>((a.data[2] >> 4U) & 0x03U);
+    r.joint_count = static_cast<std::uint8_t>(a.data[3] & 0x07U);
+    r.joint_raw[0] = ref_joint(a, 4);
+    r.joint_raw[1] = ref_joint(a, 6);
+    r.joint_raw[2] = ref_joint(b, 2);
+    r.joint_raw[3] = ref_joint(b, 4);
+    r.joint_raw[4] = ref_joint(b, 6);
+    r.joint_raw[5] = ref_joint(c, 2);
+    r.joint_raw[6] = ref_joint(c, 4);
+    r.robot_id = static_cast<std::uint16_t>(c.data[6] | (c.data[7] << 8U));
+    return r;
+}
+
+struct Seen {
+    CanFrame frame;
+    std::uint64_t time;
+};
+
+constexpr std::size_t kHistory = 11U;  // a complete sample and the five frames of one in progress
+
+/// With CELLGUARD_FUZZ_STATS set, reports at exit how often the oracle saw a valid status.
+struct Stats {
+    std::uint64_t statuses = 0U;
+    std::uint64_t valid = 0U;
+    Stats() = default;
+    Stats(const Stats&) = delete;
+    Stats& operator=(const Stats&) = delete;
+    ~Stats() {
+        if (std::getenv("CELLGUARD_FUZZ_STATS") != nullptr) {
+            std::fprintf(stderr, "statuses checked: %llu, valid: %llu\n", static_cast<unsigned long long>(statuses),
+                         static_cast<unsigned long long>(valid));
+        }
+    }
+};
+Stats g_stats;  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables): fuzz statistics
+
+RobotCommand fuzzed_command(FuzzedDataProvider& in) {
+    RobotCommand c;
+    c.monitoring_case = in.ConsumeIntegralInRange<std::uint8_t>(0U, 15U);
+    c.speed_class = in.ConsumeIntegralInRange<std::uint8_t>(0U, 3U);
+    c.joint_count = in.ConsumeIntegralInRange<std::uint8_t>(0U, 7U);
+    c.robot_id = in.ConsumeIntegral<std::uint16_t>();
+    for (std::size_t j = 0U; j < c.joint_count; ++j) {
+        c.joint_raw[j] = in.ConsumeIntegralInRange<std::int16_t>(-32767, 32767);
+    }
+    return c;
+}
+
+/// The oracle for a valid status: see the file comment.
+void check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, std::uint64_t now,
+                 const CommandReceiverConfig& config) {
+    const CommandChannelConfig& ch = config.channel;
+    // The newest C' ends the sample; frames after it are a sample in progress.
+    std::size_t end = seen;  // index one past the sample's C'
+    while (end > 0U && history[end - 1U].frame.id != ch.base_can_id + 5U) {
+        --end;
+    }
+    ORACLE(end >= 6U);
+    const std::size_t progress = seen - end;
+    ORACLE(progress <= 5U);
+    const Seen* s = history + (end - 6U);
+    for (int part = 0; part < 3; ++part) {
+        const Seen& f = s[2 * part];
+        const Seen& copy = s[2 * part + 1];
+        ORACLE(ref_part_ok(f.frame, part, ch));
+        ORACLE(ref_is_copy(copy.frame, f.frame));
+        ORACLE(copy.time >= f.time && copy.time - f.time <= config.srvt_us);
+        ORACLE((f.frame.data[1] & 0x0FU) == (s[0].frame.data[1] & 0x0FU));
+    }
+    ORACLE(s[5].time - s[0].time <= config.sample_window_us);
+    ORACLE(now >= s[5].time && now - s[5].time <= config.sct_us);
+    const RobotCommand expected = ref_decode(s[0].frame, s[2].frame, s[4].frame);
+    for (std::size_t j = expected.joint_count; j < kMaxCommandJoints; ++j) {
+        ORACLE(expected.joint_raw[j] == 0);
+    }
+    ORACLE(p.input.valid);
+    ORACLE(p.input.command == expected);
+    ORACLE(p.input.counter == (s[0].frame.data[1] & 0x0FU));
+    ORACLE(p.input.received_us == s[5].time);
+    // The sample in progress is a correct prefix of the next one, within its limits.
+    const Seen* n = history + end;
+    for (std::size_t i = 0U; i < progress; ++i) {
+        ORACLE(n[i].frame.id == ch.base_can_id + i);
+        if (i % 2U == 0U) {
+            ORACLE(ref_part_ok(n[i].frame, static_cast<int>(i / 2U), ch));
+            ORACLE((n[i].frame.data[1] & 0x0FU) == (n[0].frame.data[1] & 0x0FU));
+        } else {
+            ORACLE(ref_is_copy(n[i].frame, n[i - 1U].frame));
+            ORACLE(n[i].time - n[i - 1U].time <= config.srvt_us);
+        }
+        ORACLE(now - n[0].time <= config.sample_window_us);
+    }
+    if (progress % 2U == 1U) {
+        ORACLE(now - n[progress - 1U].time <= config.srvt_us);
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    FuzzedDataProvider in(data, size);
+    CommandReceiverConfig config;
+    config.channel.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
+    config.srvt_us = 5000U;
+    config.sample_window_us = 12000U;
+    config.sct_us = 40000U;
+    config.max_delta_counter = in.ConsumeIntegralInRange<std::uint8_t>(1U, 3U);
+    config.recovery_good_samples = in.ConsumeIntegralInRange<std::uint8_t>(1U, 3U);
+    CommandReceiver receiver(config);
+    const CommandChannelConfig& ch = config.channel;
+
+    std::uint64_t now = 1000000U;
+    std::uint8_t counter = 0U;
+    CommandFrames sample = encode_command_sample(RobotCommand{}, counter, ch).value();
+    CommandFrames previous = sample;
+    std::size_t next = 0U;  // the frame of `sample` to send next
+    Seen history[kHistory] = {};
+    std::size_t seen = 0U;
+    CanFrame replay[4] = {};
+    std::size_t replay_count = 0U;
+    bool was_valid = false;
+    std::uint8_t last_counter = 0U;
+
+    for (int step = 0; step < 512 && in.remaining_bytes() > 0U; ++step) {
+        CanFrame f{};
+        bool deliver = true;
+        switch (in.ConsumeIntegralInRange<int>(0, 12)) {
+            case 0:  // time passes, with or without a poll
+                now += in.ConsumeIntegralInRange<std::uint32_t>(0U, 50000U);
+                deliver = false;
+                if (in.ConsumeBool()) {
+                    continue;
+                }
+                break;
+            case 1:  // a new sample: the counter advances, repeats, skips or jumps
+                switch (in.ConsumeIntegralInRange<int>(0, 3)) {
+                    case 0: counter = e2e_p01_next_counter(counter); break;
+                    case 1: break;
+                    case 2:
+                        counter = static_cast<std::uint8_t>((counter + in.ConsumeIntegralInRange<int>(2, 4)) % 15);
+                        break;
+                    default: counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U); break;
+                }
+                previous = sample;
+                sample = encode_command_sample(fuzzed_command(in), counter, ch).value();
+                next = 0U;
+                [[fallthrough]];
+            case 2:  // the next frame of the sample, shortly after the previous one
+            case 3:
+            case 4:
+                now += in.ConsumeIntegralInRange<std::uint32_t>(0U, 3000U);
+                f = sample.frame[next];
+                next = (next + 1U) % kCommandFramesPerSample;
+                break;
+            case 5:  // any frame of the sample: reordered or repeated
+                f = sample.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                break;
+            case 6: {  // raw bytes on a command ID or any ID
+                f.id = in.ConsumeBool() ? ch.base_can_id + in.ConsumeIntegralInRange<std::uint32_t>(0U, 5U)
+                                        : in.ConsumeIntegralInRange<std::uint32_t>(0U, 0x7FFU);
+                f.dlc = in.ConsumeIntegralInRange<std::uint8_t>(0U, 15U);
+                for (std::uint8_t& b : f.data) {
+                    b = in.ConsumeIntegral<std::uint8_t>();
+                }
+                break;
+            }
+            case 7: {  // a frame of the sample with one bit flipped
+                f = sample.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                const unsigned bit = in.ConsumeIntegralInRange<unsigned>(0U, 63U);
+                f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] ^ (1U << (bit % 8U)));
+                break;
+            }
+            case 8:  // replay an earlier command frame
+                if (replay_count == 0U) {
+                    deliver = false;
+                } else {
+                    f = replay[in.ConsumeIntegralInRange<std::size_t>(0U, replay_count - 1U)];
+                }
+                break;
+            case 9:  // time goes backwards
+                now -= in.ConsumeIntegralInRange<std::uint64_t>(0U, 1000U);
+                deliver = false;
+                break;
+            case 10: {  // masquerade: a part under another data ID or mode, or with another counter
+                CommandChannelConfig other = ch;
+                const std::size_t part = in.ConsumeIntegralInRange<std::size_t>(0U, 2U);
+                std::uint8_t other_counter = counter;
+                if (in.ConsumeBool()) {
+                    other.data_id[part] = in.ConsumeIntegralInRange<std::uint16_t>(0U, 0x0FFFU);
+                    other.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
+                } else {
+                    other_counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U);
+                }
+                const Result<CommandFrames> r = encode_command_sample(fuzzed_command(in), other_counter, other);
+                if (!r.ok()) {
+                    deliver = false;
+                } else {
+                    f = r.value().frame[2U * part + (in.ConsumeBool() ? 1U : 0U)];
+                }
+                break;
+            }
+            case 11:  // a frame of the previous sample: parts of two samples mixed
+                f = previous.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                break;
+            default: {  // poll
+                deliver = false;
+                break;
+            }
+        }
+
+        if (deliver) {
+            (void)receiver.on_frame(f, now);
+            if (f.id >= ch.base_can_id && f.id < ch.base_can_id + kCommandFramesPerSample) {
+                if (seen == kHistory) {
+                    for (std::size_t i = 1U; i < kHistory; ++i) {
+                        history[i - 1U] = history[i];
+                    }
+                    --seen;
+                }
+                history[seen++] = Seen{f, now};
+                replay[replay_count < 4U ? replay_count : static_cast<std::size_t>(step % 4)] = f;
+                replay_count = replay_count < 4U ? replay_count + 1U : 4U;
+            }
+        }
+        const CommandPoll p = receiver.poll(now);
+
+        ++g_stats.statuses;
+        g_stats.valid += p.status.valid ? 1U : 0U;
+        ORACLE(p.status.valid == (p.status.fault == CommandFault::kNone));
+        if (!p.status.valid) {
+            ORACLE(!p.input.valid);
+            was_valid = false;
+            continue;
+        }
+        check_valid(p, history, seen, now, config);
+        if (was_valid && p.input.counter != last_counter) {
+            const std::uint8_t delta = e2e_p01_counter_delta(p.input.counter, last_counter);
+            ORACLE(delta >= 1U && delta <= config.max_delta_counter);
+        }
+        was_valid = true;
+        last_counter = p.input.counter;
+    }
+    return 0;
+}
