@@ -101,12 +101,13 @@ urdf::ModelInterfaceSharedPtr parse_model(const std::string& text) {
         model = urdf::parseURDF(text);
         logged = capture.messages;
     }
+    if (!model) {
+        fail(ErrorCode::kMalformedInput, "liburdfdom: %s",
+             logged.empty() ? "cannot read the robot" : join(logged, "; ").c_str());
+    }
     if (!logged.empty()) {
         fail(ErrorCode::kMalformedInput, "liburdfdom: %s (refused: liburdfdom drops what it cannot read and goes on)",
              join(logged, "; ").c_str());
-    }
-    if (!model) {
-        fail(ErrorCode::kMalformedInput, "liburdfdom could not read the robot");
     }
     return model;
 }
