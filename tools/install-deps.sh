@@ -17,7 +17,7 @@ set -euo pipefail
 # libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox libcli11-dev libpng-dev)
+      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev)
 arm64=0
 for arg in "$@"; do
   case "$arg" in
