@@ -211,8 +211,8 @@ int run(const Options& o, std::ostream& out, std::ostream& err) {
     print_links(imported, out);
     print_capsules(imported, out);
     char id[64];
-    std::snprintf(id, sizeof(id), "CRC-32 0x%08X, robot id 0x%04X (%u)", static_cast<unsigned>(crc),
-                  static_cast<unsigned>(robot_id(crc)), static_cast<unsigned>(robot_id(crc)));
+    static_cast<void>(std::snprintf(id, sizeof(id), "CRC-32 0x%08X, robot id 0x%04X (%u)", static_cast<unsigned>(crc),
+                                    static_cast<unsigned>(robot_id(crc)), static_cast<unsigned>(robot_id(crc))));
     out << "image: " << o.out << ", " << id << "\n";
     return kExitOk;
 }

@@ -42,7 +42,7 @@ bool is_binary_size(const std::uint8_t* data, std::size_t size) {
     return expected == size;
 }
 
-IoStatus parse_binary(const std::uint8_t* data, std::size_t size, StlMesh& mesh) {
+IoStatus parse_binary(const std::uint8_t* data, StlMesh& mesh) {
     const std::size_t count = binary_count(data);
     if (count > kStlMaxTriangles) {
         return IoStatus::failure(ErrorCode::kCapacityExceeded, "binary STL: %zu triangles, at most %zu", count,
@@ -51,7 +51,6 @@ IoStatus parse_binary(const std::uint8_t* data, std::size_t size, StlMesh& mesh)
     if (count == 0U) {
         return IoStatus::failure(ErrorCode::kMalformedInput, "binary STL: no triangles");
     }
-    static_cast<void>(size);
     mesh.vertices.reserve(count * 3U);
     for (std::size_t t = 0U; t < count; ++t) {
         const std::uint8_t* tri = data + kBinaryHeaderBytes + t * kBinaryTriangleBytes;
@@ -215,11 +214,9 @@ IoStatus parse_ascii(const std::uint8_t* data, std::size_t size, StlMesh& mesh) 
 }
 
 bool starts_with_solid(const std::uint8_t* data, std::size_t size) {
-    std::size_t i = 0U;
-    while (i < size && (data[i] == ' ' || data[i] == '\t' || data[i] == '\r' || data[i] == '\n')) {
-        ++i;
-    }
-    return size - i >= 5U && std::memcmp(data + i, "solid", 5U) == 0;
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    return first != std::string_view::npos && text.compare(first, 5U, "solid") == 0;
 }
 
 }  // namespace
@@ -230,7 +227,7 @@ IoStatus parse_stl(const std::uint8_t* data, std::size_t size, StlMesh& mesh) {
         return IoStatus::failure(ErrorCode::kCapacityExceeded, "STL: %zu bytes, at most %zu", size, kStlMaxBytes);
     }
     if (is_binary_size(data, size)) {
-        return parse_binary(data, size, mesh);
+        return parse_binary(data, mesh);
     }
     if (starts_with_solid(data, size)) {
         return parse_ascii(data, size, mesh);

@@ -33,8 +33,14 @@ constexpr double kTwoPi = 6.28318530717958647692;
 constexpr double kMaxRawJoint = 32767.0;
 
 /// A refusal on its way to the entry point.
-struct ImportFailure {
-    IoStatus status;
+class ImportFailure final : public std::exception {
+public:
+    explicit ImportFailure(const IoStatus& status) : status_(status) {}
+    [[nodiscard]] const char* what() const noexcept override { return status_.message(); }
+    [[nodiscard]] const IoStatus& status() const noexcept { return status_; }
+
+private:
+    IoStatus status_;
 };
 
 // NOLINTNEXTLINE(cert-dcl50-cpp): printf-style, checked by the format attribute
@@ -50,7 +56,7 @@ void fail(ErrorCode code, const char* format, ...) {
     if (n < 0) {
         text[0] = '\0';
     }
-    throw ImportFailure{IoStatus::failure(code, "%s", text)};
+    throw ImportFailure(IoStatus::failure(code, "%s", text));
 }
 
 std::string join(const std::vector<std::string>& items, const char* separator) {
@@ -82,12 +88,14 @@ public:
 
     void log(const std::string& text, console_bridge::LogLevel level, const char* /*filename*/, int /*line*/) override {
         if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
-            messages.push_back(text);
+            messages_.push_back(text);
         }
     }
-    std::vector<std::string> messages;  ///< what was logged, in order
+    /// What was logged, in order.
+    [[nodiscard]] const std::vector<std::string>& messages() const noexcept { return messages_; }
 
 private:
+    std::vector<std::string> messages_;
     console_bridge::LogLevel previous_level_;
 };
 
@@ -99,7 +107,7 @@ urdf::ModelInterfaceSharedPtr parse_model(const std::string& text) {
         const std::lock_guard<std::mutex> lock(console_mutex);
         ConsoleCapture capture;
         model = urdf::parseURDF(text);
-        logged = capture.messages;
+        logged = capture.messages();
     }
     if (!model) {
         fail(ErrorCode::kMalformedInput, "liburdfdom: %s",
@@ -413,7 +421,7 @@ Capsule mesh_capsule(const urdf::Mesh& mesh, const UrdfImportOptions& options, c
     for (Eigen::Vector3d& v : stl.vertices) {
         v = v.cwiseProduct(scale);
     }
-    const Capsule c = bounding_capsule(stl.vertices);
+    Capsule c = bounding_capsule(stl.vertices);
     for (const Eigen::Vector3d& v : stl.vertices) {
         if (segment_distance(v, c.a, c.b) > c.radius) {
             fail(ErrorCode::kInvalidArgument, "link '%s': mesh '%s': bounding capsule misses a vertex", link, file);
@@ -435,19 +443,19 @@ void check_size(double value, const char* what, const char* link) {
 LinkCapsule shape_capsule(const urdf::Geometry& geometry, const UrdfImportOptions& options, const char* link) {
     switch (geometry.type) {
         case urdf::Geometry::SPHERE: {
-            const double r = static_cast<const urdf::Sphere&>(geometry).radius;
+            const double r = dynamic_cast<const urdf::Sphere&>(geometry).radius;
             check_size(r, "sphere radius", link);
             return {Capsule{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), r}, true};
         }
         case urdf::Geometry::CYLINDER: {
-            const auto& c = static_cast<const urdf::Cylinder&>(geometry);
+            const auto& c = dynamic_cast<const urdf::Cylinder&>(geometry);
             check_size(c.radius, "cylinder radius", link);
             check_size(c.length, "cylinder length", link);
             const Eigen::Vector3d half(0.0, 0.0, 0.5 * c.length);
             return {Capsule{-half, half, c.radius}, false};
         }
         case urdf::Geometry::BOX: {
-            const urdf::Vector3& d = static_cast<const urdf::Box&>(geometry).dim;
+            const urdf::Vector3& d = dynamic_cast<const urdf::Box&>(geometry).dim;
             const Eigen::Vector3d size(d.x, d.y, d.z);
             for (int k = 0; k < 3; ++k) {
                 check_size(size[k], "box size", link);
@@ -460,7 +468,7 @@ LinkCapsule shape_capsule(const urdf::Geometry& geometry, const UrdfImportOption
             return {Capsule{-half, half, 0.5 * std::sqrt(across2)}, false};
         }
         case urdf::Geometry::MESH:
-            return {mesh_capsule(static_cast<const urdf::Mesh&>(geometry), options, link), false};
+            return {mesh_capsule(dynamic_cast<const urdf::Mesh&>(geometry), options, link), false};
         default: fail(ErrorCode::kUnsupportedType, "link '%s': unknown geometry type", link);
     }
 }
@@ -637,7 +645,7 @@ IoStatus import_urdf_text(const std::string& text, const UrdfImportOptions& opti
         import_model(text, options, result);
     } catch (const ImportFailure& failure) {
         result = UrdfImport{};
-        return failure.status;
+        return failure.status();
     } catch (const std::exception& e) {
         result = UrdfImport{};
         return IoStatus::failure(ErrorCode::kMalformedInput, "URDF: %s", e.what());
