@@ -40,16 +40,22 @@ struct RobotMaskStats {
 /// not) for @p pose grown by @p margin_m (finite, >= 0). Capsules partly or
 /// wholly outside the grid mark what lies inside. Errors: kStorageTooSmall
 /// when @p mask holds fewer bytes than the grid has voxels,
-/// kInvalidArgument for a bad margin (the mask is then all 1: the whole
-/// grid counts as the robot's, and the separation check sees no space).
+/// kInvalidArgument for a bad margin, or a pose with a coordinate or radius
+/// that is not finite (or a negative radius, or more than kMaxRobotCapsules
+/// capsules): the mask is then all 1, the whole grid counts as the robot's,
+/// and the separation check sees no space. Work: stats.tested voxel tests,
+/// each a few multiplications and one comparison of squared distances.
 [[nodiscard]] Status mark_robot_voxels(const GridGeometry& grid, const RobotPose& pose, double margin_m,
                                        Span<std::uint8_t> mask, RobotMaskStats& stats) noexcept;
 
 /// The most voxel tests mark_robot_voxels makes for @p model in any pose on
 /// a grid of voxel size @p voxel_size_m with margin @p margin_m: per capsule,
 /// the voxels of the bounding box of a segment of its length in the worst
-/// orientation, grown by radius + margin + half a voxel diagonal, plus one
-/// voxel per axis for the box's rounding.
+/// orientation (equal on all three axes: L / sqrt(3) each), grown by radius +
+/// margin + half a voxel diagonal, plus two voxels per axis for the cells the
+/// box's ends fall in; (L / sqrt(3) + 2 R) / s + 2, cubed, summed over the
+/// capsules and rounded up. 0 for a margin or voxel size that
+/// mark_robot_voxels would refuse (it then tests no voxel).
 [[nodiscard]] std::uint64_t robot_mask_work_bound(const RobotModel& model, double margin_m,
                                                   double voxel_size_m) noexcept;
 

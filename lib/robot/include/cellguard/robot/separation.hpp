@@ -27,8 +27,24 @@
 /// - kReduced when d < S_p(0) + (v_h + v_r(0)) t_slowdown, the distance the
 ///   robot needs to reach its reduced class before S_p(0) is crossed;
 /// - kFull otherwise.
-/// Work: one pass over the grid, and for each voxel that may be a person,
-/// its distance to every capsule; bounded by voxels x capsules.
+/// Work: one pass over the grid counts each kind's voxels (outside the
+/// robot's); a kind with fewer than k is kDistanceFarMm and drops out of the
+/// search. Then at most one pass over the grid's rows, visited outward from the
+/// robot (layers outward from the robot's centre in z, rows outward in y), so
+/// near voxels set the distances early. Each kind keeps its k smallest
+/// distances in a fixed max-heap (k <= kMaxSeparationVoxelCount; no sort, no
+/// histogram); its k-th is its threshold (infinite until k were found). A
+/// row whose lower bound (for each capsule, the distance from the row's y-z
+/// position to the capsule's segment projected onto the y-z plane, less
+/// radius and half diagonal) is not below both kinds' thresholds is skipped
+/// unread; in the other rows each voxel within the x extent of the capsules
+/// that may count (grown by the threshold) is classified, and a candidate's
+/// distance is computed against the capsules whose row bound is below its
+/// kind's threshold, with squared distances compared first and one square
+/// root for a capsule that may count. The search stops when both kinds have
+/// k voxels at distance 0. The result equals the brute-force definition
+/// (tested); the work is bounded by voxels x capsules, and in practice by the
+/// rows near the robot (bench_cycle prints both cases).
 #ifndef CELLGUARD_ROBOT_SEPARATION_HPP
 #define CELLGUARD_ROBOT_SEPARATION_HPP
 
@@ -42,6 +58,10 @@
 
 namespace cellguard {
 
+/// Largest min_foreground_voxels and min_hidden_voxels: the k smallest
+/// distances of each kind are kept in a fixed array of this many entries.
+constexpr std::uint32_t kMaxSeparationVoxelCount = 64U;
+
 /// A distance that means "nothing within range" (and the saturation value).
 constexpr std::uint16_t kDistanceFarMm = 65535U;
 
@@ -54,21 +74,22 @@ struct SpeedClassLimits {
 
 /// Parameters of speed and separation monitoring.
 struct SeparationParams {
-    double human_speed_mps = 1.6;          ///< v_h (ISO 13855)
-    double reaction_time_s = 0.0;          ///< T_r: detection to the robot starting to stop (response time + PLC + robot)
+    double human_speed_mps = 1.6;  ///< v_h (ISO 13855)
+    double reaction_time_s = 0.0;  ///< T_r: detection to the robot starting to stop (response time + PLC + robot)
     SpeedClassLimits classes[kSpeedClasses] = {};  ///< class 0 is full speed
-    std::uint8_t class_count = 1U;         ///< classes commissioned, 1..kSpeedClasses
-    std::uint8_t reduced_class = 0U;       ///< the class a kReduced request asks for (< class_count)
-    double slowdown_time_s = 0.0;          ///< time the robot takes from class 0 to reduced_class
-    double intrusion_distance_m = 0.0;     ///< C, from the detection capability (ISO 13855)
-    double sensing_uncertainty_m = 0.0;    ///< Z_d
-    double robot_uncertainty_m = 0.0;      ///< Z_r
-    std::uint32_t min_foreground_voxels = 1U;  ///< foreground voxels that make a distance (>= 1)
-    std::uint32_t min_hidden_voxels = 1U;      ///< unseen voxels that make a distance (>= 1)
+    std::uint8_t class_count = 1U;                 ///< classes commissioned, 1..kSpeedClasses
+    std::uint8_t reduced_class = 0U;               ///< the class a kReduced request asks for (< class_count)
+    double slowdown_time_s = 0.0;                  ///< time the robot takes from class 0 to reduced_class
+    double intrusion_distance_m = 0.0;             ///< C, from the detection capability (ISO 13855)
+    double sensing_uncertainty_m = 0.0;            ///< Z_d
+    double robot_uncertainty_m = 0.0;              ///< Z_r
+    std::uint32_t min_foreground_voxels = 1U;      ///< foreground voxels that make a distance (>= 1)
+    std::uint32_t min_hidden_voxels = 1U;          ///< unseen voxels that make a distance (>= 1)
 };
 
 /// Checks @p params: finite, non-negative values; 1..4 classes;
-/// reduced_class < class_count; counts >= 1. kInvalidArgument if not.
+/// reduced_class < class_count; counts 1..kMaxSeparationVoxelCount.
+/// kInvalidArgument if not (classes at and beyond class_count are not read).
 [[nodiscard]] Status check_separation_params(const SeparationParams& params) noexcept;
 
 /// S_p for speed class @p speed_class (< params.class_count, a contract), metres.
@@ -91,12 +112,12 @@ struct SeparationInputs {
 
 /// The separation check's result of one cycle.
 struct SeparationResult {
-    std::uint16_t distance_mm = 0U;    ///< min(foreground_mm, hidden_mm); kDistanceFarMm: none
-    std::uint16_t foreground_mm = 0U;  ///< foreground distance
-    std::uint16_t hidden_mm = 0U;      ///< hidden (unseen) distance
-    std::uint16_t required_mm = 0U;    ///< S_p of the current speed class, rounded up
+    std::uint16_t distance_mm = 0U;                        ///< min(foreground_mm, hidden_mm); kDistanceFarMm: none
+    std::uint16_t foreground_mm = 0U;                      ///< foreground distance
+    std::uint16_t hidden_mm = 0U;                          ///< hidden (unseen) distance
+    std::uint16_t required_mm = 0U;                        ///< S_p of the current speed class, rounded up
     SpeedRequest request = SpeedRequest::kProtectiveStop;  ///< the speed request
-    std::uint32_t candidates = 0U;     ///< voxels whose distance was computed
+    std::uint32_t candidates = 0U;                         ///< voxels whose distance was computed
 };
 
 /// Computes the separation of this cycle for a robot in @p pose, moving in
