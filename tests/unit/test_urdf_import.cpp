@@ -20,6 +20,8 @@
 
 #include "cellguard/host/io/stl.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
+#include "cellguard/robot/kinematics.hpp"
+#include "cellguard/robot/robot_image.hpp"
 #include "cellguard/robot/robot_model.hpp"
 
 using namespace cellguard;
@@ -223,6 +225,47 @@ TEST_CASE("urdf import: the demo arm's known capsules (box, merged cylinder and 
     }
     CHECK(merged);
     CHECK(dropped);
+}
+
+// verifies: SR-ROB-101
+TEST_CASE("urdf import: the demo arm, placed by the controller's kinematics, stands 1.43 m tall and reaches sideways") {
+    UrdfImportOptions o = arm_options();
+    o.base_xyz = Eigen::Vector3d(0.5, 0.0, 0.0);
+    o.base_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2.0, Eigen::Vector3d::UnitZ()));
+    UrdfImport r;
+    REQUIRE(host::import_urdf_file(arm_path(), o, r).ok());
+    JointPositions q;
+    q.count = 6U;
+    RobotPose pose;
+    place_robot(r.model, q, pose);
+    // Zero pose: upright; the wrists offset the tool along the arm's y, which the base's 90 deg turns into -x.
+    const PlacedCapsule& tool = pose.capsules[7];
+    CHECK(tool.b[0] == doctest::Approx(0.5 - (0.176 - 0.137 + 0.116 + 0.092 + 0.1)));
+    CHECK(tool.b[1] == doctest::Approx(0.0));
+    CHECK(tool.b[2] == doctest::Approx(0.128 + 0.612 + 0.572 + 0.116));
+    // Shoulder lift +90 deg about the arm's y: the upper arm and forearm lie along the arm's x (the world's y).
+    q.q[1] = M_PI / 2.0;
+    place_robot(r.model, q, pose);
+    const PlacedCapsule& forearm = pose.capsules[3];
+    CHECK(std::max(forearm.a[1], forearm.b[1]) == doctest::Approx(0.612 + 0.572));
+    CHECK(forearm.a[2] == doctest::Approx(0.128));
+    CHECK(forearm.b[2] == doctest::Approx(0.128));
+}
+
+// verifies: SR-ROB-101
+TEST_CASE("urdf import: the demo arm's model survives the robot image unchanged") {
+    UrdfImport r;
+    REQUIRE(host::import_urdf_file(arm_path(), arm_options(), r).ok());
+    std::vector<std::uint8_t> bytes(kRobotImageMaxBytes);
+    const auto written = write_robot_image(r.model, Span<std::uint8_t>(bytes.data(), bytes.size()));
+    REQUIRE(written.ok());
+    const auto loaded = load_robot_image(Span<const std::uint8_t>(bytes.data(), written.value()));
+    REQUIRE(loaded.ok());
+    const RobotModel& m = loaded.value().model;
+    CHECK(std::string(m.name) == "cellguard_arm6");
+    CHECK(m.capsule_count == r.model.capsule_count);
+    CHECK(m.capsules[7].radius == r.model.capsules[7].radius);
+    CHECK(m.links[3].upper == r.model.links[3].upper);
 }
 
 // verifies: SR-ROB-101
