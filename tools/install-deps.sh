@@ -18,7 +18,7 @@ set -euo pipefail
 # python3-canmatrix: the third-party DBC decoder of tools/dbc_decode_check.py (ctest dbc_decoded_by_canmatrix).
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox libcli11-dev libpng-dev python3-canmatrix)
+      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev python3-canmatrix)
 arm64=0
 for arg in "$@"; do
   case "$arg" in

@@ -1,0 +1,677 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// import_urdf_text() and import_urdf_file() of urdf_import.hpp on liburdfdom.
+// Internally a refusal is thrown (ImportFailure) and turned into the
+// IoStatus at the two entry points.
+#include "cellguard/host/io/urdf_import.hpp"
+
+#include <console_bridge/console.h>
+#include <tinyxml.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+#include <set>
+#include <utility>
+
+#include "cellguard/host/io/stl.hpp"
+
+namespace cellguard::host {
+
+namespace {
+
+constexpr double kTwoPi = 6.28318530717958647692;
+/// Largest joint position the command's int16 carries (-32768 is reserved).
+constexpr double kMaxRawJoint = 32767.0;
+
+/// A refusal on its way to the entry point.
+class ImportFailure final : public std::exception {
+public:
+    explicit ImportFailure(const IoStatus& status) : status_(status) {}
+    [[nodiscard]] const char* what() const noexcept override { return status_.message(); }
+    [[nodiscard]] const IoStatus& status() const noexcept { return status_; }
+
+private:
+    IoStatus status_;
+};
+
+// NOLINTNEXTLINE(cert-dcl50-cpp): printf-style, checked by the format attribute
+[[noreturn]] void fail(ErrorCode code, const char* format, ...) __attribute__((format(printf, 2, 3)));
+// NOLINTNEXTLINE(cert-dcl50-cpp): printf-style, checked by the format attribute
+void fail(ErrorCode code, const char* format, ...) {
+    char text[IoStatus::kMessageCapacity];
+    std::va_list args;
+    va_start(args, format);
+    // NOLINTNEXTLINE(clang-diagnostic-format-nonliteral): checked at each caller (format attribute)
+    const int n = std::vsnprintf(text, sizeof(text), format, args);
+    va_end(args);
+    if (n < 0) {
+        text[0] = '\0';
+    }
+    throw ImportFailure(IoStatus::failure(code, "%s", text));
+}
+
+std::string join(const std::vector<std::string>& items, const char* separator) {
+    std::string out;
+    for (const std::string& item : items) {
+        out += (out.empty() ? "" : separator) + item;
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------- parsing
+
+/// Collects what liburdfdom logs at WARN and above while it lives; restores
+/// the previous handler and level afterwards.
+class ConsoleCapture final : public console_bridge::OutputHandler {
+public:
+    ConsoleCapture() : previous_level_(console_bridge::getLogLevel()) {
+        console_bridge::useOutputHandler(this);
+        console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_WARN);
+    }
+    ~ConsoleCapture() override {
+        console_bridge::setLogLevel(previous_level_);
+        console_bridge::restorePreviousOutputHandler();
+    }
+    ConsoleCapture(const ConsoleCapture&) = delete;
+    ConsoleCapture& operator=(const ConsoleCapture&) = delete;
+    ConsoleCapture(ConsoleCapture&&) = delete;
+    ConsoleCapture& operator=(ConsoleCapture&&) = delete;
+
+    void log(const std::string& text, console_bridge::LogLevel level, const char* /*filename*/, int /*line*/) override {
+        if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
+            messages_.push_back(text);
+        }
+    }
+    /// What was logged, in order.
+    [[nodiscard]] const std::vector<std::string>& messages() const noexcept { return messages_; }
+
+private:
+    std::vector<std::string> messages_;
+    console_bridge::LogLevel previous_level_;
+};
+
+urdf::ModelInterfaceSharedPtr parse_model(const std::string& text) {
+    static std::mutex console_mutex;  // console_bridge's handler is global
+    std::vector<std::string> logged;
+    urdf::ModelInterfaceSharedPtr model;
+    {
+        const std::lock_guard<std::mutex> lock(console_mutex);
+        ConsoleCapture capture;
+        model = urdf::parseURDF(text);
+        logged = capture.messages();
+    }
+    if (!model) {
+        fail(ErrorCode::kMalformedInput, "liburdfdom: %s",
+             logged.empty() ? "cannot read the robot" : join(logged, "; ").c_str());
+    }
+    if (!logged.empty()) {
+        fail(ErrorCode::kMalformedInput, "liburdfdom: %s (refused: liburdfdom drops what it cannot read and goes on)",
+             join(logged, "; ").c_str());
+    }
+    return model;
+}
+
+/// What liburdfdom accepts silently, checked on the XML: a link with two
+/// parent joints, a movable joint without <axis>.
+void check_xml(const std::string& text) {
+    TiXmlDocument doc;
+    doc.Parse(text.c_str());
+    const TiXmlElement* robot = doc.FirstChildElement("robot");
+    if (doc.Error() || robot == nullptr) {
+        fail(ErrorCode::kMalformedInput, "not a URDF: %s", doc.Error() ? doc.ErrorDesc() : "no <robot>");
+    }
+    std::map<std::string, std::string> parent_joint;  // child link -> joint
+    for (const TiXmlElement* j = robot->FirstChildElement("joint"); j != nullptr; j = j->NextSiblingElement("joint")) {
+        const char* name = j->Attribute("name");
+        const char* type = j->Attribute("type");
+        const TiXmlElement* child = j->FirstChildElement("child");
+        const char* child_link = child != nullptr ? child->Attribute("link") : nullptr;
+        if (name == nullptr || type == nullptr || child_link == nullptr) {
+            continue;  // liburdfdom refuses these
+        }
+        const auto [it, fresh] = parent_joint.emplace(child_link, name);
+        if (!fresh) {
+            fail(ErrorCode::kMalformedInput, "link '%s' has two parent joints, '%s' and '%s': not a tree", child_link,
+                 it->second.c_str(), name);
+        }
+        const std::string t = type;
+        if ((t == "revolute" || t == "continuous" || t == "prismatic") && j->FirstChildElement("axis") == nullptr) {
+            fail(ErrorCode::kInvalidArgument, "joint '%s' (%s) has no <axis>: liburdfdom would take x; write it", name,
+                 type);
+        }
+    }
+}
+
+// ---------------------------------------------------------------- tree
+
+/// A link of the tree in depth-first order.
+struct Node {
+    urdf::LinkConstSharedPtr link;
+    urdf::JointConstSharedPtr joint;  ///< nullptr for the root
+    int parent = -1;                  ///< index in the node list
+};
+
+bool is_movable(const urdf::Joint& joint) {
+    return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
+           joint.type == urdf::Joint::PRISMATIC;
+}
+
+std::vector<Node> depth_first(const urdf::ModelInterface& model) {
+    std::vector<Node> nodes;
+    std::vector<Node> stack{Node{model.getRoot(), nullptr, -1}};
+    while (!stack.empty()) {
+        Node node = stack.back();
+        stack.pop_back();
+        const int index = static_cast<int>(nodes.size());
+        nodes.push_back(node);
+        const auto& children = node.link->child_joints;
+        for (auto it = children.rbegin(); it != children.rend(); ++it) {  // first child on top
+            stack.push_back(Node{model.getLink((*it)->child_link_name), *it, index});
+        }
+    }
+    return nodes;
+}
+
+/// Drops fixed leaf frames without collision geometry (repeatedly: a chain of them).
+std::vector<Node> drop_empty_frames(const std::vector<Node>& nodes, std::vector<std::string>& notes) {
+    std::vector<bool> keep(nodes.size(), false);
+    std::vector<bool> kept_child(nodes.size(), false);
+    std::vector<std::string> dropped;
+    for (std::size_t i = nodes.size(); i-- > 1U;) {
+        keep[i] = kept_child[i] || !nodes[i].link->collision_array.empty() || is_movable(*nodes[i].joint);
+        if (keep[i]) {
+            kept_child[static_cast<std::size_t>(nodes[i].parent)] = true;
+        } else {
+            dropped.insert(dropped.begin(), nodes[i].link->name);
+        }
+    }
+    keep[0] = true;
+    std::vector<int> new_index(nodes.size(), -1);
+    std::vector<Node> out;
+    for (std::size_t i = 0U; i < nodes.size(); ++i) {
+        if (keep[i]) {
+            new_index[i] = static_cast<int>(out.size());
+            Node n = nodes[i];
+            n.parent = n.parent < 0 ? -1 : new_index[static_cast<std::size_t>(n.parent)];
+            out.push_back(n);
+        }
+    }
+    if (!dropped.empty()) {
+        notes.push_back("dropped frame link(s) without collision geometry on fixed joints: " + join(dropped, ", "));
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------- joints
+
+void put_pose(const urdf::Pose& pose, const std::string& joint, RobotLink& link) {
+    const urdf::Vector3& p = pose.position;
+    const urdf::Rotation& r = pose.rotation;
+    const double values[7] = {p.x, p.y, p.z, r.w, r.x, r.y, r.z};
+    for (const double v : values) {
+        if (!std::isfinite(v)) {
+            fail(ErrorCode::kNonFiniteValue, "joint '%s': origin is not finite", joint.c_str());
+        }
+    }
+    if (std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z) > kMaxRobotReach) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': origin %.3f m from its parent, at most %.0f m", joint.c_str(),
+             std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), kMaxRobotReach);
+    }
+    const Eigen::Quaterniond q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
+    link.origin_xyz[0] = p.x;
+    link.origin_xyz[1] = p.y;
+    link.origin_xyz[2] = p.z;
+    link.origin_wxyz[0] = q.w();
+    link.origin_wxyz[1] = q.x();
+    link.origin_wxyz[2] = q.y();
+    link.origin_wxyz[3] = q.z();
+}
+
+void put_axis(const urdf::Joint& joint, RobotLink& link, std::vector<std::string>& notes) {
+    const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
+    const char* name = joint.name.c_str();
+    if (!axis.allFinite()) {
+        fail(ErrorCode::kNonFiniteValue, "joint '%s': axis is not finite", name);
+    }
+    const double length = axis.norm();
+    if (length == 0.0) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': zero axis", name);
+    }
+    if (std::abs(length - 1.0) > kUrdfAxisTolerance) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': axis (%g %g %g) has length %g, not 1 (tolerance %g)", name,
+             axis.x(), axis.y(), axis.z(), length, kUrdfAxisTolerance);
+    }
+    if (std::abs(length - 1.0) > kUnitLengthTolerance) {
+        notes.push_back("joint '" + joint.name + "': axis of length " + std::to_string(length) + " normalised");
+    }
+    const Eigen::Vector3d unit = axis / length;
+    for (int k = 0; k < 3; ++k) {
+        link.axis[k] = unit[k];
+    }
+}
+
+void put_limits(const urdf::Joint& joint, RobotLink& link, std::vector<std::string>& notes) {
+    const char* name = joint.name.c_str();
+    const bool continuous = joint.type == urdf::Joint::CONTINUOUS;
+    const double velocity = joint.limits ? joint.limits->velocity : 0.0;
+    double lower = continuous ? -kTwoPi : (joint.limits ? joint.limits->lower : 0.0);
+    double upper = continuous ? kTwoPi : (joint.limits ? joint.limits->upper : 0.0);
+    if (!std::isfinite(lower) || !std::isfinite(upper) || !std::isfinite(velocity)) {
+        fail(ErrorCode::kNonFiniteValue, "joint '%s': a limit is not finite", name);
+    }
+    if (!(velocity > 0.0)) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': velocity limit %g, must be > 0 (<limit velocity=...>)", name,
+             velocity);
+    }
+    if (lower > upper) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': lower limit %g above upper limit %g", name, lower, upper);
+    }
+    if (lower == upper) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': no range (lower = upper = %g): <limit> without lower/upper?",
+             name, lower);
+    }
+    const bool prismatic = joint.type == urdf::Joint::PRISMATIC;
+    const double wire = kMaxRawJoint * (prismatic ? kPrismaticJointUnitM : kRevoluteJointUnitRad);
+    if (lower < -wire || upper > wire) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s': limits %g .. %g outside the command's range +-%g %s", name,
+             lower, upper, wire, prismatic ? "m" : "rad");
+    }
+    if (continuous) {
+        notes.push_back("joint '" + joint.name + "': continuous, taken as revolute -2 pi .. 2 pi");
+    }
+    link.lower = lower;
+    link.upper = upper;
+    link.max_velocity = velocity;
+}
+
+JointType joint_type(const urdf::Joint& joint) {
+    switch (joint.type) {
+        case urdf::Joint::FIXED: return JointType::kFixed;
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS: return JointType::kRevolute;
+        case urdf::Joint::PRISMATIC: return JointType::kPrismatic;
+        case urdf::Joint::FLOATING:
+            fail(ErrorCode::kUnsupportedType, "joint '%s' is floating: not supported", joint.name.c_str());
+        case urdf::Joint::PLANAR:
+            fail(ErrorCode::kUnsupportedType, "joint '%s' is planar: not supported", joint.name.c_str());
+        default: fail(ErrorCode::kUnsupportedType, "joint '%s' has an unknown type", joint.name.c_str());
+    }
+}
+
+void put_joint(const urdf::Joint& joint, RobotLink& link, std::vector<std::string>& notes) {
+    link.joint = joint_type(joint);
+    if (joint.mimic) {
+        fail(ErrorCode::kUnsupportedType, "joint '%s' mimics joint '%s': mimic joints are not supported",
+             joint.name.c_str(), joint.mimic->joint_name.c_str());
+    }
+    put_pose(joint.parent_to_joint_origin_transform, joint.name, link);
+    if (link.joint != JointType::kFixed) {
+        put_axis(joint, link, notes);
+        put_limits(joint, link, notes);
+    }
+}
+
+/// Command indices from the PLC's joint order.
+void put_command_order(const std::vector<Node>& nodes, const std::vector<std::string>& order, RobotModel& model) {
+    std::vector<std::string> movable;
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        if (model.links[i].joint != JointType::kFixed) {
+            movable.push_back(nodes[i].joint->name);
+        }
+    }
+    if (movable.size() > kMaxRobotJoints) {
+        fail(ErrorCode::kCapacityExceeded, "%zu movable joints (%s), at most %zu", movable.size(),
+             join(movable, ", ").c_str(), kMaxRobotJoints);
+    }
+    for (std::size_t k = 0U; k < order.size(); ++k) {
+        const auto it = std::find_if(nodes.begin() + 1, nodes.end(),
+                                     [&](const Node& n) { return n.joint->name == order[k]; });
+        if (it == nodes.end()) {
+            fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' is not in the URDF", order[k].c_str());
+        }
+        RobotLink& link = model.links[static_cast<std::size_t>(it - nodes.begin())];
+        if (link.joint == JointType::kFixed) {
+            fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' is fixed", order[k].c_str());
+        }
+        if (link.command_index != kNoCommandIndex) {
+            fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' named twice", order[k].c_str());
+        }
+        link.command_index = static_cast<std::uint8_t>(k);
+    }
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        if (model.links[i].joint != JointType::kFixed && model.links[i].command_index == kNoCommandIndex) {
+            fail(ErrorCode::kInvalidArgument, "joint order: movable joint '%s' is missing (the PLC must send it)",
+                 nodes[i].joint->name.c_str());
+        }
+    }
+    model.joint_count = static_cast<std::uint8_t>(order.size());
+}
+
+// ---------------------------------------------------------------- geometry
+
+/// A capsule of one link, and whether it came from a <sphere>.
+struct LinkCapsule {
+    Capsule capsule;
+    bool sphere = false;
+};
+
+std::string lower_case(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+/// The file a mesh filename names (see the file comment of urdf_import.hpp).
+std::string resolve_mesh(const std::string& filename, const UrdfImportOptions& options, const char* link) {
+    const std::string scheme = "package://";
+    if (filename.compare(0U, scheme.size(), scheme) == 0) {
+        const std::size_t slash = filename.find('/', scheme.size());
+        const std::string package = filename.substr(scheme.size(), slash - scheme.size());
+        const auto it = options.packages.find(package);
+        if (slash == std::string::npos || it == options.packages.end()) {
+            fail(ErrorCode::kInvalidArgument, "link '%s': mesh '%s': package '%s' not given (--package %s=DIR)", link,
+                 filename.c_str(), package.c_str(), package.c_str());
+        }
+        return (std::filesystem::path(it->second) / filename.substr(slash + 1U)).string();
+    }
+    if (filename.find("://") != std::string::npos || std::filesystem::path(filename).is_absolute()) {
+        fail(ErrorCode::kInvalidArgument,
+             "link '%s': mesh '%s': only package:// and paths relative to the URDF are resolved", link,
+             filename.c_str());
+    }
+    if (options.base_directory.empty()) {
+        fail(ErrorCode::kInvalidArgument, "link '%s': mesh '%s': a relative path needs the URDF's directory", link,
+             filename.c_str());
+    }
+    return (std::filesystem::path(options.base_directory) / filename).string();
+}
+
+Capsule mesh_capsule(const urdf::Mesh& mesh, const UrdfImportOptions& options, const char* link) {
+    const char* file = mesh.filename.c_str();
+    const std::string lower = lower_case(mesh.filename);
+    if (ends_with(lower, ".dae")) {
+        fail(ErrorCode::kUnsupportedType, "link '%s': mesh '%s': COLLADA (.dae) is not supported: give an STL", link,
+             file);
+    }
+    if (!ends_with(lower, ".stl")) {
+        fail(ErrorCode::kUnsupportedType, "link '%s': mesh '%s': only STL meshes are supported", link, file);
+    }
+    const Eigen::Vector3d scale(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+    if (!scale.allFinite() || !(scale.minCoeff() > 0.0)) {
+        fail(ErrorCode::kInvalidArgument, "link '%s': mesh '%s': scale (%g %g %g) must be finite and > 0", link, file,
+             scale.x(), scale.y(), scale.z());
+    }
+    StlMesh stl;
+    const IoStatus st = read_stl_file(resolve_mesh(mesh.filename, options, link), stl);
+    if (!st) {
+        fail(st.error(), "link '%s': mesh: %s", link, st.message());
+    }
+    for (Eigen::Vector3d& v : stl.vertices) {
+        v = v.cwiseProduct(scale);
+    }
+    Capsule c = bounding_capsule(stl.vertices);
+    for (const Eigen::Vector3d& v : stl.vertices) {
+        if (segment_distance(v, c.a, c.b) > c.radius) {
+            fail(ErrorCode::kInvalidArgument, "link '%s': mesh '%s': bounding capsule misses a vertex", link, file);
+        }
+    }
+    return c;
+}
+
+void check_size(double value, const char* what, const char* link) {
+    if (!std::isfinite(value)) {
+        fail(ErrorCode::kNonFiniteValue, "link '%s': %s is not finite", link, what);
+    }
+    if (!(value > 0.0)) {
+        fail(ErrorCode::kInvalidArgument, "link '%s': %s %g, must be > 0", link, what, value);
+    }
+}
+
+/// One collision geometry as a capsule in its own frame.
+LinkCapsule shape_capsule(const urdf::Geometry& geometry, const UrdfImportOptions& options, const char* link) {
+    switch (geometry.type) {
+        case urdf::Geometry::SPHERE: {
+            const double r = dynamic_cast<const urdf::Sphere&>(geometry).radius;
+            check_size(r, "sphere radius", link);
+            return {Capsule{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), r}, true};
+        }
+        case urdf::Geometry::CYLINDER: {
+            const auto& c = dynamic_cast<const urdf::Cylinder&>(geometry);
+            check_size(c.radius, "cylinder radius", link);
+            check_size(c.length, "cylinder length", link);
+            const Eigen::Vector3d half(0.0, 0.0, 0.5 * c.length);
+            return {Capsule{-half, half, c.radius}, false};
+        }
+        case urdf::Geometry::BOX: {
+            const urdf::Vector3& d = dynamic_cast<const urdf::Box&>(geometry).dim;
+            const Eigen::Vector3d size(d.x, d.y, d.z);
+            for (int k = 0; k < 3; ++k) {
+                check_size(size[k], "box size", link);
+            }
+            Eigen::Index longest = 0;
+            static_cast<void>(size.maxCoeff(&longest));
+            Eigen::Vector3d half = Eigen::Vector3d::Zero();
+            half[longest] = 0.5 * size[longest];
+            const double across2 = size.squaredNorm() - size[longest] * size[longest];
+            return {Capsule{-half, half, 0.5 * std::sqrt(across2)}, false};
+        }
+        case urdf::Geometry::MESH:
+            return {mesh_capsule(dynamic_cast<const urdf::Mesh&>(geometry), options, link), false};
+        default: fail(ErrorCode::kUnsupportedType, "link '%s': unknown geometry type", link);
+    }
+}
+
+Capsule transformed(const Capsule& c, const urdf::Pose& pose, const char* link) {
+    const urdf::Rotation& r = pose.rotation;
+    const Eigen::Quaterniond q(r.w, r.x, r.y, r.z);
+    const Eigen::Vector3d t(pose.position.x, pose.position.y, pose.position.z);
+    if (!q.coeffs().allFinite() || !t.allFinite() || q.norm() == 0.0) {
+        fail(ErrorCode::kNonFiniteValue, "link '%s': collision origin is not finite", link);
+    }
+    const Eigen::Quaterniond unit = q.normalized();
+    return Capsule{unit * c.a + t, unit * c.b + t, c.radius};
+}
+
+/// Drops spheres that lie (within the tolerance) inside another capsule of
+/// the link; that capsule's radius grows to contain each exactly.
+std::vector<LinkCapsule> merge_spheres(std::vector<LinkCapsule> parts, double tolerance, int& merged) {
+    std::vector<bool> gone(parts.size(), false);
+    for (std::size_t s = 0U; s < parts.size(); ++s) {
+        if (!parts[s].sphere) {
+            continue;
+        }
+        for (std::size_t k = 0U; k < parts.size(); ++k) {
+            Capsule& into = parts[k].capsule;
+            const Capsule& sphere = parts[s].capsule;
+            if (k == s || gone[k]) {
+                continue;
+            }
+            const double need = segment_distance(sphere.a, into.a, into.b) + sphere.radius;
+            if (need <= into.radius + tolerance) {
+                into.radius = std::max(into.radius, need);
+                gone[s] = true;
+                ++merged;
+                break;
+            }
+        }
+    }
+    std::vector<LinkCapsule> out;
+    for (std::size_t i = 0U; i < parts.size(); ++i) {
+        if (!gone[i]) {
+            out.push_back(parts[i]);
+        }
+    }
+    return out;
+}
+
+/// The link's capsules, in the link frame, merged.
+std::vector<LinkCapsule> link_capsules(const urdf::Link& link, const UrdfImportOptions& options,
+                                       std::vector<std::string>& notes) {
+    std::vector<LinkCapsule> parts;
+    const char* name = link.name.c_str();
+    for (const urdf::CollisionSharedPtr& collision : link.collision_array) {
+        if (!collision || !collision->geometry) {
+            fail(ErrorCode::kMalformedInput, "link '%s': a <collision> without geometry", name);
+        }
+        LinkCapsule part = shape_capsule(*collision->geometry, options, name);
+        part.capsule = transformed(part.capsule, collision->origin, name);
+        parts.push_back(part);
+    }
+    int merged = 0;
+    parts = merge_spheres(std::move(parts), options.merge_tolerance, merged);
+    if (merged > 0) {
+        notes.push_back("link '" + link.name + "': " + std::to_string(merged) + " sphere(s) merged into a capsule");
+    }
+    for (const LinkCapsule& p : parts) {
+        const Capsule& c = p.capsule;
+        if (c.radius > kMaxCapsuleRadius) {
+            fail(ErrorCode::kInvalidArgument, "link '%s': capsule radius %.3f m, at most %.1f m", name, c.radius,
+                 kMaxCapsuleRadius);
+        }
+        if (!(c.radius > 0.0)) {
+            fail(ErrorCode::kInvalidArgument, "link '%s': degenerate geometry (capsule radius 0)", name);
+        }
+        if (c.a.norm() > kMaxRobotReach || c.b.norm() > kMaxRobotReach) {
+            fail(ErrorCode::kInvalidArgument, "link '%s': geometry reaches beyond %.0f m of the link frame", name,
+                 kMaxRobotReach);
+        }
+    }
+    return parts;
+}
+
+void put_capsules(const std::vector<Node>& nodes, const UrdfImportOptions& options, UrdfImport& result) {
+    std::vector<std::pair<std::size_t, Capsule>> all;
+    std::vector<std::string> per_link;
+    for (std::size_t i = 0U; i < nodes.size(); ++i) {
+        const std::vector<LinkCapsule> parts = link_capsules(*nodes[i].link, options, result.notes);
+        for (const LinkCapsule& p : parts) {
+            all.emplace_back(i, p.capsule);
+        }
+        if (!parts.empty()) {
+            per_link.push_back(nodes[i].link->name + " " + std::to_string(parts.size()));
+        }
+    }
+    if (all.size() > kMaxRobotCapsules) {
+        fail(ErrorCode::kCapacityExceeded, "%zu capsules after merging (%s), at most %zu", all.size(),
+             join(per_link, ", ").c_str(), kMaxRobotCapsules);
+    }
+    if (all.empty()) {
+        fail(ErrorCode::kInvalidArgument, "no link has collision geometry");
+    }
+    RobotModel& model = result.model;
+    model.capsule_count = static_cast<std::uint8_t>(all.size());
+    for (std::size_t k = 0U; k < all.size(); ++k) {
+        RobotCapsule& out = model.capsules[k];
+        out.link = static_cast<std::uint8_t>(all[k].first);
+        for (int d = 0; d < 3; ++d) {
+            out.a[d] = all[k].second.a[d];
+            out.b[d] = all[k].second.b[d];
+        }
+        out.radius = all[k].second.radius;
+    }
+}
+
+// ---------------------------------------------------------------- model
+
+void put_name_and_base(const std::string& name, const UrdfImportOptions& options, UrdfImport& result) {
+    RobotModel& model = result.model;
+    const std::size_t n = std::min(name.size(), kRobotNameBytes - 1U);
+    std::memcpy(model.name, name.data(), n);
+    if (n < name.size()) {
+        result.notes.push_back("robot name cut to " + std::to_string(n) + " bytes: " + name.substr(0U, n));
+    }
+    const Eigen::Quaterniond& q = options.base_rotation;
+    if (!options.base_xyz.allFinite() || !q.coeffs().allFinite() || q.norm() == 0.0) {
+        fail(ErrorCode::kInvalidArgument, "base pose: not finite (or a zero rotation)");
+    }
+    const Eigen::Quaterniond unit = q.normalized();
+    const double wxyz[4] = {unit.w(), unit.x(), unit.y(), unit.z()};
+    for (int k = 0; k < 3; ++k) {
+        model.base_xyz[k] = options.base_xyz[k];
+    }
+    std::copy(wxyz, wxyz + 4, model.base_wxyz);
+}
+
+void import_model(const std::string& text, const UrdfImportOptions& options, UrdfImport& result) {
+    const urdf::ModelInterfaceSharedPtr urdf = parse_model(text);
+    check_xml(text);
+    std::vector<Node> nodes = drop_empty_frames(depth_first(*urdf), result.notes);
+    if (nodes.size() > kMaxRobotLinks) {
+        fail(ErrorCode::kCapacityExceeded, "%zu links, at most %zu", nodes.size(), kMaxRobotLinks);
+    }
+    if (options.joint_order.size() > kMaxRobotJoints) {
+        fail(ErrorCode::kCapacityExceeded, "joint order: %zu joints, at most %zu", options.joint_order.size(),
+             kMaxRobotJoints);
+    }
+    RobotModel& model = result.model;
+    model.link_count = static_cast<std::uint8_t>(nodes.size());
+    result.link_names.push_back(nodes[0].link->name);
+    result.joint_names.emplace_back();
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        model.links[i].parent = static_cast<std::uint8_t>(nodes[i].parent);
+        put_joint(*nodes[i].joint, model.links[i], result.notes);
+        result.link_names.push_back(nodes[i].link->name);
+        result.joint_names.push_back(nodes[i].joint->name);
+    }
+    put_command_order(nodes, options.joint_order, model);
+    put_capsules(nodes, options, result);
+    put_name_and_base(urdf->getName(), options, result);
+    const RobotModelError error = check_robot_model(model);
+    if (error.code != ErrorCode::kOk) {
+        fail(error.code, "the imported model fails its check: %s (item %zu)", error.reason, error.index);
+    }
+}
+
+}  // namespace
+
+IoStatus import_urdf_text(const std::string& text, const UrdfImportOptions& options, UrdfImport& result) {
+    result = UrdfImport{};
+    try {
+        if (text.size() > kUrdfMaxBytes) {
+            fail(ErrorCode::kCapacityExceeded, "URDF of %zu bytes, at most %zu", text.size(), kUrdfMaxBytes);
+        }
+        import_model(text, options, result);
+    } catch (const ImportFailure& failure) {
+        result = UrdfImport{};
+        return failure.status();
+    } catch (const std::exception& e) {
+        result = UrdfImport{};
+        return IoStatus::failure(ErrorCode::kMalformedInput, "URDF: %s", e.what());
+    }
+    return {};
+}
+
+IoStatus import_urdf_file(const std::string& path, const UrdfImportOptions& options, UrdfImport& result) {
+    result = UrdfImport{};
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open", path.c_str());
+    }
+    std::string text;
+    text.resize(kUrdfMaxBytes + 1U);
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: read error", path.c_str());
+    }
+    UrdfImportOptions with_directory = options;
+    with_directory.base_directory = std::filesystem::path(path).parent_path().string();
+    if (with_directory.base_directory.empty()) {
+        with_directory.base_directory = ".";
+    }
+    return import_urdf_text(text, with_directory, result).prefixed(path.c_str());
+}
+
+}  // namespace cellguard::host
