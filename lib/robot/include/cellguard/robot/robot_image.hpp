@@ -26,10 +26,44 @@ namespace cellguard {
 /// checks the exact size against it).
 constexpr std::size_t kRobotImageMaxBytes = 4096U;
 
+/// The image's first eight bytes, ASCII "CGROBOT1".
+constexpr std::uint8_t kRobotImageMagic[8] = {0x43U, 0x47U, 0x52U, 0x4FU, 0x42U, 0x4FU, 0x54U, 0x31U};
+/// The format version this build writes and reads.
+constexpr std::uint16_t kRobotImageFormatVersion = 1U;
+/// Bytes of the image's header (magic .. base rotation).
+constexpr std::size_t kRobotImageHeaderBytes = 108U;
+/// Bytes of one link record.
+constexpr std::size_t kRobotImageLinkBytes = 108U;
+/// Bytes of one capsule record.
+constexpr std::size_t kRobotImageCapsuleBytes = 60U;
+
+/// Byte offsets of the header's fields (certification/robot-image-format.md).
+namespace robot_image_layout {
+constexpr std::size_t kMagic = 0U;          ///< 8 bytes "CGROBOT1"
+constexpr std::size_t kVersion = 8U;        ///< u16 format version
+constexpr std::size_t kLinkCount = 10U;     ///< u8
+constexpr std::size_t kJointCount = 11U;    ///< u8
+constexpr std::size_t kCapsuleCount = 12U;  ///< u8
+constexpr std::size_t kReserved = 13U;      ///< 3 bytes, 0
+constexpr std::size_t kImageSize = 16U;     ///< u32 size of the whole image, CRC included
+constexpr std::size_t kName = 20U;          ///< 32 bytes, the name as the model holds it
+constexpr std::size_t kBaseXyz = 52U;       ///< 3 binary64
+constexpr std::size_t kBaseWxyz = 76U;      ///< 4 binary64
+}  // namespace robot_image_layout
+
+/// Size in bytes of the image of a model with @p links links and @p capsules
+/// capsules: header, link records, capsule records and the 4-byte CRC.
+[[nodiscard]] constexpr std::size_t robot_image_size(std::size_t links, std::size_t capsules) noexcept {
+    return kRobotImageHeaderBytes + links * kRobotImageLinkBytes + capsules * kRobotImageCapsuleBytes + 4U;
+}
+
+static_assert(robot_image_size(kMaxRobotLinks, kMaxRobotCapsules) <= kRobotImageMaxBytes,
+              "the largest robot image fits kRobotImageMaxBytes");
+
 /// A loaded robot image: the model and the image's CRC-32.
 struct LoadedRobot {
-    RobotModel model{};       ///< the checked model
-    std::uint32_t crc = 0U;   ///< the CRC-32 stored in (and verified over) the image
+    RobotModel model{};      ///< the checked model
+    std::uint32_t crc = 0U;  ///< the CRC-32 stored in (and verified over) the image
 };
 
 /// The 16-bit robot identity the PLC's command carries: the low 16 bits of

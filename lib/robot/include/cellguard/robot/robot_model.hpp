@@ -53,23 +53,23 @@ enum class JointType : std::uint8_t {
 
 /// One link and the joint that attaches it to its parent.
 struct RobotLink {
-    std::uint8_t parent = 0U;                     ///< parent link index (< own index; the root's is 0)
-    JointType joint = JointType::kFixed;          ///< joint type (kFixed for the root)
-    std::uint8_t command_index = kNoCommandIndex; ///< movable joints: index into RobotCommand::joint_raw
-    double origin_xyz[3] = {0.0, 0.0, 0.0};       ///< joint origin translation in the parent frame, metres
-    double origin_wxyz[4] = {1.0, 0.0, 0.0, 0.0}; ///< joint origin rotation, unit quaternion w, x, y, z
-    double axis[3] = {1.0, 0.0, 0.0};             ///< movable joints: unit axis in the child frame
-    double lower = 0.0;                           ///< movable joints: lowest position (rad or m)
-    double upper = 0.0;                           ///< movable joints: highest position (rad or m), >= lower
-    double max_velocity = 0.0;                    ///< movable joints: largest speed (rad/s or m/s), > 0
+    std::uint8_t parent = 0U;                      ///< parent link index (< own index; the root's is 0)
+    JointType joint = JointType::kFixed;           ///< joint type (kFixed for the root)
+    std::uint8_t command_index = kNoCommandIndex;  ///< movable joints: index into RobotCommand::joint_raw
+    double origin_xyz[3] = {0.0, 0.0, 0.0};        ///< joint origin translation in the parent frame, metres
+    double origin_wxyz[4] = {1.0, 0.0, 0.0, 0.0};  ///< joint origin rotation, unit quaternion w, x, y, z
+    double axis[3] = {1.0, 0.0, 0.0};              ///< movable joints: unit axis in the child frame
+    double lower = 0.0;                            ///< movable joints: lowest position (rad or m)
+    double upper = 0.0;                            ///< movable joints: highest position (rad or m), >= lower
+    double max_velocity = 0.0;                     ///< movable joints: largest speed (rad/s or m/s), > 0
 };
 
 /// A capsule: all points within radius of the segment a-b, in its link's frame.
 struct RobotCapsule {
-    std::uint8_t link = 0U;            ///< link the capsule belongs to
-    double a[3] = {0.0, 0.0, 0.0};     ///< first end, metres, link frame
-    double b[3] = {0.0, 0.0, 0.0};     ///< second end (equal to a: a sphere)
-    double radius = 0.0;               ///< metres, 0 < radius <= kMaxCapsuleRadius
+    std::uint8_t link = 0U;         ///< link the capsule belongs to
+    double a[3] = {0.0, 0.0, 0.0};  ///< first end, metres, link frame
+    double b[3] = {0.0, 0.0, 0.0};  ///< second end (equal to a: a sphere)
+    double radius = 0.0;            ///< metres, 0 < radius <= kMaxCapsuleRadius
 };
 
 /// A robot: links in parent-before-child order, and its capsules.
@@ -96,12 +96,18 @@ constexpr bool is_no_error(const RobotModelError& e) noexcept { return e.code ==
 
 /// Checks @p model: counts within capacity (1..16 links, 1..32 capsules,
 /// joint_count 0..7); the name zero-terminated; every number finite; parents
-/// before children; the root fixed; unit quaternions and unit axes (within
+/// before children; the root fixed, parent 0, no command index and the
+/// identity origin (base_xyz / base_wxyz place it); known joint types; unit
+/// quaternions and unit axes of movable joints (within
 /// kUnitLengthTolerance); movable joints' command indices exactly
 /// 0..joint_count-1, each once; lower <= upper; max_velocity > 0; fixed
 /// joints without a command index; capsules on existing links with
 /// 0 < radius <= kMaxCapsuleRadius; every translation and capsule end within
-/// kMaxRobotReach. The first failure is returned; code kOk when none.
+/// kMaxRobotReach (the base position too). Only the used entries (below the
+/// counts) are read. The first failure is returned; code kOk when none:
+/// kCapacityExceeded for counts above capacity, kNonFiniteValue for NaN or
+/// infinity, kInvalidArgument for everything else (index = the link or
+/// capsule; 0 for the counts, the name and the base).
 [[nodiscard]] RobotModelError check_robot_model(const RobotModel& model) noexcept;
 
 }  // namespace cellguard
