@@ -2,12 +2,34 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/ground_truth.hpp"
 
+#include <algorithm>
+
 namespace cellguard::sim {
 
 namespace {
 constexpr std::uint8_t kSeenEmpty = 1U;
 constexpr std::uint8_t kHitBackground = 2U;
 constexpr std::uint8_t kHitForeground = 4U;
+constexpr std::uint8_t kHitRobot = 8U;
+
+// The point @p i (0..26) of the 3 x 3 x 3 lattice of voxel @p c: corners, edge and face centres, centre.
+Eigen::Vector3d lattice_point(const GridGeometry& g, const VoxelCoord& c, int i) {
+    const Eigen::Vector3d lo = g.origin() + g.voxel_size() * Eigen::Vector3d(c.x, c.y, c.z);
+    const double half = 0.5 * g.voxel_size();
+    return lo + half * Eigen::Vector3d(i % 3, (i / 3) % 3, i / 9);
+}
+
+bool overlaps_robot(const GridGeometry& g, const Scene& scene, const VoxelCoord& c) {
+    const std::size_t n = std::min<std::size_t>(scene.robot.count, kMaxRobotCapsules);
+    for (std::size_t k = 0; k < n; ++k) {
+        for (int i = 0; i < 27; ++i) {
+            if (capsule_contains(scene.robot.capsules[k], lattice_point(g, c, i))) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
 
 bool overlaps_foreground(const GridGeometry& g, const Scene& scene, const VoxelCoord& c) {
     const Eigen::Vector3d lo = g.origin() + g.voxel_size() * Eigen::Vector3d(c.x, c.y, c.z);
@@ -49,6 +71,8 @@ GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSp
                 }
                 const Eigen::Vector3d end = origin + hit.distance * dir;
                 const bool foreground = hit.box >= 0 && !scene.boxes[static_cast<std::size_t>(hit.box)].background;
+                const std::uint8_t hit_flag = foreground ? kHitForeground
+                                                         : (hit.capsule >= 0 ? kHitRobot : kHitBackground);
                 const Result<VoxelCoord> end_voxel = g.world_to_voxel(end);
                 const bool end_inside = end_voxel.ok();
                 const std::size_t end_index = end_inside ? g.index_of(end_voxel.value()) : 0U;
@@ -58,8 +82,7 @@ GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSp
                     }
                 });
                 if (end_inside) {
-                    seen[end_index] = static_cast<std::uint8_t>(seen[end_index] |
-                                                                (foreground ? kHitForeground : kHitBackground));
+                    seen[end_index] = static_cast<std::uint8_t>(seen[end_index] | hit_flag);
                 }
             }
         }
@@ -70,9 +93,15 @@ GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSp
         if ((seen[i] & kHitForeground) != 0U) {
             t.label[i] = Truth::kForeground;
             ++t.foreground;
+        } else if ((seen[i] & kHitRobot) != 0U) {
+            t.label[i] = Truth::kRobot;
+            ++t.robot;
         } else if (seen[i] == 0U && overlaps_foreground(g, scene, g.coord_of(i))) {
             t.label[i] = Truth::kUnknown;
             ++t.unknown;
+        } else if (seen[i] == 0U && overlaps_robot(g, scene, g.coord_of(i))) {
+            t.label[i] = Truth::kRobot;
+            ++t.robot;
         } else {
             ++t.not_foreground;
         }

@@ -48,11 +48,94 @@ double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, cons
     return t0;
 }
 
+// The entry distance of the ray into a sphere of radius r about c, 0 from
+// inside, +infinity when it misses.
+double intersect_sphere(const Eigen::Vector3d& c, double r, const Eigen::Vector3d& origin,
+                        const Eigen::Vector3d& dir) noexcept {
+    const Eigen::Vector3d oc = origin - c;
+    const double b = dir.dot(oc);
+    const double h = b * b - (oc.squaredNorm() - r * r);
+    if (h < 0.0) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const double root = std::sqrt(h);
+    if (-b + root < 0.0) {
+        return std::numeric_limits<double>::infinity();  // behind the origin
+    }
+    return std::fmax(0.0, -b - root);
+}
+
+// The entry distance of the ray into the cylinder of radius r about the
+// segment a + s u, 0 <= s <= len (u unit), through its side only (the end
+// discs lie inside the capsule's spheres); +infinity when it misses or runs
+// parallel to the axis.
+double intersect_cylinder_side(const Eigen::Vector3d& a, const Eigen::Vector3d& u, double len, double r,
+                               const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) noexcept {
+    const Eigen::Vector3d oa = origin - a;
+    const Eigen::Vector3d d_perp = dir - dir.dot(u) * u;
+    const Eigen::Vector3d o_perp = oa - oa.dot(u) * u;
+    const double qa = d_perp.squaredNorm();
+    if (qa < 1e-18) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const double qb = d_perp.dot(o_perp);
+    const double h = qb * qb - qa * (o_perp.squaredNorm() - r * r);
+    if (h < 0.0) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const double root = std::sqrt(h);
+    if (-qb + root < 0.0) {
+        return std::numeric_limits<double>::infinity();  // behind the origin
+    }
+    const double t = std::fmax(0.0, (-qb - root) / qa);
+    const double s = (oa + t * dir).dot(u);
+    return s >= 0.0 && s <= len ? t : std::numeric_limits<double>::infinity();
+}
+
+Eigen::Vector3d point_of(const double (&p)[3]) noexcept { return {p[0], p[1], p[2]}; }
+
 // intersect_box_prepared with the rotation made here (the product
 // AngleAxis * vector computes through the same matrix).
 double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
     return intersect_box_prepared(b, Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(), origin,
                                   dir);
+}
+}  // namespace
+
+double intersect_capsule(const PlacedCapsule& c, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) noexcept {
+    // A capsule is the union of two spheres and a cylinder: a ray enters it
+    // where it first enters one of them.
+    const Eigen::Vector3d a = point_of(c.a);
+    const Eigen::Vector3d b = point_of(c.b);
+    double t = std::fmin(intersect_sphere(a, c.radius, origin, dir), intersect_sphere(b, c.radius, origin, dir));
+    const double len = (b - a).norm();
+    if (len > 0.0) {
+        t = std::fmin(t, intersect_cylinder_side(a, (b - a) / len, len, c.radius, origin, dir));
+    }
+    return t;
+}
+
+bool capsule_contains(const PlacedCapsule& c, const Eigen::Vector3d& p) noexcept {
+    const Eigen::Vector3d a = point_of(c.a);
+    const Eigen::Vector3d ab = point_of(c.b) - a;
+    const double len2 = ab.squaredNorm();
+    const double s = len2 > 0.0 ? std::fmin(1.0, std::fmax(0.0, (p - a).dot(ab) / len2)) : 0.0;
+    return (p - (a + s * ab)).squaredNorm() <= c.radius * c.radius;
+}
+
+namespace {
+// The robot's nearer hit, if any, into @p hit.
+void cast_robot(const RobotPose& robot, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                RayHit& hit) noexcept {
+    const std::size_t n = std::min<std::size_t>(robot.count, kMaxRobotCapsules);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double t = intersect_capsule(robot.capsules[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = -1;
+            hit.capsule = static_cast<int>(i);
+        }
+    }
 }
 }  // namespace
 
@@ -72,13 +155,25 @@ bool PreparedScene::assign(const Scene& scene) noexcept {
         return false;
     }
     // Within the reserved capacity clear() and push_back() never reallocate.
+    if (scene.robot.count > kMaxRobotCapsules) {
+        return false;
+    }
     scene_.floor = scene.floor;
+    scene_.robot = scene.robot;
     scene_.boxes.clear();
     inverse_rotation_.clear();
     for (const Box& b : scene.boxes) {
         scene_.boxes.push_back(b);
         inverse_rotation_.push_back(Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
     }
+    return true;
+}
+
+bool PreparedScene::set_robot(const RobotPose& robot) noexcept {
+    if (robot.count > kMaxRobotCapsules) {
+        return false;
+    }
+    scene_.robot = robot;
     return true;
 }
 
@@ -99,6 +194,7 @@ RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d&
             hit.box = static_cast<int>(i);
         }
     }
+    cast_robot(scene_.robot, origin, dir, hit);
     return hit;
 }
 
@@ -179,6 +275,10 @@ double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::
     for (const Box& b : scene.boxes) {
         best = std::fmin(best, intersect_box(b, origin, dir));
     }
+    const std::size_t n = std::min<std::size_t>(scene.robot.count, kMaxRobotCapsules);
+    for (std::size_t i = 0; i < n; ++i) {
+        best = std::fmin(best, intersect_capsule(scene.robot.capsules[i], origin, dir));
+    }
     return best;
 }
 
@@ -195,6 +295,7 @@ RayHit cast_ray_hit(const Scene& scene, const Eigen::Vector3d& origin, const Eig
             hit.box = static_cast<int>(i);
         }
     }
+    cast_robot(scene.robot, origin, dir, hit);
     return hit;
 }
 

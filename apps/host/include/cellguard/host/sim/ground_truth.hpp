@@ -14,6 +14,10 @@
 /// - unknown: never seen by any ray and overlapping a foreground box (the
 ///   interiors of foreground objects, and their hidden parts): left out of
 ///   the scores;
+/// - robot: no reading on a foreground box, and a reading on the robot's
+///   capsules lies in the voxel, or it was never seen and overlaps a capsule
+///   (the robot is neither foreground nor empty: left out of the scores, as
+///   the robot mask leaves it out of zone evaluation);
 /// - not foreground: everything else (seen empty, background surfaces,
 ///   background interiors, space hidden behind the foreground that holds no
 ///   foreground).
@@ -35,6 +39,7 @@ enum class Truth : std::uint8_t {
     kNotForeground = 0,  ///< no foreground in the voxel
     kForeground = 1,     ///< a reading on a foreground object lies in the voxel
     kUnknown = 2,        ///< inside a foreground object and never seen: not scored
+    kRobot = 3,          ///< the robot's surface, or its unseen inside: not scored
 };
 
 /// Labels of every voxel of a grid (linear index order) and their counts.
@@ -43,11 +48,12 @@ struct GroundTruth {
     std::size_t foreground = 0U;      ///< voxels labelled kForeground
     std::size_t not_foreground = 0U;  ///< voxels labelled kNotForeground
     std::size_t unknown = 0U;         ///< voxels labelled kUnknown
+    std::size_t robot = 0U;           ///< voxels labelled kRobot
 };
 
 /// The ideal 0-1 ground truth of @p scene seen by @p sensors (their noise
-/// models are ignored) on grid @p g. "Overlapping a foreground box" is
-/// tested on the 27 points of a 3 x 3 x 3 lattice in the voxel (corners,
+/// models are ignored) on grid @p g. "Overlapping a foreground box" (or a
+/// capsule of the robot) is tested on the 27 points of a 3 x 3 x 3 lattice in the voxel (corners,
 /// edge and face centres, centre).
 GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSpec>& sensors, const Scene& scene,
                                Rasterization rasterization = Rasterization::kExact);

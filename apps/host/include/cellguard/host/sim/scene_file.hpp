@@ -39,8 +39,27 @@
 ///     [[person]]                    # always foreground
 ///     height_m = 1.75
 ///     speed_mps = 1.0
-///     path = [[-0.8, 0.6], [0.6, 0.6]]  # waypoints on the floor (x, y), at least one (required)
+///     start_s = 0.0                 # stands at the first waypoint until then
+///     path = [[-0.8, 0.6], [0.6, 0.6, 2.0]]  # waypoints on the floor (x, y), at least one (required),
+///                                   # each optionally with a dwell time: seconds to stand there on arrival
 ///     loop = false                  # walk the closed path again and again instead of stopping at its end
+///
+///     [robot]                       # a robot arm (its model comes from the caller: RobotModel)
+///     model = "robot-arm.urdf"      # the model's file, relative to this one (the caller loads it)
+///     position = [0.0, 0.0, 0.0]    # where its root link stands, metres (required)
+///     yaw_deg = 0.0                 # its rotation about +z
+///     [[robot.keyframe]]            # at least one; times strictly increasing (trajectory.hpp)
+///     t = 0.0                       # seconds (required)
+///     joints = [0.0, -1.2, 1.6, 0.0, 0.0, 0.0]  # rad / m by command index, 1..7 (required)
+///
+///     [[command]]                   # the simulated PLC's schedule; the first at t = 0
+///     t = 0.0                       # from then on (required)
+///     case = 0                      # the monitoring case, 0..15 (required)
+///     speed_class = 0               # the robot's speed class, 0..3
+///
+/// A keyframe's values are checked here on their own (finite, times
+/// increasing, one joint count); against the robot (joint count, limits,
+/// speeds) by check_trajectory once the caller has the model.
 #ifndef CELLGUARD_HOST_SIM_SCENE_FILE_HPP
 #define CELLGUARD_HOST_SIM_SCENE_FILE_HPP
 
@@ -49,7 +68,10 @@
 #include <string>
 #include <vector>
 
+#include <array>
+
 #include "cellguard/host/sim/noise.hpp"
+#include "cellguard/host/sim/trajectory.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 
 namespace cellguard::sim {
@@ -59,14 +81,44 @@ namespace cellguard::sim {
 struct PersonSpec {
     double height_m = 1.75;             ///< standing height; every part scales with it
     double speed_mps = 1.0;             ///< walking speed along the path
+    double start_s = 0.0;               ///< stands at the first waypoint until this time, seconds
     std::vector<Eigen::Vector2d> path;  ///< waypoints on the floor
+    std::vector<double> dwell_s;        ///< seconds to stand at each waypoint on arrival; empty: none
     bool loop = false;                  ///< repeat the closed path instead of stopping at its end
 };
 
+/// Boxes of one person.
+constexpr std::size_t kPersonBoxCount = 8U;
+/// The boxes of one person at one time.
+using PersonBoxes = std::array<Box, kPersonBoxCount>;
+
 /// The boxes of @p person at time @p t seconds (foreground, 8 boxes): the
-/// position is the point at arc length speed * t along the path (clamped to
-/// its end, or wrapped when loop), legs and arms swing with the gait.
+/// position is the point at arc length person_arc_length along the path
+/// (clamped to its end, or wrapped when loop), legs and arms swing with the gait.
 std::vector<Box> person_boxes(const PersonSpec& person, double t);
+
+/// person_boxes into caller storage: the same boxes, bit for bit; allocates nothing.
+void person_boxes_into(const PersonSpec& person, double t, PersonBoxes& out) noexcept;
+
+/// The distance @p person has walked at time @p t: speed * (t - start_s),
+/// at least 0, less the time spent standing at waypoints (dwell_s).
+double person_arc_length(const PersonSpec& person, double t) noexcept;
+
+/// Where on the floor @p person stands at time @p t (the centre of the boxes' footprint).
+Eigen::Vector2d person_position(const PersonSpec& person, double t) noexcept;
+
+/// A robot in the scene: where it stands, how it moves.
+struct RobotScenario {
+    bool present = false;  ///< the file has a [robot] table
+    std::string model;     ///< the model's file (resolved against the scene's folder), may be ""
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< root link position, metres
+    double yaw = 0.0;                                    ///< root link rotation about +z, radians
+    JointTrajectory trajectory;                          ///< keyframes (values checked, not yet against a model)
+};
+
+/// @p model standing where @p robot says: base_xyz = position, base_wxyz =
+/// the rotation yaw about +z (replacing the model's own base).
+void place_robot_base(const RobotScenario& robot, RobotModel& model) noexcept;
 
 /// A scene as read from a file.
 struct SceneFile {
@@ -77,6 +129,8 @@ struct SceneFile {
     std::vector<PersonSpec> people;   ///< walking people
     std::vector<SensorSpec> sensors;  ///< the sensors
     std::vector<NoiseModel> noise;    ///< one model per sensor
+    RobotScenario robot;              ///< the robot, if present
+    CommandSchedule commands;         ///< the simulated PLC's case and speed class over time
 };
 
 /// The outcome of loading a scene file: ok, or the first error with its place.

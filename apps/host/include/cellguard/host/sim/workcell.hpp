@@ -3,9 +3,12 @@
 /// @file workcell.hpp
 /// A simulated workcell in the paper's arrangement: a 4 m x 4 m x 2 m frame
 /// (x and y in [-2, 2] m, floor at z = 0), one sensor in each upper corner
-/// near the ceiling aimed at the centre, boxes on the floor. Depth images are
+/// near the ceiling aimed at the centre, boxes on the floor and, optionally,
+/// a robot as capsules (a RobotPose of lib/robot: every point within a
+/// radius of a segment, solid and opaque like the boxes). Depth images are
 /// ray cast exactly (ideal sensors); noise models are in noise.hpp, scene
-/// files in scene_file.hpp, the ideal ground truth in ground_truth.hpp.
+/// files in scene_file.hpp, the ideal ground truth in ground_truth.hpp, the
+/// robot's trajectory and the simulated PLC's schedule in trajectory.hpp.
 #ifndef CELLGUARD_HOST_SIM_WORKCELL_HPP
 #define CELLGUARD_HOST_SIM_WORKCELL_HPP
 
@@ -17,6 +20,7 @@
 #include <vector>
 
 #include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/robot/kinematics.hpp"
 
 namespace cellguard::sim {
 
@@ -28,10 +32,12 @@ struct Box {
     bool background = true;                            ///< part of the static background
 };
 
-/// What the sensors look at: the floor plane z = 0 and boxes.
+/// What the sensors look at: the floor plane z = 0, boxes and the robot's
+/// capsules (never background: the robot is absent from the empty cell).
 struct Scene {
     std::vector<Box> boxes;  ///< the boxes
     bool floor = true;       ///< whether the floor plane reflects
+    RobotPose robot{};       ///< the robot's capsules in the world frame; count 0: no robot (fixed capacity)
 };
 
 /// A depth sensor: where it is, where it looks, its image.
@@ -68,10 +74,20 @@ void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<floa
 /// surface of @p scene, or +infinity.
 double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
 
+/// Distance along the ray origin + t * dir (dir unit length) to the surface
+/// of capsule @p c (the union of the cylinder between its ends and the two
+/// end spheres), or +infinity when the ray misses it; 0 when the origin lies
+/// inside. A sphere when both ends coincide.
+double intersect_capsule(const PlacedCapsule& c, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) noexcept;
+
+/// True when @p p lies inside or on capsule @p c.
+bool capsule_contains(const PlacedCapsule& c, const Eigen::Vector3d& p) noexcept;
+
 /// The first surface a ray meets: its distance and what it belongs to.
 struct RayHit {
     double distance = 0.0;  ///< metres along the unit direction; +infinity when nothing is hit
-    int box = -1;           ///< index into Scene::boxes, or -1 for the floor or no hit
+    int box = -1;           ///< index into Scene::boxes, or -1 for the floor, a capsule or no hit
+    int capsule = -1;       ///< index into Scene::robot.capsules when the robot was hit, else -1
 };
 
 /// Like cast_ray (the same distance, bit for bit), and also which surface was hit.
@@ -89,9 +105,12 @@ public:
     explicit PreparedScene(std::size_t max_boxes);
     /// Prepares @p scene (copied) in place of the scene held, as the
     /// constructor does (the same distances, bit for bit). Allocates nothing
-    /// when @p scene has at most capacity() boxes; with more it returns false
-    /// and keeps the scene it held.
+    /// when @p scene has at most capacity() boxes (the robot's capsules have
+    /// a fixed capacity); with more it returns false and keeps the scene it held.
     bool assign(const Scene& scene) noexcept;
+    /// Replaces only the robot's capsules of the scene held (@p robot.count
+    /// at most kMaxRobotCapsules, else false and nothing changes). Allocates nothing.
+    bool set_robot(const RobotPose& robot) noexcept;
     /// Boxes assign() takes without allocating.
     [[nodiscard]] std::size_t capacity() const noexcept;
     /// The first surface along origin + t * dir (dir unit length), as cast_ray_hit.
