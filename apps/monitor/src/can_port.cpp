@@ -49,12 +49,46 @@ bool CanPort::send(const CanFrame& frame) noexcept {
 
 std::uint16_t CanPort::detail_faults() noexcept {
     switch (kind_) {
-        case Kind::kInterface: return socket_.detail_faults();
+        case Kind::kInterface: drain(); return socket_.active_faults();
         case Kind::kSender: return sender_->detail_faults();
         case Kind::kLog:
         case Kind::kNone: break;
     }
     return 0U;
+}
+
+void CanPort::drain() noexcept {
+    if (kind_ != Kind::kInterface) {
+        return;
+    }
+    constexpr int kMaxFramesPerDrain = 256;  // bounds the work when the bus floods
+    CanFrame rx{};
+    for (int n = 0; n < kMaxFramesPerDrain; ++n) {
+        const linux_port::SocketCan::ReceiveOutcome r = socket_.receive(rx);
+        if (r == linux_port::SocketCan::ReceiveOutcome::kNothing || r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
+            return;
+        }
+        if (r != linux_port::SocketCan::ReceiveOutcome::kFrame) {
+            continue;
+        }
+        if (rx_count_ == rx_.size()) {
+            rx_head_ = (rx_head_ + 1U) % rx_.size();
+            --rx_count_;
+            ++rx_dropped_;
+        }
+        rx_[(rx_head_ + rx_count_) % rx_.size()] = rx;
+        ++rx_count_;
+    }
+}
+
+bool CanPort::take_received(CanFrame& out) noexcept {
+    if (rx_count_ == 0U) {
+        return false;
+    }
+    out = rx_[rx_head_];
+    rx_head_ = (rx_head_ + 1U) % rx_.size();
+    --rx_count_;
+    return true;
 }
 
 bool CanPort::close() noexcept {

@@ -45,6 +45,7 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 struct Options {
     bool demo = false;
+    std::string demo_name;  ///< --demo's value: "" or "paper-cell" (the paper's cell), "robot-cell"
     std::string config_path;
     int cycles = -1;
     std::string log_file;
@@ -71,7 +72,12 @@ int parse_args(int argc, char** argv, Options& o) {
                           "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
                           "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
                           "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
-    CLI::Option* demo = cli.flag("--demo", o.demo, "the built-in paper cell (the default with no arguments)");
+    CLI::Option* demo = cli.app()
+                            .add_option("--demo", o.demo_name,
+                                        "a built-in demo: paper-cell (the default, also with no arguments) or\n"
+                                        "robot-cell (a 6-axis arm, its PLC and a person walking up to it)")
+                            ->expected(0, 1)
+                            ->check(CLI::IsMember({"", "paper-cell", "robot-cell"}));
     CLI::Option* config = cli.text("--config", o.config_path, "FILE",
                                    "load the configuration from a TOML file\n"
                                    "(example: apps/monitor/config/paper-cell.toml)");
@@ -92,6 +98,7 @@ int parse_args(int argc, char** argv, Options& o) {
     cli.text("--picture-sensor", o.picture_sensor, "S",
              "the sensor of that view, by name or number from 1 (default 1)");
     const int status = cli.parse(argc, argv);
+    o.demo = demo->count() > 0U;
     if (o.config_path.empty()) {
         o.demo = true;  // no arguments, or options only: the built-in demo configuration
     }
@@ -146,7 +153,7 @@ int fail(const SetupError& e) {
 /// The configuration: the demo's or the file's, with the command line's overrides.
 SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (opt.demo) {
-        cfg = demo_config();
+        cfg = opt.demo_name == "robot-cell" ? robot_cell_demo_config() : demo_config();
     } else {
         const ConfigLoad load = load_monitor_config(opt.config_path);
         if (!load.ok) {
@@ -209,7 +216,9 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
     std::vector<std::unique_ptr<FrameSource>> sources;
     for (std::size_t s = 0U; s < cfg.sensors.size(); ++s) {
         const sim::SensorSpec& spec = cell.specs[s];
-        if (cfg.sensors[s].pcd_files.empty()) {
+        if (cell.has_scene) {
+            sources.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
+        } else if (cfg.sensors[s].pcd_files.empty()) {
             sources.push_back(std::make_unique<SimulatedFrameSource>(spec));
         } else {
             sources.push_back(std::make_unique<PcdFrameSource>(spec.name, cfg.sensors[s].pcd_files,
@@ -218,6 +227,16 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
         }
     }
     return sources;
+}
+
+/// The PLC command receiver's timing for @p cfg: a sample every period, at
+/// most max_command_age apart (the SCT), its six frames within 20 ms.
+CommandReceiverConfig command_receiver_config(const MonitorConfig& cfg) {
+    CommandReceiverConfig rc;
+    rc.channel = cfg.can.command;
+    const std::uint64_t age = cfg.robot.enabled ? cfg.robot.max_command_age_us : 2U * cfg.period_us;
+    rc.sct_us = std::max<std::uint64_t>(age, rc.sample_window_us + 1U);
+    return rc;
 }
 
 /// The monitor (main without its last-resort catch).
@@ -244,7 +263,7 @@ int run_monitor(int argc, char** argv) {
         enter_realtime();
     }
     MonitorCell cell;  // grid, sensors, zones; then, after the CAN output, the prior and the ray tables
-    if ((e = cell.configure(cfg)).failed()) {
+    if ((e = cell.configure(cfg)).failed() || (e = cell.configure_robot(cfg, stdout)).failed()) {
         return fail(e);
     }
     linux_port::LinuxMonotonicClock real_clock;
@@ -268,7 +287,19 @@ int run_monitor(int argc, char** argv) {
     for (const std::unique_ptr<FrameSource>& s : owned) {
         sources.push_back(s.get());
     }
-    MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout);
+    const CommandReceiverConfig receiver = command_receiver_config(cfg);
+    SimulatedPlcLink plc(receiver, &can);
+    SocketCanCommandLink socket_commands(receiver, can);
+    RobotCellDemo demo(cfg, cell, plc);
+    const bool simulated_robot = cell.has_scene && !cell.robot_image.empty();
+    CommandLink* commands = nullptr;
+    if (simulated_robot) {
+        commands = &plc;
+    } else if (can.kind() == CanPort::Kind::kInterface) {
+        commands = &socket_commands;
+    }
+    MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
+                     simulated_robot ? &demo : nullptr);
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));

@@ -9,6 +9,7 @@
 
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/io/prior_files.hpp"
+#include "cellguard/host/io/urdf_import.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/cycle.hpp"
 
@@ -58,7 +59,71 @@ SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std
     return {};
 }
 
+// The robot of @p cfg as a checked model: the URDF imported in the PLC's joint order at the configured base.
+SetupError import_robot(const cell::MonitorConfig& cfg, RobotModel& model) {
+#if CELLGUARD_HOST_URDF
+    std::string text;
+    if (!cell::read_config_text(cfg.robot.urdf, text)) {
+        return failure(2, "configuration error: line %d: robot.urdf: cannot read '%s'", cfg.robot.line,
+                       cfg.robot.urdf.c_str());
+    }
+    host::UrdfImportOptions options;
+    options.joint_order = cfg.robot.joints;
+    options.base_xyz = cfg.robot.base;
+    options.base_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(cfg.robot.base_yaw_deg * M_PI / 180.0,
+                                                                 Eigen::Vector3d::UnitZ()));
+    const std::size_t slash = cfg.robot.urdf.find_last_of('/');
+    options.base_directory = slash == std::string::npos ? "." : cfg.robot.urdf.substr(0U, slash);
+    host::UrdfImport imported;
+    const IoStatus st = host::import_urdf_text(text, options, imported);
+    if (!st.ok()) {
+        return failure(2, "configuration error: line %d: robot.urdf '%s': %s", cfg.robot.line, cfg.robot.urdf.c_str(),
+                       st.message());
+    }
+    model = imported.model;
+    return {};
+#else
+    static_cast<void>(model);
+    return failure(2, "configuration error: line %d: robot: this build has no URDF import (liburdfdom-dev)",
+                   cfg.robot.line);
+#endif
+}
+
+// The scene file of cfg.demo_scene.
+SetupError read_scene(const cell::MonitorConfig& cfg, sim::SceneFile& scene) {
+    std::string text;
+    if (!cell::read_config_text(cfg.demo_scene, text)) {
+        return failure(2, "configuration error: demo.scene: cannot read '%s'", cfg.demo_scene.c_str());
+    }
+    const std::size_t slash = cfg.demo_scene.find_last_of('/');
+    const sim::SceneLoad load = sim::parse_scene(text, cfg.demo_scene,
+                                                 slash == std::string::npos ? "" : cfg.demo_scene.substr(0U, slash));
+    if (!load.ok) {
+        return failure(2, "configuration error: demo.scene: %s", load.error.c_str());
+    }
+    scene = load.scene;
+    return {};
+}
+
 }  // namespace
+
+sim::Scene MonitorCell::background_scene() const { return has_scene ? scene.scene : sim::reference_scene(); }
+
+void attach_robot(ControllerConfig& cc, const cell::MonitorConfig& cfg, MonitorCell& cell) {
+    if (cell.has_cases) {
+        cc.cases = &cell.cases;
+    }
+    if (!cell.robot_image.empty()) {
+        cc.robot.model = &cell.robot.model;
+        cc.robot.image_crc = cell.robot.crc;
+        cc.robot.mask_margin_m = cfg.robot.margin_m;
+        cc.robot.separation = cfg.robot.separation;
+        cc.robot.mask = {cell.robot_mask.data(), cell.robot_mask.size()};
+    }
+    if (cell.has_cases || !cell.robot_image.empty()) {
+        cc.max_command_age_us = cfg.robot.enabled ? cfg.robot.max_command_age_us : 2U * cfg.period_us;
+    }
+}
 
 sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background, std::string& error) {
     sim::SensorSpec spec;
@@ -144,6 +209,75 @@ SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
     return {};
 }
 
+SetupError MonitorCell::configure_robot(const cell::MonitorConfig& cfg, std::FILE* out) {
+    std::vector<std::uint32_t> masks;
+    for (const cell::CaseSettings& k : cfg.cases) {
+        masks.push_back(k.zone_mask);
+    }
+    has_cases = !masks.empty();
+    const Result<MonitoringCases, CaseError> made =
+        has_cases ? MonitoringCases::make(zones, {masks.data(), masks.size()})
+                  : Result<MonitoringCases, CaseError>(MonitoringCases::all_zones(zones));
+    if (!made.ok()) {
+        return failure(2, "configuration error: cases[%zu]: %s", made.error().case_number, made.error().reason);
+    }
+    cases = made.value();
+    has_scene = !cfg.demo_scene.empty();
+    if (has_scene) {
+        const SetupError e = read_scene(cfg, scene);
+        if (e.failed()) {
+            return e;
+        }
+    }
+    if (!cfg.robot.enabled) {
+        return {};
+    }
+    return configure_robot_model(cfg, out);
+}
+
+SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out) {
+    RobotModel imported_model;
+    const SetupError imported = import_robot(cfg, imported_model);
+    if (imported.failed()) {
+        return imported;
+    }
+    robot_image.assign(kRobotImageMaxBytes, 0U);
+    const Result<std::size_t, RobotModelError> written =
+        write_robot_image(imported_model, {robot_image.data(), robot_image.size()});
+    if (!written.ok()) {
+        return failure(2, "configuration error: robot: %s (item %zu)", written.error().reason, written.error().index);
+    }
+    robot_image.resize(written.value());
+    const Result<LoadedRobot, RobotModelError> loaded = load_robot_image({robot_image.data(), robot_image.size()});
+    if (!loaded.ok()) {  // not reached: the image was just written from a checked model
+        return failure(1, "robot image: %s", loaded.error().reason);
+    }
+    robot = loaded.value();
+    robot_mask.assign(grid.voxel_count(), 0U);
+    if (has_scene && scene.robot.present) {
+        if ((scene.robot.position - cfg.robot.base).norm() > 1e-9) {
+            return failure(2, "configuration error: robot.base differs from the scene's robot position");
+        }
+        const std::string e = sim::RobotCellSimulation::make(scene, robot.model,
+                                                            static_cast<std::uint8_t>(cases.count()), simulation);
+        if (!e.empty()) {
+            return failure(2, "configuration error: demo.scene: %s", e.c_str());
+        }
+    }
+    const SeparationParams& sp = cfg.robot.separation;
+    say(out,
+        "robot: %s, %u links, %u joints, %u capsules; image %zu bytes, CRC-32 0x%08x, robot id 0x%04x; "
+        "mask margin %.3f m\n",
+        robot.model.name, robot.model.link_count, robot.model.joint_count, robot.model.capsule_count,
+        robot_image.size(), robot.crc, robot_id(robot.crc), cfg.robot.margin_m);
+    for (std::uint8_t k = 0U; k < sp.class_count; ++k) {
+        say(out, "separation: speed class %u: S_p %.3f m\n", k, protective_separation_distance(sp, k));
+    }
+    say(out, "separation: reduced speed below %.3f m; %zu monitoring cases\n", reduced_speed_distance(sp),
+        cases.count());
+    return {};
+}
+
 SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* out) {
     if (cfg.prior.source == cell::PriorSource::kFile) {
         return read_prior(cfg, grid, prior, out);
@@ -152,7 +286,7 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
     std::vector<std::uint8_t> bg_ob(grid.voxel_count());
     EvidenceGrid bg = EvidenceGrid::make(grid, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
     bg.clear();
-    const sim::SimulatedFrame empty = sim::render_frame(specs, sim::reference_scene());
+    const sim::SimulatedFrame empty = sim::render_frame(specs, background_scene());
     for (int i = 0; i < cfg.prior.background_frames; ++i) {
         if (!fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
                                    {fusion_scratch.data(), fusion_scratch.size()})
@@ -175,7 +309,7 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
 }
 
 SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* out) {
-    layout = sim::render_frame(specs, sim::reference_scene());
+    layout = sim::render_frame(specs, background_scene());
     tables.clear();
     tables.resize(specs.size());
     std::size_t total_steps = 0U;

@@ -22,6 +22,13 @@ SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCe
     return oc;
 }
 
+// The controller's configuration with the cell's robot side.
+ControllerConfig robot_controller_config(const cell::MonitorConfig& cfg, MonitorCell& cell) {
+    ControllerConfig cc = controller_config(cfg);
+    attach_robot(cc, cfg, cell);
+    return cc;
+}
+
 // Room for the longest status line of @p cfg: the fixed text and numbers,
 // every zone's name with the longest state, every fault's name.
 std::size_t status_line_capacity(const cell::MonitorConfig& cfg) {
@@ -29,7 +36,9 @@ std::size_t status_line_capacity(const cell::MonitorConfig& cfg) {
     for (const ZoneState s : {ZoneState::kClear, ZoneState::kIntruded, ZoneState::kUnseen, ZoneState::kFault}) {
         longest_state = std::max(longest_state, std::strlen(to_string(s)));
     }
-    std::size_t n = 256U;  // "t=... cycle ... " with the 63-character scene text, stop and warning, cycle time
+    // "t=... cycle ... " with the 63-character scene text, stop and warning,
+    // cycle time, and the robot's case, request and distances.
+    std::size_t n = 320U;
     for (const cell::ZoneSettings& z : cfg.zones) {
         n += z.name.size() + 2U + longest_state;
     }
@@ -84,7 +93,7 @@ const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capaci
 
 MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
                          const std::vector<cell::FrameSource*>& sources, CanPort& can, CycleClock& clock,
-                         std::FILE* status_out)
+                         std::FILE* status_out, CommandLink* commands, CycleHook* hook)
     : cfg_(&cfg),
       sources_(sources),
       can_(&can),
@@ -93,12 +102,15 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       sources_match_(sources.size() == cfg.sensors.size() && cell.specs.size() == cfg.sensors.size() &&
                      cell.tables.size() == cfg.sensors.size() && cell.backgrounds.size() == cfg.sensors.size() &&
                      std::find(sources.begin(), sources.end(), nullptr) == sources.end()),
+      commands_(commands),
+      hook_(hook),
+      robot_cell_(cell.has_cases || !cell.robot_image.empty()),
       show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
                                [](const cell::SensorSettings& s) { return s.pcd_files.empty(); })),
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
-      controller_(controller_config(cfg), cell.frame_grid, {cell.fusion_scratch.data(), cell.fusion_scratch.size()},
+      controller_(robot_controller_config(cfg, cell), cell.frame_grid, {cell.fusion_scratch.data(), cell.fusion_scratch.size()},
                   {cell.prior.data(), cell.prior.size()}, cell.zones, cell.model, clock, this),
       output_(output_config(cfg, cell, controller_.prior_crc()), can) {
     for (std::size_t s = 0U; s < inputs_.size() && sources_match_; ++s) {
@@ -133,16 +145,24 @@ void MonitorLoop::load_frames(int k) noexcept {
 }
 
 const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
+    if (hook_ != nullptr) {
+        hook_->before_cycle(k, static_cast<double>(static_cast<std::uint64_t>(k) * cfg_->period_us) * 1e-6);
+    }
     load_frames(k);
     clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
     for (SensorInput& in : inputs_) {
         in.captured_us = clock_->base();
     }
+    const CommandPoll command = commands_ != nullptr ? commands_->poll(clock_->base()) : CommandPoll{};
     const std::size_t sent_before = can_->frames_sent();
-    const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false);
+    const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false, command.input);
     count(k, r);
-    if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != 3U) {
+    const std::size_t frames_per_cycle = r.robot.configured ? 4U : 3U;
+    if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != frames_per_cycle) {
         ++stats_.send_failures;
+    }
+    if (hook_ != nullptr) {
+        hook_->after_cycle(r);
     }
     format_status(k, r);
     if (out_ != nullptr) {
@@ -170,6 +190,12 @@ void MonitorLoop::count(int k, const CycleReport& r) noexcept {
     if (r.safety.warning) {
         ++stats_.warning_cycles;
     }
+    if (!r.safety.stop_requested && r.robot.speed_request == SpeedRequest::kReduced) {
+        ++stats_.reduced_cycles;
+    }
+    if ((r.safety.latched_faults & fault_bit(Fault::kCommandInvalid)) != 0U && !r.robot.command_valid) {
+        ++stats_.command_invalid_cycles;
+    }
 }
 
 // NOLINTNEXTLINE(cert-dcl50-cpp): printf-style so that the compiler checks each format (format attribute)
@@ -189,7 +215,9 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     line_[0] = '\0';
     // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
     char scene_text[64];
-    if (show_person_) {
+    if (hook_ != nullptr) {
+        hook_->describe(scene_text, sizeof scene_text);
+    } else if (show_person_) {
         const cell::PersonPosition person = cell::demo_person(k);
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
                                         cell::demo_phase(k)));
@@ -199,6 +227,14 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
     for (std::size_t z = 0U; z < zone_count_; ++z) {
         append(" %s:%s", cfg_->zones[z].name.c_str(), to_string(r.zones.zones[z].state));
+    }
+    if (robot_cell_) {
+        char distance[16] = "-";
+        if (r.robot.distance_mm != 65535U) {
+            static_cast<void>(std::snprintf(distance, sizeof distance, "%.2f m", r.robot.distance_mm / 1000.0));
+        }
+        append(" | case %u %-7s d %-7s S_p %.2f m", r.robot.active_case, to_string(r.robot.speed_request), distance,
+               r.robot.required_mm / 1000.0);
     }
     char faults[256];
     append(" | %-4s %-4s | faults %s | cycle %.2f ms\n", r.safety.stop_requested ? "STOP" : "run",

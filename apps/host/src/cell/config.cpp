@@ -264,7 +264,7 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const std::string p = "can";
     L.check_keys(t, p,
                  {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
-                  "diagnostics_data_id", "data_id_mode"});
+                  "diagnostics_data_id", "data_id_mode", "separation_id", "separation_data_id", "command_id"});
     c.can.interface_name = L.string_or(t, p, "interface", "");
     c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
     c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
@@ -297,10 +297,17 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
         L.fail(t.get("data_id_mode")->source(), "can.data_id_mode",
                R"(expected "both", "alt", "low" or "nibble", got ")" + mode + "\"");
     }
-    if (!check_channel_config(ch).ok()) {
+    ch.separation_can_id = static_cast<std::uint32_t>(
+        L.integer_or(t, p, "separation_id", 0, 0x7FF, ch.separation_can_id));
+    ch.separation_data_id = static_cast<std::uint16_t>(
+        L.integer_or(t, p, "separation_data_id", 0, 0xFFFF, ch.separation_data_id));
+    c.can.command.base_can_id = static_cast<std::uint32_t>(
+        L.integer_or(t, p, "command_id", 0, 0x7FA, c.can.command.base_can_id));
+    c.can.command.data_id_mode = ch.data_id_mode;
+    if (!check_channel_config(ch).ok() || !check_channels_compatible(ch, c.can.command).ok()) {
         L.fail(t.source(), "can",
-               "invalid channel: the three CAN IDs (safety, safety + 1, diagnostics) must differ and the data IDs "
-               "must be valid for the mode and distinguishable");
+               "invalid channel: the CAN IDs (safety, safety + 1, diagnostics, separation, command_id .. command_id + 5) "
+               "must differ and the data IDs must be valid for the mode and distinguishable");
     }
 }
 
@@ -363,11 +370,15 @@ void load_restart_interlock(const Loader& L, const toml::table& root, MonitorCon
 }
 
 /// The [demo] table (optional): the number of demo cycles.
-void load_demo(const Loader& L, const toml::table& root, MonitorConfig& c) {
+void load_demo(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
     if (root.contains("demo")) {
         const toml::table& t = L.table(root, "", "demo");
-        L.check_keys(t, "demo", {"cycles"});
+        L.check_keys(t, "demo", {"cycles", "scene"});
         c.demo_cycles = static_cast<int>(L.integer_or(t, "demo", "cycles", 1, 1000000, 60));
+        c.demo_scene = L.string_or(t, "demo", "scene", "");
+        if (!c.demo_scene.empty() && c.demo_scene[0] != '/' && c.demo_scene.rfind("builtin:", 0) != 0) {
+            c.demo_scene.insert(0U, base_dir + "/");
+        }
     }
 }
 
@@ -378,7 +389,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     load_can(L, root, c);
     load_cycle(L, root, c);
     load_restart_interlock(L, root, c);
-    load_demo(L, root, c);
+    load_demo(L, root, c, base_dir);
     config_detail::load_cases(L, root, c);
     config_detail::load_robot(L, root, c, base_dir);
 }
@@ -427,6 +438,29 @@ MonitorConfig demo_config() {
         std::abort();
     }
     return l.config;
+}
+
+MonitorConfig robot_cell_demo_config() {
+    const ConfigLoad l = parse_monitor_config(builtin_text("robot-cell.toml"), "<built-in robot-cell config>");
+    if (!l.ok) {  // the built-in text is tested by test_monitor_config.cpp
+        static_cast<void>(
+            std::fprintf(stderr, "cellguard-monitor: built-in robot-cell configuration: %s\n", l.error.c_str()));
+        std::abort();
+    }
+    return l.config;
+}
+
+bool read_config_text(const std::string& path, std::string& text) {
+    if (path.rfind("builtin:", 0) == 0) {
+        const char* t = builtin_text(path.substr(8U));
+        if (t == nullptr) {
+            return false;
+        }
+        text = t;
+        return true;
+    }
+    std::string dir;
+    return host::read_text_file(path, text, dir);
 }
 
 Eigen::Isometry3d sensor_pose(const SensorSettings& s) {

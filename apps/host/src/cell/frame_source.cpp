@@ -47,4 +47,27 @@ bool SimulatedFrameSource::load_frame(std::uint64_t cycle, SensorReading& readin
 
 void SimulatedFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
 
+SceneFrameSource::SceneFrameSource(const sim::SensorSpec& spec, const sim::RobotCellSimulation& simulation)
+    : spec_(spec),
+      simulation_(&simulation),
+      depth_(static_cast<std::size_t>(spec.width > 0 ? spec.width : 0) *
+             static_cast<std::size_t>(spec.height > 0 ? spec.height : 0)) {}
+
+bool SceneFrameSource::load_frame(std::uint64_t /*cycle*/, SensorReading& reading, FrameStatus& status) noexcept {
+    status = FrameStatus{};
+    if (!sim::render_depth_into(spec_, simulation_->scene(), Span<float>(depth_.data(), depth_.size()))) {
+        // Not reached: the image was sized for the sensor.
+        reading = SensorReading{};
+        reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
+        static_cast<void>(
+            std::snprintf(status.reason, sizeof status.reason, "the simulated frame does not fit its buffer"));
+        return false;
+    }
+    reading = sim::depth_reading(spec_, Span<const float>(depth_.data(), depth_.size()));
+    status.ok = true;
+    return true;
+}
+
+void SceneFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
+
 }  // namespace cellguard::cell

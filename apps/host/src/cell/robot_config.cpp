@@ -154,7 +154,7 @@ void load_robot_table(const Loader& L, const toml::table& t, RobotSettings& r, c
     if (r.urdf.empty()) {
         L.fail(t.get("urdf")->source(), p + ".urdf", "must not be empty");
     }
-    if (r.urdf[0] != '/') {
+    if (r.urdf[0] != '/' && r.urdf.rfind("builtin:", 0) != 0) {
         r.urdf = base_dir + "/" + r.urdf;
     }
     const toml::node& j = L.require(t, p, "joints");

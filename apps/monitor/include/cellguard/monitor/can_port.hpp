@@ -5,11 +5,14 @@
 /// one of a SocketCAN interface (the Linux port's SocketCan, cellguard/port/can.hpp),
 /// a candump log file (cellguard/host/io/candump_log.hpp) or another
 /// CanSender (a test's, a future transport). Its detail faults are those of
-/// the sender in use (the interface's: SocketCan reads its error frames
-/// when asked). Sending allocates nothing.
+/// the sender in use (the interface's: the port drains the socket when
+/// asked, error frames to the fault monitor, data frames, such as the PLC's
+/// command frames, into a bounded receive queue). Sending and receiving
+/// allocate nothing.
 #ifndef CELLGUARD_MONITOR_CAN_PORT_HPP
 #define CELLGUARD_MONITOR_CAN_PORT_HPP
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -22,6 +25,9 @@
 #include "cellguard/safety/clock.hpp"
 
 namespace cellguard::monitor {
+
+/// Data frames the port keeps between two reads of its receive queue.
+constexpr std::size_t kReceiveQueueFrames = 64U;
 
 /// See the file comment.
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
@@ -48,6 +54,14 @@ public:
     /// The detail faults of the sender in use (SocketCan::detail_faults for
     /// an interface; 0 for a log or nothing).
     [[nodiscard]] std::uint16_t detail_faults() noexcept override;
+    /// Reads every frame waiting on an interface (error frames go to its
+    /// fault monitor, data frames into the receive queue; when the queue is
+    /// full the oldest frame is dropped and counted). Other kinds: nothing.
+    void drain() noexcept;
+    /// Takes the oldest queued data frame into @p out; false when none.
+    [[nodiscard]] bool take_received(CanFrame& out) noexcept;
+    /// Data frames dropped because the receive queue was full.
+    [[nodiscard]] std::uint64_t receive_dropped() const noexcept { return rx_dropped_; }
     /// Frames sent (written, for a log) so far.
     [[nodiscard]] std::size_t frames_sent() const noexcept { return sent_; }
     /// What the port sends on.
@@ -70,6 +84,10 @@ private:
     CandumpLogWriter log_;
     CanSender* sender_ = nullptr;
     std::size_t sent_ = 0U;
+    std::array<CanFrame, kReceiveQueueFrames> rx_{};  ///< ring of received data frames
+    std::size_t rx_head_ = 0U;                        ///< oldest frame
+    std::size_t rx_count_ = 0U;                       ///< frames queued
+    std::uint64_t rx_dropped_ = 0U;
 };
 
 }  // namespace cellguard::monitor

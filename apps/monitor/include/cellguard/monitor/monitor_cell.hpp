@@ -22,6 +22,10 @@
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/host/sim/robot_cell.hpp"
+#include "cellguard/host/sim/scene_file.hpp"
+#include "cellguard/robot/robot_image.hpp"
+#include "cellguard/safety/monitoring_cases.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
 
@@ -45,6 +49,12 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
 /// The controller's configuration from @p cfg.
 ControllerConfig controller_config(const cell::MonitorConfig& cfg);
 
+class MonitorCell;
+/// @p cc with the robot side of @p cell: its cases, robot model, mask
+/// storage, margin, separation parameters and command age (nothing when the
+/// cell has neither cases nor a robot).
+void attach_robot(ControllerConfig& cc, const cell::MonitorConfig& cfg, MonitorCell& cell);
+
 /// See the file comment. Not copyable or movable: the controller keeps
 /// references into it.
 class MonitorCell {
@@ -65,6 +75,12 @@ public:
     /// The simulated sensors' ray tables and views of the empty cell; prints
     /// the background check, the tables and the work bound to @p out.
     SetupError build_tables(const cell::MonitorConfig& cfg, std::FILE* out);
+    /// The monitoring cases, the robot (its URDF imported, written as a robot
+    /// image and loaded back from those bytes, as a controller with the image
+    /// in flash does), its mask storage, and the demo scene with its
+    /// simulated robot and PLC; prints the robot's summary to @p out. Exit
+    /// status 2 for a configuration the cell cannot take. Call after configure().
+    SetupError configure_robot(const cell::MonitorConfig& cfg, std::FILE* out);
 
     std::vector<sim::SensorSpec> specs;            ///< one per configured sensor
     GridGeometry grid;                             ///< the grid
@@ -79,6 +95,21 @@ public:
     sim::SimulatedFrame layout;                    ///< every sensor's view of the empty (reference) cell
     std::vector<host::OwnedRayTable> tables;       ///< per sensor; built for the simulated ones
     std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
+
+    MonitoringCases cases;                   ///< the configured cases (all_zones() when none are)
+    bool has_cases = false;                  ///< the configuration has [[cases]]
+    std::vector<std::uint8_t> robot_image;   ///< the robot image as written (empty: no robot)
+    LoadedRobot robot{};                     ///< the robot, loaded back from robot_image
+    std::vector<std::uint8_t> robot_mask;    ///< one byte per voxel, the controller's robot mask
+    bool has_scene = false;                  ///< the demo renders a scene file (cfg.demo_scene)
+    sim::SceneFile scene;                    ///< that scene (its static boxes are the background)
+    sim::RobotCellSimulation simulation;     ///< its people, robot and PLC schedule (with a robot)
+    /// The scene the background, the ray tables and the views of the empty
+    /// cell come from: the scene file's static boxes, or the paper's reference scene.
+    [[nodiscard]] sim::Scene background_scene() const;
+
+private:
+    SetupError configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out);
 };
 
 }  // namespace cellguard::monitor

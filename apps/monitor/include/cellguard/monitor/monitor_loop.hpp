@@ -31,8 +31,10 @@
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/monitor/robot_cell_demo.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 
 namespace cellguard::monitor {
@@ -46,7 +48,9 @@ struct MonitorStats {
     int stop_cycles = 0;                ///< cycles with the stop requested
     int warning_cycles = 0;             ///< cycles with the warning on
     int first_stop_after_release = -1;  ///< the first cycle that stopped after one that did not (-1: none)
-    int send_failures = 0;              ///< log or sender: cycles that did not send their 3 frames
+    int send_failures = 0;              ///< log or sender: cycles that did not send their frames (3, or 4 with a robot)
+    int reduced_cycles = 0;             ///< cycles with reduced speed requested (and no stop)
+    int command_invalid_cycles = 0;     ///< cycles that refused the PLC's command
     int can_fault_cycles = 0;           ///< cycles that ended with the CAN-error fault latched
     std::uint32_t faults_seen = 0U;     ///< every fault latched in some cycle
     std::uint64_t max_cycle_us = 0U;    ///< the longest cycle
@@ -70,9 +74,13 @@ class MonitorLoop final : private CycleOutput {
 public:
     /// Binds the wiring: @p sources holds one source per configured sensor,
     /// in configuration order; @p status_out receives the status lines and
-    /// refused-frame reports (nullptr: quiet).
+    /// refused-frame reports (nullptr: quiet). A cell with a robot or
+    /// monitoring cases takes the PLC's command from @p commands each cycle
+    /// (nullptr: none arrives, so the controller stops); @p hook (optional)
+    /// is called around each cycle (the robot-cell demo's simulation).
     MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
-                CanPort& can, CycleClock& clock, std::FILE* status_out);
+                CanPort& can, CycleClock& clock, std::FILE* status_out, CommandLink* commands = nullptr,
+                CycleHook* hook = nullptr);
     MonitorLoop(const MonitorLoop&) = delete;
     MonitorLoop& operator=(const MonitorLoop&) = delete;
     MonitorLoop(MonitorLoop&&) = delete;
@@ -112,6 +120,9 @@ private:
     CycleClock* clock_;
     std::FILE* out_;
     bool sources_match_;
+    CommandLink* commands_;            ///< the PLC's command (nullptr: none)
+    CycleHook* hook_;                  ///< around each cycle (nullptr: none)
+    bool robot_cell_;                  ///< the cell has a robot or cases: the status line shows them
     bool show_person_;                 ///< false: every sensor is recorded, no simulated person to show
     std::size_t zone_count_;           ///< zones on the status line
     std::vector<SensorInput> inputs_;  ///< one per sensor, made at construction

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cellguard/can/command_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/robot/separation.hpp"
 #include "cellguard/safety/zones.hpp"
@@ -104,6 +105,7 @@ struct CanSettings {
         "monitor-demo.log";  ///< candump log path when no interface is given (relative: to the working directory)
     std::string log_interface_name = "vcan0";  ///< interface name written in the log lines
     SafetyChannelConfig channel{};             ///< CAN IDs, data IDs, data ID mode
+    CommandChannelConfig command{};            ///< the PLC's command: CAN IDs, data IDs (can.command_id, ...)
 };
 
 /// Everything the monitor needs.
@@ -130,6 +132,12 @@ struct MonitorConfig {
     std::int16_t foreground_threshold = 255;    ///< t_f, log-odds
     std::int16_t accessible_min_prior = -754;   ///< unseen counts voxels with a prior at least this
     int demo_cycles = 60;                       ///< cycles the simulated run lasts
+    /// A scene file (apps/host/sim/scene_file.hpp) the simulated sensors
+    /// render instead of the paper's reference scene with the scripted
+    /// person, and whose robot trajectory and command schedule the simulated
+    /// PLC sends (demo.scene; relative: to the config file's directory;
+    /// "builtin:NAME": a text built into the program). Empty: the paper's demo.
+    std::string demo_scene;
 };
 
 /// Outcome of loading: the config, or a message naming file, line and key.
@@ -156,6 +164,14 @@ Eigen::Isometry3d sensor_pose(const SensorSettings& s);
 MonitorConfig demo_config();
 /// The TOML text of the demo configuration.
 const char* demo_config_text();
+/// The robot-cell demo's configuration (apps/monitor/config/robot-cell.toml's content).
+MonitorConfig robot_cell_demo_config();
+/// The text built into the program under @p name ("robot-cell.toml",
+/// "robot-cell-scene.toml", "robot-arm.urdf"), or nullptr.
+const char* builtin_text(const std::string& name);
+/// The text of @p path: a file, or with the prefix "builtin:" a text built
+/// into the program. False (and @p text untouched) when it cannot be read.
+bool read_config_text(const std::string& path, std::string& text);
 
 }  // namespace cellguard::cell
 

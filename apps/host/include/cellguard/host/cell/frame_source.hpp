@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cellguard/grid/sensor_frame.hpp"
+#include "cellguard/host/sim/robot_cell.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 
 namespace cellguard::cell {
@@ -77,6 +78,25 @@ private:
     sim::PreparedScene prepared_;
     std::vector<float> depth_;
     std::uint64_t renders_ = 0U;
+};
+
+/// A simulated sensor of a scene-file cell (the robot-cell demo): every
+/// cycle it ray casts the scene that @p simulation holds at that moment (the
+/// monitor's loop moves the simulation before it loads the frames) into its
+/// depth image.
+class SceneFrameSource final : public FrameSource {
+public:
+    /// A source for @p spec of @p simulation (which must outlive it); allocates its image.
+    SceneFrameSource(const sim::SensorSpec& spec, const sim::RobotCellSimulation& simulation);
+
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
+    /// A simulated sensor has no summary line.
+    void write_summary(std::FILE* out) const noexcept override;
+
+private:
+    sim::SensorSpec spec_;
+    const sim::RobotCellSimulation* simulation_;
+    std::vector<float> depth_;
 };
 
 }  // namespace cellguard::cell

@@ -1,0 +1,46 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// The monitor's sources of the PLC's command (command_link.hpp).
+#include "cellguard/monitor/command_link.hpp"
+
+namespace cellguard::monitor {
+
+SimulatedPlcLink::SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus) noexcept
+    : sender_(config.channel), receiver_(config), bus_(bus) {}
+
+void SimulatedPlcLink::set_command(const RobotCommand& command) noexcept {
+    command_ = command;
+    has_command_ = true;
+}
+
+CommandPoll SimulatedPlcLink::poll(std::uint64_t now_us) noexcept {
+    if (has_command_) {
+        const Result<CommandFrames> frames = sender_.next_sample(command_);
+        if (frames.ok()) {
+            const std::uint64_t arrival = now_us > kSimulatedCommandLeadUs ? now_us - kSimulatedCommandLeadUs : 0U;
+            for (const CanFrame& f : frames.value().frame) {
+                if (bus_ != nullptr) {
+                    static_cast<void>(bus_->send(f));  // the log shows the PLC's frames; a failed write is the log's
+                }
+                static_cast<void>(receiver_.on_frame(f, arrival));
+                ++frames_;
+            }
+        }
+    }
+    return receiver_.poll(now_us);
+}
+
+SocketCanCommandLink::SocketCanCommandLink(const CommandReceiverConfig& config, CanPort& port) noexcept
+    : receiver_(config), port_(&port) {}
+
+CommandPoll SocketCanCommandLink::poll(std::uint64_t now_us) noexcept {
+    port_->drain();
+    CanFrame f{};
+    while (port_->take_received(f)) {
+        static_cast<void>(receiver_.on_frame(f, now_us));
+        ++frames_;
+    }
+    return receiver_.poll(now_us);
+}
+
+}  // namespace cellguard::monitor

@@ -1,0 +1,34 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// The simulated side of a robot cell (robot_cell_demo.hpp).
+#include "cellguard/monitor/robot_cell_demo.hpp"
+
+#include <cstdio>
+
+namespace cellguard::monitor {
+
+RobotCellDemo::RobotCellDemo(const cell::MonitorConfig& cfg, MonitorCell& cell, SimulatedPlcLink& plc) noexcept
+    : cell_(&cell), plc_(&plc), reduced_class_(cfg.robot.separation.reduced_class) {}
+
+void RobotCellDemo::before_cycle(int /*k*/, double t_s) noexcept {
+    if (started_) {
+        static_cast<void>(clock_.advance(t_s - last_t_s_, last_request_));
+    }
+    started_ = true;
+    last_t_s_ = t_s;
+    cell_->simulation.update(t_s, clock_.time());
+    command_ = cell_->simulation.command(cell_->robot.crc);
+    if (last_request_ == SpeedRequest::kReduced) {
+        command_.speed_class = reduced_class_;  // the robot obeys: it moves at the reduced class
+    }
+    plc_->set_command(command_);
+}
+
+void RobotCellDemo::after_cycle(const CycleReport& report) noexcept { last_request_ = report.robot.speed_request; }
+
+void RobotCellDemo::describe(char* out, std::size_t capacity) const noexcept {
+    static_cast<void>(std::snprintf(out, capacity, "robot program %6.2fs cmd case %u class %u", clock_.time(),
+                                    command_.monitoring_case, command_.speed_class));
+}
+
+}  // namespace cellguard::monitor
