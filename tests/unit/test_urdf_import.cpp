@@ -304,6 +304,12 @@ TEST_CASE("urdf import: zero, negative and non-finite sizes are refused naming t
     refusal(two_links(collision(R"(<mesh filename="m.stl" scale="1 -1 1"/>)")), o, {"link 'arm'", "scale"});
     refusal(two_links(collision(R"(<sphere radius="1e400"/>)")), o, {"arm"});
     refusal(two_links(collision(R"(<sphere radius="1.5"/>)")), o, {"link 'arm'", "radius 1.500 m"});
+    UrdfImport r;
+    REQUIRE(host::import_urdf_text(two_links(R"(<visual><geometry><sphere radius="0.1"/></geometry></visual>)"), o, r)
+                .ok());
+    CHECK(r.model.capsule_count == 1U);
+    REQUIRE(r.notes.size() == 1U);
+    CHECK(r.notes[0] == "link 'arm' has visual but no collision geometry: no capsule, not masked");
 }
 
 // verifies: SR-ROB-104

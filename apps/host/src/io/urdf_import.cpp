@@ -521,6 +521,9 @@ std::vector<LinkCapsule> link_capsules(const urdf::Link& link, const UrdfImportO
                                        std::vector<std::string>& notes) {
     std::vector<LinkCapsule> parts;
     const char* name = link.name.c_str();
+    if (link.collision_array.empty() && !link.visual_array.empty()) {
+        notes.push_back("link '" + link.name + "' has visual but no collision geometry: no capsule, not masked");
+    }
     for (const urdf::CollisionSharedPtr& collision : link.collision_array) {
         if (!collision || !collision->geometry) {
             fail(ErrorCode::kMalformedInput, "link '%s': a <collision> without geometry", name);

@@ -43,7 +43,9 @@
 /// section (contains it); STL mesh (binary or ASCII, scale applied) ->
 /// bounding_capsule() of its vertices, checked to contain each; COLLADA
 /// (.dae), OBJ and anything else -> refused, naming the link and the file.
-/// Sizes and scales must be finite and > 0. Mesh files: `package://NAME/REST`
+/// Sizes and scales must be finite and > 0. A link with <visual> but no
+/// <collision> gets no capsule (the notes say so: its voxels stay
+/// foreground, which stops the robot rather than hide anyone). Mesh files: `package://NAME/REST`
 /// resolves to packages[NAME]/REST; a relative path resolves against the
 /// URDF's directory (base_directory); absolute paths and other schemes
 /// (file://, http://) are refused, so that the files a robot image comes
