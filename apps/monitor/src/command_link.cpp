@@ -14,7 +14,7 @@ void SimulatedPlcLink::set_command(const RobotCommand& command) noexcept {
 }
 
 CommandPoll SimulatedPlcLink::poll(std::uint64_t now_us) noexcept {
-    if (has_command_) {
+    if (has_command_ && !silent_) {
         const Result<CommandFrames> frames = sender_.next_sample(command_);
         if (frames.ok()) {
             const std::uint64_t arrival = now_us > kSimulatedCommandLeadUs ? now_us - kSimulatedCommandLeadUs : 0U;

@@ -53,8 +53,9 @@ public:
     SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus) noexcept;
     /// The command of the next sample (sent at the next poll). Without one, nothing is sent.
     void set_command(const RobotCommand& command) noexcept;
-    /// Stops sending (a PLC that fell silent: the receiver's SCT follows).
-    void go_silent() noexcept { has_command_ = false; }
+    /// Stops sending for good, whatever set_command says later (a PLC that
+    /// fell silent: the receiver's SCT and the command age follow).
+    void go_silent() noexcept { silent_ = true; }
     [[nodiscard]] CommandPoll poll(std::uint64_t now_us) noexcept override;
     [[nodiscard]] std::uint64_t frames_received() const noexcept override { return frames_; }
     /// The receiver.
@@ -66,6 +67,7 @@ private:
     CanSender* bus_;
     RobotCommand command_{};
     bool has_command_ = false;
+    bool silent_ = false;
     std::uint64_t frames_ = 0U;
 };
 

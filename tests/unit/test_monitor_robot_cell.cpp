@@ -1,0 +1,200 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// Requirements: the robot-cell demo as cellguard-monitor wires it (apps/monitor:
+// command_link.hpp, robot_cell_demo.hpp, monitor_loop.hpp): the PLC's command
+// through the PLC-side sender, the CAN port and the receiver; the arm alone
+// never stops the robot; the person brings reduced speed, then the stop below
+// S_p; the cases switch with the robot's program and are echoed; no cycle allocates.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/command_link.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/monitor/monitor_loop.hpp"
+#include "cellguard/monitor/robot_cell_demo.hpp"
+
+using namespace cellguard;
+using namespace cellguard::cell;
+using namespace cellguard::monitor;
+
+#if CELLGUARD_HOST_URDF
+namespace {
+
+/// A clock that advances 10 us per reading.
+class SteppingClock final : public MonotonicClock {
+public:
+    std::uint64_t now_us() noexcept override { return now += 10U; }
+    std::uint64_t now = 5000000U;
+};
+
+/// Counts the frames sent, by CAN ID range.
+class CountingSender final : public CanSender {
+public:
+    bool send(const CanFrame& frame) noexcept override {
+        ++frames;
+        if (frame.id >= 0x0C1U && frame.id <= 0x0C6U) {
+            ++command_frames;
+        }
+        return true;
+    }
+    std::size_t frames = 0U;
+    std::size_t command_frames = 0U;
+};
+
+/// One cycle's decisions.
+struct CycleRecord {
+    bool stop = false;
+    SpeedRequest request = SpeedRequest::kFull;
+    std::uint16_t distance_mm = 0U;
+    std::uint16_t required_mm = 0U;
+    std::uint8_t active_case = 0U;
+    std::uint8_t commanded_case = 0U;
+    bool command_valid = false;
+    bool protective_intruded = false;
+    std::uint32_t faults = 0U;
+};
+
+/// The robot-cell demo as main wires it, with a counting sender.
+struct RobotCell {
+    RobotCell() : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(receiver_config(), &can) {
+        cfg.budget_us = 60000000U;  // the decisions, not this host's speed
+        REQUIRE_FALSE(cell.configure(cfg).failed());
+        REQUIRE_FALSE(cell.configure_robot(cfg, nullptr).failed());
+        REQUIRE_FALSE(cell.build_prior(cfg, nullptr).failed());
+        REQUIRE_FALSE(cell.build_tables(cfg, nullptr).failed());
+        for (const sim::SensorSpec& spec : cell.specs) {
+            owned.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
+            sources.push_back(owned.back().get());
+        }
+        can.use_sender(sender);
+        demo = std::make_unique<RobotCellDemo>(cfg, cell, plc);
+        out = std::fopen("/dev/null", "w");
+        REQUIRE(out != nullptr);
+        static_cast<void>(std::setvbuf(out, buffer, _IOFBF, sizeof buffer));
+        loop = std::make_unique<MonitorLoop>(cfg, cell, sources, can, clock, out, &plc, demo.get());
+        REQUIRE(loop->status().ok());
+    }
+    ~RobotCell() { static_cast<void>(std::fclose(out)); }
+    RobotCell(const RobotCell&) = delete;
+    RobotCell& operator=(const RobotCell&) = delete;
+
+    static CommandReceiverConfig receiver_config() {
+        CommandReceiverConfig rc;
+        rc.sct_us = 200000U;
+        return rc;
+    }
+
+    /// Runs the configured cycles; records each and counts the cycles that allocated.
+    void run() {
+        for (int k = 0; k < cfg.demo_cycles; ++k) {
+            const test::AllocationScope scope;
+            const CycleReport& r = loop->run_cycle(k);
+            allocating_cycles += scope.allocations() != 0U ? 1 : 0;
+            CycleRecord c;
+            c.stop = r.safety.stop_requested;
+            c.request = r.robot.speed_request;
+            c.distance_mm = r.robot.distance_mm;
+            c.required_mm = r.robot.required_mm;
+            c.active_case = r.robot.active_case;
+            c.commanded_case = demo->command().monitoring_case;
+            c.command_valid = r.robot.command_valid;
+            c.faults = r.safety.latched_faults;
+            for (std::size_t z = 0U; z < 2U; ++z) {  // station-a, station-b
+                c.protective_intruded = c.protective_intruded || r.zones.zones[z].state == ZoneState::kIntruded;
+            }
+            cycles.push_back(c);
+        }
+    }
+
+    MonitorConfig cfg;
+    MonitorCell cell;
+    SteppingClock source_clock;
+    CycleClock clock;
+    CountingSender sender;
+    CanPort can;
+    SimulatedPlcLink plc;
+    std::vector<std::unique_ptr<SceneFrameSource>> owned;
+    std::vector<FrameSource*> sources;
+    std::unique_ptr<RobotCellDemo> demo;
+    std::FILE* out = nullptr;
+    char buffer[8192] = {};
+    std::unique_ptr<MonitorLoop> loop;
+    std::vector<CycleRecord> cycles;
+    int allocating_cycles = 0;
+};
+
+}  // namespace
+
+// verifies: SR-SSM-010, SR-CMD-020, SR-CASE-010, SR-GEN-002
+TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced speed then the stop below S_p") {
+    RobotCell c;
+    c.run();
+    REQUIRE(c.cycles.size() == 170U);
+    CHECK(c.allocating_cycles == 0);
+    CHECK(c.sender.command_frames == 6U * c.cycles.size());  // the PLC's six frames every cycle
+    // Start-up: the receiver needs a reference sample and two good ones, then
+    // the faults recover and the restart interlock runs; from cycle 20 on the
+    // commands are good in every cycle.
+    int first_reduced = -1;
+    int first_stop = -1;
+    for (std::size_t k = 20U; k < c.cycles.size(); ++k) {
+        const CycleRecord& r = c.cycles[k];
+        INFO("cycle " << k);
+        CHECK(r.command_valid);
+        CHECK((r.faults & fault_bit(Fault::kCommandInvalid)) == 0U);
+        CHECK(r.active_case == r.commanded_case);  // applied in the cycle that received it, and echoed
+        CHECK_FALSE(r.protective_intruded);         // the arm works inside the stations' zones: never foreground
+        if (r.request == SpeedRequest::kReduced && first_reduced < 0) {
+            first_reduced = static_cast<int>(k);
+        }
+        if (r.stop && first_stop < 0) {
+            first_stop = static_cast<int>(k);
+            CHECK(r.request == SpeedRequest::kProtectiveStop);
+            CHECK(r.distance_mm < r.required_mm);  // the stop at the computed distance
+        }
+        if (first_reduced < 0) {
+            CHECK_FALSE(r.stop);  // until the person comes near, the robot runs at full speed
+            CHECK(r.request == SpeedRequest::kFull);
+        }
+    }
+    MESSAGE("first reduced cycle " << first_reduced << ", first stop cycle " << first_stop);
+    CHECK(first_reduced > 20);
+    CHECK(first_stop > first_reduced);
+    // The case switched during the run (0 -> 2 -> 1 with the robot's program).
+    bool saw[3] = {false, false, false};
+    for (const CycleRecord& r : c.cycles) {
+        if (r.active_case < 3U) {
+            saw[r.active_case] = true;
+        }
+    }
+    CHECK((saw[0] && saw[1] && saw[2]));
+}
+
+// verifies: SR-CMD-021
+TEST_CASE("robot cell demo: a PLC that falls silent stops the robot within the command age") {
+    RobotCell c;
+    for (int k = 0; k < 30; ++k) {
+        static_cast<void>(c.loop->run_cycle(k));
+    }
+    REQUIRE_FALSE(c.loop->controller().report().safety.stop_requested);
+    c.plc.go_silent();
+    int stop_at = -1;
+    for (int k = 30; k < 40 && stop_at < 0; ++k) {
+        if (c.loop->run_cycle(k).safety.stop_requested) {
+            stop_at = k;
+        }
+    }
+    // max_command_age_ms = 200 at a 100 ms period: the third silent cycle at the latest.
+    CHECK(stop_at >= 30);
+    CHECK(stop_at <= 32);
+}
+#endif
