@@ -36,9 +36,9 @@ std::uint32_t kinds_of(const SeparationInputs& in, std::int16_t frame, std::int1
     const std::int32_t p = prior;
     const std::int32_t sum = f + p;
     const std::int32_t clamped = sum < kLogOddsMin ? kLogOddsMin : (sum > kLogOddsMax ? kLogOddsMax : sum);
-    const bool sentinel = (f == kNeverForeground) | (p == kNeverForeground);
+    const bool sentinel = f == kNeverForeground || p == kNeverForeground;
     const std::int32_t value = sentinel ? static_cast<std::int32_t>(kNeverForeground) : clamped;
-    const std::uint32_t fg = static_cast<std::uint32_t>(value >= in.foreground_threshold);
+    const auto fg = static_cast<std::uint32_t>(value >= in.foreground_threshold);
     const std::uint32_t hidden = static_cast<std::uint32_t>(observed == 0U) &
                                  static_cast<std::uint32_t>(p != kNeverForeground) &
                                  static_cast<std::uint32_t>(p >= in.accessible_min_prior) &
@@ -63,7 +63,12 @@ std::uint16_t to_mm(double metres, bool round_up) noexcept {
 class KSmallest {
 public:
     explicit KSmallest(std::uint32_t k) noexcept : k_(k) {}
-    [[nodiscard]] double threshold() const noexcept { return n_ < k_ ? kInfinity : v_[0]; }
+    [[nodiscard]] double threshold() const noexcept {
+        if (n_ < k_) {
+            return kInfinity;
+        }
+        return v_[0];
+    }
     [[nodiscard]] bool full() const noexcept { return n_ == k_; }
     void offer(double d) noexcept {
         if (n_ < k_) {
@@ -202,8 +207,8 @@ double voxel_distance(const Segment* seg, std::size_t count, const RowTerms& row
 struct Search {
     KSmallest foreground;
     KSmallest hidden;
-    bool foreground_active;
-    bool hidden_active;
+    bool foreground_active = false;
+    bool hidden_active = false;
     std::uint32_t candidates = 0U;
     /// The larger of the active kinds' thresholds: a voxel farther cannot count (-infinity: none active).
     [[nodiscard]] double threshold() const noexcept {
@@ -412,7 +417,7 @@ Status compute_separation(const GridGeometry& grid, const SeparationInputs& in, 
              foreground_count >= params.min_foreground_voxels, hidden_count >= params.min_hidden_voxels};
     const GridDims dims = grid.dims();
     const double s_vox = grid.voxel_size();
-    RowTerms row;
+    RowTerms row{};
     // Rows outward from the robot, so near voxels set the thresholds early and
     // rows that cannot beat them are skipped unread.
     Outward zs(centre.z, dims.nz);
