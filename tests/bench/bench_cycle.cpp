@@ -24,6 +24,14 @@
 // in the same run. A program that prints figures, not a test with a time
 // limit: time never decides the exit status.
 //
+// Then (issue 17) the robot's share: mark_robot_voxels + compute_separation
+// on the same grid with the 6-axis test arm (tests/support/test_robot.hpp)
+// in a new pose each call, for a typical scene (a person-sized cluster) and
+// the worst ones (every voxel foreground, every voxel unseen in an active
+// zone, both) and one that defeats the search's pruning; per call in
+// microseconds of thread CPU time (median and the worst call), against this
+// run's fusion and largest cycle.
+//
 // Usage: bench_cycle [--cycles N] [--no-timing] [--readings max-range|grid-exit|mid-ray|random]
 //   --cycles N   measured cycles (default 10000), after 20 warm-up cycles
 //   --readings   max-range (default, the issue's worst case): every reading at
