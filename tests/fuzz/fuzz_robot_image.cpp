@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -32,11 +33,13 @@ using namespace cellguard;
 
 namespace {
 
-void require(bool condition) {
+void require_at(bool condition, int line) {
     if (!condition) {
+        std::fprintf(stderr, "fuzz_robot_image: requirement at line %d failed\n", line);
         std::abort();
     }
 }
+#define require(condition) require_at((condition), __LINE__)
 
 void put_u32(std::vector<std::uint8_t>& img, std::size_t offset, std::uint32_t v) {
     for (std::size_t i = 0; i < 4; ++i)
@@ -90,8 +93,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     RobotPose pose;
     place_robot(model, q, pose);
     require(pose.count == model.capsule_count);
-    // Positions are finite unless a prismatic joint's limits are astronomically large (they are only finite):
-    // then the mask refuses the pose and marks the whole grid.
+    // Within the checked limits (+-100 rad, +-10 m) every position is finite; were one not, the mask would
+    // refuse the pose and mark the whole grid.
     bool finite = true;
     for (std::size_t c = 0; c < pose.count; ++c) {
         for (int k = 0; k < 3; ++k) {

@@ -134,6 +134,16 @@ TEST_CASE("the model check refuses command indices that are not exactly 0..joint
     expect_refused([](RobotModel& m) { m.links[5].max_velocity = 0.0; }, ErrorCode::kInvalidArgument, 5U);
     expect_refused([](RobotModel& m) { m.links[5].max_velocity = -1.0; }, ErrorCode::kInvalidArgument, 5U);
     CHECK(is_no_error(check_changed([](RobotModel& m) { m.links[2].lower = m.links[2].upper; })));
+    // Limits within +-100 rad (revolute) and +-10 m (prismatic): the kinematics stay exact.
+    expect_refused([](RobotModel& m) { m.links[4].upper = 100.001; }, ErrorCode::kInvalidArgument, 4U);
+    expect_refused([](RobotModel& m) { m.links[4].lower = -2e35; }, ErrorCode::kInvalidArgument, 4U);
+    CHECK(is_no_error(check_changed([](RobotModel& m) { m.links[4].upper = kMaxRevoluteLimit; })));
+    expect_refused(
+        [](RobotModel& m) {
+            m.links[4].joint = JointType::kPrismatic;
+            m.links[4].upper = 10.001;
+        },
+        ErrorCode::kInvalidArgument, 4U);
 }
 
 // verifies: SR-ROB-003

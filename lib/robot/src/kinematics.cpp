@@ -42,11 +42,9 @@ void sin_cos(double q, double& s, double& c) noexcept {
                                 z * (2.48015872894767294178e-05 +
                                      z * (-2.75573143513906633035e-07 +
                                           z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
-    // Quadrant n mod 4 (n is an integer-valued double; fmod is exact).
-    double quadrant = std::fmod(n, 4.0);
-    if (quadrant < 0.0) {
-        quadrant += 4.0;
-    }
+    // Quadrant n mod 4, in 0..3: every step is exact for an integer-valued n
+    // (division by 4 and floor are exact), and no library call is needed.
+    const double quadrant = n - 4.0 * std::floor(n * 0.25);
     if (quadrant == 0.0) {
         s = sr;
         c = cr;

@@ -12,7 +12,7 @@ namespace layout = robot_image_layout;
 
 namespace {
 
-static_assert(layout::kBaseWxyz + 4U * 8U == kRobotImageHeaderBytes, "the base rotation ends the header");
+static_assert(layout::kBaseWxyz + std::size_t{32U} == kRobotImageHeaderBytes, "the base rotation ends the header");
 static_assert(layout::kName + kRobotNameBytes == layout::kBaseXyz, "the name precedes the base position");
 static_assert(4U + 13U * 8U == kRobotImageLinkBytes, "a link record: 4 bytes, then 13 binary64");
 static_assert(4U + 7U * 8U == kRobotImageCapsuleBytes, "a capsule record: 4 bytes, then 7 binary64");

@@ -66,8 +66,8 @@ std::uint64_t mark_capsule(const GridGeometry& grid, const PlacedCapsule& cap, d
     const double dz = cap.b[2] - cap.a[2];
     const double dd = dx * dx + dy * dy + dz * dz;
     const double reach2 = reach * reach;
-    const std::size_t nx = static_cast<std::size_t>(dims.nx);
-    const std::size_t ny = static_cast<std::size_t>(dims.ny);
+    const auto nx = static_cast<std::size_t>(dims.nx);
+    const auto ny = static_cast<std::size_t>(dims.ny);
     for (std::int32_t z = lo[2]; z <= hi[2]; ++z) {
         const double wz = o(2) + s * (static_cast<double>(z) + 0.5) - cap.a[2];
         for (std::int32_t y = lo[1]; y <= hi[1]; ++y) {

@@ -129,6 +129,10 @@ RobotModelError check_link(const RobotModel& m, std::size_t i) noexcept {
     if (!(l.lower <= l.upper)) {
         return fail(ErrorCode::kInvalidArgument, i, "joint's lower limit is above its upper limit");
     }
+    const double range = l.joint == JointType::kRevolute ? kMaxRevoluteLimit : kMaxRobotReach;
+    if (l.lower < -range || l.upper > range) {
+        return fail(ErrorCode::kInvalidArgument, i, "joint limit beyond kMaxRevoluteLimit or kMaxRobotReach");
+    }
     if (!(l.max_velocity > 0.0)) {
         return fail(ErrorCode::kInvalidArgument, i, "joint's max_velocity is not positive");
     }

@@ -18,6 +18,9 @@ constexpr double kHalfDiagonal = 0.8660254037844386;
 /// so pruning never drops a voxel the exact computation would keep.
 constexpr double kPruneSlack = 1e-9;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+/// Rows whose "holds a candidate" flag the count pass keeps (1 KiB of
+/// stack); a grid with more rows (y-z positions) is searched without them.
+constexpr std::size_t kRowFlagRows = 8192U;
 
 bool finite_non_negative(double v) noexcept { return std::isfinite(v) && v >= 0.0; }
 
@@ -36,9 +39,9 @@ std::uint32_t kinds_of(const SeparationInputs& in, std::int16_t frame, std::int1
     const std::int32_t p = prior;
     const std::int32_t sum = f + p;
     const std::int32_t clamped = sum < kLogOddsMin ? kLogOddsMin : (sum > kLogOddsMax ? kLogOddsMax : sum);
-    const bool sentinel = (f == kNeverForeground) | (p == kNeverForeground);
+    const bool sentinel = f == kNeverForeground || p == kNeverForeground;
     const std::int32_t value = sentinel ? static_cast<std::int32_t>(kNeverForeground) : clamped;
-    const std::uint32_t fg = static_cast<std::uint32_t>(value >= in.foreground_threshold);
+    const auto fg = static_cast<std::uint32_t>(value >= in.foreground_threshold);
     const std::uint32_t hidden = static_cast<std::uint32_t>(observed == 0U) &
                                  static_cast<std::uint32_t>(p != kNeverForeground) &
                                  static_cast<std::uint32_t>(p >= in.accessible_min_prior) &
@@ -63,7 +66,12 @@ std::uint16_t to_mm(double metres, bool round_up) noexcept {
 class KSmallest {
 public:
     explicit KSmallest(std::uint32_t k) noexcept : k_(k) {}
-    [[nodiscard]] double threshold() const noexcept { return n_ < k_ ? kInfinity : v_[0]; }
+    [[nodiscard]] double threshold() const noexcept {
+        if (n_ < k_) {
+            return kInfinity;
+        }
+        return v_[0];
+    }
     [[nodiscard]] bool full() const noexcept { return n_ == k_; }
     void offer(double d) noexcept {
         if (n_ < k_) {
@@ -202,8 +210,8 @@ double voxel_distance(const Segment* seg, std::size_t count, const RowTerms& row
 struct Search {
     KSmallest foreground;
     KSmallest hidden;
-    bool foreground_active;
-    bool hidden_active;
+    bool foreground_active = false;
+    bool hidden_active = false;
     std::uint32_t candidates = 0U;
     /// The larger of the active kinds' thresholds: a voxel farther cannot count (-infinity: none active).
     [[nodiscard]] double threshold() const noexcept {
@@ -214,22 +222,47 @@ struct Search {
     [[nodiscard]] bool settled() const noexcept { return !(threshold() > 0.0); }
 };
 
-/// Counts the voxels of each kind outside the robot's voxels (the one full pass over the grid).
-void count_kinds(const SeparationInputs& in, std::size_t n, std::uint32_t& foreground, std::uint32_t& hidden) noexcept {
+/// Each kind's voxels outside the robot's, counted in the one full pass over
+/// the grid, and which rows hold any (while the grid has at most
+/// kRowFlagRows rows).
+struct KindCounts {
+    std::uint32_t foreground = 0U;
+    std::uint32_t hidden = 0U;
+    bool row_flags_valid = false;
+    std::uint64_t row_flags[kRowFlagRows / 64U] = {};
+    /// False only when the row is known to hold no voxel of either kind.
+    [[nodiscard]] bool row_may_hold(std::size_t row) const noexcept {
+        return !row_flags_valid || ((row_flags[row / 64U] >> (row % 64U)) & 1U) != 0U;
+    }
+};
+
+/// Counts the voxels of each kind outside the robot's voxels, row by row.
+void count_kinds(const GridGeometry& grid, const SeparationInputs& in, KindCounts& counts) noexcept {
     const std::int16_t* frame = in.frame_log_odds.data();
     const std::int16_t* prior = in.prior.data();
     const std::uint8_t* observed = in.observed.data();
     const std::uint8_t* mask = in.robot_mask.data();
     const std::uint32_t* zones = in.zone_membership.data();
+    const auto nx = static_cast<std::size_t>(grid.dims().nx);
+    const std::size_t rows = grid.voxel_count() / nx;
+    counts.row_flags_valid = rows <= kRowFlagRows;
     std::uint32_t fg = 0U;
     std::uint32_t hid = 0U;
-    for (std::size_t i = 0U; i < n; ++i) {
-        const std::uint32_t kinds = mask[i] == 0U ? kinds_of(in, frame[i], prior[i], observed[i], zones[i]) : 0U;
-        fg += kinds & 1U;
-        hid += kinds >> 1U;
+    std::size_t i = 0U;
+    for (std::size_t r = 0U; r < rows; ++r) {
+        std::uint32_t any = 0U;
+        for (const std::size_t end = i + nx; i < end; ++i) {
+            const std::uint32_t kinds = mask[i] == 0U ? kinds_of(in, frame[i], prior[i], observed[i], zones[i]) : 0U;
+            fg += kinds & 1U;
+            hid += kinds >> 1U;
+            any |= kinds;
+        }
+        if (counts.row_flags_valid && any != 0U) {
+            counts.row_flags[r / 64U] |= std::uint64_t{1} << (r % 64U);
+        }
     }
-    foreground = fg;
-    hidden = hid;
+    counts.foreground = fg;
+    counts.hidden = hid;
 }
 
 /// The voxels of a row that may lie within @p threshold of a capsule: the
@@ -405,14 +438,13 @@ Status compute_separation(const GridGeometry& grid, const SeparationInputs& in, 
     }
     Segment seg[kMaxRobotCapsules];
     const VoxelCoord centre = prepare_segments(grid, pose, seg);
-    std::uint32_t foreground_count = 0U;
-    std::uint32_t hidden_count = 0U;
-    count_kinds(in, n, foreground_count, hidden_count);
+    KindCounts counts;
+    count_kinds(grid, in, counts);
     Search s{KSmallest(params.min_foreground_voxels), KSmallest(params.min_hidden_voxels),
-             foreground_count >= params.min_foreground_voxels, hidden_count >= params.min_hidden_voxels};
+             counts.foreground >= params.min_foreground_voxels, counts.hidden >= params.min_hidden_voxels};
     const GridDims dims = grid.dims();
     const double s_vox = grid.voxel_size();
-    RowTerms row;
+    RowTerms row{};
     // Rows outward from the robot, so near voxels set the thresholds early and
     // rows that cannot beat them are skipped unread.
     Outward zs(centre.z, dims.nz);
@@ -422,15 +454,17 @@ Status compute_separation(const GridGeometry& grid, const SeparationInputs& in, 
         Outward ys(centre.y, dims.ny);
         std::int32_t y = 0;
         while (ys.next(y) && !s.settled()) {
+            const std::size_t row_index = static_cast<std::size_t>(y) +
+                                          static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(z);
+            if (!counts.row_may_hold(row_index)) {
+                continue;  // no voxel of either kind in this row
+            }
             const double yc = grid.origin()(1) + s_vox * (static_cast<double>(y) + 0.5);
             const double lower = prepare_row(seg, pose.count, yc, zc, row);
             if (lower >= s.threshold()) {
                 continue;
             }
-            const std::size_t start = static_cast<std::size_t>(dims.nx) *
-                                      (static_cast<std::size_t>(y) +
-                                       static_cast<std::size_t>(dims.ny) * static_cast<std::size_t>(z));
-            search_row(grid, in, seg, pose.count, start, row, s);
+            search_row(grid, in, seg, pose.count, static_cast<std::size_t>(dims.nx) * row_index, row, s);
         }
     }
     out.candidates = s.candidates;

@@ -41,6 +41,9 @@ constexpr std::uint8_t kNoCommandIndex = 0xFFU;
 constexpr double kMaxCapsuleRadius = 1.0;
 /// Largest distance of any capsule end or joint origin from its frame, metres.
 constexpr double kMaxRobotReach = 10.0;
+/// Largest |limit| of a revolute joint, radians (16 turns; the command carries
+/// +-6.5534 rad, and the kinematics' sine and cosine are exact far beyond).
+constexpr double kMaxRevoluteLimit = 100.0;
 /// Tolerance of a joint axis' or a quaternion's unit length (|len - 1| <= this).
 constexpr double kUnitLengthTolerance = 1e-6;
 
@@ -100,7 +103,9 @@ constexpr bool is_no_error(const RobotModelError& e) noexcept { return e.code ==
 /// identity origin (base_xyz / base_wxyz place it); known joint types; unit
 /// quaternions and unit axes of movable joints (within
 /// kUnitLengthTolerance); movable joints' command indices exactly
-/// 0..joint_count-1, each once; lower <= upper; max_velocity > 0; fixed
+/// 0..joint_count-1, each once; lower <= upper, both within
+/// +-kMaxRevoluteLimit (revolute) or +-kMaxRobotReach (prismatic);
+/// max_velocity > 0; fixed
 /// joints without a command index; capsules on existing links with
 /// 0 < radius <= kMaxCapsuleRadius; every translation and capsule end within
 /// kMaxRobotReach (the base position too). Only the used entries (below the

@@ -28,8 +28,9 @@
 ///   robot needs to reach its reduced class before S_p(0) is crossed;
 /// - kFull otherwise.
 /// Work: one pass over the grid counts each kind's voxels (outside the
-/// robot's); a kind with fewer than k is kDistanceFarMm and drops out of the
-/// search. Then at most one pass over the grid's rows, visited outward from the
+/// robot's) and notes which rows hold any (grids of up to 8192 rows); a kind
+/// with fewer than k is kDistanceFarMm and drops out of the search, and rows
+/// without candidates are not visited again. Then at most one pass over the grid's rows, visited outward from the
 /// robot (layers outward from the robot's centre in z, rows outward in y), so
 /// near voxels set the distances early. Each kind keeps its k smallest
 /// distances in a fixed max-heap (k <= kMaxSeparationVoxelCount; no sort, no
