@@ -1068,3 +1068,24 @@ TEST_CASE("controller: a whole cycle with a robot allocates no memory") {
     CHECK(scope.allocations() == 0U);
     CHECK(r.robot.command_valid);
 }
+
+// verifies: SR-CASE-004, SR-LOGIC-006
+TEST_CASE("controller: the monitoring cases rewritten in RAM are an internal-check fault in the next cycle, for good") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    REQUIRE(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).detected_faults == 0U);
+    CHECK(c.cases().settings_crc() == rc.cases.settings_crc());  // the controller's own copy
+    // Case 0 loses its protective zone in the controller's copy.
+    const std::uint32_t weaker[] = {0b10U, 0b10U, 0b01U};
+    const_cast<MonitoringCases&>(
+        c.cases()) = MonitoringCases::make(w.zones, weaker).value();  // NOLINT: fault injection
+    const CycleReport& r = c.run_cycle(empty.span(), false, arm_command(0U, clock.t));
+    CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+    CHECK(r.safety.stop_requested);
+    const_cast<MonitoringCases&>(c.cases()) = rc.cases;  // NOLINT: repaired: the fault stays latched
+    for (int i = 0; i < 3; ++i)
+        CHECK(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+}
