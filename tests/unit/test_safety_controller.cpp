@@ -688,7 +688,7 @@ TEST_CASE("controller: a whole cycle allocates no memory") {
 
 // verifies: SR-ROB-201
 TEST_CASE(
-    "controller: the robot standing in the protective zone is not foreground; the same frames without a robot configured stop") {
+    "controller: the robot standing in the protective zone is not foreground, while the same frames without a robot configured stop") {
     Workcell w;
     TestClock clock;
     RobotCell rc(w, 0.2, 0.4);  // in the protective zone, reaching into the warning zone
@@ -738,7 +738,7 @@ TEST_CASE("controller: a refused command uses no pose at all: the robot is foreg
     CHECK(r.safety.reduced_speed);
 }
 
-// verifies: SR-SSM-010, SR-SSM-011
+// verifies: SR-SSM-022, SR-SSM-021
 TEST_CASE("controller: a person walking up to the robot gives FULL, then REDUCED, then STOP at the computed distance") {
     Workcell w;
     TestClock clock;
@@ -820,7 +820,7 @@ TEST_CASE(
 
 // verifies: SR-CASE-011
 TEST_CASE(
-    "controller: an unknown case number stops in that cycle and keeps the last good case; good commands recover") {
+    "controller: an unknown case number stops in that cycle and keeps the last good case, and good commands recover") {
     Workcell w;
     TestClock clock;
     RobotCell rc(w, -0.6, -0.5);
@@ -976,7 +976,7 @@ TEST_CASE("controller: a refused robot configuration latches an internal-check f
 
 // verifies: SR-CASE-012
 TEST_CASE(
-    "controller: a cell without a robot or cases ignores commands; one with cases only takes a joint-less command") {
+    "controller: a cell without a robot or cases ignores commands, and one with cases only takes a joint-less command") {
     Workcell w;
     TestClock clock;
     const Frame f(w, sim::reference_scene(), clock.t);
@@ -1067,4 +1067,25 @@ TEST_CASE("controller: a whole cycle with a robot allocates no memory") {
     const CycleReport& r = c.run_cycle(f.span(), false, in);
     CHECK(scope.allocations() == 0U);
     CHECK(r.robot.command_valid);
+}
+
+// verifies: SR-CASE-004, SR-LOGIC-006
+TEST_CASE("controller: the monitoring cases rewritten in RAM are an internal-check fault in the next cycle, for good") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    SafetyController c = w.controller(rc.config(w), clock);
+    const Frame empty(w, rc.scene(), clock.t);
+    REQUIRE(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).detected_faults == 0U);
+    CHECK(c.cases().settings_crc() == rc.cases.settings_crc());  // the controller's own copy
+    // Case 0 loses its protective zone in the controller's copy.
+    const std::uint32_t weaker[] = {0b10U, 0b10U, 0b01U};
+    const_cast<MonitoringCases&>(
+        c.cases()) = MonitoringCases::make(w.zones, weaker).value();  // NOLINT: fault injection
+    const CycleReport& r = c.run_cycle(empty.span(), false, arm_command(0U, clock.t));
+    CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+    CHECK(r.safety.stop_requested);
+    const_cast<MonitoringCases&>(c.cases()) = rc.cases;  // NOLINT: repaired: the fault stays latched
+    for (int i = 0; i < 3; ++i)
+        CHECK(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
 }

@@ -202,7 +202,7 @@ TEST_CASE("safety logic: missing zone results are a fault") {
 }
 
 // verifies: SR-CASE-005
-TEST_CASE("safety logic: only the active case's zones stop or warn; the other zones' bits are 0 in every output") {
+TEST_CASE("safety logic: only the active case's zones stop or warn, and the other zones' bits are 0 in every output") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);
     c.active = 0b10U;  // the warning zone only
@@ -239,7 +239,7 @@ TEST_CASE("safety logic: only the active case's zones stop or warn; the other zo
 
 // verifies: SR-CASE-006
 TEST_CASE(
-    "safety logic: switching to a case whose protective zone is intruded stops in that cycle; switching away goes through the interlock") {
+    "safety logic: switching to a case whose protective zone is intruded stops in that cycle, and switching away goes through the interlock") {
     Cell c;
     SafetyLogic logic(config(30000U, false), c.zones);  // 30 ms restart delay
     c.active = 0b10U;
@@ -256,7 +256,7 @@ TEST_CASE(
     CHECK_FALSE(c.step(logic).stop_requested);
 }
 
-// verifies: SR-SSM-001, SR-SSM-002
+// verifies: SR-SSM-020, SR-SSM-021
 TEST_CASE("safety logic: a separation stop stops in the same cycle and resumes without the restart interlock") {
     Cell c;
     SafetyLogic logic(config(100000U, true), c.zones);  // 100 ms delay and a reset: neither applies to SSM
@@ -285,7 +285,7 @@ TEST_CASE("safety logic: a separation stop stops in the same cycle and resumes w
     CHECK_FALSE(o.reduced_speed);
 }
 
-// verifies: SR-SSM-002
+// verifies: SR-SSM-021
 TEST_CASE("safety logic: a separation stop neither starts nor shortens the restart interlock of the zones") {
     Cell c;
     SafetyLogic logic(config(50000U, false), c.zones);  // 50 ms
@@ -305,7 +305,7 @@ TEST_CASE("safety logic: a separation stop neither starts nor shortens the resta
     CHECK_FALSE(c.step(logic).stop_requested);  // 50 ms
 }
 
-// verifies: SR-SSM-001
+// verifies: SR-SSM-020
 TEST_CASE("safety logic: a speed request outside the enumeration is a stop") {
     Cell c;
     SafetyLogic logic(config(0U, false), c.zones);

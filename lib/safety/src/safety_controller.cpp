@@ -15,9 +15,16 @@ SignatureRegion robot_bytes(const RobotModel* model) noexcept {
     return model == nullptr ? SignatureRegion{} : as_bytes(Span<const RobotModel>(model, 1U));
 }
 
-/// Metres to whole millimetres, rounded up and saturated at kDistanceFarMm.
+/// Feeds the bytes of the scalar @p value into @p crc.
+template <typename T>
+void add_to_crc(Crc32& crc, const T& value) noexcept {
+    crc.update(as_bytes(Span<const T>(&value, 1U)));
+}
+
+/// Metres to whole millimetres, rounded up (forgiving 1e-6 mm, as
+/// separation.cpp does) and saturated at kDistanceFarMm.
 std::uint16_t ceil_mm(double metres) noexcept {
-    const double mm = std::ceil(metres * 1000.0);
+    const double mm = std::ceil(metres * 1000.0 - 1e-6);
     if (!(mm >= 0.0)) {
         return 0U;
     }
@@ -78,12 +85,33 @@ void SafetyController::check_robot_config(const EvidenceGrid& frame_grid) noexce
 }
 
 std::uint32_t SafetyController::robot_settings_crc() const noexcept {
-    // What the robot side reads of the configuration every cycle, as bytes
-    // of the controller's own copy (their padding included: that copy is
-    // never rewritten, so its padding does not change either).
+    // What the robot side reads of the configuration every cycle, field by
+    // field (never padding: a copy of the controller need not keep it).
+    const RobotCellConfig& r = config_.robot;
+    const SeparationParams& p = r.separation;
     Crc32 crc;
-    crc.update(as_bytes(Span<const RobotCellConfig>(&config_.robot, 1U)));
-    crc.update(as_bytes(Span<const std::uint64_t>(&config_.max_command_age_us, 1U)));
+    add_to_crc(crc, reinterpret_cast<std::uintptr_t>(
+                        r.model));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): the address is the setting
+    add_to_crc(crc, r.image_crc);
+    add_to_crc(crc, r.mask_margin_m);
+    add_to_crc(crc, reinterpret_cast<std::uintptr_t>(
+                        r.mask.data()));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): as above
+    add_to_crc(crc, r.mask.size());
+    add_to_crc(crc, config_.max_command_age_us);
+    const double reals[] = {p.human_speed_mps,      p.reaction_time_s,       p.slowdown_time_s,
+                            p.intrusion_distance_m, p.sensing_uncertainty_m, p.robot_uncertainty_m};
+    for (const double v : reals) {
+        add_to_crc(crc, v);
+    }
+    for (const SpeedClassLimits& c : p.classes) {
+        add_to_crc(crc, c.robot_speed_mps);
+        add_to_crc(crc, c.stopping_time_s);
+        add_to_crc(crc, c.stopping_distance_m);
+    }
+    add_to_crc(crc, p.class_count);
+    add_to_crc(crc, p.reduced_class);
+    add_to_crc(crc, p.min_foreground_voxels);
+    add_to_crc(crc, p.min_hidden_voxels);
     return crc.value();
 }
 
