@@ -397,6 +397,25 @@ TEST_CASE("simulator robot: every bad trajectory or schedule value is refused wi
           "robot.keyframe[0].joints[2]: expected a finite joint position (NaN or infinite given)");
     CHECK(sim::check_trajectory(sim::JointTrajectory{}, arm) ==
           "robot.keyframe: the trajectory needs at least one keyframe");
+
+    // The simulation refuses a scene without a robot, a broken model, a trajectory or a schedule that do not fit.
+    sim::RobotCellSimulation cell;
+    cell.update(1.0);  // never made: no robot
+    CHECK(cell.pose().count == 0U);
+    const sim::SceneFile file = robot_cell_file();
+    CHECK(sim::RobotCellSimulation::make(sim::SceneFile{}, arm, 3U, cell) == "the scene '' has no [robot]");
+    RobotModel broken = arm;
+    broken.links[3].upper = -10.0;  // upper < lower
+    CHECK(sim::RobotCellSimulation::make(file, broken, 3U, cell).find("robot model: ") == 0U);
+    RobotModel stiff = arm;
+    stiff.links[1].max_velocity = 1.0;  // the pan's 1.26 rad/s carry is too fast for it
+    CHECK(sim::RobotCellSimulation::make(file, stiff, 3U, cell)
+              .find("robot.keyframe[4].joints[0]: moving from "
+                    "keyframe 3 takes 1.25664 rad/s") != std::string::npos);
+    CHECK(sim::RobotCellSimulation::make(file, arm, 2U, cell)
+              .find("command[1].case: case 2 is not one of the "
+                    "cell's 2 cases") != std::string::npos);
+    CHECK(sim::RobotCellSimulation::make(file, arm, 3U, cell).empty());
 }
 
 // verifies: SR-SIM-005
