@@ -16,7 +16,10 @@ constexpr std::uint8_t kHitRobot = 8U;
 Eigen::Vector3d lattice_point(const GridGeometry& g, const VoxelCoord& c, int i) {
     const Eigen::Vector3d lo = g.origin() + g.voxel_size() * Eigen::Vector3d(c.x, c.y, c.z);
     const double half = 0.5 * g.voxel_size();
-    return lo + half * Eigen::Vector3d(i % 3, (i / 3) % 3, i / 9);
+    const int ix = i % 3;
+    const int iy = (i / 3) % 3;
+    const int iz = i / 9;
+    return lo + half * Eigen::Vector3d(ix, iy, iz);
 }
 
 bool overlaps_robot(const GridGeometry& g, const Scene& scene, const VoxelCoord& c) {
@@ -93,13 +96,11 @@ GroundTruth ideal_ground_truth(const GridGeometry& g, const std::vector<SensorSp
         if ((seen[i] & kHitForeground) != 0U) {
             t.label[i] = Truth::kForeground;
             ++t.foreground;
-        } else if ((seen[i] & kHitRobot) != 0U) {
-            t.label[i] = Truth::kRobot;
-            ++t.robot;
         } else if (seen[i] == 0U && overlaps_foreground(g, scene, g.coord_of(i))) {
             t.label[i] = Truth::kUnknown;
             ++t.unknown;
-        } else if (seen[i] == 0U && overlaps_robot(g, scene, g.coord_of(i))) {
+        } else if ((seen[i] & kHitRobot) != 0U || (seen[i] == 0U && overlaps_robot(g, scene, g.coord_of(i)))) {
+            // A reading on the robot, or the robot's unseen inside.
             t.label[i] = Truth::kRobot;
             ++t.robot;
         } else {

@@ -15,8 +15,7 @@ LiveScene::LiveScene(const SceneFile& file)
       people_(file.people),
       prepared_(file.scene.boxes.size() + kPersonBoxCount * file.people.size()) {
     scene_.boxes.reserve(static_boxes_ + kPersonBoxCount * people_.size());
-    scene_.robot.count = 0U;
-    (void)prepared_.assign(scene_);
+    (void)update(0.0, RobotPose{});
 }
 
 const PreparedScene& LiveScene::update(double t, const RobotPose& robot) noexcept {
@@ -62,7 +61,11 @@ std::string RobotCellSimulation::make(const SceneFile& file, const RobotModel& m
 
 void RobotCellSimulation::update(double t, double trajectory_t) noexcept {
     joints_ = sample_trajectory(trajectory_, trajectory_t);
-    place_robot(model_, joints_, pose_);
+    if (trajectory_.keyframes.empty()) {
+        pose_ = RobotPose{};  // not made by make(): no robot
+    } else {
+        place_robot(model_, joints_, pose_);
+    }
     scheduled_ = command_at(schedule_, trajectory_t);  // the PLC switches with the robot's program
     (void)scene_.update(t, pose_);
 }

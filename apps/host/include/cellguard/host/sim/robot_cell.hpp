@@ -33,8 +33,18 @@ namespace cellguard::sim {
 /// A scene file's scene at any time, with a robot pose, without allocating.
 class LiveScene {
 public:
-    /// The boxes and people of @p file (copied); storage for all of them.
+    /// The boxes and people of @p file (copied); storage for all of them;
+    /// the scene at time 0 without a robot.
     explicit LiveScene(const SceneFile& file);
+    /// Not copyable: a copy's vectors need not keep the storage reserved here.
+    LiveScene(const LiveScene&) = delete;
+    /// Not copyable.
+    LiveScene& operator=(const LiveScene&) = delete;
+    /// Moves the storage (moved vectors keep it).
+    LiveScene(LiveScene&&) noexcept = default;
+    /// Moves the storage.
+    LiveScene& operator=(LiveScene&&) noexcept = default;
+    ~LiveScene() = default;
     /// The scene at run time @p t: the file's boxes, every person at @p t,
     /// and @p robot's capsules (count 0: no robot). The same scene as
     /// scene_at(file, t) with the robot added, bit for bit. Allocates nothing.
@@ -61,7 +71,8 @@ public:
     static std::string make(const SceneFile& file, const RobotModel& model, std::uint8_t case_count,
                             RobotCellSimulation& out);
 
-    /// An empty simulation (no robot, no scene) for make() to fill.
+    /// An empty simulation (no robot, no scene) for make() to fill; update()
+    /// on it places no robot.
     RobotCellSimulation() : scene_(SceneFile{}) {}
 
     /// Moves the cell to run time @p t (people) with the robot at trajectory
