@@ -219,6 +219,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::uint8_t counter = 0U;
     CommandFrames sample = encode_command_sample(RobotCommand{}, counter, ch).value();
     CommandFrames previous = sample;
+    CommandFrames mixed = sample;
     std::size_t next = 0U;  // the frame of `sample` to send next
     Seen history[kHistory] = {};
     std::size_t seen = 0U;
@@ -230,7 +231,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (int step = 0; step < 512 && in.remaining_bytes() > 0U; ++step) {
         CanFrame f{};
         bool deliver = true;
-        switch (in.ConsumeIntegralInRange<int>(0, 12)) {
+        switch (in.ConsumeIntegralInRange<int>(0, 13)) {
             case 0:  // time passes, with or without a poll
                 now += in.ConsumeIntegralInRange<std::uint32_t>(0U, 50000U);
                 deliver = false;
@@ -287,22 +288,33 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 now -= in.ConsumeIntegralInRange<std::uint64_t>(0U, 1000U);
                 deliver = false;
                 break;
-            case 10: {  // masquerade: a part under another data ID or mode, or with another counter
+            case 10: {  // masquerade: a part under another data ID or mode, with another counter, or of another command
                 CommandChannelConfig other = ch;
                 const std::size_t part = in.ConsumeIntegralInRange<std::size_t>(0U, 2U);
                 std::uint8_t other_counter = counter;
-                if (in.ConsumeBool()) {
-                    other.data_id[part] = in.ConsumeIntegralInRange<std::uint16_t>(0U, 0x0FFFU);
-                    other.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
-                } else {
-                    other_counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U);
+                switch (in.ConsumeIntegralInRange<int>(0, 2)) {
+                    case 0:
+                        other.data_id[part] = in.ConsumeIntegralInRange<std::uint16_t>(0U, 0x0FFFU);
+                        other.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
+                        break;
+                    case 1: other_counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U); break;
+                    default: break;  // the same counter and data ID, another command: parts of two commands mixed
                 }
                 const Result<CommandFrames> r = encode_command_sample(fuzzed_command(in), other_counter, other);
                 if (!r.ok()) {
                     deliver = false;
                 } else {
-                    f = r.value().frame[2U * part + (in.ConsumeBool() ? 1U : 0U)];
+                    mixed = r.value();
+                    f = mixed.frame[2U * part + (in.ConsumeBool() ? 1U : 0U)];
                 }
+                break;
+            }
+            case 12: {  // splice: the rest of the sample in progress comes from another command, same counter
+                mixed = encode_command_sample(fuzzed_command(in), counter, ch).value();
+                for (std::size_t i = next + (next % 2U); i < kCommandFramesPerSample; ++i) {
+                    sample.frame[i] = mixed.frame[i];
+                }
+                deliver = false;
                 break;
             }
             case 11:  // a frame of the previous sample: parts of two samples mixed

@@ -253,3 +253,27 @@ TEST_CASE("command frame: the default IDs and data IDs share a bus with the outp
     cmd.base_can_id = 0x800U;
     CHECK_FALSE(check_channels_compatible(out, cmd).ok());
 }
+
+// verifies: SR-CMD-001
+TEST_CASE("command frame: signed signals are two's complement, sign-extended on read, range-checked in the table") {
+    CanFrame f{0x0C1U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    for (const std::int32_t v : {-32768, -32767, -1, 0, 1, 32767}) {
+        set_signed_signal(f, command_layout::kJoint3, v);
+        CHECK(get_signed_signal(f, command_layout::kJoint3) == v);
+        CHECK(get_signal(f, command_layout::kJoint3) == (static_cast<std::uint32_t>(v) & 0xFFFFU));
+    }
+    CHECK(f.data[2] == 0U);  // neighbours untouched
+    CHECK(f.data[6] == 0U);
+    const SignalLayout three_bits{"S", 8U, 3U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kNone, 0U, true};
+    set_signed_signal(f, three_bits, -4);
+    CHECK(f.data[1] == 0x04U);
+    CHECK(get_signed_signal(f, three_bits) == -4);
+    CHECK(test::violates_contract([&] { set_signed_signal(f, three_bits, 4); }));
+    CHECK(test::violates_contract([&] { set_signed_signal(f, three_bits, -5); }));
+    const SignalLayout too_wide[] = {{"S", 0U, 3U, ByteOrder::kIntel, 1U, "", 4U, Multiplex::kNone, 0U, true}};
+    CHECK_FALSE(layout_is_consistent(too_wide));
+    const SignalLayout one_bit[] = {{"S", 0U, 1U, ByteOrder::kIntel, 1U, "", 0U, Multiplex::kNone, 0U, true}};
+    CHECK_FALSE(layout_is_consistent(one_bit));
+    const SignalLayout ok[] = {{"S", 0U, 3U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kNone, 0U, true}};
+    CHECK(layout_is_consistent(ok));
+}

@@ -14,8 +14,7 @@
 #include "cellguard/can/e2e_crc.hpp"
 #include "cellguard/can/safety_frame.hpp"
 
-namespace cellguard {
-namespace detail {
+namespace cellguard::detail {
 
 /// Writes counter, data ID nibble (kNibble mode, else 0) and CRC into @p frame.
 void protect_frame(CanFrame& frame, std::uint8_t counter, std::uint16_t data_id, E2eP01DataIdMode mode) noexcept;
@@ -30,7 +29,6 @@ void protect_frame(CanFrame& frame, std::uint8_t counter, std::uint16_t data_id,
     return {id, kCanMaxDataLength, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
 }
 
-}  // namespace detail
-}  // namespace cellguard
+}  // namespace cellguard::detail
 
 #endif  // CELLGUARD_CAN_FRAME_PROTECTION_HPP

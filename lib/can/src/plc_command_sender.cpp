@@ -13,7 +13,7 @@ PlcCommandSender::PlcCommandSender(const CommandChannelConfig& config) noexcept 
 }
 
 Result<CommandFrames> PlcCommandSender::next_sample(const RobotCommand& command) noexcept {
-    const Result<CommandFrames> frames = encode_command_sample(command, counter_, config_);
+    Result<CommandFrames> frames = encode_command_sample(command, counter_, config_);
     if (frames.ok()) {
         counter_ = e2e_p01_next_counter(counter_);
     }

@@ -153,7 +153,7 @@ constexpr void set_signal(CanFrame& frame, const SignalLayout& s, std::uint32_t 
 /// s.length bits). Contract: @p value fits in s.length bits, signed.
 constexpr void set_signed_signal(CanFrame& frame, const SignalLayout& s, std::int32_t value) noexcept {
     CG_ENFORCE(s.length >= 2U && s.length <= 32U, "a signed signal has 2..32 bits");
-    const std::int64_t limit = std::int64_t{1} << (s.length - 1U);
+    const auto limit = static_cast<std::int64_t>(std::uint64_t{1} << (s.length - 1U));
     CG_ENFORCE(value >= -limit && value < limit, "value wider than the signed signal");
     const std::uint64_t ones = (std::uint64_t{1} << s.length) - 1U;
     set_signal(frame, s,
