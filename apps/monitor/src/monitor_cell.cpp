@@ -225,7 +225,7 @@ SetupError MonitorCell::configure_robot(const cell::MonitorConfig& cfg, std::FIL
     cases = made.value();
     has_scene = !cfg.demo_scene.empty();
     if (has_scene) {
-        const SetupError e = read_scene(cfg, scene);
+        SetupError e = read_scene(cfg, scene);
         if (e.failed()) {
             return e;
         }
@@ -238,7 +238,7 @@ SetupError MonitorCell::configure_robot(const cell::MonitorConfig& cfg, std::FIL
 
 SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out) {
     RobotModel imported_model;
-    const SetupError imported = import_robot(cfg, imported_model);
+    SetupError imported = import_robot(cfg, imported_model);
     if (imported.failed()) {
         return imported;
     }
