@@ -62,7 +62,7 @@ TEST_CASE("monitor config: the robot-cell example loads its cases, robot, separa
     CHECK(protective_separation_distance(sp, 0U) == doctest::Approx(1.92));
     CHECK(protective_separation_distance(sp, 1U) == doctest::Approx(1.6475));
     CHECK(reduced_speed_distance(sp) == doctest::Approx(2.34));
-    CHECK(c.demo_scene.find("/apps/evaluation/scenes/robot-cell.toml") != std::string::npos);
+    CHECK(c.demo_scene.find("/../../evaluation/scenes/robot-cell.toml") != std::string::npos);
     // Built in, the same configuration names the built-in scene and robot.
     const MonitorConfig b = robot_cell_demo_config();
     CHECK(b.robot.urdf == "builtin:robot-arm.urdf");
@@ -108,7 +108,7 @@ TEST_CASE("monitor config: bad robot, separation and speed class values are refu
     check_refused(edited("speed = 0.5", "speed = 0.0"), "speed_classes[0]");
     check_refused(edited(R"(joints = ["shoulder_pan_joint",)", R"(joints = ["elbow_joint",)"), "robot.joints",
                   "distinct");
-    check_refused(edited("urdf = \"robot-arm.urdf\"", "urdf = \"\""), "robot.urdf");
+    check_refused(edited("urdf = \"builtin:robot-arm.urdf\"", "urdf = \"\""), "robot.urdf");
     check_refused(edited("[robot]", "[robot]\nspeed = 1"), "robot");
     // [separation] without a robot.
     std::string text = builtin_text("robot-cell.toml");
