@@ -152,7 +152,7 @@ TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced
         CHECK(r.command_valid);
         CHECK((r.faults & fault_bit(Fault::kCommandInvalid)) == 0U);
         CHECK(r.active_case == r.commanded_case);  // applied in the cycle that received it, and echoed
-        CHECK_FALSE(r.protective_intruded);         // the arm works inside the stations' zones: never foreground
+        CHECK_FALSE(r.protective_intruded);        // the arm works inside the stations' zones: never foreground
         if (r.request == SpeedRequest::kReduced && first_reduced < 0) {
             first_reduced = static_cast<int>(k);
         }

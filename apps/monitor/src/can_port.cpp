@@ -65,7 +65,8 @@ void CanPort::drain() noexcept {
     CanFrame rx{};
     for (int n = 0; n < kMaxFramesPerDrain; ++n) {
         const linux_port::SocketCan::ReceiveOutcome r = socket_.receive(rx);
-        if (r == linux_port::SocketCan::ReceiveOutcome::kNothing || r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
+        if (r == linux_port::SocketCan::ReceiveOutcome::kNothing ||
+            r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
             return;
         }
         if (r != linux_port::SocketCan::ReceiveOutcome::kFrame) {

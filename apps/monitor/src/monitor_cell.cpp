@@ -70,8 +70,8 @@ SetupError import_robot(const cell::MonitorConfig& cfg, RobotModel& model) {
     host::UrdfImportOptions options;
     options.joint_order = cfg.robot.joints;
     options.base_xyz = cfg.robot.base;
-    options.base_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(cfg.robot.base_yaw_deg * M_PI / 180.0,
-                                                                 Eigen::Vector3d::UnitZ()));
+    options.base_rotation = Eigen::Quaterniond(
+        Eigen::AngleAxisd(cfg.robot.base_yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
     const std::size_t slash = cfg.robot.urdf.find_last_of('/');
     options.base_directory = slash == std::string::npos ? "." : cfg.robot.urdf.substr(0U, slash);
     host::UrdfImport imported;
@@ -215,16 +215,17 @@ SetupError MonitorCell::configure_robot(const cell::MonitorConfig& cfg, std::FIL
         masks.push_back(k.zone_mask);
     }
     has_cases = !masks.empty();
-    const Result<MonitoringCases, CaseError> made =
-        has_cases ? MonitoringCases::make(zones, {masks.data(), masks.size()})
-                  : Result<MonitoringCases, CaseError>(MonitoringCases::all_zones(zones));
+    const Result<MonitoringCases, CaseError> made = has_cases
+                                                        ? MonitoringCases::make(zones, {masks.data(), masks.size()})
+                                                        : Result<MonitoringCases, CaseError>(
+                                                              MonitoringCases::all_zones(zones));
     if (!made.ok()) {
         return failure(2, "configuration error: cases[%zu]: %s", made.error().case_number, made.error().reason);
     }
     cases = made.value();
     has_scene = !cfg.demo_scene.empty();
     if (has_scene) {
-        const SetupError e = read_scene(cfg, scene);
+        SetupError e = read_scene(cfg, scene);
         if (e.failed()) {
             return e;
         }
@@ -237,13 +238,13 @@ SetupError MonitorCell::configure_robot(const cell::MonitorConfig& cfg, std::FIL
 
 SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out) {
     RobotModel imported_model;
-    const SetupError imported = import_robot(cfg, imported_model);
+    SetupError imported = import_robot(cfg, imported_model);
     if (imported.failed()) {
         return imported;
     }
     robot_image.assign(kRobotImageMaxBytes, 0U);
-    const Result<std::size_t, RobotModelError> written =
-        write_robot_image(imported_model, {robot_image.data(), robot_image.size()});
+    const Result<std::size_t, RobotModelError> written = write_robot_image(imported_model,
+                                                                           {robot_image.data(), robot_image.size()});
     if (!written.ok()) {
         return failure(2, "configuration error: robot: %s (item %zu)", written.error().reason, written.error().index);
     }
@@ -259,7 +260,7 @@ SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, st
             return failure(2, "configuration error: robot.base differs from the scene's robot position");
         }
         const std::string e = sim::RobotCellSimulation::make(scene, robot.model,
-                                                            static_cast<std::uint8_t>(cases.count()), simulation);
+                                                             static_cast<std::uint8_t>(cases.count()), simulation);
         if (!e.empty()) {
             return failure(2, "configuration error: demo.scene: %s", e.c_str());
         }

@@ -110,8 +110,9 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
-      controller_(robot_controller_config(cfg, cell), cell.frame_grid, {cell.fusion_scratch.data(), cell.fusion_scratch.size()},
-                  {cell.prior.data(), cell.prior.size()}, cell.zones, cell.model, clock, this),
+      controller_(robot_controller_config(cfg, cell), cell.frame_grid,
+                  {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
+                  cell.zones, cell.model, clock, this),
       output_(output_config(cfg, cell, controller_.prior_crc()), can) {
     for (std::size_t s = 0U; s < inputs_.size() && sources_match_; ++s) {
         const bool simulated = cfg.sensors[s].pcd_files.empty();

@@ -17,8 +17,8 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/host/sim/workcell.hpp"
-#include "config_loader.hpp"
 #include "cellguard/prior/accessibility.hpp"
+#include "config_loader.hpp"
 
 namespace cellguard::cell {
 using config_detail::Loader;
@@ -305,9 +305,10 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
         L.integer_or(t, p, "command_id", 0, 0x7FA, c.can.command.base_can_id));
     c.can.command.data_id_mode = ch.data_id_mode;
     if (!check_channel_config(ch).ok() || !check_channels_compatible(ch, c.can.command).ok()) {
-        L.fail(t.source(), "can",
-               "invalid channel: the CAN IDs (safety, safety + 1, diagnostics, separation, command_id .. command_id + 5) "
-               "must differ and the data IDs must be valid for the mode and distinguishable");
+        L.fail(
+            t.source(), "can",
+            "invalid channel: the CAN IDs (safety, safety + 1, diagnostics, separation, command_id .. command_id + 5) "
+            "must differ and the data IDs must be valid for the mode and distinguishable");
     }
 }
 
@@ -402,8 +403,8 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         const toml::table root = toml::parse(text, source_name);
         const Loader L(source_name);
         L.check_keys(root, "",
-                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo", "cases",
-                      "robot", "separation", "speed_classes"});
+                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo",
+                      "cases", "robot", "separation", "speed_classes"});
         MonitorConfig c;
         load_grid(L, root, c);
         load_sensors(L, root, c, base_dir);

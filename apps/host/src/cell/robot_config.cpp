@@ -78,9 +78,8 @@ void load_cases(const Loader& L, const toml::table& root, MonitorConfig& c) {
         }
         c.cases.push_back(k);
     }
-    std::sort(c.cases.begin(), c.cases.end(), [](const CaseSettings& a, const CaseSettings& b) {
-        return a.number < b.number;
-    });
+    std::sort(c.cases.begin(), c.cases.end(),
+              [](const CaseSettings& a, const CaseSettings& b) { return a.number < b.number; });
     if (c.cases.back().number + 1 != static_cast<int>(c.cases.size())) {
         L.fail(n->source(), "cases", "case numbers must be 0..N-1 without gaps");
     }
@@ -91,8 +90,7 @@ namespace {
 /// The [[speed_classes]] tables: 1..4, class 0 full speed.
 void load_speed_classes(const Loader& L, const toml::table& root, SeparationParams& sp) {
     const toml::node* n = root.get("speed_classes");
-    if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty() ||
-        n->as_array()->size() > kSpeedClasses) {
+    if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty() || n->as_array()->size() > kSpeedClasses) {
         L.fail(n != nullptr ? n->source() : root.source(), "speed_classes",
                "a robot needs 1..4 [[speed_classes]] tables (class 0: full speed)");
     }

@@ -21,9 +21,9 @@
 #include "cellguard/grid/sensor_model.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
-#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/host/sim/robot_cell.hpp"
 #include "cellguard/host/sim/scene_file.hpp"
+#include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/safety/monitoring_cases.hpp"
 #include "cellguard/safety/safety_controller.hpp"
@@ -96,14 +96,14 @@ public:
     std::vector<host::OwnedRayTable> tables;       ///< per sensor; built for the simulated ones
     std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
 
-    MonitoringCases cases;                   ///< the configured cases (all_zones() when none are)
-    bool has_cases = false;                  ///< the configuration has [[cases]]
-    std::vector<std::uint8_t> robot_image;   ///< the robot image as written (empty: no robot)
-    LoadedRobot robot{};                     ///< the robot, loaded back from robot_image
-    std::vector<std::uint8_t> robot_mask;    ///< one byte per voxel, the controller's robot mask
-    bool has_scene = false;                  ///< the demo renders a scene file (cfg.demo_scene)
-    sim::SceneFile scene;                    ///< that scene (its static boxes are the background)
-    sim::RobotCellSimulation simulation;     ///< its people, robot and PLC schedule (with a robot)
+    MonitoringCases cases;                  ///< the configured cases (all_zones() when none are)
+    bool has_cases = false;                 ///< the configuration has [[cases]]
+    std::vector<std::uint8_t> robot_image;  ///< the robot image as written (empty: no robot)
+    LoadedRobot robot{};                    ///< the robot, loaded back from robot_image
+    std::vector<std::uint8_t> robot_mask;   ///< one byte per voxel, the controller's robot mask
+    bool has_scene = false;                 ///< the demo renders a scene file (cfg.demo_scene)
+    sim::SceneFile scene;                   ///< that scene (its static boxes are the background)
+    sim::RobotCellSimulation simulation;    ///< its people, robot and PLC schedule (with a robot)
     /// The scene the background, the ray tables and the views of the empty
     /// cell come from: the scene file's static boxes, or the paper's reference scene.
     [[nodiscard]] sim::Scene background_scene() const;

@@ -20,16 +20,16 @@ namespace cellguard {
 /// came from, and speed and separation monitoring's result. Without a robot
 /// configured: case 0, no command, speed request kFull, distance "far".
 struct RobotReport {
-    bool configured = false;          ///< a robot (and its command) is part of this cell
-    std::uint8_t active_case = 0U;    ///< monitoring case whose zones this cycle evaluated, 0..15
-    bool command_valid = false;       ///< this cycle used a good, timely command that fits the cell
-    std::uint8_t command_counter = 0U;   ///< E2E counter of that command (0 when none)
-    std::uint64_t command_age_us = 0U;   ///< cycle start minus the command's arrival
-    std::uint8_t command_check = 0U;     ///< why the command was refused (JointCheck or a case error), 0 = none
+    bool configured = false;            ///< a robot (and its command) is part of this cell
+    std::uint8_t active_case = 0U;      ///< monitoring case whose zones this cycle evaluated, 0..15
+    bool command_valid = false;         ///< this cycle used a good, timely command that fits the cell
+    std::uint8_t command_counter = 0U;  ///< E2E counter of that command (0 when none)
+    std::uint64_t command_age_us = 0U;  ///< cycle start minus the command's arrival
+    std::uint8_t command_check = 0U;    ///< why the command was refused (JointCheck or a case error), 0 = none
     SpeedRequest speed_request = SpeedRequest::kFull;  ///< speed and separation monitoring's request
-    std::uint16_t distance_mm = 65535U;  ///< separation distance (65535: nothing within range)
-    std::uint16_t required_mm = 0U;      ///< protective separation distance S_p of the current speed class
-    std::uint32_t robot_voxels = 0U;     ///< voxels marked as the robot's
+    std::uint16_t distance_mm = 65535U;                ///< separation distance (65535: nothing within range)
+    std::uint16_t required_mm = 0U;   ///< protective separation distance S_p of the current speed class
+    std::uint32_t robot_voxels = 0U;  ///< voxels marked as the robot's
 };
 
 /// Everything one cycle produced.

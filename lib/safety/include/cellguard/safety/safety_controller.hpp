@@ -175,7 +175,7 @@ private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
     bool step_zone_checks() noexcept;
     std::uint32_t step_integrity_checks(Span<const SensorInput> sensors) noexcept;
-    std::uint32_t robot_settings_crc() const noexcept;
+    [[nodiscard]] std::uint32_t robot_settings_crc() const noexcept;
     void check_robot_config(const EvidenceGrid& frame_grid) noexcept;
     Span<const std::uint8_t> apply_command(const CommandInput& command, std::uint64_t now, RobotReport& report,
                                            std::uint32_t& detected) noexcept;

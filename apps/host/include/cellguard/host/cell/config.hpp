@@ -58,24 +58,24 @@ struct ZoneSettings {
 
 /// One monitoring case: a number the PLC selects and the zones it activates.
 struct CaseSettings {
-    std::string name;              ///< label
-    int number = 0;                ///< case number on CAN, 0..15
+    std::string name;                ///< label
+    int number = 0;                  ///< case number on CAN, 0..15
     std::vector<std::string> zones;  ///< names of its zones (each configured)
-    std::uint32_t zone_mask = 0U;  ///< the same as bits, zone z = bit z (configuration order)
-    int line = 0;                  ///< line of its table in the file
+    std::uint32_t zone_mask = 0U;    ///< the same as bits, zone z = bit z (configuration order)
+    int line = 0;                    ///< line of its table in the file
 };
 
 /// The robot in the cell, its command from the PLC, and speed and separation monitoring.
 struct RobotSettings {
-    bool enabled = false;                   ///< a [robot] table is present
-    std::string urdf;                       ///< robot description (relative: to the config file's directory)
-    std::vector<std::string> joints;        ///< movable joints in the PLC's command order
+    bool enabled = false;                            ///< a [robot] table is present
+    std::string urdf;                                ///< robot description (relative: to the config file's directory)
+    std::vector<std::string> joints;                 ///< movable joints in the PLC's command order
     Eigen::Vector3d base = Eigen::Vector3d::Zero();  ///< robot base position in the cell, metres
-    double base_yaw_deg = 0.0;              ///< rotation of the base about the cell's z axis
-    double margin_m = 0.0;                  ///< growth of every capsule for the robot's voxel mask
-    std::uint64_t max_command_age_us = 0U;  ///< a command older than this at a cycle's start is stale
-    SeparationParams separation{};          ///< speed and separation monitoring
-    int line = 0;                           ///< line of the [robot] table
+    double base_yaw_deg = 0.0;                       ///< rotation of the base about the cell's z axis
+    double margin_m = 0.0;                           ///< growth of every capsule for the robot's voxel mask
+    std::uint64_t max_command_age_us = 0U;           ///< a command older than this at a cycle's start is stale
+    SeparationParams separation{};                   ///< speed and separation monitoring
+    int line = 0;                                    ///< line of the [robot] table
 };
 
 /// The smallest mask margin that covers the robot's motion between its

@@ -37,11 +37,11 @@ constexpr std::int16_t kJointRawInvalid = -32768;
 /// One sample of the PLC's command message, as decoded (not yet checked
 /// against the commissioned cell: the controller does that).
 struct RobotCommand {
-    std::uint8_t monitoring_case = 0U;                 ///< case to apply, 0..15
-    std::uint8_t speed_class = 0U;                     ///< the robot's current speed class, 0..3
-    std::uint8_t joint_count = 0U;                     ///< joints carried, 0..kMaxCommandJoints
-    std::uint16_t robot_id = 0U;                       ///< low 16 bits of the robot image CRC the PLC was commissioned with
-    std::int16_t joint_raw[kMaxCommandJoints] = {};    ///< positions in joint units; unused entries 0
+    std::uint8_t monitoring_case = 0U;  ///< case to apply, 0..15
+    std::uint8_t speed_class = 0U;      ///< the robot's current speed class, 0..3
+    std::uint8_t joint_count = 0U;      ///< joints carried, 0..kMaxCommandJoints
+    std::uint16_t robot_id = 0U;        ///< low 16 bits of the robot image CRC the PLC was commissioned with
+    std::int16_t joint_raw[kMaxCommandJoints] = {};  ///< positions in joint units; unused entries 0
     /// Field-wise equality (unused joints included).
     friend constexpr bool operator==(const RobotCommand& a, const RobotCommand& b) noexcept {
         if (a.monitoring_case != b.monitoring_case || a.speed_class != b.speed_class ||
