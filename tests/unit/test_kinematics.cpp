@@ -233,7 +233,7 @@ TEST_CASE("placing the 6-axis arm gives the same bits on every target, without t
     }
 }
 
-// verifies: SR-CMD-010
+// verifies: SR-ROB-030
 TEST_CASE("joint_positions converts raw revolute and prismatic values to SI units") {
     RobotModel arm = planar_arm();
     arm.links[2].joint = JointType::kPrismatic;
@@ -250,7 +250,7 @@ TEST_CASE("joint_positions converts raw revolute and prismatic values to SI unit
     CHECK(r.value().q[2] == 0.0);
 }
 
-// verifies: SR-CMD-011
+// verifies: SR-ROB-031
 TEST_CASE("joint_positions refuses another joint count, the reserved value and unused joints that are not 0") {
     const RobotModel arm = make_test_arm();
     const std::uint32_t crc = 0x00C0FFEEU;
@@ -271,7 +271,7 @@ TEST_CASE("joint_positions refuses another joint count, the reserved value and u
     CHECK(joint_positions(arm, crc, c).error() == JointCheck::kInvalidRaw);
 }
 
-// verifies: SR-CMD-012
+// verifies: SR-ROB-032
 TEST_CASE("joint_positions accepts a position within half a raw unit beyond a limit and refuses one further") {
     const RobotModel arm = make_test_arm();  // elbow (index 2) limits +-pi
     const std::uint32_t crc = 0x12345678U;
@@ -298,7 +298,7 @@ TEST_CASE("joint_positions accepts a position within half a raw unit beyond a li
     CHECK(joint_positions(slide, crc, command_for(crc, 2U, {0, -1})).error() == JointCheck::kOutsideLimits);
 }
 
-// verifies: SR-CMD-013
+// verifies: SR-ROB-033
 TEST_CASE("joint_positions refuses a command that names another robot image") {
     const RobotModel arm = make_test_arm();
     const std::uint32_t crc = 0xABCD1234U;
@@ -314,7 +314,7 @@ TEST_CASE("joint_positions refuses a command that names another robot image") {
     CHECK(joint_positions(arm, crc, other).error() == JointCheck::kRobotIdMismatch);
 }
 
-// verifies: SR-CMD-011
+// verifies: SR-ROB-031
 TEST_CASE("every JointCheck has its own name") {
     std::set<std::string> names;
     for (const JointCheck c : {JointCheck::kOk, JointCheck::kJointCountMismatch, JointCheck::kInvalidRaw,

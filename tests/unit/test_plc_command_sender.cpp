@@ -59,7 +59,7 @@ TEST_CASE("plc command sender: six frames in the order A, A', B, B', C, C', all 
 }
 
 // verifies: SR-CMD-007
-TEST_CASE("plc command sender: the counter advances once per sample and wraps 14 -> 0; the receiver accepts each") {
+TEST_CASE("plc command sender: the counter advances once per sample and wraps 14 -> 0, the receiver accepts each") {
     CommandReceiverConfig rc;
     rc.max_delta_counter = 1U;  // no sample may be lost
     CommandReceiver receiver(rc);

@@ -391,7 +391,7 @@ TEST_CASE(
 
 // verifies: SR-CMD-008
 TEST_CASE(
-    "plc receiver: the active case and the reduced speed bit pass through; with both stop and reduced, stop wins") {
+    "plc receiver: the active case and the reduced speed bit pass through, with both stop and reduced, stop wins") {
     Link link;
     (void)link.bring_up();
     SafetyMessage reduced = clear_message();

@@ -357,7 +357,7 @@ TEST_CASE(
 }
 
 // verifies: SR-CMD-008
-TEST_CASE("safety frame: ActiveCase takes bits 19..22 and ReducedSpeed bit 23; every case round-trips, stop wins") {
+TEST_CASE("safety frame: ActiveCase takes bits 19..22 and ReducedSpeed bit 23, every case round-trips, stop wins") {
     SafetyMessage m = sample_message();
     m.active_case = 9U;
     m.reduced_speed = true;

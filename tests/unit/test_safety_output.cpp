@@ -264,7 +264,7 @@ TEST_CASE("safety output: without a robot, three frames as before: case 0, no re
 }
 
 // verifies: SR-CMD-008
-TEST_CASE("safety output: the robot's speed request sets the stop and reduced bits; stop wins; a send failure shows") {
+TEST_CASE("safety output: the robot's speed request sets the stop and reduced bits, stop wins, a send failure shows") {
     const SafetyOutputs clear = report_with(false, 0U, 0U).safety;
     RobotReport robot;
     robot.configured = true;

@@ -190,7 +190,7 @@ TEST_CASE("simulator robot: the ground truth labels the robot's voxels robot, ne
 
 // verifies: SR-SIM-001
 TEST_CASE(
-    "simulator robot: capsule rays from inside, along the axis and past the ends; prepared = plain, bit for bit") {
+    "simulator robot: capsule rays from inside, along the axis and past the ends, prepared = plain, bit for bit") {
     const PlacedCapsule c = capsule({0.0, 0.0, 0.2}, {0.0, 0.0, 0.9}, 0.1);
     CHECK(sim::intersect_capsule(c, {0.0, 0.0, 2.0}, {0.0, 0.0, -1.0}) == doctest::Approx(1.0));  // top sphere
     CHECK(sim::intersect_capsule(c, {1.0, 0.0, 0.5}, {-1.0, 0.0, 0.0}) == doctest::Approx(0.9));  // the side
