@@ -125,6 +125,8 @@ step "tool versions"
     ver "qemu-aarch64 (aarch64 tests)" qemu-aarch64 --version
     pkg doctest-dev "doctest (unit test framework)"
     pkg libeigen3-dev "Eigen (fixed-size linear algebra)"
+    pkg python3-canmatrix "canmatrix (third-party DBC decoder, ctest dbc_decoded_by_canmatrix)"
+    pkg liburdfdom-dev "liburdfdom (URDF parser, cellguard-robot and the monitor's robot import)"
     pkg libclang-rt-14-dev "libFuzzer and sanitizers"
 } >"$out/tools.md"
 
