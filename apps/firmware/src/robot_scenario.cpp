@@ -223,6 +223,22 @@ bool robot_cell_data_ok(const Result<PriorImageView, PriorImageError>& view, con
     return true;
 }
 
+/// The controller's configuration: the zones-only run's, with the robot
+/// (g_robot, the demo's margin and separation parameters, g_robot_mask for
+/// @p voxels voxels), @p cases and the command age limit.
+ControllerConfig robot_controller_config(std::size_t sensor_count, const MonitoringCases& cases,
+                                         std::size_t voxels) noexcept {
+    ControllerConfig config = scenario_controller_config(sensor_count);
+    config.cases = &cases;
+    config.max_command_age_us = kMaxCommandAgeUs;
+    config.robot.model = &g_robot.model;
+    config.robot.image_crc = g_robot.crc;
+    config.robot.mask_margin_m = kRobotScenarioMaskMargin;
+    config.robot.separation = robot_scenario_separation();
+    config.robot.mask = Span<std::uint8_t>(g_robot_mask, voxels);
+    return config;
+}
+
 }  // namespace
 
 ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
@@ -268,14 +284,7 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 
-    ControllerConfig config = scenario_controller_config(frames.sensor_count());
-    config.cases = &cases.value();
-    config.max_command_age_us = kMaxCommandAgeUs;
-    config.robot.model = &g_robot.model;
-    config.robot.image_crc = g_robot.crc;
-    config.robot.mask_margin_m = kRobotScenarioMaskMargin;
-    config.robot.separation = robot_scenario_separation();
-    config.robot.mask = Span<std::uint8_t>(g_robot_mask, voxels);
+    const ControllerConfig config = robot_controller_config(frames.sensor_count(), cases.value(), voxels);
     CommandReceiverConfig receiver_config;
     receiver_config.sct_us = kMaxCommandAgeUs;
     PlcCommandSender plc(receiver_config.channel);
