@@ -9,7 +9,8 @@
 #     exception runtime in the image, or a prior outside flash), runs it on
 #     qemu-system-arm -M mps2-an500 with a timeout (its ctest), copies the size report to
 #     certification/size-report.md;
-#  4. compares the three digests with apps/firmware/expected_digest.txt.
+#  4. compares the three digests of each run with apps/firmware/expected_digest.txt (the
+#     zones-only run) and expected_robot_digest.txt (the robot-cell run).
 # Needs: tools/install-deps.sh --cross.
 # Usage: tools/cross.sh [--no-aarch64-ctest]
 #   --no-aarch64-ctest: build for aarch64 and run only the firmware digest
@@ -32,9 +33,11 @@ for tool in aarch64-linux-gnu-g++ qemu-aarch64 arm-none-eabi-g++ qemu-system-arm
   command -v "$tool" >/dev/null || { echo "cross: $tool missing: run tools/install-deps.sh --cross" >&2; exit 1; }
 done
 expected=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_digest.txt")
+expected_robot=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_robot_digest.txt")
 t0=$(date +%s)
 stamp() { echo "cross: [$(( $(date +%s) - t0 )) s] $*"; }
 digest_of() { sed -n 's/^digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }
+robot_digest_of() { sed -n 's/^robot digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }  # the robot-cell run
 
 configure() {  # <dir> <preset> [cmake arguments]; the presets (CMakePresets.json) name the toolchains/ files
   mkdir -p "$1"
@@ -48,6 +51,7 @@ configure "$bdir/build-x86" x86_64-linux
 cmake --build "$bdir/build-x86" -j "$jobs" --target cellguard-firmware-digest >/dev/null
 "$bdir/build-x86/apps/firmware/cellguard-firmware-digest" >"$bdir/build-x86/firmware-digest.log"
 d_x86=$(digest_of "$bdir/build-x86/firmware-digest.log")
+r_x86=$(robot_digest_of "$bdir/build-x86/firmware-digest.log")
 
 stamp "aarch64: building"
 # No benchmarks (the preset): under qemu-user they would time the emulator, not the SoC.
@@ -63,6 +67,7 @@ fi
 qemu-aarch64 -L /usr/aarch64-linux-gnu "$bdir/build-aarch64/apps/firmware/cellguard-firmware-digest" \
   >"$bdir/build-aarch64/firmware-digest.log"
 d_a64=$(digest_of "$bdir/build-aarch64/firmware-digest.log")
+r_a64=$(robot_digest_of "$bdir/build-aarch64/firmware-digest.log")
 
 stamp "cortex-m7: building the firmware (ELF checks and size report run as part of the build)"
 configure "$bdir/build-m7" cortex-m7
@@ -72,12 +77,15 @@ stamp "cortex-m7: ELF checks, then the firmware on qemu-system-arm -M mps2-an500
 ctest --test-dir "$bdir/build-m7/apps/firmware" --output-on-failure >"$bdir/build-m7/ctest.log" 2>&1 ||
   { cat "$bdir/build-m7/ctest.log"; echo "cross: firmware checks or run failed" >&2; exit 1; }
 d_m7=$(digest_of "$bdir/build-m7/firmware-qemu.log")
+r_m7=$(robot_digest_of "$bdir/build-m7/firmware-qemu.log")
 
 echo "cross: digests  expected $expected  x86-64 ${d_x86:-none}  aarch64 ${d_a64:-none}  cortex-m7 ${d_m7:-none}"
+echo "cross: robot-cell digests  expected $expected_robot  x86-64 ${r_x86:-none}  aarch64 ${r_a64:-none}  cortex-m7 ${r_m7:-none}"
 grep -v '^can ' "$bdir/build-m7/firmware-qemu.log"
 stamp "done"
-if [ "$d_x86" != "$expected" ] || [ "$d_a64" != "$expected" ] || [ "$d_m7" != "$expected" ]; then
+if [ "$d_x86" != "$expected" ] || [ "$d_a64" != "$expected" ] || [ "$d_m7" != "$expected" ] ||
+  [ "$r_x86" != "$expected_robot" ] || [ "$r_a64" != "$expected_robot" ] || [ "$r_m7" != "$expected_robot" ]; then
   echo "cross: DIGESTS DIFFER" >&2
   exit 1
 fi
-echo "cross: all three digests are bit-identical"
+echo "cross: both runs' digests are bit-identical on all three targets"

@@ -1,8 +1,9 @@
 # SPDX-FileCopyrightText: 2026 The cellguard authors
 # SPDX-License-Identifier: Apache-2.0
 # Runs the firmware on qemu-system-arm -M mps2-an500 with semihosting (60 s
-# timeout) and checks that it exits with 0 and prints "digest EXPECTED".
-# Run as: cmake -DQEMU=... -DELF=... -DEXPECTED=0x... [-DLOG=file] -P run_qemu.cmake
+# timeout) and checks that it exits with 0 and prints "digest EXPECTED" and,
+# given EXPECTED_ROBOT, "robot digest EXPECTED_ROBOT" (the robot-cell run).
+# Run as: cmake -DQEMU=... -DELF=... -DEXPECTED=0x... [-DEXPECTED_ROBOT=0x...] [-DLOG=file] -P run_qemu.cmake
 execute_process(COMMAND ${QEMU} -M mps2-an500 -nographic -monitor none -serial null
                         -semihosting-config enable=on,target=native -kernel ${ELF}
                 TIMEOUT 60 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -19,4 +20,10 @@ string(REGEX MATCH "digest 0x[0-9a-f]+" line "${out}")
 if(NOT line STREQUAL "digest ${EXPECTED}")
   message(FATAL_ERROR "firmware printed '${line}', expected 'digest ${EXPECTED}'")
 endif()
-message(STATUS "firmware digest ${EXPECTED} as expected")
+if(EXPECTED_ROBOT)
+  string(REGEX MATCH "robot digest 0x[0-9a-f]+" robot_line "${out}")
+  if(NOT robot_line STREQUAL "robot digest ${EXPECTED_ROBOT}")
+    message(FATAL_ERROR "firmware printed '${robot_line}', expected 'robot digest ${EXPECTED_ROBOT}'")
+  endif()
+endif()
+message(STATUS "firmware digest ${EXPECTED} as expected; robot digest ${EXPECTED_ROBOT}")

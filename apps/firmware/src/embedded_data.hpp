@@ -26,6 +26,22 @@ extern const std::uint8_t cellguard_firmware_frames[];
 extern const float cellguard_firmware_frames_f32[];
 /// Bytes in cellguard_firmware_frames.
 extern const std::uint32_t cellguard_firmware_frames_size;
+/// The robot image (robot_image.hpp's format) of the robot-cell run.
+extern const std::uint8_t cellguard_firmware_robot_image[];
+/// Bytes in cellguard_firmware_robot_image.
+extern const std::uint32_t cellguard_firmware_robot_image_size;
+/// The robot cell's prior image.
+extern const std::uint8_t cellguard_firmware_robot_prior_image[];
+/// Bytes in cellguard_firmware_robot_prior_image.
+extern const std::uint32_t cellguard_firmware_robot_prior_image_size;
+/// Its payload as int16 values, in place (as cellguard_firmware_prior_values).
+extern const std::int16_t cellguard_firmware_robot_prior_values[];
+/// The robot cell's canned frames (canned_frames.hpp's format).
+extern const std::uint8_t cellguard_firmware_robot_frames[];
+/// The same bytes as binary32 values.
+extern const float cellguard_firmware_robot_frames_f32[];
+/// Bytes in cellguard_firmware_robot_frames.
+extern const std::uint32_t cellguard_firmware_robot_frames_size;
 // NOLINTEND(bugprone-dynamic-static-initializers)
 }
 

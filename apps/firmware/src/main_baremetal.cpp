@@ -1,10 +1,11 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// The Cortex-M7 image for qemu-system-arm -M mps2-an500: the canned run
-// (scenario.hpp) with the SysTick clock and the semihosting CAN backend.
+// The Cortex-M7 image for qemu-system-arm -M mps2-an500: the canned runs
+// (scenario.hpp, then robot_scenario.hpp) with the SysTick clock and the semihosting CAN backend.
 #include <cstdint>
 
 #include "cellguard/base/crc32.hpp"
+#include "cellguard/firmware/robot_scenario.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/port/can.hpp"
 #include "cellguard/port/clock.hpp"
@@ -65,6 +66,7 @@ extern "C" int cellguard_firmware_main() noexcept {
     cellguard::baremetal::SemihostingCanSender can;
     const std::uint64_t start = clock.now_us();
     const cellguard::firmware::ScenarioSummary s = cellguard::firmware::run_scenario(clock, can, text);
+    const cellguard::firmware::ScenarioSummary r = cellguard::firmware::run_robot_scenario(can, text);
     const std::uint64_t elapsed = clock.now_us() - start;
     char us[21];
     cellguard::firmware::format_decimal(elapsed, us);
@@ -75,5 +77,8 @@ extern "C" int cellguard_firmware_main() noexcept {
     text.write("\nstack used below main's frame (bytes): ");
     text.write(stack);
     text.write("\n");
-    return s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles ? 0 : 1;
+    return s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles && r.setup_ok &&
+                   r.cycles == cellguard::firmware::kRobotScenarioCycles
+               ? 0
+               : 1;
 }

@@ -1,20 +1,22 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// cellguard-firmware-digest: the firmware's canned run (scenario.hpp) on a
-// Linux host (x86-64 natively, aarch64 under qemu-user): prints the same
-// lines and digest as the Cortex-M7 image. With an argument 0x........ it
-// exits 1 unless the digest equals it; --help, --version and usage errors as
+// cellguard-firmware-digest: the firmware's canned runs (scenario.hpp, then
+// robot_scenario.hpp) on a Linux host (x86-64 natively, aarch64 under
+// qemu-user): prints the same lines and digests as the Cortex-M7 image. With
+// an argument 0x........ it exits 1 unless the first run's digest equals it,
+// with a second one likewise for the robot-cell run's; --help, --version and usage errors as
 // every program (cellguard/host/cli.hpp), a bad command line exits 2. Its one
-// optional argument is parsed by hand, not with CLI11 (command_line.hpp):
+// optional arguments are parsed by hand, not with CLI11 (command_line.hpp):
 // this is the host twin of the bare-metal image's main, built for every
 // Linux target of tools/cross.sh, and CLI11 would bring exceptions, RTTI
-// and the heap for that one argument.
+// and the heap for those two arguments.
 #include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 
+#include "cellguard/firmware/robot_scenario.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/host/cli.hpp"
 
@@ -54,21 +56,24 @@ public:
 constexpr const char* kProgram = "cellguard-firmware-digest";
 
 constexpr const char* kUsage =
-    "usage: cellguard-firmware-digest [EXPECTED]\n"
+    "usage: cellguard-firmware-digest [EXPECTED [ROBOT_EXPECTED]]\n"
     "\n"
-    "Runs the firmware's canned scenario on this host and prints the same lines,\n"
-    "CAN frames and digest as the Cortex-M7 image.\n"
+    "Runs the firmware's canned scenarios (the zones-only run, then the robot\n"
+    "cell) on this host and prints the same lines, CAN frames and digests as\n"
+    "the Cortex-M7 image.\n"
     "\n"
     "arguments:\n"
-    "  EXPECTED                    the digest to compare with: 0x and 1 to 8 hex\n"
+    "  EXPECTED                    the first run's digest: 0x and 1 to 8 hex\n"
     "                              digits, as in apps/firmware/expected_digest.txt\n"
+    "  ROBOT_EXPECTED              the robot-cell run's digest, as in\n"
+    "                              apps/firmware/expected_robot_digest.txt\n"
     "\n"
     "options:\n"
     "  -h, --help                  print this help and exit\n"
     "  --version                   print the version and exit\n"
     "\n"
-    "Exit status: 0 the run completed (and the digest matches EXPECTED), 1 the\n"
-    "set-up failed or the digest differs, 2 bad command line.\n";
+    "Exit status: 0 both runs completed (and the digests match), 1 a set-up\n"
+    "failed or a digest differs, 2 bad command line.\n";
 
 /// @p text as a digest, "0x" and 1 to 8 hex digits; false for anything else.
 bool parse_digest(const char* text, unsigned long& value) {
@@ -81,10 +86,16 @@ bool parse_digest(const char* text, unsigned long& value) {
     return true;
 }
 
-/// Reads the command line: the optional EXPECTED digest into @p expected_text
-/// and @p expected, and -1 to run; else the exit status (0 after --help or
+/// An expected digest from the command line.
+struct Expected {
+    const char* text = nullptr;  ///< as given; nullptr: not given
+    unsigned long value = 0U;    ///< its value
+};
+
+/// Reads the command line: the optional EXPECTED and ROBOT_EXPECTED digests
+/// into @p expected, and -1 to run; else the exit status (0 after --help or
 /// --version, 2 after a usage error).
-int parse_args(int argc, char** argv, const char*& expected_text, unsigned long& expected) {
+int parse_args(int argc, char** argv, Expected (&expected)[2]) {
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
@@ -99,23 +110,39 @@ int parse_args(int argc, char** argv, const char*& expected_text, unsigned long&
             return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + a + "'");
         }
     }
-    if (argc > 2) {
-        return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[2] + "'");
+    if (argc > 3) {
+        return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[3] + "'");
     }
-    if (argc == 2 && !parse_digest(argv[1], expected)) {
-        return cellguard::host::usage_error(
-            kProgram, std::string("EXPECTED expects 0x and 1 to 8 hex digits, got '") + argv[1] + "'");
+    for (int i = 1; i < argc; ++i) {
+        Expected& e = expected[i - 1];
+        if (!parse_digest(argv[i], e.value)) {
+            return cellguard::host::usage_error(kProgram, std::string(i == 1 ? "EXPECTED" : "ROBOT_EXPECTED") +
+                                                              " expects 0x and 1 to 8 hex digits, got '" + argv[i] +
+                                                              "'");
+        }
+        e.text = argv[i];
     }
-    expected_text = argc == 2 ? argv[1] : nullptr;
     return -1;
+}
+
+/// False (said on stdout) when @p e is given and differs from @p digest.
+bool matches(const Expected& e, std::uint32_t digest) {
+    if (e.text == nullptr) {
+        return true;
+    }
+    if (e.value != digest) {
+        std::printf("digest 0x%08x differs from the expected %s\n", static_cast<unsigned>(digest), e.text);
+        return false;
+    }
+    std::printf("digest matches the expected %s\n", e.text);
+    return true;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    const char* expected_text = nullptr;
-    unsigned long expected = 0U;
-    const int parse_status = parse_args(argc, argv, expected_text, expected);
+    Expected expected[2];
+    const int parse_status = parse_args(argc, argv, expected);
     if (parse_status >= 0) {
         return parse_status;
     }
@@ -126,12 +153,11 @@ int main(int argc, char** argv) {
     if (!s.setup_ok || s.cycles != cellguard::firmware::kScenarioCycles) {
         return 1;
     }
-    if (expected_text != nullptr) {
-        if (expected != s.digest) {
-            std::printf("digest 0x%08x differs from the expected %s\n", static_cast<unsigned>(s.digest), expected_text);
-            return 1;
-        }
-        std::printf("digest matches the expected %s\n", expected_text);
+    const cellguard::firmware::ScenarioSummary r = cellguard::firmware::run_robot_scenario(can, text);
+    if (!r.setup_ok || r.cycles != cellguard::firmware::kRobotScenarioCycles) {
+        return 1;
     }
-    return 0;
+    const bool first = matches(expected[0], s.digest);
+    const bool robot = matches(expected[1], r.digest);
+    return first && robot ? 0 : 1;
 }

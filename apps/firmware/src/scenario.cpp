@@ -14,9 +14,17 @@
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/safety/zones.hpp"
 #include "embedded_data.hpp"
+#include "scenario_common.hpp"
 
 namespace cellguard::firmware {
 namespace {
+
+using detail::canned_reading;
+using detail::Digest;
+using detail::digest_grid;
+using detail::digest_report;
+using detail::DigestingSender;
+using detail::Line;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -41,143 +49,6 @@ struct Step {
 // empty again, a sensor missing, then recovery.
 constexpr Step kScript[kScenarioCycles] = {{0U, 0U, false},   {1U, 0U, false}, {2U, 0U, false}, {0U, 0U, false},
                                            {0U, 0x4U, false}, {0U, 0U, false}, {0U, 0U, false}, {0U, 0U, false}};
-
-/// Feeds values, little-endian, to the cycle's and the whole run's CRC.
-class Digest {
-public:
-    void bytes(Span<const std::uint8_t> b) noexcept {
-        cycle_.update(b);
-        total_.update(b);
-    }
-    void u8(std::uint8_t v) noexcept { bytes(Span<const std::uint8_t>(&v, 1U)); }
-    void u32(std::uint32_t v) noexcept {
-        const std::uint8_t b[4] = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8U),
-                                   static_cast<std::uint8_t>(v >> 16U), static_cast<std::uint8_t>(v >> 24U)};
-        bytes(Span<const std::uint8_t>(b, 4U));
-    }
-    void u64(std::uint64_t v) noexcept {
-        u32(static_cast<std::uint32_t>(v));
-        u32(static_cast<std::uint32_t>(v >> 32U));
-    }
-    void start_cycle() noexcept { cycle_.reset(); }
-    [[nodiscard]] std::uint32_t cycle() const noexcept { return cycle_.value(); }
-    [[nodiscard]] std::uint32_t total() const noexcept { return total_.value(); }
-
-private:
-    Crc32 cycle_;
-    Crc32 total_;
-};
-
-/// Digests every frame (diagnostics timing masked) and forwards it.
-// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
-class DigestingSender final : public CanSender {
-public:
-    DigestingSender(CanSender& inner, std::uint32_t diagnostics_id, Digest& digest) noexcept
-        : inner_(&inner), diagnostics_id_(diagnostics_id), digest_(&digest) {}
-    bool send(const CanFrame& frame) noexcept override {
-        CanFrame m = frame;
-        if (m.id == diagnostics_id_) {
-            m.data[0] = 0U;                                            // E2E CRC (covers the timing)
-            m.data[4] = 0U;                                            // CycleTime bits 32..39
-            m.data[5] = 0U;                                            // CycleTime 40..42, MaxCycleTime 43..47
-            m.data[6] = static_cast<std::uint8_t>(m.data[6] & 0xC0U);  // MaxCycleTime 48..53; keep the CRC page
-        }
-        digest_->u32(m.id);
-        digest_->u8(m.dlc);
-        digest_->bytes(Span<const std::uint8_t>(m.data, sizeof(m.data)));
-        ++frames_;
-        return inner_->send(frame);
-    }
-    [[nodiscard]] std::uint32_t frames() const noexcept { return frames_; }
-
-private:
-    CanSender* inner_;
-    std::uint32_t diagnostics_id_;
-    Digest* digest_;
-    std::uint32_t frames_ = 0U;
-};
-
-/// A text line built in place.
-class Line {
-public:
-    Line& text(const char* s) noexcept {
-        while (*s != '\0' && n_ + 1U < sizeof(buf_)) {
-            buf_[n_++] = *s++;
-        }
-        buf_[n_] = '\0';
-        return *this;
-    }
-    Line& hex(std::uint32_t v) noexcept {
-        char b[11];
-        format_hex32(v, b);
-        return text(b);
-    }
-    Line& dec(std::uint64_t v) noexcept {
-        char b[21];
-        format_decimal(v, b);
-        return text(b);
-    }
-    [[nodiscard]] const char* c_str() const noexcept { return buf_; }
-
-private:
-    char buf_[200] = {};
-    std::size_t n_ = 0U;
-};
-
-void digest_grid(const EvidenceGrid& grid, Digest& d) noexcept {
-    std::uint8_t chunk[256];
-    std::size_t used = 0U;
-    for (const std::int16_t v : grid.log_odds()) {
-        const auto bits = static_cast<std::uint16_t>(v);
-        chunk[used++] = static_cast<std::uint8_t>(bits);
-        chunk[used++] = static_cast<std::uint8_t>(bits >> 8U);
-        if (used == sizeof(chunk)) {
-            d.bytes(Span<const std::uint8_t>(chunk, used));
-            used = 0U;
-        }
-    }
-    d.bytes(Span<const std::uint8_t>(chunk, used));
-    d.bytes(Span<const std::uint8_t>(grid.observed().data(), grid.observed().size()));
-}
-
-void digest_report(const CycleReport& r, Digest& d) noexcept {
-    d.u64(r.cycle);
-    d.u32(r.fusion.rays_fused);
-    d.u32(r.fusion.readings_in_grid);
-    d.u32(r.fusion.skipped());
-    d.u64(r.fusion.voxel_updates);
-    d.u32(static_cast<std::uint32_t>(r.zones.count));
-    for (std::size_t z = 0U; z < r.zones.count; ++z) {
-        d.u8(static_cast<std::uint8_t>(r.zones.zones[z].state));
-        d.u32(r.zones.zones[z].foreground);
-        d.u32(r.zones.zones[z].unseen);
-    }
-    d.u32(r.detected_faults);
-    d.u8(r.safety.stop_requested ? 1U : 0U);
-    d.u8(r.safety.warning ? 1U : 0U);
-    d.u8(r.safety.interlock_holding ? 1U : 0U);
-    d.u32(r.safety.latched_faults);
-    d.u32(r.safety.intruded_mask);
-    d.u32(r.safety.unseen_mask);
-    d.u32(r.safety.fault_zone_mask);
-}
-
-SensorReading canned_reading(const CannedFrames& frames, std::size_t sensor, std::size_t scene) noexcept {
-    const CannedSensor& s = frames.sensor(sensor);
-    SensorReading r;
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    for (int row = 0; row < 3; ++row) {
-        for (int col = 0; col < 4; ++col) {
-            m(row, col) = s.pose[static_cast<std::size_t>(row * 4 + col)];
-        }
-    }
-    r.pose.matrix() = m;
-    r.kind = SensorDataKind::kDepthImage;
-    r.depth = frames.depth(scene, sensor);
-    r.intrinsics = PinholeIntrinsics{s.fx, s.fy, s.cx, s.cy, s.width, s.height};
-    r.max_range = s.max_range;
-    return r;
-}
 
 }  // namespace
 
@@ -316,6 +187,14 @@ void write_totals(const ScenarioSummary& summary, std::uint32_t frames_sent, Tex
 }
 
 }  // namespace
+
+namespace detail {
+
+FirmwareStorage firmware_storage() noexcept {
+    return FirmwareStorage{g_grid.log_odds, g_grid.observed, g_fusion_scratch, g_zone_mask};
+}
+
+}  // namespace detail
 
 ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
     ScenarioSummary summary;

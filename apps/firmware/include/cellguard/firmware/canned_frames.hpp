@@ -61,7 +61,7 @@ constexpr std::uint32_t kFramesFormatVersion = 1U;
 /// Most sensors a blob may hold (the scenario's input array).
 constexpr std::size_t kMaxCannedSensors = 4U;
 /// Most scenes a blob may hold.
-constexpr std::size_t kMaxCannedScenes = 4U;
+constexpr std::size_t kMaxCannedScenes = 8U;
 /// Largest width or height of a depth image.
 constexpr std::int32_t kMaxCannedImageSide = 4096;
 
