@@ -60,10 +60,10 @@ public:
           rc_(rc),
           plc_(rc),
           commands_(demo_log_command_receiver_config(cfg)),
-          robot_(cfg.robot.enabled),
           step_us_(demo_log_poll_interval_us(rc)),
+          out_(out),
           cycles_(cycles),
-          out_(out) {}
+          robot_(cfg.robot.enabled) {}
 
     void line(const std::string& text);
     void finish();
@@ -81,34 +81,33 @@ private:
     [[nodiscard]] bool is_command_id(std::uint32_t id) const noexcept;
     int check_entry_cycle();
     std::string check_robot_timeline();
-    std::string robot_summary() const;
+    [[nodiscard]] std::string robot_summary() const;
 
     const cell::MonitorConfig& cfg_;
     PlcReceiverConfig rc_;
     PlcReceiver plc_;
     CommandReceiver commands_;
-    bool robot_;  // a robot cell: separation frames and command frames
     std::uint64_t step_us_;
-    int cycles_;
     DemoLogCheck& out_;
-    int lines_ = 0;
-    int diagnostics_ = 0;
-    int valid_pairs_ = 0;
     std::vector<bool> stop_;  // the stop bit of each safety frame
     CanFrame last_safety_{};
-    bool have_safety_ = false;  // a safety frame waits for its copy
-    bool have_time_ = false;
     std::uint64_t start_us_ = 0U;  // the first frame's time stamp
     std::uint64_t last_us_ = 0U;   // the latest time stamp so far
     std::uint64_t next_poll_us_ = 0U;
+    std::vector<RobotCycle> robot_cycles_;  // a robot cell: one per safety frame
+    int cycles_;
+    int lines_ = 0;
+    int diagnostics_ = 0;
+    int valid_pairs_ = 0;
     std::uint32_t faults_seen_ = 0U;
-    // A robot cell:
-    std::vector<RobotCycle> robot_cycles_;  // one per safety frame
-    bool separation_due_ = false;           // a diagnostics frame came, its separation frame is due
-    int separations_ = 0;
-    int command_frames_ = 0;
+    int separations_ = 0;           // a robot cell: separation frames so far
+    int command_frames_ = 0;        // a robot cell: command frames so far
     int command_valid_cycles_ = 0;  // cycles whose separation frame says CommandValid
     std::uint32_t command_faults_seen_ = 0U;
+    bool robot_;                // a robot cell: separation frames and command frames
+    bool have_safety_ = false;  // a safety frame waits for its copy
+    bool have_time_ = false;
+    bool separation_due_ = false;  // a robot cell: a diagnostics frame came, its separation frame is due
 };
 
 void LogChecker::line(const std::string& text) {
@@ -445,7 +444,7 @@ DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorCo
     }
     if (config.robot.enabled && !CommandReceiver::check_config(demo_log_command_receiver_config(config)).ok()) {
         out.input_ok = false;
-        out.failures.push_back("no valid command receiver configuration for this monitor configuration");
+        out.failures.emplace_back("no valid command receiver configuration for this monitor configuration");
         return out;
     }
     LogChecker checker(config, rc, cycles, out);
