@@ -338,9 +338,11 @@ int check(const Run& run) {
     int first_ok = -1;
     int released = -1;
     const std::size_t silent = check_commands(run, first_ok, released);
-    // The response to the silence: the first stop after the last sample.
+    // The response to the silence: the first stop after the last sample (and
+    // after the release: without one there is nothing to measure).
     int stop_at = -1;
-    for (std::size_t k = silent; k < run.cycles.size(); ++k) {
+    const std::size_t from = released < 0 ? run.cycles.size() : std::max(silent, static_cast<std::size_t>(released));
+    for (std::size_t k = from; k < run.cycles.size(); ++k) {
         const Cycle& c = run.cycles[k];
         if (stop_at < 0 && c.safety.protective_stop) {
             stop_at = static_cast<int>(k);
