@@ -4,7 +4,10 @@
 # Integration test on a real kernel CAN stack (issue 6): cellguard-monitor
 # sends its safety output on vcan0, candump -L records it, the PLC-side
 # receiver checks the recording; then vcan0 goes down mid-run and the fault
-# path and the recovery are checked (tests/integration/vcan/vcan-test.sh).
+# path and the recovery are checked; then (issue 17) both directions in a
+# robot cell: cellguard-vcan-plc sends the PLC's command on vcan0 with the
+# PLC-side sender and checks the monitor's frames live with the PLC-side
+# receiver (tests/integration/vcan/vcan-test.sh, vcan_plc.cpp).
 #
 # usage: tools/vcan-integration.sh [--vm] [BUILD_DIR]
 #   BUILD_DIR  CMake build directory (Ninja) to build the programs in;
@@ -18,10 +21,13 @@
 # under BUILD_DIR/vcan: busybox-static, the modules can, can-raw, can-dev and
 # vcan, the programs and candump with the shared libraries ldd lists (the
 # monitor links tomlplusplus dynamically; they are copied, not linked
-# statically) and the dynamic loader. No network; the VM (or the test on the
+# statically) and the dynamic loader. CELLGUARD_VCAN_APPEND is added to the
+# kernel command line (e.g. RUNS=robot: the kernel hands it to /init's
+# environment, vcan-test.sh runs only that run). No network; the VM (or the test on the
 # host) has a hard timeout (CELLGUARD_VCAN_TIMEOUT seconds, default 180).
-# Measured in the VM on a loaded 2-core machine: /init after 5-9 s, the test
-# done 52-59 s after boot, qemu 58-73 s.
+# Measured in the VM on a loaded 2-core machine (runs 1 and 2 only): /init
+# after 5-9 s, the test done 52-59 s after boot, qemu 58-73 s. The robot run
+# (3) adds its start-up and 20 cycles of 2 s; the default timeout is 420 s.
 # Packages: tools/install-deps.sh --vcan. Exit status 0 exactly when every
 # check passed.
 set -euo pipefail
@@ -38,7 +44,7 @@ for arg in "$@"; do
 done
 build=${build:-build-vcan}
 case "$build" in /*) ;; *) build=$root/$build ;; esac
-vm_timeout=${CELLGUARD_VCAN_TIMEOUT:-180}
+vm_timeout=${CELLGUARD_VCAN_TIMEOUT:-420}
 here=$root/tests/integration/vcan
 work=$build/vcan
 t_start=$(date +%s)
@@ -52,10 +58,11 @@ fi
 [ -f "$build/build.ninja" ] || die "$build is not a Ninja build directory"
 cmake --build "$build" -j 2 --target cellguard-monitor cellguard-monitor-check-log
 mkdir -p "$work/bin"
-# cellguard-vcan-check: compiled with the flags CMake uses for
-# cellguard-monitor-check-log (same defines, so the same ABI) and linked
-# against the same libraries.
-python3 - "$build" "$here/check_vcan_log.cpp" "$work/bin/cellguard-vcan-check" <<'EOF'
+# cellguard-vcan-check and cellguard-vcan-plc: compiled with the flags CMake
+# uses for cellguard-monitor-check-log (same defines, so the same ABI) and
+# linked against the same libraries.
+for prog in check_vcan_log:cellguard-vcan-check vcan_plc:cellguard-vcan-plc; do
+python3 - "$build" "$here/${prog%%:*}.cpp" "$work/bin/${prog#*:}" <<'EOF'
 import json, os, shlex, subprocess, sys
 build, src, out = sys.argv[1:4]
 entries = [e for e in json.load(open(os.path.join(build, "compile_commands.json")))
@@ -87,13 +94,15 @@ deps = [src] + [os.path.join(build, l) for l in libs if l.endswith(".a")]
 if os.path.exists(out) and all(os.path.getmtime(out) >= os.path.getmtime(d) for d in deps):
     sys.exit(0)
 cmd = [cc[0]] + flags + [src, "-o", out] + libs
-print("vcan-integration: building cellguard-vcan-check", flush=True)
+print("vcan-integration: building " + os.path.basename(out), flush=True)
 sys.exit(subprocess.call(cmd, cwd=build))
 EOF
+done
 candump=$(command -v candump || true)
 [ -n "$candump" ] || die "candump not found (can-utils; tools/install-deps.sh --vcan)"
 cp "$build/apps/monitor/cellguard-monitor" "$candump" "$work/bin/"
-cp "$here/vcan-cell.toml" "$here/vcan-test.sh" "$work/"
+cp "$here/vcan-cell.toml" "$here/vcan-robot-cell.toml" "$here/vcan-robot-scene.toml" "$here/vcan-test.sh" \
+   "$root/apps/monitor/config/robot-arm.urdf" "$work/"
 
 # --- on the host, where it has vcan -------------------------------------------
 if [ $force_vm -eq 0 ] && ip link add dev vcan0 type vcan 2> /dev/null; then
@@ -135,7 +144,8 @@ mkdir -p "$fs"/{bin,proc,sys,dev,tmp,cellguard/bin,lib/modules/cellguard}
 cp "$busybox" "$fs/bin/busybox"
 ln -s busybox "$fs/bin/sh"
 install -m 0755 "$here/init" "$fs/init"
-cp "$work/vcan-cell.toml" "$work/vcan-test.sh" "$fs/cellguard/"
+cp "$work/vcan-cell.toml" "$work/vcan-robot-cell.toml" "$work/vcan-robot-scene.toml" "$work/robot-arm.urdf" \
+   "$work/vcan-test.sh" "$fs/cellguard/"
 cp "$work/bin/"* "$fs/cellguard/bin/"
 command -v strip > /dev/null && strip "$fs"/cellguard/bin/* 2> /dev/null || true  # smaller without debug info
 for m in can can-raw can-dev vcan; do          # insmod order: can, can-raw, can-dev, vcan
@@ -169,7 +179,7 @@ set +e
 timeout -k 10 "$vm_timeout" qemu-system-x86_64 -accel tcg -cpu max -smp 2 -m 512 \
   -nographic -no-reboot -nic none \
   -kernel "$kernel" -initrd "$work/initramfs.cpio.gz" \
-  -append "console=ttyS0 panic=-1 quiet loglevel=3 rdinit=/init" \
+  -append "console=ttyS0 panic=-1 quiet loglevel=3 rdinit=/init ${CELLGUARD_VCAN_APPEND:-}" \
   < /dev/null > "$console" 2>&1
 qemu_rc=$?
 set -e

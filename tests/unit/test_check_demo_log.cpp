@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "cellguard/can/separation_frame.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/io/candump_log.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
@@ -31,8 +32,10 @@ using namespace cellguard::monitor;
 
 namespace {
 
-constexpr int kCycles = 60;                 // the fixture's --cycles
-constexpr std::size_t kLinesPerCycle = 3U;  // safety frame, inverted copy, diagnostics frame
+constexpr int kCycles = 60;                       // the fixture's --cycles
+constexpr std::size_t kLinesPerCycle = 3U;        // safety frame, inverted copy, diagnostics frame
+constexpr int kRobotCycles = 170;                 // the robot-cell fixture's --cycles
+constexpr std::size_t kRobotLinesPerCycle = 10U;  // six command frames, safety, copy, diagnostics, separation
 
 /// The lines of the fixture's demo log (3 per cycle, in time order).
 std::vector<std::string> demo_log_lines() {
@@ -113,7 +116,138 @@ std::uint64_t safety_frame_time(const std::vector<std::string>& lines, int cycle
     return r.timestamp_us;
 }
 
+/// The lines of the robot-cell fixture's log (10 per cycle, in time order).
+std::vector<std::string> robot_log_lines() {
+    const char* path = std::getenv("CELLGUARD_ROBOT_CELL_LOG");
+    INFO(
+        "CELLGUARD_ROBOT_CELL_LOG names the log of `cellguard-monitor --demo robot-cell --cycles 170` "
+        "(ctest monitor_check_log_unit_tests_on_a_real_robot_cell_log sets it)");
+    REQUIRE(path != nullptr);
+    std::ifstream in(path);
+    INFO("log: " << path);
+    REQUIRE(in.good());
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) {
+        lines.push_back(line);
+    }
+    REQUIRE(lines.size() == kRobotLinesPerCycle * kRobotCycles);
+    return lines;
+}
+
+DemoLogCheck check_robot_lines(const std::vector<std::string>& lines) {
+    std::string text;
+    for (const std::string& l : lines) {
+        text += l + "\n";
+    }
+    std::istringstream in(text);
+    return check_demo_log(in, kRobotCycles, robot_cell_demo_config());
+}
+
+/// @p line with its frame replaced by @p frame (same time stamp and interface).
+std::string with_frame(const std::string& line, const CanFrame& frame) {
+    const CandumpRecord r = record_of(line);
+    char text[kCandumpLineCapacity];
+    const std::size_t n = format_candump_line(text, sizeof(text), r.timestamp_us, r.interface_name, frame);
+    REQUIRE(n > 0U);
+    return std::string(text, n);
+}
+
+/// The separation frame of @p line with its content changed by @p change, re-encoded with its own counter.
+template <typename Change>
+std::string changed_separation(const std::string& line, Change change) {
+    const SafetyChannelConfig ch = robot_cell_demo_config().can.channel;
+    const Result<SeparationFrameContent> c = decode_separation_frame(record_of(line).frame, ch);
+    REQUIRE(c.ok());
+    SeparationMessage m = c.value().message;
+    change(m);
+    const Result<CanFrame> f = encode_separation_frame(m, c.value().counter, ch);
+    REQUIRE(f.ok());
+    return with_frame(line, f.value());
+}
+
 }  // namespace
+
+// verifies: SR-SYS-006, SR-CMD-008
+TEST_CASE(
+    "cellguard-monitor-check-log on the robot-cell log: the unmodified log passes, its commands valid and echoed, "
+    "the stop released then requested for the person" *
+    doctest::skip()) {
+    const DemoLogCheck r = check_robot_lines(robot_log_lines());
+    CAPTURE(all_failures(r));
+    CHECK(r.passed());
+    CHECK(r.summary.find("1700 lines, 170 safety pairs (168 accepted by the PLC receiver), 170 diagnostics frames, "
+                         "170 separation frames, 1020 command frames (170 samples accepted by the command receiver, "
+                         "valid in 168 cycles, 0 faults; 168 cycles used a valid command, its case echoed)") == 0U);
+    // The demo's timeline (test_monitor_robot_cell.cpp): REDUCED first at cycle 58, STOP at 63.
+    CHECK(r.summary.find("reduced speed first in cycle 58, stop again first in cycle 63; 0 failures") !=
+          std::string::npos);
+    // The same log is no paper-cell log.
+    std::string text;
+    for (const std::string& l : robot_log_lines()) {
+        text += l + "\n";
+    }
+    std::istringstream in(text);
+    CHECK_FALSE(check_demo_log(in, kRobotCycles, demo_config()).passed());
+}
+
+// verifies: SR-SYS-006, SR-CMD-003
+TEST_CASE("cellguard-monitor-check-log on the robot-cell log: a corrupted command frame fails" * doctest::skip()) {
+    // Cycle 100's part B (its third line): one data bit flipped, so its CRC
+    // fails. The monitor accepted the real frame, so its separation frame
+    // says CommandValid where the log's receiver holds no valid sample.
+    std::vector<std::string> lines = robot_log_lines();
+    const std::size_t b = kRobotLinesPerCycle * 100U + 2U;
+    CanFrame f = record_of(lines[b]).frame;
+    REQUIRE(f.id == 0x0C3U);
+    f.data[4] = static_cast<std::uint8_t>(f.data[4] ^ 0x01U);
+    lines[b] = with_frame(lines[b], f);
+    const DemoLogCheck r = check_robot_lines(lines);
+    CAPTURE(all_failures(r));
+    CHECK_FALSE(r.passed());
+    CHECK(has_failure(r, "line 1003 ", "command receiver enters the safe state: wrong CRC"));
+    CHECK(has_failure(r, "line 1010: CommandValid, but the log's command receiver holds no valid sample"));
+}
+
+// verifies: SR-SYS-006, SR-CMD-008
+TEST_CASE(
+    "cellguard-monitor-check-log on the robot-cell log: a separation frame that names another command or case, or "
+    "none, fails" *
+    doctest::skip()) {
+    std::vector<std::string> lines = robot_log_lines();
+    const std::size_t sep = kRobotLinesPerCycle * 100U + 9U;  // cycle 100's separation frame, line 1010
+    REQUIRE(record_of(lines[sep]).frame.id == robot_cell_demo_config().can.channel.separation_can_id);
+    SUBCASE("another command counter") {
+        lines[sep] = changed_separation(lines[sep], [](SeparationMessage& m) {
+            m.command_counter = static_cast<std::uint8_t>((m.command_counter + 1U) % 15U);
+        });
+        const DemoLogCheck r = check_robot_lines(lines);
+        CAPTURE(all_failures(r));
+        CHECK(has_failure(r, "line 1010: the cycle used command "));
+    }
+    SUBCASE("another case than the safety frame's") {
+        lines[sep] = changed_separation(lines[sep], [](SeparationMessage& m) {
+            m.active_case = static_cast<std::uint8_t>((m.active_case + 1U) % 3U);
+        });
+        const DemoLogCheck r = check_robot_lines(lines);
+        CAPTURE(all_failures(r));
+        CHECK(has_failure(r, "line 1010: separation frame's case "));
+    }
+    SUBCASE("a reduced speed request the safety frame does not carry") {
+        lines[sep] = changed_separation(lines[sep],
+                                        [](SeparationMessage& m) { m.speed_request = SpeedRequest::kReduced; });
+        const DemoLogCheck r = check_robot_lines(lines);
+        CAPTURE(all_failures(r));
+        CHECK(has_failure(r, "line 1010: speed request 1 does not match"));
+    }
+    SUBCASE("the separation frame missing") {
+        lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(sep));
+        const DemoLogCheck r = check_robot_lines(lines);
+        CAPTURE(all_failures(r));
+        CHECK(has_failure(r, "line 1016: the previous cycle's separation frame is missing"));
+        CHECK(has_failure(r, "expected 1700 lines, got 1699"));
+        CHECK(has_failure(r, "expected one separation frame per cycle"));
+    }
+}
 
 // verifies: SR-SYS-006, SR-SYS-001
 TEST_CASE("cellguard-monitor-check-log on the demo log: the unmodified log passes, polled up to the end of the run" *

@@ -6,8 +6,10 @@
 // up to the end of the run; every frame decodes, every inverted copy matches,
 // the receiver never enters the safe state once recovered, and the stop
 // request appears in the cycle in which the scripted person enters the
-// protective zone (and not in the cycle before). The checks themselves are
-// check_demo_log (demo_log_check.hpp).
+// protective zone (and not in the cycle before). With --demo robot-cell the
+// log of `cellguard-monitor --demo robot-cell`: also its separation frames and
+// the simulated PLC's command frames, read by the controller's command
+// receiver. The checks themselves are check_demo_log (demo_log_check.hpp).
 #include <cstdio>
 #include <string>
 
@@ -32,7 +34,12 @@ constexpr const char* kDescription =
     "periods. Fails on a malformed line, a counter out of sequence, a mismatching copy,\n"
     "any receiver fault (frames that stop early, a frame late past the SRVT, a pair\n"
     "split by more than the SRVT), a wrong line count, or a stop request that is not\n"
-    "in the cycle in which the scripted person enters the protective zone.";
+    "in the cycle in which the scripted person enters the protective zone.\n"
+    "--demo robot-cell: the log of `cellguard-monitor --demo robot-cell`; also checks\n"
+    "every separation frame (E2E, its counter, consistent with the safety frame) and\n"
+    "reads the PLC's command frames with the controller's command receiver: no fault\n"
+    "after start-up, and each cycle that used a valid command echoes its case; the\n"
+    "stop is released after start-up and requested again when the person comes.";
 
 constexpr const char* kFooter =
     "Exit status: 0 the log passes, 1 it fails (one FAIL line each on stderr),\n"
@@ -41,9 +48,13 @@ constexpr const char* kFooter =
 }  // namespace
 
 int main(int argc, char** argv) {
-    host::CommandLine cli(kProgram, "cellguard-monitor-check-log LOG CYCLES", kDescription, kFooter);
+    host::CommandLine cli(kProgram, "cellguard-monitor-check-log [--demo NAME] LOG CYCLES", kDescription, kFooter);
     std::string log;
+    std::string demo = "paper-cell";
     int cycles = 0;
+    cli.app()
+        .add_option("--demo", demo, "the demo that wrote the log: paper-cell (the default) or robot-cell")
+        ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
     cli.argument("LOG", "the candump log", [&log](const std::string& v) { log = v; });
     cli.argument("CYCLES", "the demo's --cycles, 1.." + std::to_string(kDemoLogMaxCycles),
                  [&cycles](const std::string& v) {
@@ -52,7 +63,8 @@ int main(int argc, char** argv) {
     if (const int status = cli.parse(argc, argv); status >= 0) {
         return status;
     }
-    const DemoLogCheck r = check_demo_log_file(log, cycles, demo_config());
+    const DemoLogCheck r = check_demo_log_file(log, cycles,
+                                               demo == "robot-cell" ? robot_cell_demo_config() : demo_config());
     for (const std::string& f : r.failures) {
         static_cast<void>(std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str()));
     }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "cellguard/can/separation_frame.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/io/candump_log.hpp"
 
@@ -42,11 +43,27 @@ std::string fault_text(ReceiverFault fault, const PlcReceiverConfig& rc) {
     return text;
 }
 
+/// What the log shows of one cycle of a robot cell.
+struct RobotCycle {
+    bool stop = true;            ///< the safety frame's ProtectiveStop
+    bool reduced = false;        ///< its ReducedSpeed
+    std::uint8_t case_echo = 0;  ///< its ActiveCase
+    CommandPoll command{};       ///< the log's command receiver, polled at the safety frame
+    bool separation = false;     ///< the cycle's separation frame came
+};
+
 /// One log, line by line: see the file comment of demo_log_check.hpp.
 class LogChecker {
 public:
     LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, int cycles, DemoLogCheck& out)
-        : cfg_(cfg), rc_(rc), plc_(rc), step_us_(demo_log_poll_interval_us(rc)), cycles_(cycles), out_(out) {}
+        : cfg_(cfg),
+          rc_(rc),
+          plc_(rc),
+          commands_(demo_log_command_receiver_config(cfg)),
+          step_us_(demo_log_poll_interval_us(rc)),
+          out_(out),
+          cycles_(cycles),
+          robot_(cfg.robot.enabled) {}
 
     void line(const std::string& text);
     void finish();
@@ -55,28 +72,42 @@ private:
     void fail(const std::string& what) { out_.failures.push_back(what); }
     void poll_until(std::uint64_t t_us);
     void observe(const ReceiverStatus& rs, const std::string& where);
-    void on_safety_frame(const CanFrame& f, const std::string& where);
+    void observe_commands(const CommandStatus& cs, const std::string& where);
+    void on_safety_frame(const CanFrame& f, std::uint64_t t_us, const std::string& where);
     void on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, const std::string& where);
     void on_diagnostics_frame(const CanFrame& f, const std::string& where);
+    void on_separation_frame(const CanFrame& f, const std::string& where);
+    void check_separation(const SeparationMessage& m, const RobotCycle& c, const std::string& where);
+    [[nodiscard]] bool is_command_id(std::uint32_t id) const noexcept;
     int check_entry_cycle();
+    std::string check_robot_timeline();
+    [[nodiscard]] std::string robot_summary() const;
 
     const cell::MonitorConfig& cfg_;
     PlcReceiverConfig rc_;
     PlcReceiver plc_;
+    CommandReceiver commands_;
     std::uint64_t step_us_;
-    int cycles_;
     DemoLogCheck& out_;
-    int lines_ = 0;
-    int diagnostics_ = 0;
-    int valid_pairs_ = 0;
     std::vector<bool> stop_;  // the stop bit of each safety frame
     CanFrame last_safety_{};
-    bool have_safety_ = false;  // a safety frame waits for its copy
-    bool have_time_ = false;
     std::uint64_t start_us_ = 0U;  // the first frame's time stamp
     std::uint64_t last_us_ = 0U;   // the latest time stamp so far
     std::uint64_t next_poll_us_ = 0U;
+    std::vector<RobotCycle> robot_cycles_;  // a robot cell: one per safety frame
+    int cycles_;
+    int lines_ = 0;
+    int diagnostics_ = 0;
+    int valid_pairs_ = 0;
     std::uint32_t faults_seen_ = 0U;
+    int separations_ = 0;           // a robot cell: separation frames so far
+    int command_frames_ = 0;        // a robot cell: command frames so far
+    int command_valid_cycles_ = 0;  // cycles whose separation frame says CommandValid
+    std::uint32_t command_faults_seen_ = 0U;
+    bool robot_;                // a robot cell: separation frames and command frames
+    bool have_safety_ = false;  // a safety frame waits for its copy
+    bool have_time_ = false;
+    bool separation_due_ = false;  // a robot cell: a diagnostics frame came, its separation frame is due
 };
 
 void LogChecker::line(const std::string& text) {
@@ -101,15 +132,27 @@ void LogChecker::line(const std::string& text) {
     const ReceiverStatus rs = plc_.on_frame(rec.frame, t);
     observe(rs, where + " (t = " + seconds_text(t) + " s)");
     const CanFrame& f = rec.frame;
+    if (robot_) {
+        observe_commands(commands_.on_frame(f, t), where + " (t = " + seconds_text(t) + " s)");
+    }
     if (f.id == cfg_.can.channel.safety_can_id) {
-        on_safety_frame(f, where);
+        on_safety_frame(f, t, where);
     } else if (f.id == inverted_can_id(cfg_.can.channel)) {
         on_inverted_copy(f, rs, where);
     } else if (f.id == cfg_.can.channel.diagnostics_can_id) {
         on_diagnostics_frame(f, where);
+    } else if (robot_ && f.id == cfg_.can.channel.separation_can_id) {
+        on_separation_frame(f, where);
+    } else if (robot_ && is_command_id(f.id)) {
+        ++command_frames_;
     } else {
         fail(where + ": unexpected CAN ID");
     }
+}
+
+bool LogChecker::is_command_id(std::uint32_t id) const noexcept {
+    const std::uint32_t base = command_can_id(cfg_.can.command, CommandPart::kA);
+    return id >= base && id < base + static_cast<std::uint32_t>(kCommandFramesPerSample);
 }
 
 // Polls at every grid point before t_us. Once the receiver has gone longer
@@ -133,7 +176,14 @@ void LogChecker::observe(const ReceiverStatus& rs, const std::string& where) {
     }
 }
 
-void LogChecker::on_safety_frame(const CanFrame& f, const std::string& where) {
+void LogChecker::observe_commands(const CommandStatus& cs, const std::string& where) {
+    if (cs.fault_events > command_faults_seen_) {
+        command_faults_seen_ = cs.fault_events;
+        fail(where + ": the controller's command receiver enters the safe state: " + to_string(cs.fault));
+    }
+}
+
+void LogChecker::on_safety_frame(const CanFrame& f, std::uint64_t t_us, const std::string& where) {
     const Result<SafetyFrameContent> c = decode_safety_frame(f, cfg_.can.channel);
     if (!c.ok()) {
         fail(where + ": safety frame does not decode");
@@ -143,6 +193,25 @@ void LogChecker::on_safety_frame(const CanFrame& f, const std::string& where) {
     stop_.push_back(c.ok() ? c.value().message.protective_stop : true);
     last_safety_ = f;
     have_safety_ = true;
+    if (!robot_) {
+        return;
+    }
+    if (separation_due_) {
+        fail(where + ": the previous cycle's separation frame is missing");
+    }
+    separation_due_ = false;
+    RobotCycle rc;
+    rc.stop = stop_.back();
+    rc.reduced = c.ok() && c.value().message.reduced_speed;
+    rc.case_echo = c.ok() ? c.value().message.active_case : 0U;
+    // The monitor polled its receiver at the cycle's start, after the cycle's
+    // command frames; the log check polls at the cycle's safety frame.
+    rc.command = commands_.poll(t_us);
+    observe_commands(rc.command.status, where + " (command receiver polled)");
+    if (robot_cycles_.size() >= 2U && command_faults_seen_ == 0U && !rc.command.status.valid) {
+        fail(where + ": command receiver not valid from the third sample on: " + to_string(rc.command.status.fault));
+    }
+    robot_cycles_.push_back(rc);
 }
 
 void LogChecker::on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, const std::string& where) {
@@ -174,6 +243,59 @@ void LogChecker::on_diagnostics_frame(const CanFrame& f, const std::string& wher
         fail(where + ": prior CRC page out of sequence");
     }
     ++diagnostics_;
+    separation_due_ = robot_;
+}
+
+void LogChecker::on_separation_frame(const CanFrame& f, const std::string& where) {
+    SeparationFrameContent c;
+    const FrameCheck check = check_separation_frame(f, cfg_.can.channel, c);
+    if (check != FrameCheck::kOk) {
+        fail(where + ": separation frame does not decode (" + to_string(check) + ")");
+    } else if (c.counter != static_cast<std::uint8_t>(separations_ % 15)) {
+        fail(where + ": separation counter out of sequence");
+    }
+    ++separations_;
+    if (!separation_due_ || robot_cycles_.empty()) {
+        fail(where + ": separation frame not right after its cycle's diagnostics frame");
+        return;
+    }
+    separation_due_ = false;
+    RobotCycle& cycle = robot_cycles_.back();
+    cycle.separation = true;
+    if (check == FrameCheck::kOk) {
+        check_separation(c.message, cycle, where);
+    }
+}
+
+void LogChecker::check_separation(const SeparationMessage& m, const RobotCycle& c, const std::string& where) {
+    if (m.active_case != c.case_echo) {
+        fail(where + ": separation frame's case " + std::to_string(m.active_case) + " is not the safety frame's " +
+             std::to_string(c.case_echo));
+    }
+    if ((m.speed_request == SpeedRequest::kReduced) != c.reduced ||
+        (m.speed_request == SpeedRequest::kProtectiveStop && !c.stop)) {
+        fail(where + ": speed request " + std::to_string(static_cast<int>(m.speed_request)) +
+             " does not match the safety frame's ReducedSpeed and ProtectiveStop bits");
+    }
+    if (m.distance_mm < m.required_mm && m.speed_request != SpeedRequest::kProtectiveStop) {
+        fail(where + ": distance " + std::to_string(m.distance_mm) + " mm below the required " +
+             std::to_string(m.required_mm) + " mm without a stop request");
+    }
+    if (!m.command_valid) {
+        return;
+    }
+    ++command_valid_cycles_;
+    const CommandPoll& p = c.command;
+    if (!p.input.valid) {
+        fail(where + ": CommandValid, but the log's command receiver holds no valid sample (" +
+             to_string(p.status.fault) + ")");
+    } else if (p.input.counter != m.command_counter) {
+        fail(where + ": the cycle used command " + std::to_string(m.command_counter) + ", the log's latest is " +
+             std::to_string(p.input.counter));
+    } else if (p.input.command.monitoring_case != c.case_echo) {
+        fail(where + ": echoed case " + std::to_string(c.case_echo) + " is not the commanded case " +
+             std::to_string(p.input.command.monitoring_case));
+    }
 }
 
 /// The cycle in which the scripted person first overlaps a protective zone
@@ -200,6 +322,43 @@ int LogChecker::check_entry_cycle() {
     return entry;
 }
 
+/// A robot cell's decisions over the run: the start-up stop released, then a
+/// stop request again (the scene's person comes close). Returns the summary's part.
+std::string LogChecker::check_robot_timeline() {
+    int released = -1;
+    int reduced = -1;
+    int stopped = -1;
+    for (std::size_t k = 0U; k < robot_cycles_.size() && stopped < 0; ++k) {
+        const RobotCycle& c = robot_cycles_[k];
+        if (released < 0) {
+            released = c.stop ? -1 : static_cast<int>(k);
+        } else if (c.stop) {
+            stopped = static_cast<int>(k);
+        } else if (c.reduced && reduced < 0) {
+            reduced = static_cast<int>(k);
+        }
+    }
+    if (released < 0) {
+        fail("the start-up stop is never released");
+    } else if (stopped < 0) {
+        fail("no stop request after the release in cycle " + std::to_string(released));
+    }
+    return "stop released in cycle " + std::to_string(released) + ", reduced speed first in cycle " +
+           std::to_string(reduced) + ", stop again first in cycle " + std::to_string(stopped);
+}
+
+std::string LogChecker::robot_summary() const {
+    int valid = 0;
+    for (const RobotCycle& c : robot_cycles_) {
+        valid += c.command.status.valid ? 1 : 0;
+    }
+    return ", " + std::to_string(separations_) + " separation frames, " + std::to_string(command_frames_) +
+           " command frames (" + std::to_string(commands_.status().good_samples) +
+           " samples accepted by the command receiver, valid in " + std::to_string(valid) + " cycles, " +
+           std::to_string(command_faults_seen_) + " faults; " + std::to_string(command_valid_cycles_) +
+           " cycles used a valid command, its case echoed)";
+}
+
 void LogChecker::finish() {
     std::string polled = "never polled (no frame)";
     if (!have_time_) {
@@ -210,27 +369,50 @@ void LogChecker::finish() {
         const std::uint64_t t = std::max(start_us_ + static_cast<std::uint64_t>(cycles_) * cfg_.period_us, last_us_);
         poll_until(t);
         observe(plc_.poll(t), "PLC poll at the end of the run, t = " + seconds_text(t) + " s");
+        if (robot_) {
+            observe_commands(commands_.poll(t).status, "command receiver poll at the end of the run");
+        }
         polled = "polled every " + ms_text(step_us_) + " of log time up to t = " + seconds_text(t) + " s";
     }
-    if (lines_ != 3 * cycles_) {
-        fail("expected " + std::to_string(3 * cycles_) + " lines, got " + std::to_string(lines_));
+    // A robot cell: the separation frame, and the simulated PLC's sample of six frames.
+    const int per_cycle = robot_ ? 4 + static_cast<int>(kCommandFramesPerSample) : 3;
+    if (lines_ != per_cycle * cycles_) {
+        fail("expected " + std::to_string(per_cycle * cycles_) + " lines, got " + std::to_string(lines_));
     }
     if (static_cast<int>(stop_.size()) != cycles_) {
         fail("expected one safety frame per cycle, " + std::to_string(cycles_) + ", got " +
              std::to_string(stop_.size()));
     }
-    const int entry = check_entry_cycle();
-    const bool stop_there = entry >= 0 && entry < static_cast<int>(stop_.size()) &&
-                            stop_[static_cast<std::size_t>(entry)];
+    if (robot_ && (separations_ != cycles_ || separation_due_)) {
+        fail("expected one separation frame per cycle after its diagnostics frame, " + std::to_string(cycles_) +
+             ", got " + std::to_string(separations_));
+    }
+    std::string decisions;
+    if (robot_) {
+        decisions = check_robot_timeline();
+    } else {
+        const int entry = check_entry_cycle();
+        const bool stop_there = entry >= 0 && entry < static_cast<int>(stop_.size()) &&
+                                stop_[static_cast<std::size_t>(entry)];
+        decisions = "person enters the protective zone in cycle " + std::to_string(entry) +
+                    ", stop bit there: " + (stop_there ? "1" : "0");
+    }
     out_.summary = std::to_string(lines_) + " lines, " + std::to_string(stop_.size()) + " safety pairs (" +
                    std::to_string(valid_pairs_) + " accepted by the PLC receiver), " + std::to_string(diagnostics_) +
-                   " diagnostics frames; PLC receiver " + polled + ", " + std::to_string(faults_seen_) +
-                   " faults; person enters the protective zone in cycle " + std::to_string(entry) +
-                   ", stop bit there: " + (stop_there ? "1" : "0") + "; " + std::to_string(out_.failures.size()) +
-                   " failures";
+                   " diagnostics frames" + (robot_ ? robot_summary() : std::string()) + "; PLC receiver " + polled +
+                   ", " + std::to_string(faults_seen_) + " faults; " + decisions + "; " +
+                   std::to_string(out_.failures.size()) + " failures";
 }
 
 }  // namespace
+
+CommandReceiverConfig demo_log_command_receiver_config(const cell::MonitorConfig& config) {
+    CommandReceiverConfig rc;
+    rc.channel = config.can.command;
+    const std::uint64_t age = config.robot.enabled ? config.robot.max_command_age_us : 2U * config.period_us;
+    rc.sct_us = std::max<std::uint64_t>(age, rc.sample_window_us + 1U);
+    return rc;
+}
 
 PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) {
     PlcReceiverConfig rc;
@@ -258,6 +440,11 @@ DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorCo
         out.input_ok = false;
         out.failures.push_back("no valid PLC receiver configuration for this monitor configuration (period " +
                                ms_text(config.period_us) + ", " + std::to_string(config.zones.size()) + " zones)");
+        return out;
+    }
+    if (config.robot.enabled && !CommandReceiver::check_config(demo_log_command_receiver_config(config)).ok()) {
+        out.input_ok = false;
+        out.failures.emplace_back("no valid command receiver configuration for this monitor configuration");
         return out;
     }
     LogChecker checker(config, rc, cycles, out);

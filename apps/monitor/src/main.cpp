@@ -56,6 +56,7 @@ struct Options {
     bool quiet = false;
     std::string picture;
     std::string picture_sensor;
+    std::string commands;  ///< --commands: "" (by the cell), "sim" or "can"
 };
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
@@ -87,6 +88,13 @@ int parse_args(int argc, char** argv, Options& o) {
     CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF",
                                 "send on SocketCAN interface IF instead of the log");
     log->excludes(can);
+    cli.app()
+        .add_option("--commands", o.commands,
+                    "where the PLC's command comes from: sim (the simulated PLC of a demo scene\n"
+                    "with a robot) or can (the frames on the SocketCAN interface, --can-interface;\n"
+                    "with a demo scene the scene stays simulated: an external PLC, as in the vcan\n"
+                    "test); default: sim with a demo scene and a robot, else can on an interface")
+        ->check(CLI::IsMember({"sim", "can"}));
     cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
@@ -239,6 +247,23 @@ CommandReceiverConfig command_receiver_config(const MonitorConfig& cfg) {
     return rc;
 }
 
+/// The PLC's command link for the cycle (nullptr: none) as --commands asks;
+/// @p e says why not when --commands asks for a source the cell lacks.
+CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const CanPort& can, SimulatedPlcLink& plc,
+                             SocketCanCommandLink& socket_commands, SetupError& e) {
+    const bool scene_robot = cell.has_scene && !cell.robot_image.empty();
+    const bool interface = can.kind() == CanPort::Kind::kInterface;
+    if (opt.commands == "sim" && !scene_robot) {
+        e = SetupError{2, "--commands sim needs a demo scene with a robot"};
+    } else if (opt.commands == "can" && !interface) {
+        e = SetupError{2, "--commands can needs a SocketCAN interface (--can-interface or can.interface)"};
+    }
+    if (scene_robot && opt.commands != "can") {
+        return &plc;
+    }
+    return interface ? &socket_commands : nullptr;
+}
+
 /// The monitor (main without its last-resort catch).
 int run_monitor(int argc, char** argv) {
     Options opt;
@@ -291,12 +316,12 @@ int run_monitor(int argc, char** argv) {
     SimulatedPlcLink plc(receiver, &can);
     SocketCanCommandLink socket_commands(receiver, can);
     RobotCellDemo demo(cfg, cell, plc);
+    // A demo scene with a robot keeps moving (people, the robot's program)
+    // whichever link brings the commands.
     const bool simulated_robot = cell.has_scene && !cell.robot_image.empty();
-    CommandLink* commands = nullptr;
-    if (simulated_robot) {
-        commands = &plc;
-    } else if (can.kind() == CanPort::Kind::kInterface) {
-        commands = &socket_commands;
+    CommandLink* const commands = choose_commands(opt, cell, can, plc, socket_commands, e);
+    if (e.failed()) {
+        return fail(e);
     }
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
                      simulated_robot ? &demo : nullptr);

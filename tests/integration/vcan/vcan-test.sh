@@ -8,8 +8,11 @@
 # tools/vcan-integration.sh starts it either way.
 #
 # usage: vcan-test.sh BIN_DIR CONFIG WORK_DIR [IFACE]
-#   BIN_DIR  holds cellguard-monitor, cellguard-vcan-check and candump
-#   CONFIG   the monitor configuration (tests/integration/vcan/vcan-cell.toml)
+#   BIN_DIR  holds cellguard-monitor, cellguard-vcan-check, cellguard-vcan-plc
+#            and candump
+#   CONFIG   the monitor configuration (tests/integration/vcan/vcan-cell.toml);
+#            vcan-robot-cell.toml, vcan-robot-scene.toml and robot-arm.urdf
+#            (run 3) are next to it
 #   WORK_DIR logs and outputs go here
 #   IFACE    an existing CAN interface that is up (default vcan0); this test
 #            takes it down and up again
@@ -17,7 +20,8 @@
 #   CELLGUARD-VCAN-RESULT: PASS   or   CELLGUARD-VCAN-RESULT: FAIL
 # and the exit status is 0 exactly for PASS.
 #
-# Two runs, both paced (one cycle per period on the real clock):
+# Three runs, all paced (one cycle per period on the real clock); RUNS
+# (default "normal fault robot") selects them:
 # 1. normal: NORMAL_CYCLES cycles undisturbed; every frame recorded and valid,
 #    the stop in the entry cycle (cellguard-vcan-check normal).
 # 2. fault: after the monitor has reported cycle DOWN_AT the interface is
@@ -26,6 +30,13 @@
 #    zones and the stop was released, so the stop comes from the fault alone;
 #    FAULT_CYCLES leaves time for fault_recovery_cycles (10) and the restart
 #    delay after UP_AT.
+# 3. robot: both directions in a robot cell (vcan-robot-cell.toml: frames
+#    from a simulated scene, the command from vcan0: --commands can).
+#    cellguard-vcan-plc is the PLC: from the monitor's first frame it sends
+#    the command (PlcCommandSender) every half period, case 0, case 2 from
+#    cycle SWITCH_AT, nothing from cycle SILENT_AT, and checks the monitor's
+#    frames live (PlcReceiver): commands accepted and their case echoed, the
+#    stop released, then the stop within SCT + 2 T after the PLC fell silent.
 set -u
 bin=$1
 cfg=$2
@@ -35,6 +46,11 @@ NORMAL_CYCLES=${NORMAL_CYCLES:-20}
 FAULT_CYCLES=${FAULT_CYCLES:-60}
 DOWN_AT=${DOWN_AT:-36}
 UP_AT=${UP_AT:-41}
+SWITCH_AT=${SWITCH_AT:-8}
+SILENT_AT=${SILENT_AT:-11}
+END_AT=${END_AT:-16}
+RUNS=${RUNS:-normal fault robot}
+rcfg=$(dirname "$cfg")/vcan-robot-cell.toml
 
 failures=0
 say() { echo "vcan-test: $*"; }
@@ -55,10 +71,11 @@ show() {  # show FILE: its last lines, indented, for a failure report
 }
 
 mkdir -p "$work" || { fail "cannot create $work"; finish; }
-for p in cellguard-monitor cellguard-vcan-check candump; do
+for p in cellguard-monitor cellguard-vcan-check cellguard-vcan-plc candump; do
     [ -x "$bin/$p" ] || fail "$bin/$p missing"
 done
 [ -f "$cfg" ] || fail "configuration $cfg missing"
+[ -f "$rcfg" ] || fail "configuration $rcfg missing"
 ip link show "$ifc" > /dev/null 2>&1 || fail "no interface $ifc"
 [ "$failures" -eq 0 ] || finish
 
@@ -112,7 +129,11 @@ wait_or_interrupt() {
 
 say "kernel $(uname -r), interface $ifc, $(uptime_s) s since boot"
 
+case " $RUNS " in *" normal "*) ;; *) NORMAL_CYCLES=0 ;; esac
+case " $RUNS " in *" fault "*) ;; *) FAULT_CYCLES=0 ;; esac
+
 # --- 1. normal run --------------------------------------------------------
+if [ "$NORMAL_CYCLES" -gt 0 ]; then
 say "normal run: $NORMAL_CYCLES cycles, paced"
 start_candump "$work/normal.log" -n $((3 * NORMAL_CYCLES)) || finish
 t0=$(uptime_s)
@@ -131,7 +152,10 @@ else
     sed 's/^/    /' "$work/normal.check"
 fi
 
+fi
+
 # --- 2. fault run: interface down and up again mid-run ---------------------
+if [ "$FAULT_CYCLES" -gt 0 ]; then
 say "fault run: $FAULT_CYCLES cycles, paced; $ifc down after cycle $DOWN_AT, up after cycle $UP_AT"
 # -D: candump keeps running while the interface is down.
 start_candump "$work/fault.log" -D || finish
@@ -171,4 +195,37 @@ else
     say "monitor status lines around the outage:"
     grep "cycle *[0-9]* person" "$work/fault.out" | sed -n "$((DOWN_AT - 1)),\$p" | cut -c1-150 | sed 's/^/    | /'
 fi
+fi
+
+# --- 3. robot cell: the PLC's command on the bus, both directions -----------
+case " $RUNS " in *" robot "*)
+say "robot run: $((END_AT + 1)) cycles, paced, --commands can; PLC: case 0, case 2 from cycle $SWITCH_AT, silent from cycle $SILENT_AT"
+t0=$(uptime_s)
+"$bin/cellguard-vcan-plc" "$rcfg" "$ifc" "$SWITCH_AT" "$SILENT_AT" "$END_AT" > "$work/robot.plc" 2>&1 &
+plc_pid=$!
+# The PLC listens before the monitor's first frame: its first line says so.
+i=0
+while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$work/robot.plc" && kill -0 "$plc_pid" 2> /dev/null; do
+    sleep 0.1
+    i=$((i + 1))
+done
+grep -q '^PLC: ' "$work/robot.plc" || { fail "cellguard-vcan-plc did not start"; show "$work/robot.plc"; }
+# --budget-ms: the decisions, not the emulator's speed (as the demo's ctest).
+"$bin/cellguard-monitor" --config "$rcfg" --can-interface "$ifc" --commands can --cycles $((END_AT + 1)) --paced \
+    --budget-ms 60000 > "$work/robot.out" 2>&1
+rc=$?
+say "robot run: monitor exited $rc after $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s"
+[ $rc -eq 0 ] || { fail "monitor exit status $rc in the robot run"; show "$work/robot.out"; }
+grep '^summary:' "$work/robot.out" | sed 's/^/    /'
+wait_or_interrupt "$plc_pid" 30
+if [ -s "$work/robot.plc" ] && tail -n 1 "$work/robot.plc" | grep -q '; 0 failures$'; then
+    say "PASS robot: $(tail -n 1 "$work/robot.plc")"
+else
+    fail "robot run check (cellguard-vcan-plc)"
+    sed 's/^/    /' "$work/robot.plc"
+    say "monitor status lines:"
+    grep "cycle *[0-9]* robot" "$work/robot.out" | cut -c1-200 | sed 's/^/    | /'
+fi
+;;
+esac
 finish

@@ -22,6 +22,29 @@
 /// - 3 x CYCLES lines and CYCLES safety frames;
 /// - the stop request appears in the cycle in which the scripted person
 ///   (scenario.hpp) enters a protective zone, and not in the cycle before.
+///
+/// A cell with a robot (`--demo robot-cell`: config.robot.enabled) sends a
+/// fourth frame per cycle, the separation frame, and its log also holds the
+/// simulated PLC's command frames (six per sample, one sample per cycle,
+/// before the cycle's output frames). There, besides the checks above:
+/// - every separation frame decodes (E2E: data ID, CRC, counter range,
+///   reserved bits), comes right after its cycle's diagnostics frame, and its
+///   counter runs 0..14 in order; its case is the safety frame's ActiveCase,
+///   its speed request matches the safety frame's ReducedSpeed bit (and a stop
+///   request its ProtectiveStop bit), and a distance below the required one
+///   comes with a stop request;
+/// - the command frames go to a CommandReceiver configured as the monitor's
+///   (demo_log_command_receiver_config), polled at each safety frame's time:
+///   it never enters the safe state (so every command in the log was valid,
+///   in order, complete and timely), and it is valid from the third sample on;
+/// - a cycle whose separation frame says CommandValid used exactly the
+///   sample the receiver holds: same command counter, and the echoed case
+///   (ActiveCase) is the commanded one;
+/// - (4 + 6) x CYCLES lines, CYCLES safety and separation frames;
+/// - instead of the scripted person's entry: the start-up stop is released,
+///   and a stop request follows the release (the scene's person comes close);
+///   the summary names the cycles of the release, the first reduced speed and
+///   the first stop after it.
 #ifndef CELLGUARD_MONITOR_DEMO_LOG_CHECK_HPP
 #define CELLGUARD_MONITOR_DEMO_LOG_CHECK_HPP
 
@@ -30,6 +53,7 @@
 #include <string>
 #include <vector>
 
+#include "cellguard/can/command_receiver.hpp"
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/host/cell/config.hpp"
 
@@ -54,6 +78,12 @@ struct DemoLogCheck {
 /// The PLC receiver's configuration for the log of @p config: its channel and
 /// zone count, SRVT half a period, SCT three periods.
 [[nodiscard]] PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config);
+
+/// The command receiver's configuration for the log of @p config, as
+/// cellguard-monitor configures its own: the command channel, SCT the
+/// robot's max_command_age (two periods without a robot), at least the
+/// sample window + 1 us; the other limits the receiver's defaults.
+[[nodiscard]] CommandReceiverConfig demo_log_command_receiver_config(const cell::MonitorConfig& config);
 
 /// The PLC's poll interval on the log's clock: 1 ms, or SRVT / 10 when that
 /// is shorter (at least 1 us).

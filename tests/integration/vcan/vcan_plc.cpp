@@ -1,0 +1,422 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// cellguard-vcan-plc: the robot PLC of the vcan integration test's robot cell
+// (tools/vcan-integration.sh, tests/integration/vcan/vcan-test.sh, run 3),
+// live on a real kernel CAN interface while cellguard-monitor runs
+// `--config vcan-robot-cell.toml --commands can --paced` on it. Both ways,
+// with the code a PLC ports (lib/can):
+// - it sends the command with PlcCommandSender, a sample (six frames back
+//   to back) every half period of the monitor (the protocol's "at least
+//   every SCT / 2"; every period would leave a cycle without a sample at the
+//   least jitter): the arm's pose over station A (the pose the scene
+//   vcan-robot-scene.toml holds), speed class 0, the commissioned robot ID,
+//   and monitoring case 0, then case 2 from the monitor's cycle SWITCH_AT;
+//   from cycle SILENT_AT it sends nothing more (a PLC that falls silent);
+// - it receives the monitor's frames with PlcReceiver (polled every 10 ms)
+//   and decodes the diagnostics and separation frames.
+// It starts sending when the monitor's first safety frame arrives and ends
+// after the monitor's cycle END_AT (or when the monitor has been silent for
+// 6 periods), then checks:
+// - the PLC receiver was valid from the third pair on and never left it;
+// - every cycle had its safety frame, copy, diagnostics and separation frame;
+// - the monitor accepted the commands: from the first cycle that used a
+//   valid command up to the silence, every cycle used one (CommandValid, no
+//   kCommandInvalid in the diagnostics), and its echoed case (the safety
+//   and the separation frame's ActiveCase) is the case of the sample it names
+//   by counter (CommandCounter); both cases were echoed;
+// - the stop was released after the start-up and stayed released up to the
+//   silence;
+// - when the PLC fell silent, the stop came within the stated response time,
+//   SCT + 2 T from the last sample (can-safety-protocol.md, "Response time";
+//   SCT = robot.max_command_age), with kCommandInvalid, and stayed.
+// Time is CLOCK_MONOTONIC at reception (the monitor's clock in --paced mode).
+//
+// usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT END_AT
+// Exit status: 0 all checks passed, 1 a check failed, 2 usage, set-up or I/O error.
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "cellguard/can/fault_code.hpp"
+#include "cellguard/can/plc_command_sender.hpp"
+#include "cellguard/can/plc_receiver.hpp"
+#include "cellguard/can/safety_frame.hpp"
+#include "cellguard/can/separation_frame.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+
+using namespace cellguard;
+using namespace cellguard::cell;
+
+namespace {
+
+int g_failures = 0;
+
+void expect(bool ok, const std::string& what) {
+    if (!ok) {
+        ++g_failures;
+        std::printf("FAIL: %s\n", what.c_str());
+    }
+}
+
+std::uint64_t now_us() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return static_cast<std::uint64_t>(ts.tv_sec) * 1000000U + static_cast<std::uint64_t>(ts.tv_nsec) / 1000U;
+}
+
+/// The arm's pose over station A (vcan-robot-scene.toml's keyframes), radians.
+constexpr double kPoseRad[6] = {-1.5707963, 0.1, 1.2, 1.8416, 0.0, 0.0};
+
+/// A sample sent.
+struct Sample {
+    std::uint64_t t_us = 0U;
+    std::uint8_t counter = 0U;
+    std::uint8_t monitoring_case = 0U;
+};
+
+/// What arrived of one monitor cycle.
+struct Cycle {
+    std::uint64_t t_us = 0U;  ///< safety frame received
+    SafetyMessage safety;
+    bool copy = false;
+    bool receiver_valid = false;  ///< the PLC receiver after the copy
+    bool diagnostics = false;
+    std::uint16_t faults = 0U;
+    bool separation = false;
+    SeparationMessage sep;
+};
+
+/// The test's parameters and what happened.
+struct Run {
+    MonitorConfig cfg;
+    std::uint16_t robot_id = 0U;
+    int switch_at = 0;
+    int silent_at = 0;
+    int end_at = 0;
+    std::vector<Sample> samples;
+    std::vector<Cycle> cycles;
+    std::uint64_t last_sample_us = 0U;  ///< the last sample sent
+    std::uint32_t receiver_faults = 0U;
+    int first_valid_pair = -1;  ///< the cycle whose pair first made the receiver valid
+    std::uint32_t faults_at_valid = 0U;
+    std::string receiver_fault_text;
+};
+
+PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
+    PlcReceiverConfig rc;
+    rc.channel = cfg.can.channel;
+    rc.srvt_us = cfg.period_us / 2U;
+    rc.sct_us = 3U * cfg.period_us;
+    rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());
+    return rc;
+}
+
+int open_socket(const char* ifname) {
+    const int fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+    if (fd < 0) {
+        std::perror("socket");
+        return -1;
+    }
+    sockaddr_can addr{};
+    addr.can_family = AF_CAN;
+    addr.can_ifindex = static_cast<int>(if_nametoindex(ifname));
+    if (addr.can_ifindex == 0 || bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
+        std::perror("bind");
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+bool send_frame(int fd, const CanFrame& f) {
+    can_frame k{};
+    k.can_id = f.id;
+    k.can_dlc = f.dlc;
+    std::memcpy(k.data, f.data, sizeof(k.data));
+    return write(fd, &k, sizeof(k)) == static_cast<ssize_t>(sizeof(k));
+}
+
+/// Sends the next sample; false when the sender refused or a write failed.
+bool send_sample(int fd, PlcCommandSender& sender, Run& run) {
+    RobotCommand cmd;
+    cmd.monitoring_case = static_cast<int>(run.cycles.size()) < run.switch_at ? 0U : 2U;
+    cmd.speed_class = 0U;
+    cmd.joint_count = 6U;
+    for (std::size_t j = 0U; j < 6U; ++j) {
+        cmd.joint_raw[j] = static_cast<std::int16_t>(std::lround(kPoseRad[j] / kRevoluteJointUnitRad));
+    }
+    cmd.robot_id = run.robot_id;
+    Sample s;
+    s.counter = sender.counter();
+    s.monitoring_case = cmd.monitoring_case;
+    const Result<CommandFrames> frames = sender.next_sample(cmd);
+    if (!frames.ok()) {
+        std::printf("the PLC-side sender refused the command\n");
+        return false;
+    }
+    for (const CanFrame& f : frames.value().frame) {
+        if (!send_frame(fd, f)) {
+            std::perror("write");
+            return false;
+        }
+    }
+    s.t_us = now_us();
+    run.samples.push_back(s);
+    run.last_sample_us = s.t_us;
+    return true;
+}
+
+/// One received frame: to the PLC receiver and into the cycle records.
+void on_frame(const CanFrame& f, std::uint64_t t, PlcReceiver& plc, Run& run) {
+    const ReceiverStatus rs = plc.on_frame(f, t);
+    const SafetyChannelConfig& ch = run.cfg.can.channel;
+    if (f.id == ch.safety_can_id) {
+        Cycle c;
+        c.t_us = t;
+        const Result<SafetyFrameContent> d = decode_safety_frame(f, ch);
+        expect(d.ok(), "cycle " + std::to_string(run.cycles.size()) + ": safety frame does not decode");
+        c.safety = d.ok() ? d.value().message : SafetyMessage{};
+        run.cycles.push_back(c);
+    } else if (run.cycles.empty()) {
+        return;  // the rest of a cycle whose safety frame came before this PLC listened
+    } else if (f.id == inverted_can_id(ch)) {
+        run.cycles.back().copy = true;
+        run.cycles.back().receiver_valid = rs.communication_valid;
+        if (rs.communication_valid && run.first_valid_pair < 0) {
+            run.first_valid_pair = static_cast<int>(run.cycles.size()) - 1;
+            run.faults_at_valid = rs.fault_events;
+        }
+    } else if (f.id == ch.diagnostics_can_id) {
+        const Result<DiagnosticsFrameContent> d = decode_diagnostics_frame(f, ch);
+        expect(d.ok(), "cycle " + std::to_string(run.cycles.size() - 1U) + ": diagnostics frame does not decode");
+        run.cycles.back().diagnostics = d.ok();
+        run.cycles.back().faults = d.ok() ? d.value().message.active_faults : 0xFFFFU;
+    } else if (f.id == ch.separation_can_id) {
+        const Result<SeparationFrameContent> d = decode_separation_frame(f, ch);
+        expect(d.ok(), "cycle " + std::to_string(run.cycles.size() - 1U) + ": separation frame does not decode");
+        run.cycles.back().separation = d.ok();
+        run.cycles.back().sep = d.ok() ? d.value().message : SeparationMessage{};
+    }
+    if (run.first_valid_pair >= 0 && rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
+        run.receiver_fault_text = to_string(rs.fault);
+    }
+    run.receiver_faults = run.first_valid_pair >= 0 ? rs.fault_events - run.faults_at_valid : 0U;
+}
+
+/// Reads every frame waiting on @p fd.
+void drain(int fd, PlcReceiver& plc, Run& run) {
+    can_frame k{};
+    while (recv(fd, &k, sizeof(k), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(k))) {
+        if ((k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0U || k.can_dlc > 8U) {
+            continue;
+        }
+        CanFrame f{};
+        f.id = k.can_id & CAN_SFF_MASK;
+        f.dlc = k.can_dlc;
+        std::memcpy(f.data, k.data, sizeof(f.data));
+        on_frame(f, now_us(), plc, run);
+    }
+}
+
+/// The PLC's cycle until the monitor's cycle END_AT (see the file comment).
+bool exchange(int fd, Run& run) {
+    PlcReceiver plc(receiver_config(run.cfg));
+    PlcCommandSender sender(run.cfg.can.command);
+    const std::uint64_t half = run.cfg.period_us / 2U;
+    const std::uint64_t t_begin = now_us();
+    std::uint64_t next_send = 0U;
+    std::uint64_t last_rx = t_begin;
+    std::size_t seen = 0U;
+    for (;;) {
+        const std::uint64_t now = now_us();
+        const bool started = !run.cycles.empty();
+        const bool sending = started && static_cast<int>(run.cycles.size()) < run.silent_at;
+        if (sending && now >= next_send) {
+            if (!send_sample(fd, sender, run)) {
+                return false;
+            }
+            next_send = next_send == 0U || now > next_send + half ? now + half : next_send + half;
+        }
+        // Cycle END_AT complete (or its last frames a period late).
+        if (static_cast<int>(run.cycles.size()) > run.end_at &&
+            (run.cycles.back().separation || now > run.cycles.back().t_us + run.cfg.period_us)) {
+            return true;
+        }
+        if ((started && now > last_rx + 6U * run.cfg.period_us) || now > t_begin + 600000000U) {
+            std::printf("the monitor fell silent after %zu cycles\n", run.cycles.size());
+            return true;
+        }
+        pollfd p{fd, POLLIN, 0};
+        static_cast<void>(::poll(&p, 1, 10));
+        drain(fd, plc, run);
+        if (run.cycles.size() != seen) {
+            seen = run.cycles.size();
+            last_rx = now_us();
+        }
+        const ReceiverStatus rs = plc.poll(now_us());
+        if (run.first_valid_pair >= 0 && rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
+            run.receiver_fault_text = to_string(rs.fault);
+            run.receiver_faults = rs.fault_events - run.faults_at_valid;
+        }
+    }
+}
+
+/// The case of the latest sample with counter @p counter sent before @p t_us (-1: none).
+int commanded_case(const Run& run, std::uint8_t counter, std::uint64_t t_us) {
+    for (auto it = run.samples.rbegin(); it != run.samples.rend(); ++it) {
+        if (it->counter == counter && it->t_us <= t_us) {
+            return it->monitoring_case;
+        }
+    }
+    return -1;
+}
+
+/// Checks the cycles that used the PLC's commands; returns the first silent cycle.
+std::size_t check_commands(const Run& run, int& first_ok, int& released) {
+    const std::uint16_t invalid = fault_bit(FaultCode::kCommandInvalid);
+    std::size_t silent = run.cycles.size();
+    bool saw[3] = {false, false, false};
+    for (std::size_t k = 0U; k < run.cycles.size(); ++k) {
+        const Cycle& c = run.cycles[k];
+        const std::string where = "cycle " + std::to_string(k) + ": ";
+        expect(c.copy && c.diagnostics && c.separation, where + "not every frame received");
+        if (c.t_us > run.last_sample_us) {
+            silent = std::min(silent, k);
+        }
+        if (first_ok < 0 && c.sep.command_valid && (c.faults & invalid) == 0U) {
+            first_ok = static_cast<int>(k);
+        }
+        if (first_ok < 0 || k >= silent) {
+            continue;
+        }
+        expect(c.sep.command_valid && (c.faults & invalid) == 0U,
+               where + "the monitor refused the command after start-up (CommandValid " +
+                   std::to_string(c.sep.command_valid ? 1 : 0) + ", diagnostics faults 0x" + std::to_string(c.faults) +
+                   ")");
+        const int want = commanded_case(run, c.sep.command_counter, c.t_us);
+        expect(want >= 0 && c.safety.active_case == want && c.sep.active_case == want,
+               where + "echoed case " + std::to_string(c.safety.active_case) + " (separation frame " +
+                   std::to_string(c.sep.active_case) + "), commanded " + std::to_string(want) + " in sample " +
+                   std::to_string(c.sep.command_counter));
+        if (c.safety.active_case < 3U) {
+            saw[c.safety.active_case] = true;
+        }
+        if (released < 0 && !c.safety.protective_stop) {
+            released = static_cast<int>(k);
+        }
+        expect(released < 0 || !c.safety.protective_stop,
+               where + "stop while the commands are good, after the release");
+    }
+    expect(first_ok >= 0, "the monitor never used a valid command");
+    expect(saw[0] && saw[2], "cases 0 and 2 both commanded and echoed");
+    expect(released >= 0, "the start-up stop was released before the PLC fell silent");
+    return silent;
+}
+
+int check(const Run& run) {
+    const std::uint64_t t = run.cfg.period_us;
+    const std::uint64_t sct = run.cfg.robot.max_command_age_us;
+    expect(static_cast<int>(run.cycles.size()) > run.end_at, "the monitor's cycles up to " +
+                                                                 std::to_string(run.end_at) + " received (got " +
+                                                                 std::to_string(run.cycles.size()) + ")");
+    expect(run.first_valid_pair >= 0 && run.first_valid_pair <= 2, "the PLC receiver valid from the third pair on");
+    expect(run.receiver_faults == 0U, "the PLC receiver left the valid state: " + run.receiver_fault_text);
+    int first_ok = -1;
+    int released = -1;
+    const std::size_t silent = check_commands(run, first_ok, released);
+    // The response to the silence: the first stop after the last sample (and
+    // after the release: without one there is nothing to measure).
+    int stop_at = -1;
+    const std::size_t from = released < 0 ? run.cycles.size() : std::max(silent, static_cast<std::size_t>(released));
+    for (std::size_t k = from; k < run.cycles.size(); ++k) {
+        const Cycle& c = run.cycles[k];
+        if (stop_at < 0 && c.safety.protective_stop) {
+            stop_at = static_cast<int>(k);
+            expect((c.faults & fault_bit(FaultCode::kCommandInvalid)) != 0U && !c.sep.command_valid,
+                   "cycle " + std::to_string(k) + ": the stop comes with kCommandInvalid and CommandValid 0");
+        }
+        expect(stop_at < 0 || c.safety.protective_stop, "cycle " + std::to_string(k) + ": the stop stays");
+    }
+    const double bound_ms = static_cast<double>(sct + 2U * t) / 1000.0;
+    double response_ms = -1.0;
+    if (stop_at >= 0) {
+        response_ms = static_cast<double>(run.cycles[static_cast<std::size_t>(stop_at)].t_us - run.last_sample_us) /
+                      1000.0;
+    }
+    expect(stop_at >= 0 && response_ms <= bound_ms, "the stop within SCT + 2 T of the last sample");
+    std::printf(
+        "robot run: %zu samples sent (%zu frames), %zu monitor cycles received; PLC receiver valid from cycle %d, "
+        "%u faults after; commands used from cycle %d, stop released in cycle %d, case 0 then 2 from cycle %d "
+        "echoed; PLC silent from cycle %d (first cycle after the last sample: %zu); stop in cycle %d, %.0f ms "
+        "after the last sample (bound SCT + 2 T = %.0f + 2 x %.0f = %.0f ms); %d failures\n",
+        run.samples.size(), 6U * run.samples.size(), run.cycles.size(), run.first_valid_pair, run.receiver_faults,
+        first_ok, released, run.switch_at, run.silent_at, silent, stop_at, response_ms,
+        static_cast<double>(sct) / 1000.0, static_cast<double>(t) / 1000.0, bound_ms, g_failures);
+    return g_failures == 0 ? 0 : 1;
+}
+
+int cycle_arg(const char* s) {
+    char* end = nullptr;
+    const long v = std::strtol(s, &end, 10);
+    return end != s && *end == '\0' && v > 0 && v < 100000 ? static_cast<int>(v) : -1;
+}
+
+/// The commissioned robot ID: the low 16 bits of the robot image's CRC-32, as the monitor builds it.
+bool robot_id(const MonitorConfig& cfg, std::uint16_t& id) {
+    monitor::MonitorCell cell;
+    const monitor::SetupError e = cell.configure(cfg);
+    const monitor::SetupError r = e.failed() ? e : cell.configure_robot(cfg, nullptr);
+    if (r.failed() || !cfg.robot.enabled) {
+        std::printf("robot: %s\n", r.failed() ? r.message.c_str() : "no [robot] in the configuration");
+        return false;
+    }
+    id = static_cast<std::uint16_t>(cell.robot.crc & 0xFFFFU);
+    return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Run run;
+    if (argc != 6 || cycle_arg(argv[3]) < 0 || cycle_arg(argv[4]) <= cycle_arg(argv[3]) ||
+        cycle_arg(argv[5]) <= cycle_arg(argv[4])) {
+        std::fprintf(stderr, "usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT END_AT\n");
+        return 2;
+    }
+    run.switch_at = cycle_arg(argv[3]);
+    run.silent_at = cycle_arg(argv[4]);
+    run.end_at = cycle_arg(argv[5]);
+    const ConfigLoad l = load_monitor_config(argv[1]);
+    if (!l.ok) {
+        std::printf("configuration error: %s\n", l.error.c_str());
+        return 2;
+    }
+    run.cfg = l.config;
+    if (!robot_id(run.cfg, run.robot_id)) {
+        return 2;
+    }
+    const int fd = open_socket(argv[2]);
+    if (fd < 0) {
+        return 2;
+    }
+    std::printf("PLC: robot id 0x%04X, a sample every %.0f ms on %s\n", run.robot_id,
+                static_cast<double>(run.cfg.period_us) / 2000.0, argv[2]);
+    std::fflush(stdout);
+    const bool ok = exchange(fd, run);
+    close(fd);
+    return ok ? check(run) : 2;
+}
