@@ -17,35 +17,10 @@
 
 namespace cellguard::cell::config_detail {
 
-/// The shared checked getters plus the monitor's own (arrays, vectors, positive numbers).
+/// The shared checked getters plus the monitor's own (positive numbers).
 class Loader : public host::TomlLoader {
 public:
     using TomlLoader::TomlLoader;
-
-    /// An array of exactly @p count finite numbers.
-    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
-        const toml::array* a = n.as_array();
-        if (a == nullptr || a->size() != count) {
-            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
-        }
-        std::vector<double> v;
-        for (const toml::node& e : *a) {
-            if (!e.is_number()) {
-                fail(e.source(), key, "expected an array of " + std::to_string(count) + " numbers");
-            }
-            const double x = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
-            if (!std::isfinite(x)) {
-                fail(e.source(), key, "expected finite numbers");
-            }
-            v.push_back(x);
-        }
-        return v;
-    }
-
-    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
-        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
-        return {v[0], v[1], v[2]};
-    }
 
     void positive(const toml::table& t, const std::string& path, const char* key, double v) const {
         if (!(v > 0.0)) {

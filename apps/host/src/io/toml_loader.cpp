@@ -85,6 +85,23 @@ double TomlLoader::as_number(const toml::node& n, const std::string& key) const 
     return v;
 }
 
+std::vector<double> TomlLoader::numbers(const toml::node& n, const std::string& key, std::size_t count) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr || a->size() != count) {
+        fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
+    }
+    std::vector<double> v;
+    for (const toml::node& e : *a) {
+        v.push_back(as_number(e, key));
+    }
+    return v;
+}
+
+Eigen::Vector3d TomlLoader::vec3(const toml::table& t, const std::string& path, const char* key) const {
+    const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
+    return {v[0], v[1], v[2]};
+}
+
 double TomlLoader::number(const toml::table& t, const std::string& path, const char* key) const {
     return as_number(require(t, path, key), join(path, key));
 }

@@ -22,7 +22,7 @@ constexpr int kMaxIncludeDepth = 8;
 /// The loader's error: "file:line:column: key: what".
 using SceneError = host::TomlError;
 
-/// The shared checked getters plus the scene files' own (ranges, arrays, vectors, [[tables]]).
+/// The shared checked getters plus the scene files' own (ranges, [[tables]]).
 class Loader : public host::TomlLoader {
 public:
     using TomlLoader::TomlLoader;
@@ -40,23 +40,6 @@ public:
             fail(t.get(key)->source(), join(path, key), m.str());
         }
         return v;
-    }
-
-    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const {
-        const toml::array* a = n.as_array();
-        if (a == nullptr || a->size() != count) {
-            fail(n.source(), key, "expected an array of " + std::to_string(count) + " numbers");
-        }
-        std::vector<double> v;
-        for (const toml::node& e : *a) {
-            v.push_back(as_number(e, key));
-        }
-        return v;
-    }
-
-    Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const {
-        const std::vector<double> v = numbers(require(t, path, key), join(path, key), 3U);
-        return {v[0], v[1], v[2]};
     }
 
     const toml::array& tables(const toml::table& root, const char* key) const {

@@ -9,10 +9,13 @@
 
 #include <toml++/toml.h>
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace cellguard::host {
 
@@ -59,6 +62,12 @@ public:
 
     /// @p n as a finite number (an integer or a float), reported as @p key.
     [[nodiscard]] double as_number(const toml::node& n, const std::string& key) const;
+
+    /// @p n as an array of exactly @p count finite numbers, reported as @p key.
+    [[nodiscard]] std::vector<double> numbers(const toml::node& n, const std::string& key, std::size_t count) const;
+
+    /// The array of three finite numbers @p key of @p t.
+    [[nodiscard]] Eigen::Vector3d vec3(const toml::table& t, const std::string& path, const char* key) const;
 
     /// The finite number @p key of @p t.
     double number(const toml::table& t, const std::string& path, const char* key) const;
