@@ -521,7 +521,8 @@ void draw_ring_labels(RgbImage& img, const PictureInput& in, const PictureLayout
             };
             const LabelBox* box = std::find_if(std::begin(boxes), std::end(boxes), fits);
             if (box != std::end(boxes)) {
-                label(img, box->x, box->y, buf, ring.colour, kTextScale);
+                // A darker text: the ring's own colour stays the ring's pixels.
+                label(img, box->x, box->y, buf, blend(ring.colour, kBlack, 0.3), kTextScale);
                 placed.push_back(*box);
                 break;
             }
