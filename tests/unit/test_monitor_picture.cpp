@@ -573,7 +573,7 @@ TEST_CASE("picture: the S_p ring is at its distance from the capsules, the mask 
 }
 
 // verifies: SR-SYS-004
-TEST_CASE("picture: without a robot nothing of it is drawn; cases and the robot add legend lines") {
+TEST_CASE("picture: without a robot nothing of it is drawn, and cases and the robot add legend lines") {
     RobotPictureCell cell;
     const RgbImage with = render_config_picture(cell.in);
     cell.in.robot = nullptr;
