@@ -945,7 +945,7 @@ int draw_robot_legend(RgbImage& img, const PictureInput& in, int width, int y) {
         static_cast<void>(std::snprintf(buf, sizeof buf, " %.3f", r.joints.q[k]));
         joints += buf;
     }
-    draw_text(img, kMargin, y, "robot '" + r.name + "' at " + r.pose_source + "; " + joints, kText, 1);
+    draw_text(img, kMargin, y, "the robot's pose: " + joints, kText, 1);
     y += 14;
     char buf[160];
     static_cast<void>(std::snprintf(buf, sizeof buf, "mask margin %.2f m (its voxels are the robot's)", r.margin_m));
