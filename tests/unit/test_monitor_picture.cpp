@@ -9,17 +9,21 @@
 #include <doctest/doctest.h>
 #include <png.h>
 
+#include <algorithm>
+#include <cmath>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/io/png.hpp"
 #include "cellguard/monitor/picture.hpp"
+#include "test_robot.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -329,4 +333,320 @@ TEST_CASE("picture: the font draws printable ASCII and advances six pixels a cha
         dark += img.rgb[i] == 0U ? 1 : 0;
     }
     CHECK(dark > 20);
+}
+
+namespace {
+
+bool bluish(const RgbImage& img, int x, int y) {
+    const std::size_t o = img.offset(x, y);
+    return img.rgb[o + 2U] > img.rgb[o] + 60 && img.rgb[o + 2U] > img.rgb[o + 1U] + 40;
+}
+
+bool has_colour(const RgbImage& img, int x, int y, PictureColour c) {
+    const std::size_t o = img.offset(x, y);
+    return img.rgb[o] == c.r && img.rgb[o + 1U] == c.g && img.rgb[o + 2U] == c.b;
+}
+
+/// The decoded PNG of @p img as an image (the checks below read what the file holds).
+RgbImage png_round_trip(const RgbImage& img) {
+    const Decoded d = decode(encode_png(img));
+    REQUIRE(d.ok);
+    REQUIRE(d.colour == PNG_COLOR_TYPE_RGB);
+    return RgbImage{static_cast<int>(d.width), static_cast<int>(d.height), d.rgb};
+}
+
+PlacedCapsule capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) {
+    PlacedCapsule c;
+    for (int i = 0; i < 3; ++i) {
+        c.a[i] = a[i];
+        c.b[i] = b[i];
+    }
+    c.radius = r;
+    return c;
+}
+
+double segment_distance(const Eigen::Vector3d& p, const PlacedCapsule& c) {
+    const Eigen::Vector3d a(c.a[0], c.a[1], c.a[2]);
+    const Eigen::Vector3d ab = Eigen::Vector3d(c.b[0], c.b[1], c.b[2]) - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (p - a - t * ab).norm();
+}
+
+/// The smallest distance from the floor point (x, y) to the capsules' surfaces, projected onto the floor.
+double floor_distance(const RobotPose& pose, double x, double y) {
+    double d = 1e9;
+    for (std::uint8_t i = 0U; i < pose.count; ++i) {
+        PlacedCapsule flat = pose.capsules[i];
+        flat.a[2] = 0.0;
+        flat.b[2] = 0.0;
+        d = std::min(d, segment_distance(Eigen::Vector3d(x, y, 0.0), flat) - flat.radius);
+    }
+    return d;
+}
+
+/// The smallest distance from the ray o + t d (0.5 <= t <= 4 m, sampled every millimetre) to the capsules' surfaces.
+double ray_distance(const RobotPose& pose, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    double best = 1e9;
+    for (double t = 0.5; t < 4.0; t += 0.001) {
+        for (std::uint8_t i = 0U; i < pose.count; ++i) {
+            best = std::min(best, segment_distance(o + t * d, pose.capsules[i]) - pose.capsules[i].radius);
+        }
+    }
+    return best;
+}
+
+/// A 4 m x 4 m x 2 m cell of 10 cm voxels with one protective zone, and a
+/// camera 3 m above its centre looking straight down.
+struct RobotPictureCell {
+    GridGeometry g = GridGeometry::make(Eigen::Vector3d(-2.0, -2.0, 0.0), 0.1, GridDims{40, 40, 20}).value();
+    std::vector<std::uint32_t> mask = std::vector<std::uint32_t>(g.voxel_count());
+    std::vector<ZoneConfig> zc = std::vector<ZoneConfig>(1);
+    CompiledZones zones;
+    std::vector<std::int16_t> prior = std::vector<std::int16_t>(g.voxel_count(), -200);
+    PictureRobot robot;
+    PictureInput in;
+
+    RobotPictureCell() {
+        zc[0].kind = ZoneKind::kProtective;
+        zc[0].shape = ZoneShape::kBox;
+        zc[0].box_min = Eigen::Vector3d(0.5, -0.8, 0.0);
+        zc[0].box_max = Eigen::Vector3d(1.0, -0.4, 1.0);
+        zones = CompiledZones::compile(g, {zc.data(), zc.size()}, {mask.data(), mask.size()}).value();
+        // A pillar at the origin (1 m, radius 0.1) and an arm from its top along +x (1 m, radius 0.08).
+        robot.name = "test";
+        robot.pose.count = 2U;
+        robot.pose.capsules[0] = capsule({0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0.1);
+        robot.pose.capsules[1] = capsule({0.0, 0.0, 1.0}, {1.0, 0.0, 1.0}, 0.08);
+        robot.pose_source = "all joints 0";
+        robot.margin_m = 0.25;
+        robot.rings = {PictureRing{1.2, "S_p speed class 0 (full)", "S_p0", PictureColour{200, 0, 200}}};
+        in.title = "robot";
+        in.grid = g;
+        in.zones = &zones;
+        in.zone_names = {"press"};
+        in.prior = {prior.data(), prior.size()};
+        PictureSensor cam;
+        cam.name = "overhead";
+        Eigen::Matrix3d r;
+        r.col(0) = Eigen::Vector3d(1.0, 0.0, 0.0);
+        r.col(1) = Eigen::Vector3d(0.0, -1.0, 0.0);
+        r.col(2) = Eigen::Vector3d(0.0, 0.0, -1.0);
+        cam.pose.linear() = r;
+        cam.pose.translation() = Eigen::Vector3d(0.0, 0.0, 3.0);
+        cam.intrinsics = PinholeIntrinsics{200.0, 200.0, 79.5, 59.5, 160, 120};
+        in.sensors = {cam};
+        in.robot = &robot;
+    }
+    RobotPictureCell(const RobotPictureCell&) = delete;
+    RobotPictureCell& operator=(const RobotPictureCell&) = delete;
+};
+
+/// The direction of sensor-view picture pixel (px, py) (relative to the view's corner), as the picture casts it.
+Eigen::Vector3d view_ray(const PictureSensor& s, const PictureLayout& layout, int px, int py) {
+    const PinholeIntrinsics& k = s.intrinsics;
+    const double u = (px + 0.5) / layout.view_scale - 0.5;
+    const double v = (py + 0.5) / layout.view_scale - 0.5;
+    return (s.pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0)).normalized();
+}
+
+/// The sensor-view picture pixel of world point @p p.
+void view_pixel(const PictureSensor& s, const PictureLayout& layout, const Eigen::Vector3d& p, int& x, int& y) {
+    const Eigen::Vector3d c = s.pose.inverse() * p;
+    const PinholeIntrinsics& k = s.intrinsics;
+    x = layout.view_x + static_cast<int>((k.fx * c.x() / c.z() + k.cx + 0.5) * layout.view_scale);
+    y = layout.view_y + static_cast<int>((k.fy * c.y() / c.z() + k.cy + 0.5) * layout.view_scale);
+}
+
+}  // namespace
+
+// verifies: SR-SYS-004
+TEST_CASE("picture: the robot's capsules are drawn where they are, from above and from the sensor") {
+    const RobotPictureCell cell;
+    PictureLayout layout;
+    const RgbImage img = png_round_trip(render_config_picture(cell.in, &layout));
+    int px = 0;
+    int py = 0;
+    // Top view: voxel column centres on the pillar (0.05, 0.05) and on the arm (0.55, 0.05) are robot blue.
+    top_view_pixel(layout, cell.g, 20, 20, px, py);
+    CHECK(bluish(img, px, py));
+    top_view_pixel(layout, cell.g, 25, 20, px, py);
+    CHECK(bluish(img, px, py));
+    top_view_pixel(layout, cell.g, 29, 20, px, py);  // (0.95, 0.05): the arm's end
+    CHECK(bluish(img, px, py));
+    // Beside the arm (0.55, 0.25), beyond its end (1.25, 0.05) and behind the pillar (-0.25, 0.05): free space.
+    for (const auto& [ix, iy] : {std::pair{25, 22}, std::pair{32, 20}, std::pair{17, 20}}) {
+        top_view_pixel(layout, cell.g, ix, iy, px, py);
+        CHECK_MESSAGE(!bluish(img, px, py), ix << "," << iy);
+        CHECK_MESSAGE(neutral(img, px, py), ix << "," << iy);
+    }
+    // The arm's footprint edge: blue up to 0.08 m from its axis, not beyond (a pixel's margin).
+    const double m = cell.g.voxel_size() / layout.voxel_px;
+    top_view_pixel(layout, cell.g, 25, 20, px, py);
+    for (int row = layout.top_y; row < layout.top_y + 40 * layout.voxel_px; ++row) {
+        const double y = top_view_point(layout, cell.g, px, row).y();
+        if (std::abs(std::abs(y) - 0.08) > 1.5 * m) {
+            const bool robot = bluish(img, px, row) && !has_colour(img, px, row, kRobotMarginColour);
+            CHECK_MESSAGE(robot == (std::abs(y) < 0.08), "y " << y);
+        }
+    }
+    // Sensor view: the pillar's top and the arm's middle, seen from above, are blue; the floor beside them is not.
+    const PictureSensor& cam = cell.in.sensors[0];
+    view_pixel(cam, layout, Eigen::Vector3d(0.0, 0.0, 1.1), px, py);
+    CHECK(bluish(img, px, py));
+    view_pixel(cam, layout, Eigen::Vector3d(0.5, 0.0, 1.08), px, py);
+    CHECK(bluish(img, px, py));
+    view_pixel(cam, layout, Eigen::Vector3d(0.5, 0.6, 0.0), px, py);
+    CHECK_FALSE(bluish(img, px, py));
+    view_pixel(cam, layout, Eigen::Vector3d(0.75, -0.6, 0.5), px, py);  // the zone, in front of the floor
+    CHECK(reddish(img, px, py));
+}
+
+// verifies: SR-SYS-004
+TEST_CASE("picture: the S_p ring is at its distance from the capsules, the mask margin's outline at the margin") {
+    const RobotPictureCell cell;
+    PictureLayout layout;
+    const RgbImage img = png_round_trip(render_config_picture(cell.in, &layout));
+    const PictureColour ring = cell.robot.rings[0].colour;
+    const double m = cell.g.voxel_size() / layout.voxel_px;
+    // Along the row through y = 0.05 towards -x, and the column through x = 0.05 towards +y, the ring
+    // (1.2 m from the pillar's surface: 1.3 m from its axis) lies where it should, within a pixel and a half.
+    int cx = 0;
+    int cy = 0;
+    top_view_pixel(layout, cell.g, 20, 20, cx, cy);
+    const double expected = std::sqrt(1.3 * 1.3 - 0.05 * 0.05);
+    double sum = 0.0;
+    int n = 0;
+    for (int px = layout.top_x; px < cx; ++px) {
+        if (has_colour(img, px, cy, ring)) {
+            sum += top_view_point(layout, cell.g, px, cy).x();
+            ++n;
+        }
+    }
+    REQUIRE(n >= 1);
+    CHECK(n <= 3);
+    CHECK(std::abs(sum / n + expected) <= 1.5 * m);
+    sum = 0.0;
+    n = 0;
+    for (int py = layout.top_y; py < cy; ++py) {
+        if (has_colour(img, cx, py, ring)) {
+            sum += top_view_point(layout, cell.g, cx, py).y();
+            ++n;
+        }
+    }
+    REQUIRE(n >= 1);
+    CHECK(n <= 3);
+    CHECK(std::abs(sum / n - expected) <= 1.5 * m);
+    // Every ring pixel, and every pixel of the margin's dashed outline, in the top view lies within a pixel
+    // of its distance from the capsules' floor footprint.
+    int ring_pixels = 0;
+    int margin_pixels = 0;
+    for (int py = layout.top_y; py < layout.top_y + 40 * layout.voxel_px; ++py) {
+        for (int px = layout.top_x; px < layout.top_x + 40 * layout.voxel_px; ++px) {
+            const Eigen::Vector2d p = top_view_point(layout, cell.g, px, py);
+            const double d = floor_distance(cell.robot.pose, p.x(), p.y());
+            if (has_colour(img, px, py, ring)) {
+                ++ring_pixels;
+                CHECK_MESSAGE(std::abs(d - 1.2) <= 1.01 * m, px << "," << py);
+            }
+            if (has_colour(img, px, py, kRobotMarginColour)) {
+                ++margin_pixels;
+                CHECK_MESSAGE(std::abs(d - 0.25) <= 1.01 * m, px << "," << py);
+            }
+        }
+    }
+    CHECK(ring_pixels > 500);  // 2 pixels wide around most of a 1.3 m radius
+    CHECK(margin_pixels > 100);
+    // The margin's outline in the sensor view: the edge of the silhouette of the capsules grown by the margin.
+    const PictureSensor& cam = cell.in.sensors[0];
+    int view_margin = 0;
+    for (int py = 0; py < layout.view_h; ++py) {
+        for (int px = 0; px < layout.view_w; ++px) {
+            if (has_colour(img, layout.view_x + px, layout.view_y + py, kRobotMarginColour)) {
+                ++view_margin;
+                const double d = ray_distance(cell.robot.pose, cam.pose.translation(), view_ray(cam, layout, px, py));
+                CHECK_MESSAGE(std::abs(d - 0.25) < 0.015, px << "," << py << ": " << d);
+            }
+        }
+    }
+    CHECK(view_margin > 50);
+}
+
+// verifies: SR-SYS-004
+TEST_CASE("picture: without a robot nothing of it is drawn, and cases and the robot add legend lines") {
+    RobotPictureCell cell;
+    const RgbImage with = render_config_picture(cell.in);
+    cell.in.robot = nullptr;
+    const RgbImage without = render_config_picture(cell.in);
+    CHECK(with.height > without.height);
+    int drawn = 0;
+    for (int y = 0; y < without.height; ++y) {
+        for (int x = 0; x < without.width; ++x) {
+            drawn += has_colour(without, x, y, kRobotMarginColour) ||
+                             has_colour(without, x, y, cell.robot.rings[0].colour)
+                         ? 1
+                         : 0;
+        }
+    }
+    CHECK(drawn == 0);
+    cell.in.cases = {PictureCase{0, "work", 1U}, PictureCase{3, "idle", 0U}};
+    const RgbImage cases = render_config_picture(cell.in);
+    CHECK(cases.height > without.height);  // a heading and a line per case
+}
+
+// verifies: SR-SYS-004
+TEST_CASE("picture: the robot is drawn at the demo trajectory's first keyframe, else at joints 0, with its distances") {
+    const RobotModel arm = test::make_test_arm(0.5, -0.25, 0.0);
+    MonitorConfig cfg;
+    cfg.robot.margin_m = 0.2;
+    SeparationParams& sp = cfg.robot.separation;
+    sp.reaction_time_s = 0.3;
+    sp.class_count = 2U;
+    sp.classes[0] = SpeedClassLimits{0.5, 0.2, 0.05};
+    sp.classes[1] = SpeedClassLimits{0.25, 0.1, 0.0125};
+    sp.reduced_class = 1U;
+    sp.slowdown_time_s = 0.2;
+    sp.intrusion_distance_m = 0.85;
+    sim::JointTrajectory trajectory;
+    sim::Keyframe k0;
+    k0.t = 0.5;
+    k0.q = test::test_arm_joints(-1.5, 0.4, 1.1, 0.2, 0.0, 0.3);
+    sim::Keyframe k1 = k0;
+    k1.t = 2.0;
+    k1.q.q[0] = 1.0;
+    trajectory.keyframes = {k0, k1};
+    const PictureRobot at_keyframe = picture_robot(cfg, arm, trajectory);
+    const RobotPose expected = test::test_arm_pose(arm, k0.q);
+    REQUIRE(at_keyframe.pose.count == expected.count);
+    for (std::uint8_t i = 0U; i < expected.count; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            CHECK(at_keyframe.pose.capsules[i].a[j] == expected.capsules[i].a[j]);
+            CHECK(at_keyframe.pose.capsules[i].b[j] == expected.capsules[i].b[j]);
+        }
+    }
+    CHECK(at_keyframe.pose_source.find("first keyframe (t = 0.50 s)") != std::string::npos);
+    CHECK(at_keyframe.name == "cellguard_test_arm");
+    CHECK(at_keyframe.margin_m == 0.2);
+    // One ring per speed class and the reduced-speed distance, each in its own colour.
+    REQUIRE(at_keyframe.rings.size() == 3U);
+    CHECK(at_keyframe.rings[0].distance_m == protective_separation_distance(sp, 0U));
+    CHECK(at_keyframe.rings[1].distance_m == protective_separation_distance(sp, 1U));
+    CHECK(at_keyframe.rings[2].distance_m == reduced_speed_distance(sp));
+    CHECK(at_keyframe.rings[0].name.find("(full)") != std::string::npos);
+    CHECK(at_keyframe.rings[1].name.find("(reduced)") != std::string::npos);
+    for (std::size_t i = 0U; i < 3U; ++i) {
+        for (std::size_t j = i + 1U; j < 3U; ++j) {
+            const PictureColour a = at_keyframe.rings[i].colour;
+            const PictureColour b = at_keyframe.rings[j].colour;
+            CHECK((a.r != b.r || a.g != b.g || a.b != b.b));
+        }
+    }
+    // No trajectory (no demo scene): all joints 0, the arm straight up from its base.
+    const PictureRobot at_zero = picture_robot(cfg, arm, sim::JointTrajectory{});
+    CHECK(at_zero.pose_source.find("all joints 0") != std::string::npos);
+    CHECK(at_zero.joints.count == 6U);
+    const PlacedCapsule& flange = at_zero.pose.capsules[at_zero.pose.count - 1U];
+    CHECK(flange.b[0] == doctest::Approx(0.5));
+    CHECK(flange.b[1] == doctest::Approx(-0.25));
+    CHECK(flange.b[2] == doctest::Approx(test::kArmStraightHeight));
 }

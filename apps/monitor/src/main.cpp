@@ -205,13 +205,19 @@ SetupError open_can(const MonitorConfig& cfg, CycleClock& clock, CanPort& can) {
     return {};
 }
 
-/// --picture: the configuration drawn to a PNG.
+/// --picture: the configuration drawn to a PNG, with the robot when one is configured.
 int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell) {
     std::string error;
-    const std::string title = "cellguard zones: " +
-                              (opt.demo ? std::string("built-in demo (paper-cell.toml)") : opt.config_path);
+    const std::string demo = opt.demo_name.empty() ? std::string("paper-cell") : opt.demo_name;
+    const std::string title = "cellguard zones: " + (opt.demo ? "built-in demo (" + demo + ".toml)" : opt.config_path);
+    PictureRobot robot;
+    const bool has_robot = !cell.robot_image.empty();
+    if (has_robot) {  // the demo scene's trajectory, empty without one
+        robot = picture_robot(cfg, cell.robot.model, cell.simulation.trajectory());
+    }
     if (!write_config_picture(opt.picture, title, cfg, cell.grid, cell.zones, cell.specs,
-                              {cell.prior.data(), cell.prior.size()}, opt.picture_sensor, error)) {
+                              {cell.prior.data(), cell.prior.size()}, opt.picture_sensor, has_robot ? &robot : nullptr,
+                              error)) {
         static_cast<void>(std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str()));
         return 1;
     }

@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <numeric>
+#include <utility>
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
@@ -131,6 +134,118 @@ std::string pair_text(double a, double b) {
     char buf[64];
     static_cast<void>(std::snprintf(buf, sizeof buf, "(%.2f, %.2f)", a, b));
     return buf;
+}
+
+// ---- robot ----------------------------------------------------------------
+
+/// The distance from floor point @p p to capsule @p c's segment projected onto the floor.
+double floor_segment_distance(const Eigen::Vector2d& p, const PlacedCapsule& c) {
+    const Eigen::Vector2d a(c.a[0], c.a[1]);
+    const Eigen::Vector2d ab = Eigen::Vector2d(c.b[0], c.b[1]) - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (p - a - t * ab).norm();
+}
+
+/// The smallest distance from any point above or below floor point @p p to
+/// the surface of a capsule of @p pose (negative inside one): the floor
+/// distance to each projected segment less its radius.
+double floor_robot_distance(const Eigen::Vector2d& p, const RobotPose& pose) {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::uint8_t i = 0U; i < pose.count; ++i) {
+        d = std::min(d, floor_segment_distance(p, pose.capsules[i]) - pose.capsules[i].radius);
+    }
+    return d;
+}
+
+/// The centre of the robot's capsule ends.
+Eigen::Vector3d robot_centre(const RobotPose& pose) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (std::uint8_t i = 0U; i < pose.count; ++i) {
+        const PlacedCapsule& c = pose.capsules[i];
+        sum += Eigen::Vector3d(c.a[0], c.a[1], c.a[2]) + Eigen::Vector3d(c.b[0], c.b[1], c.b[2]);
+    }
+    return pose.count > 0U ? Eigen::Vector3d(sum / (2.0 * pose.count)) : sum;
+}
+
+/// Dashes of about @p dash pixels along a closed outline around (@p cx, @p cy).
+bool dash_on(double x, double y, double cx, double cy, double dash) {
+    const double arc = std::atan2(y - cy, x - cx) * std::hypot(x - cx, y - cy);
+    return static_cast<long>(std::floor(arc / dash)) % 2 == 0;
+}
+
+/// The first hit (t > 0) of the ray @p o + t @p d (unit @p d) on the sphere
+/// of radius @p r around @p c; its normal into @p n.
+bool ray_sphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c, double r, double& t,
+                Eigen::Vector3d& n) {
+    const Eigen::Vector3d oc = o - c;
+    const double b = d.dot(oc);
+    const double h = b * b - (oc.squaredNorm() - r * r);
+    if (h < 0.0 || -b - std::sqrt(h) <= 0.0) {
+        return false;
+    }
+    t = -b - std::sqrt(h);
+    n = (oc + t * d) / r;
+    return true;
+}
+
+/// The first hit (t > 0) of the ray @p o + t @p d (unit @p d) on the side of
+/// capsule @p c grown by @p grow (the infinite cylinder's entry, when it lies
+/// between the ends; the end spheres cover the rest).
+bool ray_cylinder(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const PlacedCapsule& c, double grow, double& t,
+                  Eigen::Vector3d& n) {
+    const Eigen::Vector3d a(c.a[0], c.a[1], c.a[2]);
+    const Eigen::Vector3d ba = Eigen::Vector3d(c.b[0], c.b[1], c.b[2]) - a;
+    const Eigen::Vector3d oa = o - a;
+    const double r = c.radius + grow;
+    const double baba = ba.squaredNorm();
+    const double bard = ba.dot(d);
+    const double baoa = ba.dot(oa);
+    const double qa = baba - bard * bard;
+    if (baba < 1e-12 || qa < 1e-12 * baba) {
+        return false;  // a sphere, or a ray along the axis: the end spheres are hit first
+    }
+    const double qb = baba * d.dot(oa) - baoa * bard;
+    const double qc = baba * oa.squaredNorm() - baoa * baoa - r * r * baba;
+    const double h = qb * qb - qa * qc;
+    if (h < 0.0) {
+        return false;
+    }
+    const double tc = (-qb - std::sqrt(h)) / qa;
+    const double y = baoa + tc * bard;
+    if (tc <= 0.0 || y <= 0.0 || y >= baba) {
+        return false;
+    }
+    t = tc;
+    n = (oa + tc * d - ba * (y / baba)) / r;
+    return true;
+}
+
+/// The robot's first surface along a ray: distance (infinite: none) and normal.
+struct RobotHit {
+    double t = std::numeric_limits<double>::infinity();  ///< metres along the ray
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   ///< outward, at the hit
+};
+
+/// The first hit of the ray @p o + t @p d (unit @p d) on the capsules of
+/// @p pose, each grown by @p grow: the smallest of the sides' and the end spheres' hits.
+RobotHit ray_robot(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const RobotPose& pose, double grow) {
+    RobotHit hit;
+    for (std::uint8_t i = 0U; i < pose.count; ++i) {
+        const PlacedCapsule& c = pose.capsules[i];
+        double t = 0.0;
+        Eigen::Vector3d n;
+        if (ray_cylinder(o, d, c, grow, t, n) && t < hit.t) {
+            hit = RobotHit{t, n};
+        }
+        if (ray_sphere(o, d, Eigen::Vector3d(c.a[0], c.a[1], c.a[2]), c.radius + grow, t, n) && t < hit.t) {
+            hit = RobotHit{t, n};
+        }
+        if (ray_sphere(o, d, Eigen::Vector3d(c.b[0], c.b[1], c.b[2]), c.radius + grow, t, n) && t < hit.t) {
+            hit = RobotHit{t, n};
+        }
+    }
+    return hit;
 }
 
 // ---- top view -------------------------------------------------------------
@@ -276,13 +391,159 @@ void draw_zone_numbers(RgbImage& img, const PictureInput& in, const PictureLayou
     }
 }
 
+/// Metres per pixel in the top view.
+double top_metres_per_pixel(const PictureInput& in, const PictureLayout& L) {
+    return in.grid.voxel_size() / L.voxel_px;
+}
+
+/// The top-view pixel position (fractional, pixel centres at integers) of floor point @p p.
+Eigen::Vector2d top_view_position(const PictureInput& in, const PictureLayout& L, const Eigen::Vector2d& p) {
+    const double m = top_metres_per_pixel(in, L);
+    const Eigen::Vector3d o = in.grid.origin();
+    return {L.top_x + (p.x() - o.x()) / m - 0.5, L.top_y + in.grid.dims().ny * L.voxel_px - (p.y() - o.y()) / m - 0.5};
+}
+
+/// Calls @p f(px, py, floor point) for every pixel of the top view.
+template <typename F>
+void for_top_pixels(const PictureInput& in, const PictureLayout& L, F&& f) {
+    const GridDims d = in.grid.dims();
+    for (int py = L.top_y; py < L.top_y + d.ny * L.voxel_px; ++py) {
+        for (int px = L.top_x; px < L.top_x + d.nx * L.voxel_px; ++px) {
+            f(px, py, top_view_point(L, in.grid, px, py));
+        }
+    }
+}
+
+/// The separation rings (solid, two pixels wide) and the mask margin's
+/// dashed outline: the pixels whose floor distance to the robot lies within
+/// a pixel of the ring's distance.
+void draw_top_rings(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const PictureRobot& robot = *in.robot;
+    const double m = top_metres_per_pixel(in, L);
+    const Eigen::Vector2d c = top_view_position(in, L, robot_centre(robot.pose).head<2>());
+    for_top_pixels(in, L, [&](int px, int py, const Eigen::Vector2d& p) {
+        const double d = floor_robot_distance(p, robot.pose);
+        for (const PictureRing& ring : robot.rings) {
+            if (std::abs(d - ring.distance_m) <= m) {
+                put(img, px, py, ring.colour);
+            }
+        }
+        if (std::abs(d - robot.margin_m) <= m && dash_on(px, py, c.x(), c.y(), 6.0)) {
+            put(img, px, py, kRobotMarginColour);
+        }
+    });
+}
+
+/// The capsules from above, lower ones first: filled, lighter where higher, with a dark edge.
+void draw_top_capsules(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const RobotPose& pose = in.robot->pose;
+    std::vector<std::uint8_t> order(pose.count);
+    std::iota(order.begin(), order.end(), std::uint8_t{0});
+    const auto top = [&](std::uint8_t i) { return std::max(pose.capsules[i].a[2], pose.capsules[i].b[2]); };
+    std::stable_sort(order.begin(), order.end(), [&](std::uint8_t i, std::uint8_t j) { return top(i) < top(j); });
+    const double m = top_metres_per_pixel(in, L);
+    const double z_lo = in.grid.origin().z();
+    const double z_span = std::max(in.grid.max_corner().z() - z_lo, 1e-3);
+    const PictureColour edge = blend(kRobotColour, kBlack, 0.55);
+    for (const std::uint8_t i : order) {
+        const PlacedCapsule& c = pose.capsules[i];
+        const double h = std::clamp((top(i) - z_lo) / z_span, 0.0, 1.0);
+        const PictureColour fill = blend(kRobotColour, kFree, 0.5 * h);
+        for_top_pixels(in, L, [&](int px, int py, const Eigen::Vector2d& p) {
+            const double d = floor_segment_distance(p, c) - c.radius;
+            if (d <= 0.0) {
+                put(img, px, py, d > -1.5 * m ? edge : fill);
+            }
+        });
+    }
+}
+
+/// The outline's point at floor distance @p distance from the robot along
+/// the direction @p angle (radians) from its centre, as a top-view pixel
+/// position; false when it leaves the top view first.
+bool ring_point(const PictureInput& in, const PictureLayout& L, double distance, double angle, Eigen::Vector2d& out) {
+    const Eigen::Vector2d c = robot_centre(in.robot->pose).head<2>();
+    const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
+    const double step = 0.5 * top_metres_per_pixel(in, L);
+    const GridDims d = in.grid.dims();
+    for (double s = 0.0; s < 100.0; s += step) {
+        const Eigen::Vector2d p = c + s * dir;
+        const Eigen::Vector2d px = top_view_position(in, L, p);
+        if (px.x() < L.top_x || px.y() < L.top_y || px.x() >= L.top_x + d.nx * L.voxel_px ||
+            px.y() >= L.top_y + d.ny * L.voxel_px) {
+            return false;
+        }
+        if (floor_robot_distance(p, in.robot->pose) >= distance) {
+            out = px;
+            return true;
+        }
+    }
+    return false;
+}
+
+/// A label box in the picture.
+struct LabelBox {
+    int x, y, w, h;  ///< left, top, width, height
+    [[nodiscard]] bool overlaps(const LabelBox& o) const {
+        return x < o.x + o.w + 4 && o.x < x + w + 4 && y < o.y + o.h + 4 && o.y < y + h + 4;
+    }
+};
+
+/// Each ring's tag and distance next to it, where it is inside the top view
+/// and clear of the other labels (trying directions around the robot).
+void draw_ring_labels(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const GridDims d = in.grid.dims();
+    const LabelBox view{L.top_x, L.top_y, d.nx * L.voxel_px, d.ny * L.voxel_px};
+    std::vector<LabelBox> placed;
+    for (const PictureRing& ring : in.robot->rings) {
+        char buf[96];
+        static_cast<void>(std::snprintf(buf, sizeof buf, "%s %.2f m", ring.tag.c_str(), ring.distance_m));
+        const int w = static_cast<int>(std::string(buf).size()) * 6 * kTextScale;
+        const int h = 8 * kTextScale;
+        for (int k = 0; k < 36; ++k) {
+            const double angle = (45.0 + 10.0 * ((k + 1) / 2) * (k % 2 == 0 ? 1.0 : -1.0)) * M_PI / 180.0;
+            Eigen::Vector2d p;
+            if (!ring_point(in, L, ring.distance_m, angle, p)) {
+                continue;
+            }
+            // Beside the point, on the side away from the robot first, then the other sides.
+            const int x = static_cast<int>(p.x());
+            const int y = static_cast<int>(p.y());
+            const bool right = std::cos(angle) >= 0.0;
+            const LabelBox boxes[4] = {{right ? x + 6 : x - 6 - w, y - h / 2, w, h},
+                                       {right ? x - 6 - w : x + 6, y - h / 2, w, h},
+                                       {x - w / 2, y - 6 - h, w, h},
+                                       {x - w / 2, y + 6, w, h}};
+            const auto fits = [&](const LabelBox& box) {
+                return box.x >= view.x && box.y >= view.y && box.x + box.w < view.x + view.w &&
+                       box.y + box.h < view.y + view.h &&
+                       std::none_of(placed.begin(), placed.end(), [&](const LabelBox& b) { return b.overlaps(box); });
+            };
+            const LabelBox* box = std::find_if(std::begin(boxes), std::end(boxes), fits);
+            if (box != std::end(boxes)) {
+                // A darker text: the ring's own colour stays the ring's pixels.
+                label(img, box->x, box->y, buf, blend(ring.colour, kBlack, 0.3), kTextScale);
+                placed.push_back(*box);
+                break;
+            }
+        }
+    }
+}
+
 void draw_top_view(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
     const GridDims d = in.grid.dims();
     const int s = L.voxel_px;
     const ColumnBits columns = draw_top_columns(img, in, L);
     draw_top_grid_lines(img, in, L);
     draw_zone_borders(img, in, L, columns);
+    if (in.robot != nullptr) {
+        draw_top_rings(img, in, L);
+        draw_top_capsules(img, in, L);
+    }
     draw_zone_numbers(img, in, L, columns);
+    if (in.robot != nullptr) {
+        draw_ring_labels(img, in, L);
+    }
     frame_rect(img, L.top_x, L.top_y, d.nx * s, d.ny * s, 2, kBlack);
     // Corner coordinates and axes.
     const Eigen::Vector3d lo = in.grid.origin();
@@ -364,60 +625,117 @@ void draw_zone_edges(RgbImage& img, const PictureSensor& s, const PictureLayout&
     }
 }
 
-void draw_sensor_view(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
-    const PictureSensor& s = in.sensors[in.view_sensor];
-    const PinholeIntrinsics& k = s.intrinsics;
+/// The robot's colour where a ray of direction @p dir meets its surface with normal @p n: darker where oblique.
+PictureColour robot_shade(const Eigen::Vector3d& dir, const Eigen::Vector3d& n) {
+    const double facing = std::abs(n.dot(dir));
+    return blend(blend(kBlack, kRobotColour, 0.45 + 0.55 * facing), kFree, 0.3 * std::pow(facing, 6.0));
+}
+
+/// One sensor-view ray from @p s in direction @p dir (unit): the zone tints
+/// front to back, then the robot, the first background voxel, free space
+/// or the outside of the grid.
+PictureColour sensor_ray_colour(const PictureInput& in, const PictureSensor& s, const Eigen::Vector3d& dir) {
     const Span<const std::uint32_t> mask = in.zones->membership();
     const Eigen::Vector3d origin = s.pose.translation();
+    const RobotHit robot = in.robot != nullptr ? ray_robot(origin, dir, in.robot->pose, 0.0) : RobotHit{};
+    double r = 0.0;
+    double g = 0.0;
+    double b = 0.0;
+    double transmit = 1.0;
+    bool entered = false;
+    bool hit = false;
+    double hit_t = 0.0;
+    (void)traverse_segment(in.grid, origin, origin + dir * s.max_range, [&](const TraversedVoxel& t) {
+        if (hit || t.t_enter >= robot.t) {
+            return;
+        }
+        entered = true;
+        if (is_background(in, t.index)) {
+            hit = true;
+            hit_t = t.t_enter;
+            return;
+        }
+        const std::uint32_t bits = mask[t.index];
+        for (std::size_t z = 0U; z < in.zones->size() && transmit > 0.0; ++z) {
+            if ((bits >> z & 1U) != 0U) {
+                const PictureColour c = zone_colour(in.zones->config(z));
+                const double a = 0.09;
+                r += transmit * a * c.r;
+                g += transmit * a * c.g;
+                b += transmit * a * c.b;
+                transmit *= 1.0 - a;
+            }
+        }
+    });
+    PictureColour end = kOutside;
+    if (robot.t <= s.max_range && (!hit || robot.t < hit_t)) {
+        end = robot_shade(dir, robot.normal);
+    } else if (hit) {
+        end = grey(215.0 - 110.0 * std::clamp((hit_t - 1.5) / 3.5, 0.0, 1.0));
+    } else if (entered) {
+        end = kFree;
+    }
+    return PictureColour{mix(0.0, r + transmit * end.r, 1.0), mix(0.0, g + transmit * end.g, 1.0),
+                         mix(0.0, b + transmit * end.b, 1.0)};
+}
+
+/// The direction of the sensor-view picture pixel (@p px, @p py) (relative to the view's corner).
+Eigen::Vector3d view_direction(const PictureSensor& s, const PictureLayout& L, int px, int py) {
+    const PinholeIntrinsics& k = s.intrinsics;
+    const double u = (px + 0.5) / L.view_scale - 0.5;
+    const double v = (py + 0.5) / L.view_scale - 0.5;
+    return (s.pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0)).normalized();
+}
+
+/// The mask margin's dashed outline in the sensor view: the edge of the
+/// silhouette of the capsules grown by the margin.
+void draw_view_margin(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const PictureSensor& s = in.sensors[in.view_sensor];
+    const auto w = static_cast<std::size_t>(L.view_w);
+    std::vector<std::uint8_t> inside(w * static_cast<std::size_t>(L.view_h), 0U);
     for (int py = 0; py < L.view_h; ++py) {
         for (int px = 0; px < L.view_w; ++px) {
-            const double u = (px + 0.5) / L.view_scale - 0.5;
-            const double v = (py + 0.5) / L.view_scale - 0.5;
-            const Eigen::Vector3d dir =
-                (s.pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0)).normalized();
-            // Front to back: zone tints, then the first background voxel.
-            double r = 0.0;
-            double g = 0.0;
-            double b = 0.0;
-            double transmit = 1.0;
-            bool entered = false;
-            bool hit = false;
-            double hit_t = 0.0;
-            (void)traverse_segment(in.grid, origin, origin + dir * s.max_range, [&](const TraversedVoxel& t) {
-                if (hit) {
-                    return;
-                }
-                entered = true;
-                if (is_background(in, t.index)) {
-                    hit = true;
-                    hit_t = t.t_enter;
-                    return;
-                }
-                const std::uint32_t bits = mask[t.index];
-                for (std::size_t z = 0U; z < in.zones->size() && transmit > 0.0; ++z) {
-                    if ((bits >> z & 1U) != 0U) {
-                        const PictureColour c = zone_colour(in.zones->config(z));
-                        const double a = 0.09;
-                        r += transmit * a * c.r;
-                        g += transmit * a * c.g;
-                        b += transmit * a * c.b;
-                        transmit *= 1.0 - a;
-                    }
-                }
-            });
-            PictureColour end = kOutside;
-            if (hit) {
-                end = grey(215.0 - 110.0 * std::clamp((hit_t - 1.5) / 3.5, 0.0, 1.0));
-            } else if (entered) {
-                end = kFree;
+            const RobotHit h = ray_robot(s.pose.translation(), view_direction(s, L, px, py), in.robot->pose,
+                                         in.robot->margin_m);
+            inside[static_cast<std::size_t>(py) * w + static_cast<std::size_t>(px)] = h.t <= s.max_range ? 1U : 0U;
+        }
+    }
+    const auto at = [&](int px, int py) {
+        return inside[static_cast<std::size_t>(py) * w + static_cast<std::size_t>(px)] != 0U;
+    };
+    // Both sides of the silhouette's edge (two pixels); a neighbour outside the view is no edge.
+    const auto differs = [&](int px, int py, int nx, int ny) {
+        return nx >= 0 && ny >= 0 && nx < L.view_w && ny < L.view_h && at(nx, ny) != at(px, py);
+    };
+    double cx = 0.0;
+    double cy = 0.0;
+    if (!project(s, L, robot_centre(in.robot->pose), cx, cy)) {
+        cx = L.view_x + L.view_w / 2.0;
+        cy = L.view_y + L.view_h / 2.0;
+    }
+    for (int py = 0; py < L.view_h; ++py) {
+        for (int px = 0; px < L.view_w; ++px) {
+            const bool edge = differs(px, py, px - 1, py) || differs(px, py, px + 1, py) ||
+                              differs(px, py, px, py - 1) || differs(px, py, px, py + 1);
+            if (edge && dash_on(L.view_x + px, L.view_y + py, cx, cy, 6.0)) {
+                put(img, L.view_x + px, L.view_y + py, kRobotMarginColour);
             }
-            put(img, L.view_x + px, L.view_y + py,
-                PictureColour{mix(0.0, r + transmit * end.r, 1.0), mix(0.0, g + transmit * end.g, 1.0),
-                              mix(0.0, b + transmit * end.b, 1.0)});
+        }
+    }
+}
+
+void draw_sensor_view(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
+    const PictureSensor& s = in.sensors[in.view_sensor];
+    for (int py = 0; py < L.view_h; ++py) {
+        for (int px = 0; px < L.view_w; ++px) {
+            put(img, L.view_x + px, L.view_y + py, sensor_ray_colour(in, s, view_direction(s, L, px, py)));
         }
     }
     for (std::size_t z = 0U; z < in.zones->size(); ++z) {
         draw_zone_edges(img, s, L, in.zones->config(z));
+    }
+    if (in.robot != nullptr) {
+        draw_view_margin(img, in, L);
     }
     draw_box_edges(img, s, L, in.grid.origin(), in.grid.max_corner(), kBlack, 2);
     frame_rect(img, L.view_x, L.view_y, L.view_w, L.view_h, 2, kBlack);
@@ -438,7 +756,37 @@ std::string zone_line(const PictureInput& in, std::size_t z) {
                                         name.c_str(), c.kind == ZoneKind::kProtective ? "protective" : "warning",
                                         c.polygon_size, c.z_min, c.z_max, in.zones->voxel_count(z)));
     }
-    return buf;
+    std::string line = buf;
+    if (!in.cases.empty()) {
+        std::string numbers;
+        for (const PictureCase& k : in.cases) {
+            if ((k.zone_mask >> z & 1U) != 0U) {
+                numbers += (numbers.empty() ? "" : ",") + std::to_string(k.number);
+            }
+        }
+        line += numbers.empty() ? "  in no case" : "  cases " + numbers;
+    }
+    return line;
+}
+
+/// One legend line per monitoring case: its number, name and zones.
+std::vector<std::string> case_lines(const PictureInput& in) {
+    std::vector<std::string> lines;
+    for (const PictureCase& k : in.cases) {
+        char buf[96];
+        static_cast<void>(std::snprintf(buf, sizeof buf, "case %2d %-14s zones ", k.number, k.name.c_str()));
+        std::string line = buf;
+        bool first = true;
+        for (std::size_t z = 0U; z < in.zones->size(); ++z) {
+            if ((k.zone_mask >> z & 1U) != 0U) {
+                line += (first ? "" : ", ") + std::to_string(z + 1U) + " " +
+                        (z < in.zone_names.size() ? in.zone_names[z] : std::string("zone"));
+                first = false;
+            }
+        }
+        lines.push_back(line);
+    }
+    return lines;
 }
 
 }  // namespace
@@ -465,16 +813,25 @@ void top_view_pixel(const PictureLayout& layout, const GridGeometry& grid, int i
     py = layout.top_y + (grid.dims().ny - 1 - iy) * layout.voxel_px + layout.voxel_px / 2;
 }
 
+Eigen::Vector2d top_view_point(const PictureLayout& layout, const GridGeometry& grid, int px, int py) {
+    const double m = grid.voxel_size() / layout.voxel_px;
+    return {grid.origin().x() + (px - layout.top_x + 0.5) * m,
+            grid.origin().y() + (layout.top_y + grid.dims().ny * layout.voxel_px - py - 0.5) * m};
+}
+
 namespace {
 
-constexpr int kHeaderHeight = kMargin + 4 * kLineHeight + 12;
+/// The header's lines: the title, the grid, (the robot's pose,) the headings of the views.
+int header_lines(const PictureInput& in) { return in.robot != nullptr ? 5 : 4; }
 
-/// Where the top view and the sensor view go: the top view about 420 pixels on its longer side, the sensor view as
+int header_height(const PictureInput& in) { return kMargin + header_lines(in) * kLineHeight + 12; }
+
+/// Where the top view and the sensor view go: the top view about 520 pixels on its longer side, the sensor view as
 /// tall as the top view, both below the header.
 PictureLayout plan_layout(const PictureInput& in) {
     const GridDims d = in.grid.dims();
     PictureLayout L;
-    L.voxel_px = std::clamp(420 / std::max(d.nx, d.ny), 2, 24);
+    L.voxel_px = std::clamp(520 / std::max(d.nx, d.ny), 2, 24);
     const int top_w = d.nx * L.voxel_px;
     const int top_h = d.ny * L.voxel_px;
     if (in.view_sensor < in.sensors.size()) {
@@ -484,9 +841,9 @@ PictureLayout plan_layout(const PictureInput& in) {
         L.view_h = static_cast<int>(std::lround(k.height * L.view_scale));
     }
     L.top_x = kMargin + 8;
-    L.top_y = kHeaderHeight;
+    L.top_y = header_height(in);
     L.view_x = L.top_x + top_w + 48;
-    L.view_y = kHeaderHeight;
+    L.view_y = header_height(in);
     return L;
 }
 
@@ -499,7 +856,11 @@ void draw_views(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
         buf, sizeof buf, "grid %d x %d x %d voxels of %.3f m from (%.2f, %.2f, %.2f); %zu zones", d.nx, d.ny, d.nz,
         in.grid.voxel_size(), in.grid.origin().x(), in.grid.origin().y(), in.grid.origin().z(), in.zones->size()));
     draw_text(img, kMargin, kMargin + kLineHeight, buf, kText, kTextScale);
-    const int heading_y = kMargin + 2 * kLineHeight + 10;
+    if (in.robot != nullptr) {
+        const std::string pose = "robot '" + in.robot->name + "' at " + in.robot->pose_source;
+        draw_text(img, kMargin, kMargin + 2 * kLineHeight, pose, kRobotMarginColour, kTextScale);
+    }
+    const int heading_y = kMargin + (header_lines(in) - 2) * kLineHeight + 10;
     draw_text(img, L.top_x, heading_y, "top view (x right, y up)", kText, kTextScale);
     draw_text(img, L.top_x, heading_y + kLineHeight, "grey: background (prior: not accessible), darker = higher", kText,
               1);
@@ -509,30 +870,43 @@ void draw_views(RgbImage& img, const PictureInput& in, const PictureLayout& L) {
         static_cast<void>(
             std::snprintf(buf, sizeof buf, "view of sensor %zu '%s'", in.view_sensor + 1U, s.name.c_str()));
         draw_text(img, L.view_x, heading_y, buf, kText, kTextScale);
-        static_cast<void>(std::snprintf(buf, sizeof buf,
-                                        "%d x %d pixels from (%.2f, %.2f, %.2f) m; zones tinted, grid edges black",
-                                        s.intrinsics.width, s.intrinsics.height, s.pose.translation().x(),
-                                        s.pose.translation().y(), s.pose.translation().z()));
+        static_cast<void>(
+            std::snprintf(buf, sizeof buf, "%d x %d pixels from (%.2f, %.2f, %.2f) m; zones tinted, grid edges black%s",
+                          s.intrinsics.width, s.intrinsics.height, s.pose.translation().x(), s.pose.translation().y(),
+                          s.pose.translation().z(), in.robot != nullptr ? "; robot blue, its mask margin dashed" : ""));
         draw_text(img, L.view_x, heading_y + kLineHeight, buf, kText, 1);
         draw_sensor_view(img, in, L);
     }
 }
 
-/// The colour swatches and the zone table from @p y down.
-void draw_legend(RgbImage& img, const PictureInput& in, const std::vector<std::string>& zone_lines, int y) {
-    int x = kMargin;
-    auto swatch = [&](PictureColour c, const char* text) {
-        fill_rect(img, x, y, 8 * kTextScale, 8 * kTextScale - 2, c);
-        frame_rect(img, x, y, 8 * kTextScale, 8 * kTextScale - 2, 1, kBlack);
-        x = draw_text(img, x + 8 * kTextScale + 8, y, text, kText, kTextScale) + 24;
-    };
-    swatch(blend(kFree, kProtectiveColour, 0.55), "protective zone");
-    swatch(blend(kFree, kWarningColour, 0.55), "warning zone");
-    swatch(grey(160.0), "background (darker = higher / farther)");
+/// A colour swatch with @p text after it at (@p x, @p y); returns the x for the next one.
+int swatch(RgbImage& img, int x, int y, PictureColour c, const std::string& text) {
+    fill_rect(img, x, y, 8 * kTextScale, 8 * kTextScale - 2, c);
+    frame_rect(img, x, y, 8 * kTextScale, 8 * kTextScale - 2, 1, kBlack);
+    return draw_text(img, x + 8 * kTextScale + 8, y, text, kText, kTextScale) + 24;
+}
+
+/// A line sample (solid, or dashed) with @p text after it; returns the x for the next one.
+int line_swatch(RgbImage& img, int x, int y, PictureColour c, bool dashed, const std::string& text) {
+    for (int i = 0; i < 24; ++i) {
+        if (!dashed || i % 8 < 5) {
+            fill_rect(img, x + i, y + 3 * kTextScale, 1, 2, c);
+        }
+    }
+    return draw_text(img, x + 32, y, text, kText, kTextScale) + 24;
+}
+
+/// The width of @p text at the legend's scale.
+int text_width(const std::string& text) { return static_cast<int>(text.size()) * 6 * kTextScale; }
+
+/// The colour swatches and the zone table from @p y down; returns the y below them.
+int draw_legend(RgbImage& img, const PictureInput& in, const std::vector<std::string>& zone_lines, int y) {
+    int x = swatch(img, kMargin, y, blend(kFree, kProtectiveColour, 0.55), "protective zone");
+    x = swatch(img, x, y, blend(kFree, kWarningColour, 0.55), "warning zone");
+    static_cast<void>(swatch(img, x, y, grey(160.0), "background (darker = higher / farther)"));
     y += kLineHeight;
-    x = kMargin;
-    swatch(kFree, "free grid space");
-    swatch(kOutside, "outside the grid");
+    x = swatch(img, kMargin, y, kFree, "free grid space");
+    static_cast<void>(swatch(img, x, y, kOutside, "outside the grid"));
     y += kLineHeight + 8;
     draw_text(img, kMargin, y, " # name           kind       shape", kText, kTextScale);
     y += kLineHeight;
@@ -542,38 +916,132 @@ void draw_legend(RgbImage& img, const PictureInput& in, const std::vector<std::s
         draw_text(img, kMargin + 12, y, zone_lines[z], kText, kTextScale);
         y += kLineHeight;
     }
+    return y;
+}
+
+/// The monitoring cases (the PLC selects one; only its zones are monitored); returns the y below them.
+int draw_case_legend(RgbImage& img, const std::vector<std::string>& lines, int y) {
+    if (lines.empty()) {
+        return y;
+    }
+    y += 8;
+    draw_text(img, kMargin, y, "monitoring cases (the PLC selects one; only its zones are monitored):", kText,
+              kTextScale);
+    y += kLineHeight;
+    for (const std::string& line : lines) {
+        draw_text(img, kMargin + 12, y, line, kText, kTextScale);
+        y += kLineHeight;
+    }
+    return y;
+}
+
+/// The robot's pose, its margin and the separation distances; returns the y below them.
+int draw_robot_legend(RgbImage& img, const PictureInput& in, int width, int y) {
+    const PictureRobot& r = *in.robot;
+    y += 8;
+    std::string joints = "joints (PLC order, rad or m):";
+    for (std::uint8_t k = 0U; k < r.joints.count; ++k) {
+        char buf[32];
+        static_cast<void>(std::snprintf(buf, sizeof buf, " %.3f", r.joints.q[k]));
+        joints += buf;
+    }
+    draw_text(img, kMargin, y, "the robot's pose: " + joints, kText, 1);
+    y += 14;
+    char buf[160];
+    static_cast<void>(std::snprintf(buf, sizeof buf, "mask margin %.2f m (its voxels are the robot's)", r.margin_m));
+    const int x = swatch(img, kMargin, y, kRobotColour, "robot capsules (lighter = higher)");
+    static_cast<void>(line_swatch(img, x, y, kRobotMarginColour, true, buf));
+    y += kLineHeight;
+    int rx = kMargin;
+    for (const PictureRing& ring : r.rings) {
+        static_cast<void>(std::snprintf(buf, sizeof buf, "%s: %.2f m", ring.name.c_str(), ring.distance_m));
+        if (rx > kMargin && rx + 32 + text_width(buf) > width - kMargin) {
+            rx = kMargin;
+            y += kLineHeight;
+        }
+        rx = line_swatch(img, rx, y, ring.colour, false, buf);
+    }
+    y += kLineHeight;
+    draw_text(img, kMargin, y,
+              "rings (top view): the floor outline of every point, at any height, within that distance of the "
+              "capsules' surfaces; the separation check measures from the surfaces",
+              kText, 1);
+    return y + 14;
 }
 
 }  // namespace
 
 RgbImage render_config_picture(const PictureInput& in, PictureLayout* layout_out) {
     const PictureLayout L = plan_layout(in);
-    const int top_h = in.grid.dims().ny * L.voxel_px;
-    const std::size_t legend_lines = 4U + in.zones->size();
-    const int body_h = std::max(top_h, L.view_h) + 30;
+    const int body_h = std::max(in.grid.dims().ny * L.voxel_px, L.view_h) + 30;
     std::vector<std::string> zone_lines;
-    zone_lines.reserve(in.zones->size());
-    int widest = 0;
     for (std::size_t z = 0U; z < in.zones->size(); ++z) {
         zone_lines.push_back(zone_line(in, z));
-        widest = std::max(widest, static_cast<int>(zone_lines.back().size()) * 6 * kTextScale + 40);
+    }
+    const std::vector<std::string> cases = case_lines(in);
+    int widest = 0;
+    for (const std::vector<std::string>* lines : {&std::as_const(zone_lines), &cases}) {
+        for (const std::string& line : *lines) {
+            widest = std::max(widest, text_width(line) + 40);
+        }
     }
     const int width = std::max({L.view_x + L.view_w + kMargin, widest + 2 * kMargin, 900});
-    const int height = kHeaderHeight + body_h + static_cast<int>(legend_lines) * kLineHeight + 2 * kMargin;
+    // Room for every legend line, the rings one a line at most; cut to what was drawn.
+    const std::size_t lines = 5U + zone_lines.size() + cases.size() +
+                              (in.robot != nullptr ? 5U + in.robot->rings.size() : 0U);
+    const int height = header_height(in) + body_h + static_cast<int>(lines) * kLineHeight + 2 * kMargin;
     RgbImage img = RgbImage::filled(width, height, kPanel.r, kPanel.g, kPanel.b);
     draw_views(img, in, L);
-    draw_legend(img, in, zone_lines, kHeaderHeight + body_h);
+    int y = draw_legend(img, in, zone_lines, header_height(in) + body_h);
+    y = draw_case_legend(img, cases, y);
+    if (in.robot != nullptr) {
+        y = draw_robot_legend(img, in, width, y);
+    }
+    img.height = std::min(height, y + kMargin);
+    img.rgb.resize(img.offset(0, img.height));
     if (layout_out != nullptr) {
         *layout_out = L;
     }
     return img;
 }
 
+PictureRobot picture_robot(const cell::MonitorConfig& cfg, const RobotModel& model,
+                           const sim::JointTrajectory& trajectory) {
+    PictureRobot r;
+    r.name = model.name;
+    if (!trajectory.keyframes.empty() && trajectory.keyframes.front().q.count == model.joint_count) {
+        r.joints = trajectory.keyframes.front().q;
+        char buf[96];
+        static_cast<void>(std::snprintf(buf, sizeof buf, "the demo trajectory's first keyframe (t = %.2f s)",
+                                        trajectory.keyframes.front().t));
+        r.pose_source = buf;
+    } else {
+        r.joints.count = model.joint_count;
+        r.pose_source = "all joints 0 (no demo trajectory)";
+    }
+    place_robot(model, r.joints, r.pose);
+    r.margin_m = cfg.robot.margin_m;
+    const SeparationParams& sp = cfg.robot.separation;
+    constexpr PictureColour kClassColours[kSpeedClasses] = {{200, 0, 200}, {0, 150, 170}, {150, 90, 20}, {70, 70, 70}};
+    for (std::uint8_t k = 0U; k < sp.class_count && k < kSpeedClasses; ++k) {
+        const char* what = k == 0U ? " (full)" : (k == sp.reduced_class ? " (reduced)" : "");
+        r.rings.push_back(PictureRing{protective_separation_distance(sp, k),
+                                      "S_p speed class " + std::to_string(k) + what, "S_p" + std::to_string(k),
+                                      kClassColours[k]});
+    }
+    r.rings.push_back(PictureRing{reduced_speed_distance(sp), "reduced speed below", "reduce", {20, 150, 20}});
+    return r;
+}
+
 bool write_config_picture(const std::string& path, const std::string& title, const cell::MonitorConfig& cfg,
                           const GridGeometry& grid, const CompiledZones& zones,
                           const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
-                          const std::string& view_sensor, std::string& error) {
+                          const std::string& view_sensor, const PictureRobot* robot, std::string& error) {
     PictureInput in;
+    in.robot = robot;
+    for (const cell::CaseSettings& k : cfg.cases) {
+        in.cases.push_back(PictureCase{k.number, k.name, k.zone_mask});
+    }
     in.title = title;
     in.grid = grid;
     in.zones = &zones;

@@ -5,8 +5,10 @@
 signature, IHDR, every chunk's CRC-32, the zlib stream (decompressed by
 zlib, Adler-32 checked by it), one filter byte 0 or 2 (Up) per row, and that pixels of
 both zone colours appear (the demo has a protective and a warning zone).
+With --robot: also the robot's blue capsules and the S_p ring of speed
+class 0 (magenta, 200/0/200) appear.
 
-Usage: check_png.py FILE [min-width min-height]"""
+Usage: check_png.py [--robot] FILE [min-width min-height]"""
 import struct
 import sys
 import zlib
@@ -18,6 +20,9 @@ def fail(msg):
 
 
 def main():
+    robot = "--robot" in sys.argv
+    if robot:
+        sys.argv.remove("--robot")
     data = open(sys.argv[1], "rb").read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":
         fail("bad signature")
@@ -61,17 +66,21 @@ def main():
         line[0] = 0
         rows.append(line)
     raw = b"".join(rows)
-    red = yellow = 0
+    red = yellow = blue = ring = 0
     for y in range(h):
         line = raw[y * row + 1:(y + 1) * row]
         for x in range(0, len(line), 3):
             r, g, b = line[x], line[x + 1], line[x + 2]
             red += r > g + 60 and r > b + 60
             yellow += r > b + 60 and g > b + 40 and abs(r - g) < 70
+            blue += b > r + 60 and b > g + 40
+            ring += (r, g, b) == (200, 0, 200)
     if red < 500 or yellow < 500:
         fail(f"too few zone pixels: {red} red, {yellow} yellow")
+    if robot and (blue < 500 or ring < 200):
+        fail(f"too few robot pixels: {blue} blue, {ring} on the S_p ring")
     print(f"check_png: {sys.argv[1]}: valid PNG {w} x {h}, chunks {[c.decode() for c in chunks]}, "
-          f"{red} protective and {yellow} warning pixels")
+          f"{red} protective and {yellow} warning pixels" + (f", {blue} robot and {ring} S_p ring pixels" if robot else ""))
 
 
 if __name__ == "__main__":
