@@ -102,7 +102,8 @@ int parse_args(int argc, char** argv, Options& o) {
     cli.flag("--realtime", o.realtime, "SCHED_FIFO, mlockall and CPU affinity where permitted");
     cli.flag("--quiet", o.quiet, "no per-cycle status lines");
     cli.text("--picture", o.picture, "FILE",
-             "write a PNG of the grid, the background and the zones\n(top view and one sensor's view) and exit");
+             "write a PNG of the grid, the background and the zones (with a robot: its\n"
+             "capsules, mask margin and separation distances) from above and from one\nsensor, and exit");
     cli.text("--picture-sensor", o.picture_sensor, "S",
              "the sensor of that view, by name or number from 1 (default 1)");
     const int status = cli.parse(argc, argv);
