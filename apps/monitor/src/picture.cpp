@@ -466,8 +466,9 @@ bool ring_point(const PictureInput& in, const PictureLayout& L, double distance,
     const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
     const double step = 0.5 * top_metres_per_pixel(in, L);
     const GridDims d = in.grid.dims();
-    for (double s = 0.0; s < 100.0; s += step) {
-        const Eigen::Vector2d p = c + s * dir;
+    const int steps = static_cast<int>(100.0 / step);
+    for (int i = 0; i < steps; ++i) {
+        const Eigen::Vector2d p = c + (static_cast<double>(i) * step) * dir;
         const Eigen::Vector2d px = top_view_position(in, L, p);
         if (px.x() < L.top_x || px.y() < L.top_y || px.x() >= L.top_x + d.nx * L.voxel_px ||
             px.y() >= L.top_y + d.ny * L.voxel_px) {
@@ -501,7 +502,8 @@ void draw_ring_labels(RgbImage& img, const PictureInput& in, const PictureLayout
         const int w = static_cast<int>(std::string(buf).size()) * 6 * kTextScale;
         const int h = 8 * kTextScale;
         for (int k = 0; k < 36; ++k) {
-            const double angle = (45.0 + 10.0 * ((k + 1) / 2) * (k % 2 == 0 ? 1.0 : -1.0)) * M_PI / 180.0;
+            const double angle = (45.0 + 10.0 * static_cast<double>((k + 1) / 2) * (k % 2 == 0 ? 1.0 : -1.0)) * M_PI /
+                                 180.0;
             Eigen::Vector2d p;
             if (!ring_point(in, L, ring.distance_m, angle, p)) {
                 continue;

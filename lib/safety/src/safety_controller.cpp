@@ -278,7 +278,7 @@ Span<const std::uint8_t> SafetyController::mask_robot(const JointPositions& join
         return {};
     }
     report.robot_voxels = stats.marked;
-    return Span<const std::uint8_t>(mask.data(), mask.size());
+    return {mask.data(), mask.size()};
 }
 
 SpeedRequest SafetyController::separate(Span<const std::uint8_t> robot_mask, std::uint32_t active_zones,

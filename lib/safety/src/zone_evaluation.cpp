@@ -126,16 +126,15 @@ Status evaluate_zones(const EvidenceGrid& frame, Span<const std::int16_t> prior,
         r.unseen = counts.unseen[z];
         r.robot = counts.robot[z];
         const std::uint32_t bit = 1U << z;
-        if ((active & bit) == 0U) {
-            r.state = ZoneState::kClear;  // not evaluated: no counts, no mask bit
-        } else if (r.foreground >= c.min_foreground_voxels) {
+        // A zone outside the active case is not evaluated: CLEAR, no mask bit.
+        const bool active_zone = (active & bit) != 0U;
+        r.state = ZoneState::kClear;
+        if (active_zone && r.foreground >= c.min_foreground_voxels) {
             r.state = ZoneState::kIntruded;
             out.intruded_mask |= bit;
-        } else if (r.unseen > c.max_unseen_voxels) {
+        } else if (active_zone && r.unseen > c.max_unseen_voxels) {
             r.state = ZoneState::kUnseen;
             out.unseen_mask |= bit;
-        } else {
-            r.state = ZoneState::kClear;
         }
         if (r.state != ZoneState::kClear) {
             out.not_clear_mask |= bit;

@@ -134,7 +134,7 @@ void add_scores(ScoreHistogram& h, const std::vector<std::int16_t>& subtracted, 
         switch (truth.label[i]) {
             case Truth::kForeground: ++h.foreground[bin_of(subtracted[i])]; break;
             case Truth::kNotForeground: ++h.not_foreground[bin_of(subtracted[i])]; break;
-            case Truth::kUnknown: break;
+            case Truth::kUnknown:  // neither is scored
             case Truth::kRobot: break;
         }
     }

@@ -52,16 +52,16 @@ enum class Multiplex : std::uint8_t {
 /// raw * factor (offset 0), in `unit`. Unsigned signals have the raw range
 /// 0..raw_max; signed ones (two's complement) -raw_max..raw_max.
 struct SignalLayout {
-    const char* name;              ///< DBC signal name
-    std::uint8_t start_bit;        ///< least significant bit, Intel numbering (8 * byte + bit)
-    std::uint8_t length;           ///< width in bits, 1..32
-    ByteOrder byte_order;          ///< always kIntel in cellguard's tables
-    std::uint32_t factor;          ///< physical units per raw unit (integer)
-    const char* unit;              ///< physical unit, "" for dimensionless
-    std::uint32_t raw_max;         ///< largest valid raw value (DBC maximum = raw_max * factor)
-    Multiplex multiplex;           ///< multiplexing role
-    std::uint8_t multiplex_value;  ///< selector value for kMultiplexed signals, else 0
-    bool is_signed = false;        ///< two's complement (DBC `-`); raw range -raw_max..raw_max
+    const char* name = "";                     ///< DBC signal name
+    std::uint8_t start_bit = 0U;               ///< least significant bit, Intel numbering (8 * byte + bit)
+    std::uint8_t length = 0U;                  ///< width in bits, 1..32
+    ByteOrder byte_order = ByteOrder::kIntel;  ///< always kIntel in cellguard's tables
+    std::uint32_t factor = 1U;                 ///< physical units per raw unit (integer)
+    const char* unit = "";                     ///< physical unit, "" for dimensionless
+    std::uint32_t raw_max = 0U;                ///< largest valid raw value (DBC maximum = raw_max * factor)
+    Multiplex multiplex = Multiplex::kNone;    ///< multiplexing role
+    std::uint8_t multiplex_value = 0U;         ///< selector value for kMultiplexed signals, else 0
+    bool is_signed = false;                    ///< two's complement (DBC `-`); raw range -raw_max..raw_max
 };
 
 /// Mask of the bits @p s occupies in the frame's 64 data bits.
