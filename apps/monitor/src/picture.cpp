@@ -502,8 +502,8 @@ void draw_ring_labels(RgbImage& img, const PictureInput& in, const PictureLayout
         const int w = static_cast<int>(std::string(buf).size()) * 6 * kTextScale;
         const int h = 8 * kTextScale;
         for (int k = 0; k < 36; ++k) {
-            const double angle = (45.0 + 10.0 * static_cast<double>((k + 1) / 2) * (k % 2 == 0 ? 1.0 : -1.0)) * M_PI /
-                                 180.0;
+            const int fan = (k + 1) / 2;  // 0, 1, 1, 2, 2, ...: alternately either side of 45 degrees
+            const double angle = (45.0 + 10.0 * fan * (k % 2 == 0 ? 1.0 : -1.0)) * M_PI / 180.0;
             Eigen::Vector2d p;
             if (!ring_point(in, L, ring.distance_m, angle, p)) {
                 continue;
