@@ -475,7 +475,9 @@ TEST_CASE("picture: the robot's capsules are drawn where they are, from above an
     top_view_pixel(layout, cell.g, 29, 20, px, py);  // (0.95, 0.05): the arm's end
     CHECK(bluish(img, px, py));
     // Beside the arm (0.55, 0.25), beyond its end (1.25, 0.05) and behind the pillar (-0.25, 0.05): free space.
-    for (const auto& [ix, iy] : {std::pair{25, 22}, std::pair{32, 20}, std::pair{17, 20}}) {
+    for (const std::pair<int, int>& at : {std::pair{25, 22}, std::pair{32, 20}, std::pair{17, 20}}) {
+        const int ix = at.first;  // plain names: clang 14 cannot capture structured bindings in doctest's lambdas
+        const int iy = at.second;
         top_view_pixel(layout, cell.g, ix, iy, px, py);
         CHECK_MESSAGE(!bluish(img, px, py), ix << "," << iy);
         CHECK_MESSAGE(neutral(img, px, py), ix << "," << iy);
