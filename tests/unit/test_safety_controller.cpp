@@ -905,7 +905,9 @@ TEST_CASE("controller: a command for another robot, with another joint count or 
         {&beyond, CommandRefusal::kOutsideLimits},
         {&fast, CommandRefusal::kUnknownSpeedClass},
     };
-    for (const auto& [in, why] : cases) {
+    for (const auto& item : cases) {
+        const CommandInput* in = item.first;
+        const CommandRefusal why = item.second;  // not a structured binding: doctest's CHECK lambdas capture it
         CAPTURE(to_string(why));
         const CycleReport& r = c.run_cycle(empty.span(), false, *in);
         CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);
