@@ -65,7 +65,7 @@ struct CycleRecord {
 
 /// The robot-cell demo as main wires it, with a counting sender.
 struct RobotCell {
-    RobotCell() : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(receiver_config(), &can) {
+    RobotCell() : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(command_receiver_config(cfg), &can) {
         cfg.budget_us = 60000000U;  // the decisions, not this host's speed
         REQUIRE_FALSE(cell.configure(cfg).failed());
         REQUIRE_FALSE(cell.configure_robot(cfg, nullptr).failed());
@@ -86,12 +86,6 @@ struct RobotCell {
     ~RobotCell() { static_cast<void>(std::fclose(out)); }
     RobotCell(const RobotCell&) = delete;
     RobotCell& operator=(const RobotCell&) = delete;
-
-    static CommandReceiverConfig receiver_config() {
-        CommandReceiverConfig rc;
-        rc.sct_us = 200000U;
-        return rc;
-    }
 
     /// Runs the configured cycles; records each and counts the cycles that allocated.
     void run() {

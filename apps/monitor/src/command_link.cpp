@@ -3,7 +3,16 @@
 // The monitor's sources of the PLC's command (command_link.hpp).
 #include "cellguard/monitor/command_link.hpp"
 
+#include <algorithm>
+
 namespace cellguard::monitor {
+
+CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg) {
+    CommandReceiverConfig rc;
+    rc.channel = cfg.can.command;
+    rc.sct_us = std::max<std::uint64_t>(cell::command_age_limit_us(cfg), rc.sample_window_us + 1U);
+    return rc;
+}
 
 SimulatedPlcLink::SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus) noexcept
     : sender_(config.channel), receiver_(config), bus_(bus) {}

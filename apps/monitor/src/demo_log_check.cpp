@@ -14,6 +14,7 @@
 #include "cellguard/can/separation_frame.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/monitor/command_link.hpp"
 
 namespace cellguard::monitor {
 namespace {
@@ -59,7 +60,7 @@ public:
         : cfg_(cfg),
           rc_(rc),
           plc_(rc),
-          commands_(demo_log_command_receiver_config(cfg)),
+          commands_(command_receiver_config(cfg)),
           step_us_(demo_log_poll_interval_us(rc)),
           out_(out),
           cycles_(cycles),
@@ -406,14 +407,6 @@ void LogChecker::finish() {
 
 }  // namespace
 
-CommandReceiverConfig demo_log_command_receiver_config(const cell::MonitorConfig& config) {
-    CommandReceiverConfig rc;
-    rc.channel = config.can.command;
-    const std::uint64_t age = config.robot.enabled ? config.robot.max_command_age_us : 2U * config.period_us;
-    rc.sct_us = std::max<std::uint64_t>(age, rc.sample_window_us + 1U);
-    return rc;
-}
-
 PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) {
     PlcReceiverConfig rc;
     rc.channel = config.can.channel;
@@ -442,7 +435,7 @@ DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorCo
                                ms_text(config.period_us) + ", " + std::to_string(config.zones.size()) + " zones)");
         return out;
     }
-    if (config.robot.enabled && !CommandReceiver::check_config(demo_log_command_receiver_config(config)).ok()) {
+    if (config.robot.enabled && !CommandReceiver::check_config(command_receiver_config(config)).ok()) {
         out.input_ok = false;
         out.failures.emplace_back("no valid command receiver configuration for this monitor configuration");
         return out;

@@ -244,16 +244,6 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
     return sources;
 }
 
-/// The PLC command receiver's timing for @p cfg: a sample every period, at
-/// most max_command_age apart (the SCT), its six frames within 20 ms.
-CommandReceiverConfig command_receiver_config(const MonitorConfig& cfg) {
-    CommandReceiverConfig rc;
-    rc.channel = cfg.can.command;
-    const std::uint64_t age = cfg.robot.enabled ? cfg.robot.max_command_age_us : 2U * cfg.period_us;
-    rc.sct_us = std::max<std::uint64_t>(age, rc.sample_window_us + 1U);
-    return rc;
-}
-
 /// The PLC's command link for the cycle (nullptr: none) as --commands asks;
 /// @p e says why not when --commands asks for a source the cell lacks.
 CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const CanPort& can, SimulatedPlcLink& plc,

@@ -121,7 +121,7 @@ void attach_robot(ControllerConfig& cc, const cell::MonitorConfig& cfg, MonitorC
         cc.robot.mask = {cell.robot_mask.data(), cell.robot_mask.size()};
     }
     if (cell.has_cases || !cell.robot_image.empty()) {
-        cc.max_command_age_us = cfg.robot.enabled ? cfg.robot.max_command_age_us : 2U * cfg.period_us;
+        cc.max_command_age_us = cell::command_age_limit_us(cfg);
     }
 }
 

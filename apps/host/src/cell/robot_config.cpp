@@ -22,6 +22,10 @@ double minimum_mask_margin(const RobotSettings& robot, std::uint64_t period_us) 
     return motion + robot.separation.sensing_uncertainty_m + resolution;
 }
 
+std::uint64_t command_age_limit_us(const MonitorConfig& cfg) {
+    return cfg.robot.enabled ? cfg.robot.max_command_age_us : 2U * cfg.period_us;
+}
+
 namespace config_detail {
 namespace {
 

@@ -20,10 +20,18 @@
 
 #include "cellguard/can/command_receiver.hpp"
 #include "cellguard/can/plc_command_sender.hpp"
+#include "cellguard/host/cell/config.hpp"
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/safety/robot_command.hpp"
 
 namespace cellguard::monitor {
+
+/// The command receiver's configuration for the cell of @p cfg, as the
+/// monitor and its log check use it: the command channel, SCT the command's
+/// age limit (command_age_limit_us), at least the sample window + 1 us; the
+/// other limits the receiver's defaults (copies within 10 ms, the six frames
+/// within 20 ms).
+[[nodiscard]] CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg);
 
 /// Source of the PLC's command frames (see the file comment).
 class CommandLink {

@@ -34,7 +34,7 @@
 ///   request its ProtectiveStop bit), and a distance below the required one
 ///   comes with a stop request;
 /// - the command frames go to a CommandReceiver configured as the monitor's
-///   (demo_log_command_receiver_config), polled at each safety frame's time:
+///   (command_receiver_config, command_link.hpp), polled at each safety frame's time:
 ///   it never enters the safe state (so every command in the log was valid,
 ///   in order, complete and timely), and it is valid from the third sample on;
 /// - a cycle whose separation frame says CommandValid used exactly the
@@ -78,12 +78,6 @@ struct DemoLogCheck {
 /// The PLC receiver's configuration for the log of @p config: its channel and
 /// zone count, SRVT half a period, SCT three periods.
 [[nodiscard]] PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config);
-
-/// The command receiver's configuration for the log of @p config, as
-/// cellguard-monitor configures its own: the command channel, SCT the
-/// robot's max_command_age (two periods without a robot), at least the
-/// sample window + 1 us; the other limits the receiver's defaults.
-[[nodiscard]] CommandReceiverConfig demo_log_command_receiver_config(const cell::MonitorConfig& config);
 
 /// The PLC's poll interval on the log's clock: 1 ms, or SRVT / 10 when that
 /// is shorter (at least 1 us).

@@ -85,6 +85,11 @@ struct RobotSettings {
 /// 2 m). certification/safety-manual.md derives it.
 double minimum_mask_margin(const RobotSettings& robot, std::uint64_t period_us);
 
+struct MonitorConfig;
+/// The oldest PLC command a cycle of @p cfg accepts, microseconds: the
+/// robot's max_command_age_ms, or two periods in a cell with cases but no robot.
+std::uint64_t command_age_limit_us(const MonitorConfig& cfg);
+
 /// Where the prior comes from.
 enum class PriorSource : std::uint8_t {
     kFile = 0,                 ///< a prior image file (certification/prior-image-format.md)
