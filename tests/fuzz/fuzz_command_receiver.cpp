@@ -23,26 +23,12 @@
 #include <cstdlib>
 
 #include "cellguard/can/command_receiver.hpp"
+#include "fuzz_reference.hpp"
 
 using namespace cellguard;
+using cellguard::fuzz::ref_p01_crc;
 
 namespace {
-
-#define ORACLE(cond)                                                                \
-    do {                                                                            \
-        if (!(cond)) {                                                              \
-            std::fprintf(stderr, "oracle failed: %s (line %d)\n", #cond, __LINE__); \
-            std::abort();                                                           \
-        }                                                                           \
-    } while (false)
-
-std::uint8_t ref_update(std::uint8_t reg, std::uint8_t byte) {
-    unsigned r = static_cast<unsigned>(reg ^ byte);
-    for (int i = 0; i < 8; ++i) {
-        r = (r & 0x80U) != 0U ? ((r << 1U) ^ 0x1DU) & 0xFFU : (r << 1U) & 0xFFU;
-    }
-    return static_cast<std::uint8_t>(r);
-}
 
 std::int16_t ref_joint(const CanFrame& f, int byte) {
     return static_cast<std::int16_t>(static_cast<std::uint16_t>(f.data[byte] | (f.data[byte + 1] << 8U)));
@@ -59,22 +45,11 @@ bool ref_part_ok(const CanFrame& f, int part, const CommandChannelConfig& c) {
         return false;
     }
     const std::uint16_t id = c.data_id[part];
-    const auto lo = static_cast<std::uint8_t>(id & 0xFFU);
     const auto hi = static_cast<std::uint8_t>(id >> 8U);
-    std::uint8_t reg = 0U;
-    switch (c.data_id_mode) {
-        case E2eP01DataIdMode::kBoth: reg = ref_update(ref_update(reg, lo), hi); break;
-        case E2eP01DataIdMode::kAlt: reg = ref_update(reg, counter % 2U == 0U ? lo : hi); break;
-        case E2eP01DataIdMode::kLow: reg = ref_update(reg, lo); break;
-        case E2eP01DataIdMode::kNibble: reg = ref_update(ref_update(reg, lo), 0U); break;
-    }
     if (nibble != (c.data_id_mode == E2eP01DataIdMode::kNibble ? (hi & 0x0FU) : 0U)) {
         return false;
     }
-    for (int k = 1; k < 8; ++k) {
-        reg = ref_update(reg, f.data[k]);
-    }
-    if (reg != f.data[0]) {
+    if (ref_p01_crc(f.data, id, c.data_id_mode) != f.data[0]) {
         return false;
     }
     if (part == 0 && ((f.data[2] & 0xC0U) != 0U || (f.data[3] & 0xF8U) != 0U)) {

@@ -17,26 +17,12 @@
 #include <cstdlib>
 
 #include "cellguard/can/plc_receiver.hpp"
+#include "fuzz_reference.hpp"
 
 using namespace cellguard;
+using cellguard::fuzz::ref_p01_crc;
 
 namespace {
-
-#define ORACLE(cond)                                                                \
-    do {                                                                            \
-        if (!(cond)) {                                                              \
-            std::fprintf(stderr, "oracle failed: %s (line %d)\n", #cond, __LINE__); \
-            std::abort();                                                           \
-        }                                                                           \
-    } while (false)
-
-std::uint8_t ref_update(std::uint8_t reg, std::uint8_t byte) {
-    unsigned r = static_cast<unsigned>(reg ^ byte);
-    for (int i = 0; i < 8; ++i) {
-        r = (r & 0x80U) != 0U ? ((r << 1U) ^ 0x1DU) & 0xFFU : (r << 1U) & 0xFFU;
-    }
-    return static_cast<std::uint8_t>(r);
-}
 
 /// Independent E2E P01 check of a safety frame (CRC byte 0, counter bits 8..11, nibble bits 12..15).
 bool ref_frame_ok(const CanFrame& f, const SafetyChannelConfig& c) {
@@ -47,24 +33,11 @@ bool ref_frame_ok(const CanFrame& f, const SafetyChannelConfig& c) {
     if (counter > 14U) {
         return false;
     }
-    const auto lo = static_cast<std::uint8_t>(c.safety_data_id & 0xFFU);
     const auto hi = static_cast<std::uint8_t>(c.safety_data_id >> 8U);
-    std::uint8_t reg = 0U;
-    switch (c.data_id_mode) {
-        case E2eP01DataIdMode::kBoth: reg = ref_update(ref_update(reg, lo), hi); break;
-        case E2eP01DataIdMode::kAlt: reg = ref_update(reg, counter % 2U == 0U ? lo : hi); break;
-        case E2eP01DataIdMode::kLow: reg = ref_update(reg, lo); break;
-        case E2eP01DataIdMode::kNibble:
-            if ((f.data[1] >> 4U) != (hi & 0x0FU)) {
-                return false;
-            }
-            reg = ref_update(ref_update(reg, lo), 0U);
-            break;
+    if (c.data_id_mode == E2eP01DataIdMode::kNibble && (f.data[1] >> 4U) != (hi & 0x0FU)) {
+        return false;
     }
-    for (int k = 1; k < 8; ++k) {
-        reg = ref_update(reg, f.data[k]);
-    }
-    return reg == f.data[0];
+    return ref_p01_crc(f.data, c.safety_data_id, c.data_id_mode) == f.data[0];
 }
 
 bool ref_is_copy(const CanFrame& copy, const CanFrame& f, const SafetyChannelConfig& c) {
