@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "cellguard/base/result.hpp"
 #include "cellguard/base/span.hpp"
@@ -44,6 +45,10 @@ struct PinholeIntrinsics {
 enum class SensorDataKind : std::uint8_t {
     kPointSet = 0,    ///< 3D points in the sensor frame, metres
     kDepthImage = 1,  ///< depth along the optical axis (z), metres, row-major; 0 or NaN = no reading
+    /// Raw uint16 depth along the optical axis as cameras deliver it (GenICam
+    /// Coord3D_C16, RealSense Z16), row-major: depth = raw * depth_scale +
+    /// depth_offset metres (depth_value); raw 0 = no reading.
+    kDepthImageU16 = 2,
 };
 
 /// One sensor's reading in one frame: where the sensor is and what it saw.
@@ -52,7 +57,10 @@ struct SensorReading {
     SensorDataKind kind = SensorDataKind::kPointSet;         ///< which of the views below is used
     Span<const Eigen::Vector3f> points{};                    ///< kPointSet: the points
     Span<const float> depth{};                               ///< kDepthImage: width * height depths
-    PinholeIntrinsics intrinsics{};                          ///< kDepthImage: the camera
+    Span<const std::uint16_t> depth_u16{};                   ///< kDepthImageU16: width * height raw depths
+    float depth_scale = 0.001F;   ///< kDepthImageU16: metres per raw unit (finite, > 0)
+    float depth_offset = 0.0F;    ///< kDepthImageU16: metres added to raw * depth_scale (finite)
+    PinholeIntrinsics intrinsics{};                          ///< depth images: the camera
     float min_range = 0.0F;   ///< readings nearer than this (metres, along the ray) are skipped
     float max_range = 10.0F;  ///< readings farther than this are skipped
 };
@@ -65,6 +73,28 @@ struct SensorReading {
 /// width * height. Errors: kNonFiniteValue, kInvalidArgument,
 /// kCapacityExceeded, kMalformedInput (size mismatch).
 [[nodiscard]] Status validate_sensor_reading(const SensorReading& reading) noexcept;
+
+/// True for the two depth-image kinds (kDepthImage, kDepthImageU16).
+[[nodiscard]] constexpr bool is_depth_image(SensorDataKind kind) noexcept {
+    return kind == SensorDataKind::kDepthImage || kind == SensorDataKind::kDepthImageU16;
+}
+
+/// Depth of pixel @p i (row-major) of a validated depth-image reading, in
+/// metres, as every fusion path reads it: kDepthImage the float as stored;
+/// kDepthImageU16 NaN for raw 0 (no reading), else float(raw * scale +
+/// offset) computed in double (one rounding, the same on every target).
+/// Reads the caller's buffer in place: no converted copy of the image.
+[[nodiscard]] inline float depth_value(const SensorReading& reading, std::size_t i) noexcept {
+    if (reading.kind == SensorDataKind::kDepthImageU16) {
+        const std::uint16_t raw = reading.depth_u16[i];
+        if (raw == 0U) {
+            return std::numeric_limits<float>::quiet_NaN();
+        }
+        return static_cast<float>(static_cast<double>(raw) * static_cast<double>(reading.depth_scale) +
+                                  static_cast<double>(reading.depth_offset));
+    }
+    return reading.depth[i];
+}
 
 /// A 64-bit fingerprint of a reading's data: the bit patterns of every depth
 /// value (kDepthImage) or point coordinate (kPointSet), in order, and their

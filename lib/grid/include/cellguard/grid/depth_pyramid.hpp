@@ -1,0 +1,102 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+/// @file depth_pyramid.hpp
+/// Min/max pyramids of one depth image, so that footprint fusion
+/// (footprint_fusion.hpp) learns the nearest and farthest reading in any
+/// pixel rectangle, and whether it holds a pixel without a reading, in
+/// constant time.
+///
+/// Level 0 is the image: a pixel's depth (metres, along the optical axis) in
+/// both pyramids when it holds a valid reading, else +inf in the min pyramid,
+/// -inf in the max pyramid and a 1 in the invalid pyramid. Level L + 1 holds
+/// per cell the min, the max and the OR of the 2 x 2 cells of level L below
+/// it (a cell at an odd edge covers 1 or 2). Level L's cell (i, j) thus
+/// covers pixels [i * 2^L, (i + 1) * 2^L) x [j * 2^L, (j + 1) * 2^L).
+///
+/// query() answers for a superset of the asked rectangle: the at most 2 x 2
+/// cells of the lowest level whose cell is at least as large as the
+/// rectangle. Its min is at most, and its max at least, the rectangle's
+/// own; its invalid flag is set when the rectangle's is. Every decision
+/// footprint fusion takes from a query is therefore on the safe side of the
+/// rectangle's true values (see there). Storage is the caller's.
+#ifndef CELLGUARD_DEPTH_PYRAMID_HPP
+#define CELLGUARD_DEPTH_PYRAMID_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "cellguard/base/result.hpp"
+#include "cellguard/base/span.hpp"
+
+namespace cellguard {
+
+/// Most levels of a pyramid (level 0 = the image; 2^12 > kMaxDimension of an image side).
+constexpr std::int32_t kMaxPyramidLevels = 13;
+
+/// What a pyramid query found over (a superset of) a rectangle.
+struct DepthRange {
+    float min = 0.0F;          ///< nearest valid reading; +inf when none
+    float max = 0.0F;          ///< farthest valid reading; -inf when none
+    bool any_invalid = false;  ///< some pixel has no valid reading
+    /// True when no pixel has a valid reading.
+    [[nodiscard]] bool empty() const noexcept { return !(min <= max); }
+};
+
+/// Cells of all levels of a pyramid over a @p width x @p height image: the
+/// size of each of the three storage spans (0 for a non-positive size).
+[[nodiscard]] std::size_t depth_pyramid_cells(std::int32_t width, std::int32_t height) noexcept;
+
+/// Min/max pyramids over caller storage (see the file comment).
+class DepthPyramid {
+public:
+    /// A pyramid with no storage (placeholder only).
+    DepthPyramid() noexcept = default;
+
+    /// Binds storage for a @p width x @p height image. Errors:
+    /// kInvalidArgument for a non-positive size or a side above 4096,
+    /// kStorageTooSmall when a span holds fewer than depth_pyramid_cells().
+    static Result<DepthPyramid> make(std::int32_t width, std::int32_t height, Span<float> min_storage,
+                                     Span<float> max_storage, Span<std::uint8_t> invalid_storage) noexcept;
+
+    /// Level 0, written by the caller: pixel (u, v) holds depth @p d (valid
+    /// reading) or none (@p valid false).
+    void set_pixel(std::int32_t u, std::int32_t v, float d, bool valid) noexcept {
+        const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(u);
+        min_[i] = valid ? d : kInfinity;
+        max_[i] = valid ? d : -kInfinity;
+        invalid_[i] = valid ? 0U : 1U;
+    }
+    /// Builds levels 1.. from level 0. Work: fewer than depth_pyramid_cells() cells.
+    void build_levels() noexcept;
+
+    /// Min, max and the invalid flag over a superset of pixel rectangle
+    /// [u0, u1] x [v0, v1] (inclusive, 0 <= u0 <= u1 < width, same for v:
+    /// checked by CG_ASSERT). Constant time: at most four cells.
+    [[nodiscard]] DepthRange query(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept;
+
+    /// Level-0 depth of pixel (u, v), or +inf when it has no valid reading.
+    [[nodiscard]] float depth(std::int32_t u, std::int32_t v) const noexcept {
+        return min_[static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(u)];
+    }
+    /// Image columns.
+    [[nodiscard]] std::int32_t width() const noexcept { return width_; }
+    /// Image rows.
+    [[nodiscard]] std::int32_t height() const noexcept { return height_; }
+
+private:
+    static constexpr float kInfinity = std::numeric_limits<float>::infinity();
+    std::int32_t width_ = 0;
+    std::int32_t height_ = 0;
+    std::int32_t levels_ = 0;
+    std::int32_t level_width_[kMaxPyramidLevels] = {};
+    std::int32_t level_height_[kMaxPyramidLevels] = {};
+    std::size_t level_offset_[kMaxPyramidLevels] = {};
+    Span<float> min_{};
+    Span<float> max_{};
+    Span<std::uint8_t> invalid_{};
+};
+
+}  // namespace cellguard
+
+#endif  // CELLGUARD_DEPTH_PYRAMID_HPP
