@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "reading_class.hpp"
+
 namespace cellguard {
 
 void FusionStats::add(const FusionStats& other) noexcept {
@@ -70,44 +72,15 @@ void pool_opinions(EvidenceGrid& grid, Span<const std::int16_t> opinions, const 
 
 namespace {
 
-enum class ReadingClass : std::uint8_t { kValid, kNan, kInfinite, kZero, kBehind, kOutOfRange };
-
-ReadingClass classify_point(const Eigen::Vector3f& p, float min_range, float max_range) noexcept {
-    if (std::isnan(p.x()) || std::isnan(p.y()) || std::isnan(p.z())) {
-        return ReadingClass::kNan;
-    }
-    if (std::isinf(p.x()) || std::isinf(p.y()) || std::isinf(p.z())) {
-        return ReadingClass::kInfinite;
-    }
-    if (p.x() == 0.0F && p.y() == 0.0F && p.z() == 0.0F) {
-        return ReadingClass::kZero;
-    }
-    if (p.z() < 0.0F) {
-        return ReadingClass::kBehind;
-    }
-    const float range = p.norm();
-    if (range < min_range || range > max_range) {
-        return ReadingClass::kOutOfRange;
-    }
-    return ReadingClass::kValid;
-}
-
-void count(FusionStats& s, ReadingClass c) noexcept {
-    switch (c) {
-        case ReadingClass::kValid: break;
-        case ReadingClass::kNan: ++s.skipped_nan; break;
-        case ReadingClass::kInfinite: ++s.skipped_infinite; break;
-        case ReadingClass::kZero: ++s.skipped_zero; break;
-        case ReadingClass::kBehind: ++s.skipped_behind; break;
-        case ReadingClass::kOutOfRange: ++s.skipped_out_of_range; break;
-    }
-}
+using detail::classify_point;
+using detail::count_skipped;
+using detail::ReadingClass;
 
 void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& r, const Eigen::Vector3f& p,
                 const SensorModelTable& model, Rasterization rasterization, FusionStats& s) noexcept {
     const ReadingClass c = classify_point(p, r.min_range, r.max_range);
     if (c != ReadingClass::kValid) {
-        count(s, c);
+        count_skipped(s, c);
         return;
     }
     bool in_grid = false;
@@ -135,13 +108,9 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
         for (std::int32_t u = 0; u < k.width; ++u, ++i) {
             const float d = reading.depth[i];
             // Classify the raw depth first: 0 * inf would hide an infinity as NaN.
-            const ReadingClass raw = std::isnan(d)   ? ReadingClass::kNan
-                                     : std::isinf(d) ? ReadingClass::kInfinite
-                                     : d == 0.0F     ? ReadingClass::kZero
-                                     : d < 0.0F      ? ReadingClass::kBehind
-                                                     : ReadingClass::kValid;
+            const ReadingClass raw = detail::classify_depth(d);
             if (raw != ReadingClass::kValid) {
-                count(s, raw);
+                count_skipped(s, raw);
                 continue;
             }
             fuse_point(opinions, g, reading, depth_pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/safety/cycle.hpp"
 
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
 #include "cellguard/robot/robot_mask.hpp"
 
@@ -12,8 +13,8 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
     CycleWorkBound b;
     std::uint64_t depth_images = 0U;
     for (const SensorReading& s : sensors) {
-        depth_images += s.kind == SensorDataKind::kDepthImage ? 1U : 0U;
-        const std::uint64_t n = s.kind == SensorDataKind::kDepthImage
+        depth_images += is_depth_image(s.kind) ? 1U : 0U;
+        const std::uint64_t n = is_depth_image(s.kind)
                                     ? static_cast<std::uint64_t>(s.intrinsics.width > 0 ? s.intrinsics.width : 0) *
                                           static_cast<std::uint64_t>(s.intrinsics.height > 0 ? s.intrinsics.height : 0)
                                     : static_cast<std::uint64_t>(s.points.size());
@@ -32,6 +33,24 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
     b.grid_voxels += 2U * voxels;  // the mask's rewrite, the separation's pass
     b.robot_mask_tests = robot_mask_work_bound(robot, mask_margin_m, grid.voxel_size());
     b.separation_distances = voxels * static_cast<std::uint64_t>(robot.capsule_count);
+    return b;
+}
+
+CycleWorkBound with_footprint_fusion(CycleWorkBound b, const GridGeometry& grid, Span<const SensorReading> sensors,
+                                     const FootprintParams& params) noexcept {
+    const std::uint64_t per_ray = max_voxels_per_segment(grid);
+    for (const SensorReading& s : sensors) {
+        if (!is_depth_image(s.kind)) {
+            continue;
+        }
+        const std::uint64_t pixels = s.intrinsics.width > 0 && s.intrinsics.height > 0
+                                         ? static_cast<std::uint64_t>(s.intrinsics.width) *
+                                               static_cast<std::uint64_t>(s.intrinsics.height)
+                                         : 0U;
+        b.voxel_steps -= pixels * per_ray;
+        b.footprint_units += footprint_work_bound(grid, pixels, params);
+        b.grid_voxels += static_cast<std::uint64_t>(grid.voxel_count());
+    }
     return b;
 }
 

@@ -198,24 +198,39 @@ bool SafetyController::shows_background(const SensorInput& input) noexcept {
     return m.ok() && background_seen(m.value(), input.background->min_match_fraction);
 }
 
+bool SafetyController::accept_frame(std::size_t slot, const SensorInput& s, std::uint64_t now,
+                                    std::uint32_t& faults) noexcept {
+    if (!s.present) {
+        faults |= fault_bit(Fault::kSensorMissing);
+        return false;
+    }
+    if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us || frame_is_frozen(slot, s)) {
+        faults |= fault_bit(Fault::kSensorStale);
+        return false;
+    }
+    if (!shows_background(s)) {
+        faults |= fault_bit(Fault::kFrameInconsistent);
+        return false;
+    }
+    return true;
+}
+
 std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now,
                                              FusionStats& stats) noexcept {
     std::uint32_t faults = 0U;
     if (sensors.size() != config_.sensor_count) {
         faults |= fault_bit(Fault::kSensorMissing);
     }
+    const bool footprint = config_.footprint.method == FusionMethod::kFootprint;
+    std::array<SensorReading, kMaxSensors> images{};
+    std::size_t image_count = 0U;
     for (std::size_t slot = 0U; slot < sensors.size(); ++slot) {
         const SensorInput& s = sensors[slot];
-        if (!s.present) {
-            faults |= fault_bit(Fault::kSensorMissing);
+        if (!accept_frame(slot, s, now, faults)) {
             continue;
         }
-        if (s.captured_us > now || now - s.captured_us > config_.max_frame_age_us || frame_is_frozen(slot, s)) {
-            faults |= fault_bit(Fault::kSensorStale);
-            continue;
-        }
-        if (!shows_background(s)) {
-            faults |= fault_bit(Fault::kFrameInconsistent);
+        if (footprint && is_depth_image(s.reading.kind) && image_count < images.size()) {
+            images[image_count++] = s.reading;  // fused together below
             continue;
         }
         const Result<FusionStats> r = (s.table != nullptr && s.reading.kind == SensorDataKind::kDepthImage)
@@ -226,6 +241,17 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
             continue;
         }
         stats.add(r.value());
+    }
+    if (image_count > 0U) {
+        TaskRunner& runner = config_.footprint.runner != nullptr ? *config_.footprint.runner : sequential_;
+        const Result<FusionStats> r =
+            fuse_frame_footprint(*grid_, Span<const SensorReading>(images.data(), image_count), *model_,
+                                 config_.footprint.params, config_.footprint.workspaces, runner);
+        if (!r.ok()) {
+            faults |= fault_bit(Fault::kFrameInconsistent);  // none of them fused: the grid is untouched
+        } else {
+            stats.add(r.value());
+        }
     }
     return faults;
 }

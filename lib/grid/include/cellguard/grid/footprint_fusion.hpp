@@ -23,12 +23,11 @@
 ///    - behind the camera, no pixel centre, no valid reading, or every
 ///      reading nearer than z_min: no opinion for the whole box. Exact: no
 ///      ray reaches the box.
-///    - every reading beyond z_max, no pixel without a reading, the box inside
-///      the image, and every voxel of it resolved (each voxel's inner square,
-///      see below, holds a pixel centre): each voxel of the box gets the free
-///      value free_evidence(min - z_max) unless it holds a hit. Exact when
-///      min - z_max >= ramp_length (the constant p_miss); within the ramp the
-///      value is weaker (nearer 0.5) than the exact one, never stronger.
+///    - every reading at least ramp_length beyond z_max, no pixel without a
+///      reading, the box inside the image, and every voxel of it resolved
+///      (each voxel's inner square, see below, holds a pixel centre): each
+///      voxel of the box gets the constant free value (p_miss). Exact: a ray
+///      crosses each voxel and every ray that does passes it by the ramp.
 ///    - otherwise the box is split; a single voxel goes to step 3.
 /// 3. A voxel the box pass could not decide (mixed footprint, readings
 ///    missing, at the image border) and that holds no hit:
@@ -39,9 +38,11 @@
 ///      fuse_sensor computes it (free_evidence of the distance from where the
 ///      ray leaves the voxel to its reading), or no opinion when none passes;
 ///    - otherwise on the safe side: when a valid reading of its inner square
-///      lies beyond z_max, the weakest free value free_evidence(0) (a ray
-///      provably crosses the voxel and passes it, but the value of the others
-///      is not known); else no opinion (unknown, never taken for empty).
+///      (at most 4 x 4 of its pixels probed) lies beyond z_max, a ray provably
+///      crosses the voxel and passes it: free_evidence(min - z_max) when every
+///      reading of the footprint lies beyond z_max, else the weakest free
+///      value free_evidence(0) (the other rays' values are not known); when
+///      none is found, no opinion (unknown, never taken for empty).
 ///    The inner square is the square of half-width (s / 2) / (D * c) pixels
 ///    around the projected voxel centre (s: voxel size, D: distance from the
 ///    camera to the centre, c = sqrt(1/fx^2 + 1/fy^2)): every pixel ray
@@ -118,7 +119,7 @@ struct FootprintWorkspace {
 /// Bound on one sensor's work units in a frame: 2 x its pixels (hit pass,
 /// pyramid) + footprint_box_count + params.exact_pixel_budget +
 /// exact_footprint_max (the last voxel may start below the budget).
-[[nodiscard]] std::uint64_t footprint_work_bound(const GridGeometry& grid, std::int32_t pixels,
+[[nodiscard]] std::uint64_t footprint_work_bound(const GridGeometry& grid, std::uint64_t pixels,
                                                  const FootprintParams& params) noexcept;
 
 /// One sensor's opinions (steps 1 to 3) into @p work.opinions, which is

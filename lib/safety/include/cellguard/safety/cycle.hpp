@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/robot/robot_model.hpp"
@@ -42,6 +43,7 @@ struct CycleWorkBound {
     std::uint64_t zone_updates = 0U;  ///< zone counter updates (sum of zone voxel counts)
     std::uint64_t robot_mask_tests = 0U;      ///< voxel tests of the robot mask (robot_mask_work_bound)
     std::uint64_t separation_distances = 0U;  ///< voxel-to-capsule distances of separation (voxels x capsules)
+    std::uint64_t footprint_units = 0U;  ///< footprint fusion's work units (footprint_work_bound), when it fuses
 };
 
 /// The bound for @p grid, the sensors described by @p sensors (their pixel
@@ -65,6 +67,14 @@ struct CycleWorkBound {
 [[nodiscard]] CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorReading> sensors,
                                                 const CompiledZones& zones, const RobotModel& robot,
                                                 double mask_margin_m) noexcept;
+
+/// The bound @p b for a cycle that fuses its depth images by footprint
+/// fusion with @p params: their rays leave voxel_steps (point sets stay),
+/// and footprint_units gets footprint_work_bound per depth image, plus one
+/// pass over the grid each (the pooling of its opinions).
+[[nodiscard]] CycleWorkBound with_footprint_fusion(CycleWorkBound b, const GridGeometry& grid,
+                                                   Span<const SensorReading> sensors,
+                                                   const FootprintParams& params) noexcept;
 
 /// Durations of one cycle, microseconds.
 struct CycleTiming {

@@ -68,6 +68,8 @@
 #include <cstdint>
 
 #include "cellguard/base/ram_check.hpp"
+#include "cellguard/base/task_runner.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/ray_table.hpp"
 #include "cellguard/robot/kinematics.hpp"
@@ -111,6 +113,24 @@ struct RobotCellConfig {
     Span<std::uint8_t> mask{};      ///< robot mask storage, one byte per voxel (at least the grid's voxels)
 };
 
+/// How the cycle fuses its depth images.
+enum class FusionMethod : std::uint8_t {
+    kRay = 0,        ///< per ray (fuse_sensor), or through the sensor's ray table when it has one: the reference
+    kFootprint = 1,  ///< footprint fusion (footprint_fusion.hpp) for depth images; point sets stay per ray
+};
+
+/// Footprint fusion's settings and working memory for the cycle.
+struct FootprintFusionConfig {
+    FusionMethod method = FusionMethod::kRay;  ///< kFootprint turns it on
+    FootprintParams params{};                  ///< its exact-evaluation limits
+    /// One workspace per sensor lets the sensors run as parallel tasks; one
+    /// suffices (sensor after sensor). Empty: every depth image is refused
+    /// (kFrameInconsistent) while the method is kFootprint.
+    Span<const FootprintWorkspace> workspaces{};
+    /// The port's runner (port/linux: WorkerPool); nullptr: one core, in order.
+    TaskRunner* runner = nullptr;
+};
+
 /// Configuration of the cycle executive.
 struct ControllerConfig {
     SafetyLogicConfig logic{};                 ///< safety logic and restart interlock
@@ -128,6 +148,7 @@ struct ControllerConfig {
     std::size_t table_check_slice_bytes = 262144U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)
     std::size_t zone_check_slice_bytes = 16384U;    ///< bytes of the zone membership mask re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
+    FootprintFusionConfig footprint{};                    ///< footprint fusion of depth images, if chosen
     RobotCellConfig robot{};                              ///< the robot, if any
     /// The monitoring cases (copied at construction); nullptr: one case 0 = all zones.
     const MonitoringCases* cases = nullptr;
@@ -173,6 +194,8 @@ public:
 
 private:
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
+    [[nodiscard]] bool accept_frame(std::size_t slot, const SensorInput& s, std::uint64_t now,
+                                    std::uint32_t& faults) noexcept;
     bool step_zone_checks() noexcept;
     std::uint32_t step_integrity_checks(Span<const SensorInput> sensors) noexcept;
     [[nodiscard]] std::uint32_t robot_settings_crc() const noexcept;
@@ -209,6 +232,7 @@ private:
     ControllerConfig config_;
     EvidenceGrid* grid_;
     Span<std::int16_t> scratch_;  ///< fuse_sensor's working memory
+    SequentialRunner sequential_{};  ///< footprint fusion's runner when the port gives none
     Span<const std::int16_t> prior_;
     const CompiledZones* zones_;
     const SensorModelTable* model_;

@@ -1,0 +1,124 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+#include "cellguard/grid/depth_pyramid.hpp"
+
+namespace cellguard {
+
+namespace {
+
+constexpr std::int32_t kMaxImageSide = 4096;
+
+std::int32_t halve_up(std::int32_t n) noexcept { return (n + 1) / 2; }
+
+}  // namespace
+
+std::size_t depth_pyramid_cells(std::int32_t width, std::int32_t height) noexcept {
+    if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide) {
+        return 0U;
+    }
+    std::size_t cells = 0U;
+    std::int32_t w = width;
+    std::int32_t h = height;
+    for (std::int32_t level = 0; level < kMaxPyramidLevels; ++level) {
+        cells += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+        if (w == 1 && h == 1) {
+            break;
+        }
+        w = halve_up(w);
+        h = halve_up(h);
+    }
+    return cells;
+}
+
+Result<DepthPyramid> DepthPyramid::make(std::int32_t width, std::int32_t height, Span<float> min_storage,
+                                        Span<float> max_storage, Span<std::uint8_t> invalid_storage) noexcept {
+    const std::size_t cells = depth_pyramid_cells(width, height);
+    if (cells == 0U) {
+        return ErrorCode::kInvalidArgument;
+    }
+    if (min_storage.size() < cells || max_storage.size() < cells || invalid_storage.size() < cells) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    DepthPyramid p;
+    p.width_ = width;
+    p.height_ = height;
+    std::int32_t w = width;
+    std::int32_t h = height;
+    std::size_t offset = 0U;
+    for (std::int32_t level = 0; level < kMaxPyramidLevels; ++level) {
+        p.level_width_[level] = w;
+        p.level_height_[level] = h;
+        p.level_offset_[level] = offset;
+        p.levels_ = level + 1;
+        offset += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+        if (w == 1 && h == 1) {
+            break;
+        }
+        w = halve_up(w);
+        h = halve_up(h);
+    }
+    p.min_ = min_storage.subspan(0U, cells);
+    p.max_ = max_storage.subspan(0U, cells);
+    p.invalid_ = invalid_storage.subspan(0U, cells);
+    return p;
+}
+
+void DepthPyramid::build_levels() noexcept {
+    for (std::int32_t level = 1; level < levels_; ++level) {
+        const std::int32_t sw = level_width_[level - 1];
+        const std::int32_t sh = level_height_[level - 1];
+        const std::size_t src = level_offset_[level - 1];
+        const std::size_t dst = level_offset_[level];
+        const std::int32_t w = level_width_[level];
+        const std::int32_t h = level_height_[level];
+        for (std::int32_t j = 0; j < h; ++j) {
+            const std::int32_t r0 = 2 * j;
+            const std::int32_t r1 = (r0 + 1 < sh) ? r0 + 1 : r0;
+            const std::size_t row0 = src + static_cast<std::size_t>(r0) * static_cast<std::size_t>(sw);
+            const std::size_t row1 = src + static_cast<std::size_t>(r1) * static_cast<std::size_t>(sw);
+            const std::size_t out = dst + static_cast<std::size_t>(j) * static_cast<std::size_t>(w);
+            for (std::int32_t i = 0; i < w; ++i) {
+                const std::size_t c0 = static_cast<std::size_t>(2 * i);
+                const std::size_t c1 = (2 * i + 1 < sw) ? c0 + 1U : c0;
+                const float mn0 = min_[row0 + c0] < min_[row0 + c1] ? min_[row0 + c0] : min_[row0 + c1];
+                const float mn1 = min_[row1 + c0] < min_[row1 + c1] ? min_[row1 + c0] : min_[row1 + c1];
+                const float mx0 = max_[row0 + c0] > max_[row0 + c1] ? max_[row0 + c0] : max_[row0 + c1];
+                const float mx1 = max_[row1 + c0] > max_[row1 + c1] ? max_[row1 + c0] : max_[row1 + c1];
+                const std::size_t o = out + static_cast<std::size_t>(i);
+                min_[o] = mn0 < mn1 ? mn0 : mn1;
+                max_[o] = mx0 > mx1 ? mx0 : mx1;
+                invalid_[o] = static_cast<std::uint8_t>(invalid_[row0 + c0] | invalid_[row0 + c1] | invalid_[row1 + c0] |
+                                                        invalid_[row1 + c1]);
+            }
+        }
+    }
+}
+
+DepthRange DepthPyramid::query(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept {
+    CG_ASSERT(u0 >= 0 && v0 >= 0 && u0 <= u1 && v0 <= v1 && u1 < width_ && v1 < height_, "pyramid query outside");
+    // The lowest level whose cells are at least as large as the rectangle:
+    // the rectangle then spans at most two cells per axis.
+    const std::int32_t extent = (u1 - u0 > v1 - v0 ? u1 - u0 : v1 - v0) + 1;
+    std::int32_t level = 0;
+    while ((std::int32_t{1} << level) < extent && level + 1 < levels_) {
+        ++level;
+    }
+    const std::int32_t i0 = u0 >> level;
+    const std::int32_t i1 = u1 >> level;
+    const std::int32_t j0 = v0 >> level;
+    const std::int32_t j1 = v1 >> level;
+    const std::size_t base = level_offset_[level];
+    const std::size_t w = static_cast<std::size_t>(level_width_[level]);
+    DepthRange r{kInfinity, -kInfinity, false};
+    for (std::int32_t j = j0; j <= j1; ++j) {
+        for (std::int32_t i = i0; i <= i1; ++i) {
+            const std::size_t c = base + static_cast<std::size_t>(j) * w + static_cast<std::size_t>(i);
+            r.min = min_[c] < r.min ? min_[c] : r.min;
+            r.max = max_[c] > r.max ? max_[c] : r.max;
+            r.any_invalid = r.any_invalid || invalid_[c] != 0U;
+        }
+    }
+    return r;
+}
+
+}  // namespace cellguard

@@ -1,0 +1,550 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+#include "cellguard/grid/footprint_fusion.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "reading_class.hpp"
+
+namespace cellguard {
+
+void FootprintStats::add(const FootprintStats& other) noexcept {
+    boxes += other.boxes;
+    voxels_filled += other.voxels_filled;
+    voxels_exact += other.voxels_exact;
+    voxels_safe_side += other.voxels_safe_side;
+    pixel_tests += other.pixel_tests;
+}
+
+namespace {
+
+/// A corner nearer the image plane than this (metres along the optical axis)
+/// makes a box "crossed by the image plane": it has no finite footprint.
+constexpr double kMinCornerDepth = 1e-3;
+/// Widening of a footprint (pixels) and of a depth interval (metres), so that
+/// rounding in the projection can only make a footprint larger.
+constexpr double kPixelSlack = 1e-4;
+constexpr double kDepthSlack = 1e-6;
+/// At most this many pixels of an inner square are probed by the safe-side rule (4 x 4).
+constexpr std::int32_t kInnerProbeSide = 4;
+/// Depth of the box stack: 12 halvings reach one voxel from kMaxDimension,
+/// each level holds at most 7 pending siblings.
+constexpr std::size_t kStackSize = 7U * 13U + 8U;
+
+/// A box of voxels [lo, hi) per axis.
+struct Box {
+    std::array<std::int32_t, 3> lo{};
+    std::array<std::int32_t, 3> hi{};
+    [[nodiscard]] bool is_voxel() const noexcept {
+        return hi[0] - lo[0] == 1 && hi[1] - lo[1] == 1 && hi[2] - lo[2] == 1;
+    }
+};
+
+/// A box's projection into the image.
+struct Footprint {
+    bool behind = false;     ///< every corner at or behind the image plane
+    bool crossed = false;    ///< some corner at or behind it (no finite footprint)
+    bool empty = true;       ///< no pixel centre in the image lies in the bounding box
+    bool in_image = false;   ///< the unclipped bounding box lies inside the image
+    std::int32_t u0 = 0;     ///< pixel-centre rectangle, clipped to the image
+    std::int32_t v0 = 0;
+    std::int32_t u1 = -1;
+    std::int32_t v1 = -1;
+    double z_min = 0.0;      ///< nearest corner along the optical axis
+    double z_max = 0.0;      ///< farthest corner along the optical axis
+    double d_max = 0.0;      ///< farthest corner from the camera centre
+};
+
+/// One sensor's geometry against the grid, and its pass's state.
+class SensorPass {
+public:
+    SensorPass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
+               const FootprintParams& params, const DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept
+        : grid_(g), reading_(r), model_(model), params_(params), pyramid_(pyramid), opinions_(opinions) {
+        const Eigen::Matrix3d rt = r.pose.linear().transpose();
+        const double s = g.voxel_size();
+        base_ = rt * (g.origin() - r.pose.translation());
+        axis_[0] = rt * Eigen::Vector3d(s, 0.0, 0.0);
+        axis_[1] = rt * Eigen::Vector3d(0.0, s, 0.0);
+        axis_[2] = rt * Eigen::Vector3d(0.0, 0.0, s);
+        const PinholeIntrinsics& k = r.intrinsics;
+        pixel_angle_ = std::sqrt(1.0 / (k.fx * k.fx) + 1.0 / (k.fy * k.fy));
+        budget_ = params.exact_pixel_budget;
+    }
+
+    /// Steps 2 and 3 of the file comment over the whole grid.
+    void run() noexcept;
+    [[nodiscard]] const FootprintStats& stats() const noexcept { return stats_; }
+
+private:
+    [[nodiscard]] Eigen::Vector3d lattice(double i, double j, double k) const noexcept {
+        return base_ + i * axis_[0] + j * axis_[1] + k * axis_[2];
+    }
+    [[nodiscard]] Footprint project(const Box& b) const noexcept;
+    /// True when the box is decided as a whole (none or filled).
+    bool decide_box(const Box& b, const Footprint& f, const DepthRange& q) noexcept;
+    void decide_voxel(const Box& b, const Footprint& f, const DepthRange& q) noexcept;
+    [[nodiscard]] std::int16_t exact_opinion(const Box& b, const Footprint& f) noexcept;
+    [[nodiscard]] bool inner_square_passes(const Box& b, double z_max) const noexcept;
+    void fill(const Box& b, std::int16_t value) noexcept;
+    void raise(std::size_t index, std::int16_t value) noexcept {
+        std::int16_t& o = opinions_[index];
+        o = value > o ? value : o;
+    }
+
+    const GridGeometry& grid_;
+    const SensorReading& reading_;
+    const SensorModelTable& model_;
+    const FootprintParams& params_;
+    const DepthPyramid& pyramid_;
+    Span<std::int16_t> opinions_;
+    Eigen::Vector3d base_;
+    std::array<Eigen::Vector3d, 3> axis_;
+    double pixel_angle_ = 0.0;
+    std::uint64_t budget_ = 0U;
+    FootprintStats stats_{};
+};
+
+Footprint SensorPass::project(const Box& b) const noexcept {
+    Footprint f;
+    const PinholeIntrinsics& k = reading_.intrinsics;
+    double u_min = std::numeric_limits<double>::infinity();
+    double v_min = u_min;
+    double u_max = -u_min;
+    double v_max = -u_min;
+    f.z_min = u_min;
+    f.z_max = -u_min;
+    std::int32_t behind = 0;
+    for (std::int32_t c = 0; c < 8; ++c) {
+        const Eigen::Vector3d p = lattice((c & 1) != 0 ? b.hi[0] : b.lo[0], (c & 2) != 0 ? b.hi[1] : b.lo[1],
+                                          (c & 4) != 0 ? b.hi[2] : b.lo[2]);
+        f.z_min = p.z() < f.z_min ? p.z() : f.z_min;
+        f.z_max = p.z() > f.z_max ? p.z() : f.z_max;
+        const double d = p.norm();
+        f.d_max = d > f.d_max ? d : f.d_max;
+        if (p.z() <= kMinCornerDepth) {
+            ++behind;
+            continue;
+        }
+        const double inv_z = 1.0 / p.z();
+        const double u = k.fx * p.x() * inv_z + k.cx;
+        const double v = k.fy * p.y() * inv_z + k.cy;
+        u_min = u < u_min ? u : u_min;
+        u_max = u > u_max ? u : u_max;
+        v_min = v < v_min ? v : v_min;
+        v_max = v > v_max ? v : v_max;
+    }
+    f.behind = behind == 8;
+    f.crossed = behind > 0;
+    if (f.crossed) {
+        return f;
+    }
+    const double w_last = static_cast<double>(k.width - 1);
+    const double h_last = static_cast<double>(k.height - 1);
+    f.in_image = u_min >= 0.0 && v_min >= 0.0 && u_max <= w_last && v_max <= h_last;
+    const double cu0 = std::ceil(u_min - kPixelSlack);
+    const double cu1 = std::floor(u_max + kPixelSlack);
+    const double cv0 = std::ceil(v_min - kPixelSlack);
+    const double cv1 = std::floor(v_max + kPixelSlack);
+    if (cu1 < 0.0 || cv1 < 0.0 || cu0 > w_last || cv0 > h_last || cu0 > cu1 || cv0 > cv1) {
+        return f;
+    }
+    f.u0 = static_cast<std::int32_t>(cu0 > 0.0 ? cu0 : 0.0);
+    f.v0 = static_cast<std::int32_t>(cv0 > 0.0 ? cv0 : 0.0);
+    f.u1 = static_cast<std::int32_t>(cu1 < w_last ? cu1 : w_last);
+    f.v1 = static_cast<std::int32_t>(cv1 < h_last ? cv1 : h_last);
+    f.empty = false;
+    return f;
+}
+
+void SensorPass::fill(const Box& b, std::int16_t value) noexcept {
+    const GridDims d = grid_.dims();
+    for (std::int32_t z = b.lo[2]; z < b.hi[2]; ++z) {
+        for (std::int32_t y = b.lo[1]; y < b.hi[1]; ++y) {
+            const std::size_t row = static_cast<std::size_t>(d.nx) *
+                                    (static_cast<std::size_t>(y) + static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
+            for (std::int32_t x = b.lo[0]; x < b.hi[0]; ++x) {
+                raise(row + static_cast<std::size_t>(x), value);
+            }
+        }
+    }
+    stats_.voxels_filled += static_cast<std::uint64_t>(b.hi[0] - b.lo[0]) *
+                            static_cast<std::uint64_t>(b.hi[1] - b.lo[1]) * static_cast<std::uint64_t>(b.hi[2] - b.lo[2]);
+}
+
+bool SensorPass::decide_box(const Box& b, const Footprint& f, const DepthRange& q) noexcept {
+    if (q.empty() || static_cast<double>(q.max) < f.z_min - kDepthSlack) {
+        return true;  // no valid reading, or every ray ends in front of the box: no opinion
+    }
+    const double beyond = static_cast<double>(q.min) - f.z_max;
+    if (beyond >= model_.ramp_length() + kDepthSlack && !q.any_invalid && f.in_image &&
+        grid_.voxel_size() >= f.d_max * pixel_angle_) {
+        // Every voxel's inner square (half-width >= 0.5) holds a pixel centre
+        // of the image, whose ray crosses the voxel and passes it by at least
+        // the ramp: the constant free value, exactly. (A box within the ramp
+        // of a reading is split: its voxels get the exact ramp values.)
+        fill(b, model_.constant_free_evidence());
+        return true;
+    }
+    return false;
+}
+
+std::int16_t SensorPass::exact_opinion(const Box& b, const Footprint& f) noexcept {
+    const PinholeIntrinsics& k = reading_.intrinsics;
+    const Eigen::Matrix3d& r = reading_.pose.linear();
+    const Eigen::Vector3d o = reading_.pose.translation();
+    const double s = grid_.voxel_size();
+    const Eigen::Vector3d lo = grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]);
+    const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(s);
+    const double inv_fx = 1.0 / k.fx;
+    const double inv_fy = 1.0 / k.fy;
+    std::int16_t best = kNoOpinion;
+    for (std::int32_t v = f.v0; v <= f.v1; ++v) {
+        const double yn = (static_cast<double>(v) - k.cy) * inv_fy;
+        for (std::int32_t u = f.u0; u <= f.u1; ++u) {
+            const float d = pyramid_.depth(u, v);
+            if (!(d < std::numeric_limits<float>::infinity())) {
+                continue;  // no valid reading
+            }
+            const double xn = (static_cast<double>(u) - k.cx) * inv_fx;
+            const Eigen::Vector3d w = r.col(0) * xn + r.col(1) * yn + r.col(2);  // cell frame, per metre of depth
+            double t_in = -std::numeric_limits<double>::infinity();
+            double t_out = std::numeric_limits<double>::infinity();
+            for (std::int32_t a = 0; a < 3; ++a) {
+                if (w[a] == 0.0) {
+                    if (o[a] < lo[a] || o[a] >= hi[a]) {
+                        t_out = -1.0;  // parallel to the slab and outside it
+                    }
+                    continue;
+                }
+                const double t1 = (lo[a] - o[a]) / w[a];
+                const double t2 = (hi[a] - o[a]) / w[a];
+                t_in = std::fmax(t_in, std::fmin(t1, t2));
+                t_out = std::fmin(t_out, std::fmax(t1, t2));
+            }
+            if (!(t_in < t_out) || static_cast<double>(d) < t_out) {
+                continue;  // misses the voxel, or ends in front of or inside it (a hit is step 1's)
+            }
+            const double along = std::sqrt(xn * xn + yn * yn + 1.0);
+            const std::int16_t e = model_.free_evidence(along * (static_cast<double>(d) - t_out));
+            best = e > best ? e : best;
+        }
+    }
+    return best;
+}
+
+bool SensorPass::inner_square_passes(const Box& b, double z_max) const noexcept {
+    const PinholeIntrinsics& k = reading_.intrinsics;
+    const Eigen::Vector3d c = lattice(b.lo[0] + 0.5, b.lo[1] + 0.5, b.lo[2] + 0.5);
+    if (c.z() <= kMinCornerDepth) {
+        return false;
+    }
+    const double half = 0.5 * grid_.voxel_size() / (c.norm() * pixel_angle_);
+    const double uc = k.fx * c.x() / c.z() + k.cx;
+    const double vc = k.fy * c.y() / c.z() + k.cy;
+    const double iu0 = std::fmax(std::ceil(uc - half), 0.0);
+    const double iu1 = std::fmin(std::floor(uc + half), static_cast<double>(k.width - 1));
+    const double iv0 = std::fmax(std::ceil(vc - half), 0.0);
+    const double iv1 = std::fmin(std::floor(vc + half), static_cast<double>(k.height - 1));
+    if (!(iu0 <= iu1 && iv0 <= iv1)) {
+        return false;
+    }
+    const auto u0 = static_cast<std::int32_t>(iu0);
+    const auto v0 = static_cast<std::int32_t>(iv0);
+    const std::int32_t nu = static_cast<std::int32_t>(iu1) - u0 + 1;
+    const std::int32_t nv = static_cast<std::int32_t>(iv1) - v0 + 1;
+    const std::int32_t su = nu > kInnerProbeSide ? nu / kInnerProbeSide : 1;
+    const std::int32_t sv = nv > kInnerProbeSide ? nv / kInnerProbeSide : 1;
+    for (std::int32_t j = 0; j < kInnerProbeSide && j * sv < nv; ++j) {
+        for (std::int32_t i = 0; i < kInnerProbeSide && i * su < nu; ++i) {
+            const float d = pyramid_.depth(u0 + i * su, v0 + j * sv);
+            if (d < std::numeric_limits<float>::infinity() && static_cast<double>(d) > z_max + kDepthSlack) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+void SensorPass::decide_voxel(const Box& b, const Footprint& f, const DepthRange& q) noexcept {
+    const std::size_t index = grid_.index_of(VoxelCoord{b.lo[0], b.lo[1], b.lo[2]});
+    if (opinions_[index] == model_.reading_evidence()) {
+        return;  // a hit wins over every free value
+    }
+    const std::uint64_t area = static_cast<std::uint64_t>(f.u1 - f.u0 + 1) * static_cast<std::uint64_t>(f.v1 - f.v0 + 1);
+    if (area <= params_.exact_footprint_max && area <= budget_) {
+        budget_ -= area;
+        stats_.pixel_tests += area;
+        ++stats_.voxels_exact;
+        raise(index, exact_opinion(b, f));
+        return;
+    }
+    ++stats_.voxels_safe_side;
+    if (inner_square_passes(b, f.z_max)) {
+        const bool all_beyond = static_cast<double>(q.min) > f.z_max + kDepthSlack;
+        raise(index, model_.free_evidence(all_beyond ? static_cast<double>(q.min) - f.z_max : 0.0));
+    }
+}
+
+void SensorPass::run() noexcept {
+    const GridDims d = grid_.dims();
+    std::array<Box, kStackSize> stack{};
+    std::size_t top = 0U;
+    stack[top++] = Box{{0, 0, 0}, {d.nx, d.ny, d.nz}};
+    while (top > 0U) {
+        const Box b = stack[--top];
+        ++stats_.boxes;
+        const Footprint f = project(b);
+        if (f.behind || (f.crossed && b.is_voxel()) || (!f.crossed && f.empty)) {
+            continue;  // no pixel ray can cross the box (or the camera's own voxel: see the file comment)
+        }
+        if (!f.crossed) {
+            const DepthRange q = pyramid_.query(f.u0, f.v0, f.u1, f.v1);
+            if (decide_box(b, f, q)) {
+                continue;
+            }
+            if (b.is_voxel()) {
+                decide_voxel(b, f, q);
+                continue;
+            }
+        }
+        // Split every axis longer than one voxel; push the children in reverse
+        // so that they are taken in a fixed order (x fastest, low half first).
+        std::array<std::int32_t, 3> cuts{};
+        std::array<std::int32_t, 3> parts{};
+        for (std::size_t a = 0U; a < 3U; ++a) {
+            const std::int32_t n = b.hi[a] - b.lo[a];
+            parts[a] = n > 1 ? 2 : 1;
+            cuts[a] = b.lo[a] + n / 2;
+        }
+        for (std::int32_t c = parts[0] * parts[1] * parts[2] - 1; c >= 0; --c) {
+            const std::array<std::int32_t, 3> pick{c % parts[0], (c / parts[0]) % parts[1], c / (parts[0] * parts[1])};
+            Box child;
+            for (std::size_t a = 0U; a < 3U; ++a) {
+                const bool split = parts[a] == 2;
+                child.lo[a] = (split && pick[a] == 1) ? cuts[a] : b.lo[a];
+                child.hi[a] = (split && pick[a] == 0) ? cuts[a] : b.hi[a];
+            }
+            CG_ENFORCE(top < kStackSize, "footprint box stack");
+            stack[top++] = child;
+        }
+    }
+}
+
+/// Step 1: the hits, exactly as fuse_sensor places them, and level 0 of the pyramid.
+FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
+                     DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept {
+    FusionStats s;
+    const PinholeIntrinsics& k = r.intrinsics;
+    const double inv_fx = 1.0 / k.fx;
+    const double inv_fy = 1.0 / k.fy;
+    const std::int16_t hit = model.reading_evidence();
+    std::size_t i = 0U;
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u, ++i) {
+            const float d = depth_value(r, i);
+            detail::ReadingClass c = detail::classify_depth(d);
+            Eigen::Vector3f p = Eigen::Vector3f::Zero();
+            if (c == detail::ReadingClass::kValid) {
+                p = depth_pixel_point(k, inv_fx, inv_fy, u, v, d);
+                c = detail::classify_point(p, r.min_range, r.max_range);
+            }
+            if (c != detail::ReadingClass::kValid) {
+                detail::count_skipped(s, c);
+                pyramid.set_pixel(u, v, 0.0F, false);
+                continue;
+            }
+            pyramid.set_pixel(u, v, d, true);
+            ++s.rays_fused;
+            const VoxelCoord vc = g.world_to_voxel_unchecked(reading_in_cell(r.pose, p));
+            if (g.contains(vc)) {
+                opinions[g.index_of(vc)] = hit;
+                ++s.readings_in_grid;
+            }
+        }
+    }
+    return s;
+}
+
+/// The count of intervals after @p levels halvings of an axis of @p n voxels
+/// (an interval of one voxel is not halved further).
+std::uint64_t intervals_after(std::int32_t n, std::int32_t levels) noexcept {
+    if (levels == 0 || n <= 1) {
+        return 1U;
+    }
+    return intervals_after(n / 2, levels - 1) + intervals_after(n - n / 2, levels - 1);
+}
+
+}  // namespace
+
+std::uint64_t footprint_box_count(const GridGeometry& grid) noexcept {
+    const GridDims d = grid.dims();
+    if (grid.voxel_count() == 0U) {
+        return 0U;
+    }
+    std::int32_t depth = 0;
+    const std::int32_t longest = d.nx > d.ny ? (d.nx > d.nz ? d.nx : d.nz) : (d.ny > d.nz ? d.ny : d.nz);
+    while ((std::int32_t{1} << depth) < longest) {
+        ++depth;
+    }
+    // Nodes per level <= product of the axes' intervals at that level (an upper bound:
+    // it also counts single voxels that ended on an earlier level).
+    std::uint64_t total = 0U;
+    for (std::int32_t level = 0; level <= depth; ++level) {
+        total += intervals_after(d.nx, level) * intervals_after(d.ny, level) * intervals_after(d.nz, level);
+    }
+    return total;
+}
+
+std::uint64_t footprint_work_bound(const GridGeometry& grid, std::uint64_t pixels,
+                                   const FootprintParams& params) noexcept {
+    return 2U * pixels + footprint_box_count(grid) + params.exact_pixel_budget + params.exact_footprint_max;
+}
+
+Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorReading& reading,
+                                       const SensorModelTable& model, const FootprintParams& params,
+                                       const FootprintWorkspace& work, FootprintStats* stats) noexcept {
+    const Status valid = validate_sensor_reading(reading);
+    if (!valid.ok()) {
+        return valid.error();
+    }
+    if (!is_depth_image(reading.kind)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    const std::size_t n = grid.voxel_count();
+    if (work.opinions.size() < n) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    const Result<DepthPyramid> made = DepthPyramid::make(reading.intrinsics.width, reading.intrinsics.height,
+                                                      work.pyramid_min, work.pyramid_max, work.pyramid_invalid);
+    if (!made.ok()) {
+        return made.error();
+    }
+    const Span<std::int16_t> opinions = work.opinions.subspan(0U, n);
+    for (std::int16_t& e : opinions) {
+        e = kNoOpinion;
+    }
+    DepthPyramid pyramid = made.value();
+    const FusionStats s = hit_pass(grid, reading, model, pyramid, opinions);
+    pyramid.build_levels();
+    SensorPass pass(grid, reading, model, params, pyramid, opinions);
+    pass.run();
+    if (stats != nullptr) {
+        stats->add(pass.stats());
+    }
+    return s;
+}
+
+namespace {
+
+/// Voxels pooled by one task of fuse_frame_footprint's pooling.
+constexpr std::size_t kPoolChunk = std::size_t{1} << 16U;
+
+struct FrameJob {
+    const GridGeometry* grid = nullptr;
+    Span<const SensorReading> sensors{};
+    const SensorModelTable* model = nullptr;
+    const FootprintParams* params = nullptr;
+    Span<const FootprintWorkspace> workspaces{};
+    EvidenceGrid* target = nullptr;
+    std::array<FusionStats, kMaxSensors> fusion{};
+    std::array<FootprintStats, kMaxSensors> footprint{};
+    std::array<bool, kMaxSensors> ok{};
+};
+
+void sensor_task(void* context, std::size_t i) noexcept {
+    auto& job = *static_cast<FrameJob*>(context);
+    const Result<FusionStats> r = footprint_opinions(*job.grid, job.sensors[i], *job.model, *job.params,
+                                                     job.workspaces[i], &job.footprint[i]);
+    job.ok[i] = r.ok();
+    if (r.ok()) {
+        job.fusion[i] = r.value();
+    }
+}
+
+void pool_task(void* context, std::size_t chunk) noexcept {
+    auto& job = *static_cast<FrameJob*>(context);
+    std::int16_t* const lo = job.target->log_odds().data();
+    std::uint8_t* const obs = job.target->observed().data();
+    const std::size_t n = job.target->voxel_count();
+    const std::size_t begin = chunk * kPoolChunk;
+    const std::size_t end = begin + kPoolChunk < n ? begin + kPoolChunk : n;
+    for (std::size_t s = 0U; s < job.sensors.size(); ++s) {
+        const std::int16_t* const op = job.workspaces[s].opinions.data();
+        for (std::size_t i = begin; i < end; ++i) {
+            if (op[i] != kNoOpinion) {
+                lo[i] = job.model->pool(lo[i], op[i]);
+                obs[i] = 1U;
+            }
+        }
+    }
+}
+
+}  // namespace
+
+Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorReading> sensors,
+                                         const SensorModelTable& model, const FootprintParams& params,
+                                         Span<const FootprintWorkspace> workspaces, TaskRunner& runner,
+                                         FootprintStats* stats) noexcept {
+    if (sensors.size() > kMaxSensors) {
+        return ErrorCode::kCapacityExceeded;
+    }
+    if (workspaces.empty()) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    for (const SensorReading& r : sensors) {
+        const Status valid = validate_sensor_reading(r);
+        if (!valid.ok()) {
+            return valid.error();
+        }
+        if (!is_depth_image(r.kind)) {
+            return ErrorCode::kInvalidArgument;
+        }
+        const std::size_t cells = depth_pyramid_cells(r.intrinsics.width, r.intrinsics.height);
+        const std::size_t lanes = workspaces.size() >= sensors.size() ? sensors.size() : 1U;
+        for (std::size_t w = 0U; w < lanes; ++w) {
+            const FootprintWorkspace& ws = workspaces[w];
+            if (ws.opinions.size() < grid.voxel_count() || ws.pyramid_min.size() < cells ||
+                ws.pyramid_max.size() < cells || ws.pyramid_invalid.size() < cells) {
+                return ErrorCode::kStorageTooSmall;
+            }
+        }
+    }
+    FusionStats total;
+    FootprintStats fp;
+    if (workspaces.size() >= sensors.size()) {
+        FrameJob job;
+        job.grid = &grid.geometry();
+        job.sensors = sensors;
+        job.model = &model;
+        job.params = &params;
+        job.workspaces = workspaces;
+        job.target = &grid;
+        runner.run(sensors.size(), &sensor_task, &job);
+        for (std::size_t i = 0U; i < sensors.size(); ++i) {
+            if (!job.ok[i]) {
+                return ErrorCode::kInvalidArgument;  // unreachable: checked above, before any evidence
+            }
+            total.add(job.fusion[i]);
+            fp.add(job.footprint[i]);
+        }
+        runner.run((grid.voxel_count() + kPoolChunk - 1U) / kPoolChunk, &pool_task, &job);
+    } else {
+        for (const SensorReading& r : sensors) {
+            const Result<FusionStats> s = footprint_opinions(grid.geometry(), r, model, params, workspaces[0], &fp);
+            if (!s.ok()) {
+                return s.error();  // unreachable: checked above
+            }
+            total.add(s.value());
+            pool_opinions(grid, Span<const std::int16_t>(workspaces[0].opinions.data(), grid.voxel_count()), model);
+        }
+    }
+    if (stats != nullptr) {
+        stats->add(fp);
+    }
+    return total;
+}
+
+}  // namespace cellguard

@@ -1,0 +1,209 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// Footprint fusion (footprint_fusion.hpp) against the exact per-ray path
+// (fuse_sensor): the same hits, free values only where a ray passes and never
+// stronger than the exact ones, and the stated differences counted.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
+#include "cellguard/grid/fusion.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+
+using namespace cellguard;
+
+namespace {
+
+/// Owned storage of one footprint workspace.
+struct OwnedWorkspace {
+    std::vector<float> mn;
+    std::vector<float> mx;
+    std::vector<std::uint8_t> inv;
+    std::vector<std::int16_t> op;
+    FootprintWorkspace ws;
+    OwnedWorkspace(const GridGeometry& g, std::int32_t w, std::int32_t h)
+        : mn(depth_pyramid_cells(w, h)), mx(mn.size()), inv(mn.size()), op(g.voxel_count()) {
+        ws = FootprintWorkspace{{mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()},
+                                {op.data(), op.size()}};
+    }
+};
+
+struct OwnedGrid {
+    std::vector<std::int16_t> lo;
+    std::vector<std::uint8_t> ob;
+    EvidenceGrid grid;
+    explicit OwnedGrid(const GridGeometry& g) : lo(g.voxel_count()), ob(g.voxel_count()) {
+        grid = EvidenceGrid::make(g, {lo.data(), lo.size()}, {ob.data(), ob.size()}).value();
+        grid.clear();
+    }
+};
+
+/// One sensor's exact opinions: fuse_sensor's scratch after the call.
+std::vector<std::int16_t> exact_opinions(const GridGeometry& g, const SensorReading& r, const SensorModelTable& m) {
+    OwnedGrid grid(g);
+    std::vector<std::int16_t> scratch(g.voxel_count());
+    REQUIRE(fuse_sensor(grid.grid, r, m, {scratch.data(), scratch.size()}).ok());
+    return scratch;
+}
+
+/// How footprint opinions compare with exact ones, voxel by voxel.
+struct Comparison {
+    std::size_t hits_lost = 0;        ///< exact hit, footprint not
+    std::size_t hits_added = 0;       ///< footprint hit, exact not
+    std::size_t free_unobserved = 0;  ///< footprint free where exact has no opinion
+    std::size_t free_stronger = 0;    ///< footprint free stronger than exact free
+    std::size_t free_weaker = 0;      ///< footprint free weaker than exact (allowed)
+    std::size_t lost_free = 0;        ///< exact free, footprint none (allowed: safe side)
+    std::size_t same = 0;
+};
+
+Comparison compare(const std::vector<std::int16_t>& exact, Span<const std::int16_t> fp, const SensorModelTable& m) {
+    Comparison c;
+    const std::int16_t hit = m.reading_evidence();
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+        const std::int16_t e = exact[i];
+        const std::int16_t f = fp[i];
+        if (e == f) {
+            ++c.same;
+        } else if (e == hit) {
+            ++c.hits_lost;
+        } else if (f == hit) {
+            ++c.hits_added;
+        } else if (f == kNoOpinion) {
+            ++c.lost_free;
+        } else if (e == kNoOpinion) {
+            ++c.free_unobserved;
+        } else if (f < e) {
+            ++c.free_stronger;
+        } else {
+            ++c.free_weaker;
+        }
+    }
+    return c;
+}
+
+GridGeometry lowered_paper_grid() {
+    // The paper's grid lowered by half a voxel, so the simulated floor does not lie on a face.
+    return GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, -0.025), 0.05, GridDims{34, 30, 30}).value();
+}
+
+}  // namespace
+
+TEST_CASE("footprint fusion: the paper's simulated sensors give the exact hits and safe-side free values") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    const FootprintParams params;
+    for (const SensorReading& r : frame.readings) {
+        OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+        FootprintStats fs;
+        const Result<FusionStats> s = footprint_opinions(g, r, model, params, w.ws, &fs);
+        REQUIRE(s.ok());
+        const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+        const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
+        MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
+                        << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
+                        << c.hits_lost << "/added " << c.hits_added << "; boxes " << fs.boxes << ", filled "
+                        << fs.voxels_filled << ", exact " << fs.voxels_exact << ", safe side " << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
+        CHECK(c.hits_lost == 0U);
+        CHECK(c.hits_added == 0U);
+        // Float rounding where a ray grazes an edge: bounded, not zero.
+        CHECK(c.free_stronger <= g.voxel_count() / 1000U);
+        CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+    }
+}
+
+TEST_CASE("footprint fusion: random depths keep every hit and call nothing free that no ray passes") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    std::mt19937 rng(7U);
+    std::uniform_real_distribution<float> depth(0.3F, 4.0F);
+    for (const SensorReading& base : frame.readings) {
+        std::vector<float> d(base.depth.size());
+        for (float& x : d) {
+            x = depth(rng);
+        }
+        SensorReading r = base;
+        r.depth = {d.data(), d.size()};
+        OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+        FootprintParams params;
+        params.exact_pixel_budget = 1000U;  // mostly the safe-side rule
+        FootprintStats fs;
+        REQUIRE(footprint_opinions(g, r, model, params, w.ws, &fs).ok());
+        const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+        const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
+        MESSAGE("random: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
+                                << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
+                                << ", safe side " << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
+        CHECK(c.hits_lost == 0U);
+        CHECK(c.hits_added == 0U);
+        CHECK(c.free_stronger <= g.voxel_count() / 1000U);
+        CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+        CHECK(fs.pixel_tests <= params.exact_pixel_budget);
+    }
+}
+
+TEST_CASE("footprint fusion: a frame allocates nothing and pools like fuse_frame on the same opinions") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    const SensorReading& r0 = frame.readings.front();
+    std::vector<OwnedWorkspace> owned;
+    owned.reserve(frame.readings.size());
+    for (std::size_t i = 0; i < frame.readings.size(); ++i) {
+        owned.emplace_back(g, r0.intrinsics.width * 2, r0.intrinsics.height * 2);  // room for every sensor
+    }
+    std::vector<FootprintWorkspace> ws;
+    for (const OwnedWorkspace& o : owned) {
+        ws.push_back(o.ws);
+    }
+    OwnedGrid parallel(g);
+    OwnedGrid sequential(g);
+    SequentialRunner runner;
+    const Span<const SensorReading> sensors(frame.readings.data(), frame.readings.size());
+    const FootprintParams params;
+    const std::uint64_t before = test::allocation_count();
+    const auto a = fuse_frame_footprint(parallel.grid, sensors, model, params, {ws.data(), ws.size()}, runner);
+    const auto b = fuse_frame_footprint(sequential.grid, sensors, model, params, {ws.data(), 1U}, runner);
+    CHECK(test::allocation_count() == before);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(a.value().rays_fused == b.value().rays_fused);
+    CHECK(parallel.lo == sequential.lo);
+    CHECK(parallel.ob == sequential.ob);
+}
+
+TEST_CASE("footprint fusion: bad input is refused and leaves the grid untouched") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    const SensorReading& r = frame.readings.front();
+    OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+    OwnedGrid grid(g);
+    SequentialRunner runner;
+    const FootprintParams params;
+    SUBCASE("a point set") {
+        SensorReading p;
+        p.kind = SensorDataKind::kPointSet;
+        const Result<FusionStats> s = fuse_frame_footprint(grid.grid, {&p, 1U}, model, params, {&w.ws, 1U}, runner);
+        CHECK(s.error() == ErrorCode::kInvalidArgument);
+    }
+    SUBCASE("a short pyramid") {
+        FootprintWorkspace shorter = w.ws;
+        shorter.pyramid_max = shorter.pyramid_max.subspan(0U, 10U);
+        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+              ErrorCode::kStorageTooSmall);
+    }
+    SUBCASE("no workspace") {
+        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {}, runner).error() ==
+              ErrorCode::kStorageTooSmall);
+    }
+    CHECK(grid.grid.observed_count() == 0U);
+}
