@@ -99,10 +99,12 @@ DepthRange DepthPyramid::query(std::int32_t u0, std::int32_t v0, std::int32_t u1
     // The lowest level whose cells are at least as large as the rectangle:
     // the rectangle then spans at most two cells per axis.
     const std::int32_t extent = (u1 - u0 > v1 - v0 ? u1 - u0 : v1 - v0) + 1;
+    // ceil(log2(extent)) by counting the bits of extent - 1, capped at the top level.
     std::int32_t level = 0;
-    while ((std::int32_t{1} << level) < extent && level + 1 < levels_) {
+    for (auto e = static_cast<std::uint32_t>(extent - 1); e != 0U; e >>= 1U) {
         ++level;
     }
+    level = level < levels_ - 1 ? level : levels_ - 1;
     const std::int32_t i0 = u0 >> level;
     const std::int32_t i1 = u1 >> level;
     const std::int32_t j0 = v0 >> level;

@@ -33,6 +33,32 @@ constexpr std::int32_t kInnerProbeSide = 4;
 /// each level holds at most 7 pending siblings.
 constexpr std::size_t kStackSize = 7U * 13U + 8U;
 
+/// A box whose every side is at most this many voxels is evaluated voxel by
+/// voxel from its projected lattice (run_small_box).
+constexpr std::int32_t kSmallSide = 2;
+constexpr std::size_t kSmallLattice = static_cast<std::size_t>((kSmallSide + 1) * (kSmallSide + 1) * (kSmallSide + 1));
+
+/// @p x limited to [lo, hi] (NaN gives lo).
+double clamp(double x, double lo, double hi) noexcept { return x > lo ? (x < hi ? x : hi) : lo; }
+/// floor and ceil of a value in [-2^30, 2^30], without a library call.
+std::int32_t floor_to_int(double x) noexcept {
+    const auto t = static_cast<std::int32_t>(x);
+    return static_cast<double>(t) > x ? t - 1 : t;
+}
+std::int32_t ceil_to_int(double x) noexcept {
+    const auto t = static_cast<std::int32_t>(x);
+    return static_cast<double>(t) < x ? t + 1 : t;
+}
+
+/// A lattice point (a voxel corner) in the image.
+struct Projected {
+    double u = 0.0;       ///< column (valid unless behind)
+    double v = 0.0;       ///< row (valid unless behind)
+    double z = 0.0;       ///< depth along the optical axis
+    double dist = 0.0;    ///< squared distance from the camera centre
+    bool behind = false;  ///< at or behind the image plane (z <= kMinCornerDepth)
+};
+
 /// A box of voxels [lo, hi) per axis.
 struct Box {
     std::array<std::int32_t, 3> lo{};
@@ -82,7 +108,13 @@ private:
     [[nodiscard]] Eigen::Vector3d lattice(double i, double j, double k) const noexcept {
         return base_ + i * axis_[0] + j * axis_[1] + k * axis_[2];
     }
+    [[nodiscard]] Projected project_point(double i, double j, double k) const noexcept;
+    [[nodiscard]] Footprint footprint_of(const std::array<Projected, 8>& corners) const noexcept;
     [[nodiscard]] Footprint project(const Box& b) const noexcept;
+    void classify(const Box& b, const Footprint& f) noexcept;
+    /// Evaluates a box of sides <= kSmallSide voxel by voxel; false (nothing
+    /// done) when a lattice point lies at or behind the image plane.
+    bool run_small_box(const Box& b) noexcept;
     /// True when the box is decided as a whole (none or filled).
     bool decide_box(const Box& b, const Footprint& f, const DepthRange& q) noexcept;
     void decide_voxel(const Box& b, const Footprint& f, const DepthRange& q) noexcept;
@@ -107,7 +139,22 @@ private:
     FootprintStats stats_{};
 };
 
-Footprint SensorPass::project(const Box& b) const noexcept {
+Projected SensorPass::project_point(double i, double j, double k) const noexcept {
+    const Eigen::Vector3d p = lattice(i, j, k);
+    Projected out;
+    out.z = p.z();
+    out.dist = p.squaredNorm();
+    out.behind = p.z() <= kMinCornerDepth;
+    if (!out.behind) {
+        const PinholeIntrinsics& in = reading_.intrinsics;
+        const double inv_z = 1.0 / p.z();
+        out.u = in.fx * p.x() * inv_z + in.cx;
+        out.v = in.fy * p.y() * inv_z + in.cy;
+    }
+    return out;
+}
+
+Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) const noexcept {
     Footprint f;
     const PinholeIntrinsics& k = reading_.intrinsics;
     double u_min = std::numeric_limits<double>::infinity();
@@ -117,25 +164,17 @@ Footprint SensorPass::project(const Box& b) const noexcept {
     f.z_min = u_min;
     f.z_max = -u_min;
     std::int32_t behind = 0;
-    for (std::int32_t c = 0; c < 8; ++c) {
-        const Eigen::Vector3d p = lattice((c & 1) != 0 ? b.hi[0] : b.lo[0], (c & 2) != 0 ? b.hi[1] : b.lo[1],
-                                          (c & 4) != 0 ? b.hi[2] : b.lo[2]);
-        f.z_min = p.z() < f.z_min ? p.z() : f.z_min;
-        f.z_max = p.z() > f.z_max ? p.z() : f.z_max;
-        const double d = p.norm();
-        f.d_max = d > f.d_max ? d : f.d_max;
-        if (p.z() <= kMinCornerDepth) {
-            ++behind;
-            continue;
-        }
-        const double inv_z = 1.0 / p.z();
-        const double u = k.fx * p.x() * inv_z + k.cx;
-        const double v = k.fy * p.y() * inv_z + k.cy;
-        u_min = u < u_min ? u : u_min;
-        u_max = u > u_max ? u : u_max;
-        v_min = v < v_min ? v : v_min;
-        v_max = v > v_max ? v : v_max;
+    for (const Projected& p : corners) {
+        f.z_min = p.z < f.z_min ? p.z : f.z_min;
+        f.z_max = p.z > f.z_max ? p.z : f.z_max;
+        f.d_max = p.dist > f.d_max ? p.dist : f.d_max;  // squared until the end
+        behind += p.behind ? 1 : 0;
+        u_min = p.u < u_min ? p.u : u_min;
+        u_max = p.u > u_max ? p.u : u_max;
+        v_min = p.v < v_min ? p.v : v_min;
+        v_max = p.v > v_max ? p.v : v_max;
     }
+    f.d_max = std::sqrt(f.d_max);
     f.behind = behind == 8;
     f.crossed = behind > 0;
     if (f.crossed) {
@@ -144,19 +183,74 @@ Footprint SensorPass::project(const Box& b) const noexcept {
     const double w_last = static_cast<double>(k.width - 1);
     const double h_last = static_cast<double>(k.height - 1);
     f.in_image = u_min >= 0.0 && v_min >= 0.0 && u_max <= w_last && v_max <= h_last;
-    const double cu0 = std::ceil(u_min - kPixelSlack);
-    const double cu1 = std::floor(u_max + kPixelSlack);
-    const double cv0 = std::ceil(v_min - kPixelSlack);
-    const double cv1 = std::floor(v_max + kPixelSlack);
-    if (cu1 < 0.0 || cv1 < 0.0 || cu0 > w_last || cv0 > h_last || cu0 > cu1 || cv0 > cv1) {
-        return f;
-    }
-    f.u0 = static_cast<std::int32_t>(cu0 > 0.0 ? cu0 : 0.0);
-    f.v0 = static_cast<std::int32_t>(cv0 > 0.0 ? cv0 : 0.0);
-    f.u1 = static_cast<std::int32_t>(cu1 < w_last ? cu1 : w_last);
-    f.v1 = static_cast<std::int32_t>(cv1 < h_last ? cv1 : h_last);
-    f.empty = false;
+    // Clamp to the image (one pixel beyond it on each side), then round inwards to pixel centres.
+    const std::int32_t u0 = ceil_to_int(clamp(u_min - kPixelSlack, -1.0, w_last + 1.0));
+    const std::int32_t u1 = floor_to_int(clamp(u_max + kPixelSlack, -1.0, w_last + 1.0));
+    const std::int32_t v0 = ceil_to_int(clamp(v_min - kPixelSlack, -1.0, h_last + 1.0));
+    const std::int32_t v1 = floor_to_int(clamp(v_max + kPixelSlack, -1.0, h_last + 1.0));
+    f.u0 = u0 > 0 ? u0 : 0;
+    f.v0 = v0 > 0 ? v0 : 0;
+    f.u1 = u1 < k.width - 1 ? u1 : k.width - 1;
+    f.v1 = v1 < k.height - 1 ? v1 : k.height - 1;
+    f.empty = f.u0 > f.u1 || f.v0 > f.v1;
     return f;
+}
+
+Footprint SensorPass::project(const Box& b) const noexcept {
+    std::array<Projected, 8> corners{};
+    for (std::int32_t c = 0; c < 8; ++c) {
+        corners[static_cast<std::size_t>(c)] =
+            project_point((c & 1) != 0 ? b.hi[0] : b.lo[0], (c & 2) != 0 ? b.hi[1] : b.lo[1],
+                          (c & 4) != 0 ? b.hi[2] : b.lo[2]);
+    }
+    return footprint_of(corners);
+}
+
+void SensorPass::classify(const Box& b, const Footprint& f) noexcept {
+    const DepthRange q = pyramid_.query(f.u0, f.v0, f.u1, f.v1);
+    if (!decide_box(b, f, q) && b.is_voxel()) {
+        decide_voxel(b, f, q);
+    }
+}
+
+bool SensorPass::run_small_box(const Box& b) noexcept {
+    // The box's lattice, projected once: each voxel's footprint is read off
+    // its eight corners (the same numbers project() computes for it).
+    const std::int32_t n0 = b.hi[0] - b.lo[0] + 1;
+    const std::int32_t n1 = b.hi[1] - b.lo[1] + 1;
+    const std::int32_t n2 = b.hi[2] - b.lo[2] + 1;
+    std::array<Projected, kSmallLattice> lat{};
+    for (std::int32_t k = 0; k < n2; ++k) {
+        for (std::int32_t j = 0; j < n1; ++j) {
+            for (std::int32_t i = 0; i < n0; ++i) {
+                const Projected p = project_point(b.lo[0] + i, b.lo[1] + j, b.lo[2] + k);
+                if (p.behind) {
+                    return false;  // near the camera: the general path handles it
+                }
+                lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))] = p;
+            }
+        }
+    }
+    for (std::int32_t z = 0; z + 1 < n2; ++z) {
+        for (std::int32_t y = 0; y + 1 < n1; ++y) {
+            for (std::int32_t x = 0; x + 1 < n0; ++x) {
+                std::array<Projected, 8> corners{};
+                for (std::int32_t c = 0; c < 8; ++c) {
+                    const std::int32_t i = x + (c & 1);
+                    const std::int32_t j = y + ((c >> 1) & 1);
+                    const std::int32_t k = z + ((c >> 2) & 1);
+                    corners[static_cast<std::size_t>(c)] = lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
+                }
+                ++stats_.boxes;
+                const Footprint f = footprint_of(corners);
+                if (!f.empty) {
+                    const Box v{{b.lo[0] + x, b.lo[1] + y, b.lo[2] + z}, {b.lo[0] + x + 1, b.lo[1] + y + 1, b.lo[2] + z + 1}};
+                    classify(v, f);
+                }
+            }
+        }
+    }
+    return true;
 }
 
 void SensorPass::fill(const Box& b, std::int16_t value) noexcept {
@@ -191,40 +285,51 @@ bool SensorPass::decide_box(const Box& b, const Footprint& f, const DepthRange& 
     return false;
 }
 
+/// Where the ray o + t w (t: depth along the optical axis) leaves the box
+/// [lo, hi] (given relative to o), or a negative value when it misses it or
+/// leaves it before t = 0. Slab test without a library call.
+double ray_exit_depth(const Eigen::Vector3d& w, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) noexcept {
+    double t_in = -std::numeric_limits<double>::infinity();
+    double t_out = std::numeric_limits<double>::infinity();
+    for (Eigen::Index a = 0; a < 3; ++a) {
+        if (w[a] == 0.0) {
+            if (lo[a] > 0.0 || hi[a] <= 0.0) {
+                return -1.0;  // parallel to the slab and outside it
+            }
+            continue;
+        }
+        const double inv = 1.0 / w[a];
+        const double t1 = lo[a] * inv;
+        const double t2 = hi[a] * inv;
+        const double near = t1 < t2 ? t1 : t2;
+        const double far = t1 < t2 ? t2 : t1;
+        t_in = near > t_in ? near : t_in;
+        t_out = far < t_out ? far : t_out;
+    }
+    return t_in < t_out ? t_out : -1.0;
+}
+
 std::int16_t SensorPass::exact_opinion(const Box& b, const Footprint& f) noexcept {
     const PinholeIntrinsics& k = reading_.intrinsics;
     const Eigen::Matrix3d& r = reading_.pose.linear();
-    const Eigen::Vector3d o = reading_.pose.translation();
     const double s = grid_.voxel_size();
-    const Eigen::Vector3d lo = grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]);
+    const Eigen::Vector3d lo =
+        grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]) - reading_.pose.translation();
     const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(s);
     const double inv_fx = 1.0 / k.fx;
     const double inv_fy = 1.0 / k.fy;
     std::int16_t best = kNoOpinion;
     for (std::int32_t v = f.v0; v <= f.v1; ++v) {
         const double yn = (static_cast<double>(v) - k.cy) * inv_fy;
+        const Eigen::Vector3d row = r.col(1) * yn + r.col(2);
         for (std::int32_t u = f.u0; u <= f.u1; ++u) {
             const float d = pyramid_.depth(u, v);
             if (!(d < std::numeric_limits<float>::infinity())) {
                 continue;  // no valid reading
             }
             const double xn = (static_cast<double>(u) - k.cx) * inv_fx;
-            const Eigen::Vector3d w = r.col(0) * xn + r.col(1) * yn + r.col(2);  // cell frame, per metre of depth
-            double t_in = -std::numeric_limits<double>::infinity();
-            double t_out = std::numeric_limits<double>::infinity();
-            for (std::int32_t a = 0; a < 3; ++a) {
-                if (w[a] == 0.0) {
-                    if (o[a] < lo[a] || o[a] >= hi[a]) {
-                        t_out = -1.0;  // parallel to the slab and outside it
-                    }
-                    continue;
-                }
-                const double t1 = (lo[a] - o[a]) / w[a];
-                const double t2 = (hi[a] - o[a]) / w[a];
-                t_in = std::fmax(t_in, std::fmin(t1, t2));
-                t_out = std::fmin(t_out, std::fmax(t1, t2));
-            }
-            if (!(t_in < t_out) || static_cast<double>(d) < t_out) {
+            const double t_out = ray_exit_depth(row + r.col(0) * xn, lo, hi);  // cell frame, per metre of depth
+            if (t_out < 0.0 || static_cast<double>(d) < t_out) {
                 continue;  // misses the voxel, or ends in front of or inside it (a hit is step 1's)
             }
             const double along = std::sqrt(xn * xn + yn * yn + 1.0);
@@ -268,6 +373,7 @@ bool SensorPass::inner_square_passes(const Box& b, double z_max) const noexcept 
     return false;
 }
 
+
 void SensorPass::decide_voxel(const Box& b, const Footprint& f, const DepthRange& q) noexcept {
     const std::size_t index = grid_.index_of(VoxelCoord{b.lo[0], b.lo[1], b.lo[2]});
     if (opinions_[index] == model_.reading_evidence()) {
@@ -309,6 +415,10 @@ void SensorPass::run() noexcept {
                 decide_voxel(b, f, q);
                 continue;
             }
+            if (b.hi[0] - b.lo[0] <= kSmallSide && b.hi[1] - b.lo[1] <= kSmallSide &&
+                b.hi[2] - b.lo[2] <= kSmallSide && run_small_box(b)) {
+                continue;
+            }
         }
         // Split every axis longer than one voxel; push the children in reverse
         // so that they are taken in a fixed order (x fastest, low half first).
@@ -333,24 +443,103 @@ void SensorPass::run() noexcept {
     }
 }
 
+/// Step 1's placement of a reading in its voxel, by the arithmetic of
+/// fuse_sensor (depth_pixel_point, reading_in_cell, world_to_voxel_unchecked)
+/// where it matters and by a shorter one where it cannot differ: the short
+/// form skips the point's rounding to float, which moves it by at most
+/// 2^-24 of its coordinates; a reading whose short-form position lies within
+/// `margin_` voxels of a face, or whose range lies within 1e-5 of a range
+/// limit, is placed and classified the long way. So both give the same voxel
+/// and the same class for every reading.
+class HitPlacer {
+public:
+    HitPlacer(const GridGeometry& g, const SensorReading& r) noexcept : g_(g), r_(r) {
+        const double s = g.voxel_size();
+        m_ = r.pose.linear() / s;
+        b_ = (r.pose.translation() - g.origin()) / s;
+        inv_fx_ = 1.0 / r.intrinsics.fx;
+        inv_fy_ = 1.0 / r.intrinsics.fy;
+        // Float rounding of a point within kMaxSensorRange of the sensor, in voxels, with a factor 16 to spare.
+        margin_ = 1e-9 + 16.0 * 0x1.0p-24 * static_cast<double>(kMaxSensorRange) / s;
+        const auto lo = static_cast<double>(r.min_range);
+        const auto hi = static_cast<double>(r.max_range);
+        min2_lo_ = lo * lo * (1.0 - 1e-5);
+        min2_hi_ = lo * lo * (1.0 + 1e-5);
+        max2_lo_ = hi * hi * (1.0 - 1e-5);
+        max2_hi_ = hi * hi * (1.0 + 1e-5);
+    }
+
+    /// The class of the reading of pixel (u, v) at raw depth @p d, and its voxel when valid.
+    detail::ReadingClass place(std::int32_t u, std::int32_t v, float d, VoxelCoord& voxel) const noexcept {
+        if (!(d > 0.0F && d <= kMaxSensorRange)) {
+            return place_exactly(u, v, d, voxel);
+        }
+        const double xn = (static_cast<double>(u) - r_.intrinsics.cx) * inv_fx_;
+        const double yn = (static_cast<double>(v) - r_.intrinsics.cy) * inv_fy_;
+        const auto dd = static_cast<double>(d);
+        const double range2 = dd * dd * (xn * xn + yn * yn + 1.0);
+        if ((range2 > min2_lo_ && range2 < min2_hi_) || (range2 > max2_lo_ && range2 < max2_hi_)) {
+            return place_exactly(u, v, d, voxel);  // near a range limit
+        }
+        if (range2 <= min2_lo_ || range2 >= max2_hi_) {
+            return detail::ReadingClass::kOutOfRange;
+        }
+        const Eigen::Vector3d q = m_ * Eigen::Vector3d(xn * dd, yn * dd, dd) + b_;
+        std::array<std::int32_t, 3> c{};
+        for (Eigen::Index a = 0; a < 3; ++a) {
+            if (!(q[a] > -1e9 && q[a] < 1e9)) {
+                return place_exactly(u, v, d, voxel);
+            }
+            const std::int32_t f = floor_to_int(q[a]);
+            const double frac = q[a] - static_cast<double>(f);
+            if (frac < margin_ || frac > 1.0 - margin_) {
+                return place_exactly(u, v, d, voxel);  // near a voxel face
+            }
+            c[static_cast<std::size_t>(a)] = f;
+        }
+        voxel = VoxelCoord{c[0], c[1], c[2]};
+        return detail::ReadingClass::kValid;
+    }
+
+private:
+    detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d, VoxelCoord& voxel) const noexcept {
+        detail::ReadingClass c = detail::classify_depth(d);
+        if (c != detail::ReadingClass::kValid) {
+            return c;
+        }
+        const Eigen::Vector3f p = depth_pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d);
+        c = detail::classify_point(p, r_.min_range, r_.max_range);
+        if (c == detail::ReadingClass::kValid) {
+            voxel = g_.world_to_voxel_unchecked(reading_in_cell(r_.pose, p));
+        }
+        return c;
+    }
+
+    const GridGeometry& g_;
+    const SensorReading& r_;
+    Eigen::Matrix3d m_;
+    Eigen::Vector3d b_;
+    double inv_fx_ = 0.0;
+    double inv_fy_ = 0.0;
+    double margin_ = 0.0;
+    double min2_lo_ = 0.0;
+    double min2_hi_ = 0.0;
+    double max2_lo_ = 0.0;
+    double max2_hi_ = 0.0;
+};
+
 /// Step 1: the hits, exactly as fuse_sensor places them, and level 0 of the pyramid.
 FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
                      DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept {
     FusionStats s;
-    const PinholeIntrinsics& k = r.intrinsics;
-    const double inv_fx = 1.0 / k.fx;
-    const double inv_fy = 1.0 / k.fy;
+    const HitPlacer placer(g, r);
     const std::int16_t hit = model.reading_evidence();
     std::size_t i = 0U;
-    for (std::int32_t v = 0; v < k.height; ++v) {
-        for (std::int32_t u = 0; u < k.width; ++u, ++i) {
+    for (std::int32_t v = 0; v < r.intrinsics.height; ++v) {
+        for (std::int32_t u = 0; u < r.intrinsics.width; ++u, ++i) {
             const float d = depth_value(r, i);
-            detail::ReadingClass c = detail::classify_depth(d);
-            Eigen::Vector3f p = Eigen::Vector3f::Zero();
-            if (c == detail::ReadingClass::kValid) {
-                p = depth_pixel_point(k, inv_fx, inv_fy, u, v, d);
-                c = detail::classify_point(p, r.min_range, r.max_range);
-            }
+            VoxelCoord vc;
+            const detail::ReadingClass c = placer.place(u, v, d, vc);
             if (c != detail::ReadingClass::kValid) {
                 detail::count_skipped(s, c);
                 pyramid.set_pixel(u, v, 0.0F, false);
@@ -358,7 +547,6 @@ FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const Sensor
             }
             pyramid.set_pixel(u, v, d, true);
             ++s.rays_fused;
-            const VoxelCoord vc = g.world_to_voxel_unchecked(reading_in_cell(r.pose, p));
             if (g.contains(vc)) {
                 opinions[g.index_of(vc)] = hit;
                 ++s.readings_in_grid;
