@@ -39,6 +39,7 @@ struct Options {
     int scale_background_frames = 10;
     bool ideal = false;
     bool exact = false;
+    bool footprint = false;
     bool plots = true;
     bool paper_scenes = true;
     bool scale = false;
@@ -293,6 +294,8 @@ int parse_args(int argc, char** argv, Options& o) {
                 "frames with the foreground, scores summed (default 5)");
     cli.flag("--ideal", o.ideal, "ideal sensors instead of the scenes' noise models");
     cli.flag("--exact", o.exact, "rasterise rays with the exact traversal (default: the paper's 3D Bresenham)");
+    cli.flag("--footprint", o.footprint,
+             "fuse depth images by footprint fusion (the ground truth stays ray by ray; compare with --exact)");
     bool no_plots = false;
     cli.flag("--no-plots", no_plots, "do not call gnuplot");
     cli.flag("--scale", o.scale,
@@ -326,6 +329,7 @@ sim::ExperimentConfig experiment_config(const Options& o) {
     cfg.foreground_frames = o.foreground_frames;
     cfg.ideal_sensors = o.ideal;
     cfg.rasterization = o.exact ? Rasterization::kExact : Rasterization::kBresenham3d;
+    cfg.footprint = o.footprint;
     return cfg;
 }
 
@@ -338,7 +342,8 @@ void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std
        << cfg.sensor_model.p_miss << ", p_hit " << cfg.sensor_model.p_hit << ", pooled frame evidence clamped to ["
        << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max
        << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
-       << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham") << "; one G_B (background.toml) from "
+       << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham")
+       << (o.footprint ? "; fusion: footprint" : "") << "; one G_B (background.toml) from "
        << cfg.background_frames << " empty frames; scores summed over " << cfg.foreground_frames
        << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "
           "recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 likewise. P / R at t_f 0.45 "

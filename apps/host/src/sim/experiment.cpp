@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/owned_footprint.hpp"
 
 namespace cellguard::sim {
 
@@ -149,13 +151,26 @@ bool build_background(const SceneFile& file, const ExperimentConfig& cfg, Eviden
     OwnedGrid frame(background.geometry());
     background.clear();
     const Scene bg = background_of(file.scene);
+    std::unique_ptr<host::OwnedFootprintWorkspaces> footprint;
     for (int i = 0; i < cfg.background_frames; ++i) {
         const Clock::time_point t0 = Clock::now();
         const SimulatedFrame f = render(file, cfg, bg, file.seed * kSeedStride + static_cast<std::uint64_t>(i));
         const Clock::time_point t1 = Clock::now();
-        const Result<FusionStats> r = fuse_background_frame(background, frame.grid,
-                                                            {f.readings.data(), f.readings.size()}, model.value(),
-                                                            frame.fusion_scratch(), cfg.rasterization);
+        if (cfg.footprint && footprint == nullptr) {
+            footprint = std::make_unique<host::OwnedFootprintWorkspaces>(background.geometry(), f.readings);
+        }
+        Result<FusionStats> r = FusionStats{};
+        if (footprint == nullptr) {
+            r = fuse_background_frame(background, frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
+                                      frame.fusion_scratch(), cfg.rasterization);
+        } else {
+            frame.grid.clear();
+            r = host::fuse_frame_by(frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
+                                    frame.fusion_scratch(), cfg.rasterization, footprint.get());
+            if (r.ok() && !accumulate_background(background, frame.grid).ok()) {
+                return false;
+            }
+        }
         if (fuse_ms_total != nullptr) {
             *fuse_ms_total += ms_since(t1);
         }
@@ -248,6 +263,7 @@ bool compute_priors(const ExperimentConfig& cfg, SceneResult& out, std::string& 
 bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const SensorModelTable& model, SceneResult& out,
                     SceneTimes& times, std::string& error) {
     const bool moving = !file.people.empty();
+    std::unique_ptr<host::OwnedFootprintWorkspaces> footprint;
     for (int j = 0; j < cfg.foreground_frames; ++j) {
         const double t = j * cfg.frame_interval_s;
         const Scene scene = scene_at(file, t);
@@ -262,8 +278,11 @@ bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const Se
         const Clock::time_point t1 = Clock::now();
         times.render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
         out.last_frame.grid.clear();
-        if (!fuse_frame(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model,
-                        out.last_frame.fusion_scratch(), cfg.rasterization)
+        if (cfg.footprint && footprint == nullptr) {
+            footprint = std::make_unique<host::OwnedFootprintWorkspaces>(cfg.geometry, f.readings);
+        }
+        if (!host::fuse_frame_by(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model,
+                                 out.last_frame.fusion_scratch(), cfg.rasterization, footprint.get())
                  .ok()) {
             error = "fusing a foreground frame failed";
             return false;

@@ -38,6 +38,7 @@ protected:
 };
 
 /// The reference runner: every task on the calling thread, in index order.
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 class SequentialRunner final : public TaskRunner {
 public:
     /// Runs the tasks one after another on the calling thread.

@@ -77,6 +77,9 @@ struct ExperimentConfig {
     /// Bresenham by default (the exact traversal visits every voxel a ray
     /// grazes and so clears more of the voxels that a surface only clips).
     Rasterization rasterization = Rasterization::kBresenham3d;
+    /// Fuse depth images by footprint fusion (footprint_fusion.hpp) instead
+    /// of ray by ray; the ground truth stays ray by ray with rasterization.
+    bool footprint = false;
     int background_frames = 100;    ///< empty frames summed into G_B
     int foreground_frames = 5;      ///< frames with the foreground, scores summed
     double frame_interval_s = 0.1;  ///< time between foreground frames
