@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -36,6 +37,20 @@ void count_task(void* context, std::size_t index) noexcept {
 
 /// Plain (non-atomic) increments of disjoint slots: run() must order them before its return.
 void increment_task(void* context, std::size_t index) noexcept { ++static_cast<std::uint32_t*>(context)[index]; }
+
+/// Where slow_increment_task leaves its work, so the compiler keeps it.
+std::atomic<std::uint32_t> g_sink{0U};
+
+/// increment_task after some work, so that a run() returning before its
+/// tasks have finished is seen: a task is then still busy when the slots are compared.
+void slow_increment_task(void* context, std::size_t index) noexcept {
+    std::uint32_t state = static_cast<std::uint32_t>(index) + 1U;
+    for (int k = 0; k < 4000; ++k) {
+        state = state * 1664525U + 1013904223U;
+    }
+    g_sink.store(state, std::memory_order_relaxed);
+    ++static_cast<std::uint32_t*>(context)[index];
+}
 
 /// A small float computation whose bits depend on the order of its additions;
 /// each task adds its own series into its own slot (a task run twice shows).
@@ -65,11 +80,14 @@ std::uint32_t series_bits(TaskRunner& runner, std::size_t count) {
     return bits;
 }
 
-/// Two tasks that each wait (bounded) until both have started: only true when
-/// they ran at the same time, on two threads.
+/// Two tasks that each wait (bounded) until both have started: they meet only
+/// when they run at the same time, on two threads. The one not on the caller's
+/// thread then works a while longer: run() must not return before it ends.
 struct Rendezvous {
+    std::thread::id caller = std::this_thread::get_id();
     std::atomic<int> arrived{0};
     std::atomic<int> met{0};
+    std::atomic<bool> other_finished{false};
 };
 void rendezvous_task(void* context, std::size_t) noexcept {
     auto* r = static_cast<Rendezvous*>(context);
@@ -79,6 +97,14 @@ void rendezvous_task(void* context, std::size_t) noexcept {
     }
     if (r->arrived.load() >= 2) {
         r->met.fetch_add(1);
+    }
+    if (std::this_thread::get_id() != r->caller) {
+        std::uint32_t state = 1U;
+        for (int k = 0; k < 20000000; ++k) {  // milliseconds of work, far longer than run()'s return
+            state = state * 1664525U + 1013904223U;
+        }
+        g_sink.store(state, std::memory_order_relaxed);
+        r->other_finished.store(true);
     }
 }
 
@@ -124,7 +150,7 @@ TEST_CASE("worker pool: 1,000 runs in a row each finish before run() returns") {
     std::array<std::uint32_t, kMaxCount> expected{};
     for (std::size_t r = 0U; r < 1000U; ++r) {
         const std::size_t count = r % kMaxCount;  // 0 .. 36: below, at and above the worker count
-        pool.run(count, &increment_task, slots.data());
+        pool.run(count, &slow_increment_task, slots.data());
         for (std::size_t i = 0U; i < count; ++i) {
             ++expected[i];
         }
@@ -160,11 +186,12 @@ TEST_CASE("worker pool: 1, 2, 3 and 4 workers give SequentialRunner's bits") {
 }
 
 // verifies: SR-GEN-008
-TEST_CASE("worker pool: with two workers two tasks run at the same time") {
+TEST_CASE("worker pool: with two workers two tasks run at the same time, and run() waits for both") {
     WorkerPool pool(2U);
     Rendezvous r;
     pool.run(2U, &rendezvous_task, &r);
-    CHECK(r.met.load() == 2);  // a pool that ran them one after another would leave 0
+    CHECK(r.met.load() == 2);        // a pool that ran them one after another would leave 0
+    CHECK(r.other_finished.load());  // run() waited for the worker's task
 }
 
 // verifies: SR-GEN-002
