@@ -29,8 +29,8 @@ struct OwnedWorkspace {
     FootprintWorkspace ws;
     OwnedWorkspace(const GridGeometry& g, std::int32_t w, std::int32_t h)
         : mn(depth_pyramid_cells(w, h)), mx(mn.size()), inv(mn.size()), op(g.voxel_count()) {
-        ws = FootprintWorkspace{{mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()},
-                                {op.data(), op.size()}};
+        ws = FootprintWorkspace{
+            {mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()}, {op.data(), op.size()}};
     }
 };
 
@@ -95,30 +95,35 @@ GridGeometry lowered_paper_grid() {
 
 }  // namespace
 
+// verifies: SR-FUSE-009, SR-FUSE-010
 TEST_CASE("footprint fusion: the paper's simulated sensors give the exact hits and safe-side free values") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    const GridGeometry g = lowered_paper_grid();
-    const SensorModelTable model;
-    const FootprintParams params;
-    for (const SensorReading& r : frame.readings) {
-        OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
-        FootprintStats fs;
-        const Result<FusionStats> s = footprint_opinions(g, r, model, params, w.ws, &fs);
-        REQUIRE(s.ok());
-        const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
-        const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
-        MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
-                        << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
-                        << c.hits_lost << "/added " << c.hits_added << "; boxes " << fs.boxes << ", filled "
-                        << fs.voxels_filled << ", exact " << fs.voxels_exact << ", safe side " << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
-        CHECK(c.hits_lost == 0U);
-        CHECK(c.hits_added == 0U);
-        // Float rounding where a ray grazes an edge: bounded, not zero.
-        CHECK(c.free_stronger <= g.voxel_count() / 1000U);
-        CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+    // The paper's own grid puts the floor on voxel faces (the hit pass's exact fallback); the lowered one does not.
+    for (const GridGeometry& g : {lowered_paper_grid(), paper_grid_geometry()}) {
+        const SensorModelTable model;
+        const FootprintParams params;
+        for (const SensorReading& r : frame.readings) {
+            OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+            FootprintStats fs;
+            const Result<FusionStats> s = footprint_opinions(g, r, model, params, w.ws, &fs);
+            REQUIRE(s.ok());
+            const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+            const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
+            MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
+                            << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
+                            << c.hits_lost << "/added " << c.hits_added << "; boxes " << fs.boxes << ", filled "
+                            << fs.voxels_filled << ", exact " << fs.voxels_exact << ", safe side "
+                            << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
+            CHECK(c.hits_lost == 0U);
+            CHECK(c.hits_added == 0U);
+            // Float rounding where a ray grazes an edge: bounded, not zero.
+            CHECK(c.free_stronger <= g.voxel_count() / 1000U);
+            CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+        }
     }
 }
 
+// verifies: SR-FUSE-009, SR-FUSE-010
 TEST_CASE("footprint fusion: random depths keep every hit and call nothing free that no ray passes") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = lowered_paper_grid();
@@ -150,6 +155,7 @@ TEST_CASE("footprint fusion: random depths keep every hit and call nothing free 
     }
 }
 
+// verifies: SR-FUSE-011, SR-FUSE-012
 TEST_CASE("footprint fusion: a frame allocates nothing and pools like fuse_frame on the same opinions") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = lowered_paper_grid();
@@ -180,6 +186,7 @@ TEST_CASE("footprint fusion: a frame allocates nothing and pools like fuse_frame
     CHECK(parallel.ob == sequential.ob);
 }
 
+// verifies: SR-FUSE-011
 TEST_CASE("footprint fusion: bad input is refused and leaves the grid untouched") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = lowered_paper_grid();
