@@ -90,7 +90,7 @@ struct FootprintParams {
     std::uint32_t exact_footprint_max = 64U;
     /// Most ray-voxel tests per sensor and frame in step 3; beyond it every
     /// undecided voxel takes the safe-side rule. Bounds the worst case.
-    std::uint32_t exact_pixel_budget = 200000U;
+    std::uint32_t exact_pixel_budget = 400000U;
 };
 
 /// What one sensor's footprint pass did (for diagnostics, benchmarks and the tests).
