@@ -109,7 +109,7 @@ private:
         return base_ + i * axis_[0] + j * axis_[1] + k * axis_[2];
     }
     [[nodiscard]] Projected project_point(double i, double j, double k) const noexcept;
-    [[nodiscard]] Footprint footprint_of(const std::array<Projected, 8>& corners) const noexcept;
+    [[nodiscard]] Footprint footprint_of(const std::array<const Projected*, 8>& corners) const noexcept;
     [[nodiscard]] Footprint project(const Box& b) const noexcept;
     void classify(const Box& b, const Footprint& f) noexcept;
     /// Evaluates a box of sides <= kSmallSide voxel by voxel; false (nothing
@@ -154,7 +154,7 @@ Projected SensorPass::project_point(double i, double j, double k) const noexcept
     return out;
 }
 
-Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) const noexcept {
+Footprint SensorPass::footprint_of(const std::array<const Projected*, 8>& corners) const noexcept {
     Footprint f;
     const PinholeIntrinsics& k = reading_.intrinsics;
     double u_min = std::numeric_limits<double>::infinity();
@@ -164,7 +164,8 @@ Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) cons
     f.z_min = u_min;
     f.z_max = -u_min;
     std::int32_t behind = 0;
-    for (const Projected& p : corners) {
+    for (const Projected* c : corners) {
+        const Projected& p = *c;
         f.z_min = p.z < f.z_min ? p.z : f.z_min;
         f.z_max = p.z > f.z_max ? p.z : f.z_max;
         f.d_max = p.dist > f.d_max ? p.dist : f.d_max;  // squared until the end
@@ -197,11 +198,12 @@ Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) cons
 }
 
 Footprint SensorPass::project(const Box& b) const noexcept {
-    std::array<Projected, 8> corners{};
-    for (std::int32_t c = 0; c < 8; ++c) {
-        corners[static_cast<std::size_t>(c)] =
-            project_point((c & 1) != 0 ? b.hi[0] : b.lo[0], (c & 2) != 0 ? b.hi[1] : b.lo[1],
-                          (c & 4) != 0 ? b.hi[2] : b.lo[2]);
+    std::array<Projected, 8> points;
+    std::array<const Projected*, 8> corners{};
+    for (std::size_t c = 0U; c < 8U; ++c) {
+        points[c] = project_point((c & 1U) != 0U ? b.hi[0] : b.lo[0], (c & 2U) != 0U ? b.hi[1] : b.lo[1],
+                                  (c & 4U) != 0U ? b.hi[2] : b.lo[2]);
+        corners[c] = &points[c];
     }
     return footprint_of(corners);
 }
@@ -219,7 +221,7 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
     const std::int32_t n0 = b.hi[0] - b.lo[0] + 1;
     const std::int32_t n1 = b.hi[1] - b.lo[1] + 1;
     const std::int32_t n2 = b.hi[2] - b.lo[2] + 1;
-    std::array<Projected, kSmallLattice> lat{};
+    std::array<Projected, kSmallLattice> lat;
     for (std::int32_t k = 0; k < n2; ++k) {
         for (std::int32_t j = 0; j < n1; ++j) {
             for (std::int32_t i = 0; i < n0; ++i) {
@@ -234,12 +236,12 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
     for (std::int32_t z = 0; z + 1 < n2; ++z) {
         for (std::int32_t y = 0; y + 1 < n1; ++y) {
             for (std::int32_t x = 0; x + 1 < n0; ++x) {
-                std::array<Projected, 8> corners{};
+                std::array<const Projected*, 8> corners{};
                 for (std::int32_t c = 0; c < 8; ++c) {
                     const std::int32_t i = x + (c & 1);
                     const std::int32_t j = y + ((c >> 1) & 1);
                     const std::int32_t k = z + ((c >> 2) & 1);
-                    corners[static_cast<std::size_t>(c)] = lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
+                    corners[static_cast<std::size_t>(c)] = &lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
                 }
                 ++stats_.boxes;
                 const Footprint f = footprint_of(corners);
