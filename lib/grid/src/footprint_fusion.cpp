@@ -91,11 +91,18 @@ public:
         : grid_(g), reading_(r), model_(model), params_(params), pyramid_(pyramid), opinions_(opinions) {
         const Eigen::Matrix3d rt = r.pose.linear().transpose();
         const double s = g.voxel_size();
-        base_ = rt * (g.origin() - r.pose.translation());
-        axis_[0] = rt * Eigen::Vector3d(s, 0.0, 0.0);
-        axis_[1] = rt * Eigen::Vector3d(0.0, s, 0.0);
-        axis_[2] = rt * Eigen::Vector3d(0.0, 0.0, s);
+        const Eigen::Vector3d base = rt * (g.origin() - r.pose.translation());
+        for (Eigen::Index a = 0; a < 3; ++a) {
+            base_[static_cast<std::size_t>(a)] = base[a];
+            for (Eigen::Index e = 0; e < 3; ++e) {
+                axis_[static_cast<std::size_t>(e)][static_cast<std::size_t>(a)] = rt(a, e) * s;
+            }
+        }
         const PinholeIntrinsics& k = r.intrinsics;
+        fx_ = k.fx;
+        fy_ = k.fy;
+        cx_ = k.cx;
+        cy_ = k.cy;
         pixel_angle_ = std::sqrt(1.0 / (k.fx * k.fx) + 1.0 / (k.fy * k.fy));
         budget_ = params.exact_pixel_budget;
     }
@@ -106,9 +113,14 @@ public:
 
 private:
     [[nodiscard]] Eigen::Vector3d lattice(double i, double j, double k) const noexcept {
-        return base_ + i * axis_[0] + j * axis_[1] + k * axis_[2];
+        Eigen::Vector3d p;
+        for (std::size_t a = 0U; a < 3U; ++a) {
+            p[static_cast<Eigen::Index>(a)] = base_[a] + i * axis_[0][a] + j * axis_[1][a] + k * axis_[2][a];
+        }
+        return p;
     }
     [[nodiscard]] Projected project_point(double i, double j, double k) const noexcept;
+    [[nodiscard]] Projected project_camera(double x, double y, double z) const noexcept;
     [[nodiscard]] Footprint footprint_of(const std::array<const Projected*, 8>& corners) const noexcept;
     [[nodiscard]] Footprint project(const Box& b) const noexcept;
     void classify(const Box& b, const Footprint& f) noexcept;
@@ -132,24 +144,32 @@ private:
     const FootprintParams& params_;
     const DepthPyramid& pyramid_;
     Span<std::int16_t> opinions_;
-    Eigen::Vector3d base_;
-    std::array<Eigen::Vector3d, 3> axis_;
+    std::array<double, 3> base_{};                  ///< lattice point (0, 0, 0) in the camera frame
+    std::array<std::array<double, 3>, 3> axis_{};   ///< one voxel along each grid axis, in the camera frame
+    double fx_ = 0.0;
+    double fy_ = 0.0;
+    double cx_ = 0.0;
+    double cy_ = 0.0;
     double pixel_angle_ = 0.0;
     std::uint64_t budget_ = 0U;
     FootprintStats stats_{};
 };
 
 Projected SensorPass::project_point(double i, double j, double k) const noexcept {
-    const Eigen::Vector3d p = lattice(i, j, k);
+    return project_camera(base_[0] + i * axis_[0][0] + j * axis_[1][0] + k * axis_[2][0],
+                          base_[1] + i * axis_[0][1] + j * axis_[1][1] + k * axis_[2][1],
+                          base_[2] + i * axis_[0][2] + j * axis_[1][2] + k * axis_[2][2]);
+}
+
+Projected SensorPass::project_camera(double x, double y, double z) const noexcept {
     Projected out;
-    out.z = p.z();
-    out.dist = p.squaredNorm();
-    out.behind = p.z() <= kMinCornerDepth;
+    out.z = z;
+    out.dist = x * x + y * y + z * z;
+    out.behind = z <= kMinCornerDepth;
     if (!out.behind) {
-        const PinholeIntrinsics& in = reading_.intrinsics;
-        const double inv_z = 1.0 / p.z();
-        out.u = in.fx * p.x() * inv_z + in.cx;
-        out.v = in.fy * p.y() * inv_z + in.cy;
+        const double inv_z = 1.0 / z;
+        out.u = fx_ * x * inv_z + cx_;
+        out.v = fy_ * y * inv_z + cy_;
     }
     return out;
 }
@@ -198,11 +218,27 @@ Footprint SensorPass::footprint_of(const std::array<const Projected*, 8>& corner
 }
 
 Footprint SensorPass::project(const Box& b) const noexcept {
+    // The low corner, then the others by adding the box's edges.
+    std::array<double, 3> p0{};
+    std::array<std::array<double, 3>, 3> edge{};
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        p0[a] = base_[a] + b.lo[0] * axis_[0][a] + b.lo[1] * axis_[1][a] + b.lo[2] * axis_[2][a];
+        for (std::size_t e = 0U; e < 3U; ++e) {
+            edge[e][a] = static_cast<double>(b.hi[e] - b.lo[e]) * axis_[e][a];
+        }
+    }
     std::array<Projected, 8> points;
     std::array<const Projected*, 8> corners{};
     for (std::size_t c = 0U; c < 8U; ++c) {
-        points[c] = project_point((c & 1U) != 0U ? b.hi[0] : b.lo[0], (c & 2U) != 0U ? b.hi[1] : b.lo[1],
-                                  (c & 4U) != 0U ? b.hi[2] : b.lo[2]);
+        std::array<double, 3> q = p0;
+        for (std::size_t e = 0U; e < 3U; ++e) {
+            if ((c >> e) & 1U) {
+                q[0] += edge[e][0];
+                q[1] += edge[e][1];
+                q[2] += edge[e][2];
+            }
+        }
+        points[c] = project_camera(q[0], q[1], q[2]);
         corners[c] = &points[c];
     }
     return footprint_of(corners);
