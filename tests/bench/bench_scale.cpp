@@ -40,7 +40,10 @@
 // scheduler gave to other processes). The goals are judged on the thread's
 // CPU time; the wall clock is printed beside it.
 //
-// Usage: bench_scale [--cycles N] [--quick]
+// Usage: bench_scale [--cycles N] [--quick] [--threads N]
+//   --threads N footprint fusion on the Linux port's WorkerPool with N workers
+//               (default 1: SequentialRunner, the reference); the goals are
+//               then judged on the wall clock
 //   --cycles N  footprint cycles per case and pattern (default 300), and the
 //               per-ray cycles in the paper's cell
 //   --quick     for CI: 30 cycles, 1 per-ray frame in the real cells, 1 OctoMap frame
@@ -51,6 +54,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -60,7 +64,12 @@
 #include "cellguard/base/task_runner.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
+#include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+
+#ifdef CELLGUARD_HAVE_WORKER_POOL
+#include "cellguard/port/worker_pool.hpp"
+#endif
 
 #ifdef CELLGUARD_HAVE_OCTOMAP
 #include <octomap/octomap.h>
@@ -250,37 +259,6 @@ struct OwnedGrid {
     }
 };
 
-/// Footprint fusion's working memory: one workspace per sensor.
-struct Workspaces {
-    std::vector<std::vector<float>> mn, mx;
-    std::vector<std::vector<std::uint8_t>> inv;
-    std::vector<std::vector<std::int16_t>> op;
-    std::vector<FootprintWorkspace> ws;
-    std::size_t bytes = 0U;
-    Workspaces(const GridGeometry& g, const std::vector<sim::SensorSpec>& sensors) {
-        const std::size_t n = sensors.size();
-        mn.resize(n);
-        mx.resize(n);
-        inv.resize(n);
-        op.resize(n);
-        // fuse_frame_footprint checks every workspace against every sensor:
-        // each pyramid holds the largest image of the case.
-        std::size_t cells = 0U;
-        for (const sim::SensorSpec& spec : sensors) {
-            cells = std::max(cells, depth_pyramid_cells(spec.width, spec.height));
-        }
-        for (std::size_t s = 0; s < n; ++s) {
-            mn[s].resize(cells);
-            mx[s].resize(cells);
-            inv[s].resize(cells);
-            op[s].resize(g.voxel_count());
-            ws.push_back(FootprintWorkspace{
-                {mn[s].data(), cells}, {mx[s].data(), cells}, {inv[s].data(), cells}, {op[s].data(), op[s].size()}});
-            bytes += cells * (2U * sizeof(float) + sizeof(std::uint8_t)) + op[s].size() * sizeof(std::int16_t);
-        }
-    }
-};
-
 /// Times of one path on one case and pattern.
 struct Timing {
     int cycles = 0;
@@ -323,18 +301,18 @@ struct FootprintRun {
 
 FootprintRun run_footprint(const Case& c, const Frame& f, int cycles, TaskRunner& runner) {
     OwnedGrid g(c.grid);
-    Workspaces w(c.grid, c.sensors);
+    const host::OwnedFootprintWorkspaces w(c.grid, f.readings);
     const SensorModelTable model;
     const FootprintParams params;
     FootprintRun run;
-    run.memory_bytes = w.bytes;
+    run.memory_bytes = w.bytes();
     for (const SensorReading& r : f.readings) {
         const auto pixels = static_cast<std::uint64_t>(r.intrinsics.width) *
                             static_cast<std::uint64_t>(r.intrinsics.height);
         run.bound += footprint_work_bound(c.grid, pixels, params);
     }
     const Span<const SensorReading> sensors(f.readings.data(), f.readings.size());
-    const Span<const FootprintWorkspace> spaces(w.ws.data(), w.ws.size());
+    const Span<const FootprintWorkspace> spaces = w.spans();
     run.t = time_cycles(cycles, kWarmupCycles, [&] {
         g.grid.clear();
         FootprintStats st;
@@ -495,13 +473,14 @@ struct Row {
 
 struct Options {
     int cycles = 300;
+    int threads = 1;
     int exact_real_frames = 5;
     int octomap_frames = 3;
     bool quick = false;
 };
 
 [[noreturn]] void usage(const char* why) {
-    std::fprintf(stderr, "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick]\n", why);
+    std::fprintf(stderr, "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N]\n", why);
     std::exit(2);
 }
 
@@ -516,6 +495,17 @@ Options parse(int argc, char** argv) {
             if (o.cycles < 1) {
                 usage("--cycles expects a positive number");
             }
+        } else if (a == "--threads" && i + 1 < argc) {
+            o.threads = std::atoi(argv[++i]);
+#ifdef CELLGUARD_HAVE_WORKER_POOL
+            if (o.threads < 1 || o.threads > static_cast<int>(linux_port::kMaxWorkers)) {
+                usage("--threads expects 1 to 16");
+            }
+#else
+            if (o.threads != 1) {
+                usage("--threads: built without the Linux port's WorkerPool, only 1");
+            }
+#endif
         } else if (a == "--quick") {
             o.quick = true;
         } else {
@@ -570,13 +560,27 @@ int main(int argc, char** argv) {
 #else
     const char* checks = "CG_ENFORCE and CG_ASSERT on";
 #endif
-    std::printf("  one thread (SequentialRunner), fresh grid per cycle, %s; footprint: %d cycles after %d warm-up;\n",
-                checks, opt.cycles, kWarmupCycles);
+    if (opt.threads == 1) {
+        std::printf("  footprint on one thread (SequentialRunner); ");
+    } else {
+        std::printf("  footprint on %d threads (WorkerPool; CPU columns: the calling thread only); ", opt.threads);
+    }
+    std::printf(
+        "per-ray and OctoMap on one thread;\n  fresh grid per cycle, %s; footprint: %d cycles after %d warm-up;\n",
+        checks, opt.cycles, kWarmupCycles);
     std::printf("  per-ray (fuse_frame, exact): %d frames in the real cells, %d in the paper's; OctoMap: %d frames\n",
                 opt.exact_real_frames, opt.cycles, opt.octomap_frames);
     const std::vector<Case> cases = make_cases();
     SequentialRunner sequential;
+#ifdef CELLGUARD_HAVE_WORKER_POOL
+    std::unique_ptr<linux_port::WorkerPool> pool;
+    if (opt.threads > 1) {
+        pool = std::make_unique<linux_port::WorkerPool>(static_cast<std::size_t>(opt.threads));
+    }
+    TaskRunner& runner = pool ? static_cast<TaskRunner&>(*pool) : static_cast<TaskRunner&>(sequential);
+#else
     TaskRunner& runner = sequential;
+#endif
     std::vector<Row> rows;
     for (const Case& c : cases) {
         for (Pattern p : kPatterns) {
@@ -634,9 +638,12 @@ int main(int argc, char** argv) {
 
     std::printf("\nmemory, MiB (footprint: pyramids + opinions of one workspace per sensor; the grid itself apart)\n");
     double largest_mib = 0.0;
-    for (const Case& c : cases) {
-        const Workspaces w(c.grid, c.sensors);
-        const double mib = static_cast<double>(w.bytes) / kMiB;
+    for (const Row& r : rows) {
+        if (r.pattern != Pattern::kMaxRange) {
+            continue;  // the same workspaces for every pattern
+        }
+        const Case& c = *r.c;
+        const double mib = static_cast<double>(r.fp.memory_bytes) / kMiB;
         largest_mib = std::max(largest_mib, mib);
         std::printf("  %-11s footprint %7.2f   grid (int16 log-odds + uint8 observed) %7.2f   per-ray scratch %7.2f\n",
                     c.name, mib, static_cast<double>(c.grid.voxel_count() * 3U) / kMiB,
@@ -660,10 +667,17 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
     std::printf("\nload average at end: %s; run %.0f s\n\n", load_line().c_str(), seconds);
-    std::printf("goal: the 5 cm cell's worst cycle within 10 ms on one core (max %.2f ms CPU, %.2f ms wall) %s\n",
-                max5_cpu, max5_wall, max5_cpu <= 10.0 ? "met" : "NOT met");
-    std::printf("goal: the 2.5 cm cell's worst cycle within 33 ms on one core (max %.2f ms CPU, %.2f ms wall) %s\n",
-                max25_cpu, max25_wall, max25_cpu <= 33.0 ? "met" : "NOT met");
+    // One thread: judged on its CPU time; a pool: on the wall clock (the
+    // calling thread's CPU time is not the cycle's).
+    const bool one = opt.threads == 1;
+    const std::string on = one ? std::string("on one core") : "on " + std::to_string(opt.threads) + " threads";
+    const double j5 = one ? max5_cpu : max5_wall;
+    const double j25 = one ? max25_cpu : max25_wall;
+    const double jp = one ? paper_cpu : paper_wall;
+    std::printf("goal: the 5 cm cell's worst cycle within 10 ms %s (max %.2f ms CPU, %.2f ms wall) %s\n", on.c_str(),
+                max5_cpu, max5_wall, j5 <= 10.0 ? "met" : "NOT met");
+    std::printf("goal: the 2.5 cm cell's worst cycle within 33 ms %s (max %.2f ms CPU, %.2f ms wall) %s\n", on.c_str(),
+                max25_cpu, max25_wall, j25 <= 33.0 ? "met" : "NOT met");
     std::printf("goal: the tables within 64 MiB (largest %.2f MiB) %s\n", largest_mib,
                 largest_mib <= 64.0 ? "met" : "NOT met");
     if (std::isfinite(min_ratio)) {
@@ -672,7 +686,8 @@ int main(int argc, char** argv) {
     } else {
         std::printf("goal: at least 20x OctoMap on the same readings (OctoMap not built) NOT met\n");
     }
-    std::printf("goal: the paper's cell within 5 ms worst case for every pattern (max %.2f ms CPU, %.2f ms wall) %s\n",
-                paper_cpu, paper_wall, paper_cpu <= 5.0 ? "met" : "NOT met");
+    std::printf(
+        "goal: the paper's cell within 5 ms worst case for every pattern %s (max %.2f ms CPU, %.2f ms wall) %s\n",
+        on.c_str(), paper_cpu, paper_wall, jp <= 5.0 ? "met" : "NOT met");
     return bound_held ? 0 : 1;
 }
