@@ -150,12 +150,12 @@ GridGeometry geometry(const Eigen::Vector3d& origin, double size, GridDims dims)
 std::vector<Case> make_cases() {
     const Eigen::Vector3d lo(-2.0, -2.0, 0.0);
     std::vector<Case> cases;
+    cases.push_back(
+        Case{"paper", paper_grid_geometry(), sim::paper_sensors(), lo, Eigen::Vector3d(2.0, 2.0, 2.0), false});
     cases.push_back(Case{"real-5cm", geometry(lo, 0.05, GridDims{80, 80, 50}), real_sensors(), lo,
                          Eigen::Vector3d(2.0, 2.0, 2.5), true});
     cases.push_back(Case{"real-2.5cm", geometry(lo, 0.025, GridDims{160, 160, 100}), real_sensors(), lo,
                          Eigen::Vector3d(2.0, 2.0, 2.5), true});
-    cases.push_back(
-        Case{"paper", paper_grid_geometry(), sim::paper_sensors(), lo, Eigen::Vector3d(2.0, 2.0, 2.0), false});
     return cases;
 }
 
@@ -582,6 +582,19 @@ int main(int argc, char** argv) {
     TaskRunner& runner = sequential;
 #endif
     std::vector<Row> rows;
+    std::printf("\ncases\n");
+    for (const Case& c : cases) {
+        std::uint64_t pixels = 0U;
+        for (const sim::SensorSpec& s : c.sensors) {
+            pixels += static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height);
+        }
+        std::printf("  %-11s grid %d x %d x %d at %.3f m (%zu voxels), %zu sensors, %llu pixels a frame\n", c.name,
+                    c.grid.dims().nx, c.grid.dims().ny, c.grid.dims().nz, c.grid.voxel_size(), c.grid.voxel_count(),
+                    c.sensors.size(), static_cast<unsigned long long>(pixels));
+    }
+
+    std::printf("\ncycle time, ms (median and p99 wall clock; max wall clock; median and max thread CPU time)\n");
+    std::printf("    %-10s %6s %9s %9s %9s %9s %9s\n", "path", "cycles", "median", "p99", "max", "cpu med", "cpu max");
     for (const Case& c : cases) {
         for (Pattern p : kPatterns) {
             const Frame f = make_frame(c, p);
@@ -596,27 +609,12 @@ int main(int argc, char** argv) {
 #endif
             std::fprintf(stderr, "bench_scale: %s %s done at %.0f s\n", c.name, pattern_name(p),
                          std::chrono::duration<double>(SteadyClock::now() - start).count());
+            print_row(r);  // as it comes: a long run on a loaded machine shows its rows early
             rows.push_back(std::move(r));
             std::fflush(stdout);
         }
     }
 
-    std::printf("\ncases\n");
-    for (const Case& c : cases) {
-        std::uint64_t pixels = 0U;
-        for (const sim::SensorSpec& s : c.sensors) {
-            pixels += static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height);
-        }
-        std::printf("  %-11s grid %d x %d x %d at %.3f m (%zu voxels), %zu sensors, %llu pixels a frame\n", c.name,
-                    c.grid.dims().nx, c.grid.dims().ny, c.grid.dims().nz, c.grid.voxel_size(), c.grid.voxel_count(),
-                    c.sensors.size(), static_cast<unsigned long long>(pixels));
-    }
-
-    std::printf("\ncycle time, ms (median and p99 wall clock; max wall clock; median and max thread CPU time)\n");
-    std::printf("    %-10s %6s %9s %9s %9s %9s %9s\n", "path", "cycles", "median", "p99", "max", "cpu med", "cpu max");
-    for (const Row& r : rows) {
-        print_row(r);
-    }
 #ifdef CELLGUARD_HAVE_OCTOMAP
     std::printf(
         "  OctoMap: real cells insertPointCloud of every reading at the grid's resolution; paper: the same rays\n"
