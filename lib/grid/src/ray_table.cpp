@@ -40,7 +40,7 @@ Status check_depth_sensor(const SensorReading& sensor) noexcept {
     if (!valid.ok()) {
         return valid;
     }
-    if (sensor.kind != SensorDataKind::kDepthImage) {
+    if (!is_depth_image(sensor.kind)) {
         return ErrorCode::kInvalidArgument;
     }
     return Status{};
@@ -608,8 +608,8 @@ bool near_a_face(const Entries& entries, const FuseView& t, float range, std::ui
 /// end to begin[i], counts the skipped readings in @p s, settles the pixels
 /// whose reading lies a ramp or more beyond the grid (every entry constant),
 /// and puts the others into @p batch for the search. Returns how many.
-template <typename Entries, typename Limit>
-std::size_t classify_batch(const Entries& entries, const FuseView& t, Span<const float> depth, float ramp,
+template <typename Entries, typename Limit, typename Depth>
+std::size_t classify_batch(const Entries& entries, const FuseView& t, const Depth& depth, float ramp,
                            std::size_t batch_begin, std::size_t batch_end,
                            std::array<SearchSlot<Limit>, kSearchBatch>& batch, FusionStats& s) noexcept {
     std::size_t searched = 0U;
@@ -670,8 +670,8 @@ std::size_t classify_batch(const Entries& entries, const FuseView& t, Span<const
 /// the grid. A walked voxel's opinion is the constant unless a ray's ramp or
 /// reading lies in it: then it is the largest of their opinions (the weakest
 /// free, or the hit), as fuse_sensor keeps it.
-template <typename Entries, typename Limit>
-void take_ramps(const Entries& entries, const FuseView& t, Span<const float> depth, const SensorModelTable& model,
+template <typename Entries, typename Limit, typename Depth>
+void take_ramps(const Entries& entries, const FuseView& t, const Depth& depth, const SensorModelTable& model,
                 const std::array<SearchSlot<Limit>, kSearchBatch>& batch, std::size_t searched,
                 FusionStats& s) noexcept {
     const std::int16_t peak = model.reading_evidence();
@@ -731,9 +731,10 @@ void count_hits(const Entries& entries, const FuseView& t, std::uint64_t voxel_u
     }
 }
 
-/// RayTable::fuse for one entry kind (the checks are done by the caller).
-template <typename Entries>
-FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid& grid, Span<const float> depth,
+/// RayTable::fuse for one entry kind and one depth kind (the checks are
+/// done by the caller).
+template <typename Entries, typename Depth>
+FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid& grid, const Depth& depth,
                          const SensorModelTable& model) noexcept {
     std::int16_t* const lo = grid.log_odds().data();
     std::uint8_t* const obs = grid.observed().data();
@@ -767,17 +768,51 @@ FusionStats fuse_entries(const Entries& entries, const FuseView& t, EvidenceGrid
     return s;
 }
 
+/// A kDepthImage view read in place: the floats as stored (depth_value's
+/// rule for that kind, without its test of the kind per pixel).
+struct FloatDepth {
+    const float* depth;
+    float operator[](std::size_t i) const noexcept { return depth[i]; }
+};
+
+/// A kDepthImageU16 reading read in place, pixel by pixel through
+/// depth_value: raw 0 is NaN, every other raw value its depth in metres.
+struct U16Depth {
+    const SensorReading* reading;
+    float operator[](std::size_t i) const noexcept { return depth_value(*reading, i); }
+};
+
 }  // namespace
 
 Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                                    const SensorModelTable& model) const noexcept {
+    return fuse_image(grid, nullptr, depth, model);
+}
+
+Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, const SensorReading& reading,
+                                   const SensorModelTable& model) const noexcept {
+    const Status valid = validate_sensor_reading(reading);
+    if (!valid.ok()) {
+        return valid.error();
+    }
+    if (!is_depth_image(reading.kind)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    if (reading.kind == SensorDataKind::kDepthImageU16) {
+        return fuse_image(grid, &reading, {}, model);
+    }
+    return fuse_image(grid, nullptr, reading.depth, model);
+}
+
+Result<FusionStats> RayTable::fuse_image(EvidenceGrid& grid, const SensorReading* u16, Span<const float> depth,
+                                         const SensorModelTable& model) const noexcept {
     if (pixels_ == 0U) {
         return ErrorCode::kInvalidArgument;
     }
     if (!(grid.geometry() == geometry_)) {
         return ErrorCode::kGeometryMismatch;
     }
-    if (depth.size() != pixels_) {
+    if ((u16 != nullptr ? u16->depth_u16.size() : depth.size()) != pixels_) {
         return ErrorCode::kMalformedInput;
     }
     const std::size_t voxel_count = geometry_.voxel_count();
@@ -805,10 +840,14 @@ Result<FusionStats> RayTable::fuse(EvidenceGrid& grid, Span<const float> depth,
                         exit_step_,
                         steps_per_metre_,
                         &placement_};
-    return compact_ ? fuse_entries(CompactEntries{storage_.compact_voxels.data(), storage_.compact_exit_steps.data()},
-                                   view, grid, depth, model)
-                    : fuse_entries(WideEntries{storage_.wide_voxels.data(), storage_.wide_exits.data()}, view, grid,
-                                   depth, model);
+    const CompactEntries compact{storage_.compact_voxels.data(), storage_.compact_exit_steps.data()};
+    const WideEntries wide{storage_.wide_voxels.data(), storage_.wide_exits.data()};
+    if (u16 != nullptr) {
+        const U16Depth d{u16};
+        return compact_ ? fuse_entries(compact, view, grid, d, model) : fuse_entries(wide, view, grid, d, model);
+    }
+    const FloatDepth d{depth.data()};
+    return compact_ ? fuse_entries(compact, view, grid, d, model) : fuse_entries(wide, view, grid, d, model);
 }
 
 }  // namespace cellguard

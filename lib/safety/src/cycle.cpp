@@ -12,8 +12,8 @@ CycleWorkBound compute_work_bound(const GridGeometry& grid, Span<const SensorRea
     CycleWorkBound b;
     std::uint64_t depth_images = 0U;
     for (const SensorReading& s : sensors) {
-        depth_images += s.kind == SensorDataKind::kDepthImage ? 1U : 0U;
-        const std::uint64_t n = s.kind == SensorDataKind::kDepthImage
+        depth_images += is_depth_image(s.kind) ? 1U : 0U;
+        const std::uint64_t n = is_depth_image(s.kind)
                                     ? static_cast<std::uint64_t>(s.intrinsics.width > 0 ? s.intrinsics.width : 0) *
                                           static_cast<std::uint64_t>(s.intrinsics.height > 0 ? s.intrinsics.height : 0)
                                     : static_cast<std::uint64_t>(s.points.size());
