@@ -112,14 +112,14 @@ void check_same_stats(const FusionStats& a, const FusionStats& b) {
     CHECK(a.voxel_updates == b.voxel_updates);
 }
 
-/// The scale and offset pairs the equality tests run: millimetres, a
-/// GenICam-like 1/64 mm scale with an offset, and a negative offset that
-/// puts raw 1 behind the sensor.
+/// The scale and offset pairs the equality tests run: millimetres, half
+/// millimetres with an offset (scale and offset not exact in binary), and a
+/// negative offset that puts raw 1 behind the sensor.
 struct ScaleOffset {
     float scale;
     float offset;
 };
-constexpr ScaleOffset kScales[] = {{0.001F, 0.0F}, {0.000015625F, 0.25F}, {0.001F, -0.2F}};
+constexpr ScaleOffset kScales[] = {{0.001F, 0.0F}, {0.0005F, 0.4F}, {0.001F, -0.2F}};
 
 }  // namespace
 
