@@ -206,9 +206,9 @@ TEST_CASE("depth u16: fuse_sensor gives the float twin's grid bit for bit in bot
             const std::vector<float> depth = float_twin(raw, so.scale, so.offset);
             OwnedGrid a(g);
             OwnedGrid b(g);
-            const FusionStats su =
-                fuse_sensor(a.grid, u16_reading(raw, so.scale, so.offset), SensorModelTable{}, a.fusion_scratch(), ras)
-                    .value();
+            const FusionStats su = fuse_sensor(a.grid, u16_reading(raw, so.scale, so.offset), SensorModelTable{},
+                                               a.fusion_scratch(), ras)
+                                       .value();
             const FusionStats sf =
                 fuse_sensor(b.grid, float_reading(depth), SensorModelTable{}, b.fusion_scratch(), ras).value();
             check_same_stats(su, sf);
@@ -217,8 +217,8 @@ TEST_CASE("depth u16: fuse_sensor gives the float twin's grid bit for bit in bot
             CHECK(su.skipped_nan == zeros);
             CHECK(su.skipped_zero == 0U);
             CHECK(su.rays_fused + su.skipped() == kPixels);
-            CHECK(su.readings_in_grid > 100U);           // the test fuses real readings
-            CHECK(su.skipped_out_of_range >= 50U);       // 65535 is beyond max_range
+            CHECK(su.readings_in_grid > 100U);      // the test fuses real readings
+            CHECK(su.skipped_out_of_range >= 50U);  // 65535 is beyond max_range
             CHECK((so.offset < 0.0F) == (su.skipped_behind > 0U));
         }
     }

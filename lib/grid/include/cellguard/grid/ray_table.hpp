@@ -239,8 +239,7 @@ private:
     using CheckHeader = std::array<std::uint32_t, kCheckHeaderWords>;
     /// Both fuse()s: the uint16 image of @p u16 when it is not null, else
     /// the floats of @p depth.
-    [[nodiscard]] Result<FusionStats> fuse_image(EvidenceGrid& grid, const SensorReading* u16,
-                                                 Span<const float> depth,
+    [[nodiscard]] Result<FusionStats> fuse_image(EvidenceGrid& grid, const SensorReading* u16, Span<const float> depth,
                                                  const SensorModelTable& model) const noexcept;
     /// The table's geometry and limits as words, from the members.
     [[nodiscard]] CheckHeader check_header() const noexcept;
