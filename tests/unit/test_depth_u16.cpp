@@ -123,6 +123,7 @@ constexpr ScaleOffset kScales[] = {{0.001F, 0.0F}, {0.0005F, 0.4F}, {0.001F, -0.
 
 }  // namespace
 
+// verifies: SR-FUSE-013, SR-FUSE-004
 TEST_CASE("depth u16: validation refuses each bad field and uses only the kind's view") {
     const std::vector<std::uint16_t> raw = raw_image();
     const SensorReading good = u16_reading(raw, 0.001F, 0.0F);
@@ -165,6 +166,7 @@ TEST_CASE("depth u16: validation refuses each bad field and uses only the kind's
     CHECK(validate_sensor_reading(f).error() == ErrorCode::kMalformedInput);
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: depth_value reads raw 0 as NaN, the largest raw value and an offset exactly") {
     const std::uint16_t raw[4] = {0U, 65535U, 1000U, 1U};
     SensorReading r = camera();
@@ -192,6 +194,7 @@ TEST_CASE("depth u16: depth_value reads raw 0 as NaN, the largest raw value and 
     CHECK_FALSE(is_depth_image(SensorDataKind::kPointSet));
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: fuse_sensor gives the float twin's grid bit for bit in both rasterizations") {
     const std::vector<std::uint16_t> raw = raw_image();
     std::size_t zeros = 0U;
@@ -224,6 +227,7 @@ TEST_CASE("depth u16: fuse_sensor gives the float twin's grid bit for bit in bot
     }
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: a ray table fuses a uint16 image as it fuses the float twin (compact and wide)") {
     const std::vector<std::uint16_t> raw = raw_image();
     for (const int n : {32, 48}) {
@@ -261,6 +265,7 @@ TEST_CASE("depth u16: a ray table fuses a uint16 image as it fuses the float twi
     }
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: a ray table refuses a point set, a bad description and an image of another size") {
     const std::vector<std::uint16_t> raw = raw_image();
     const GridGeometry g = cube_grid(32);
@@ -279,6 +284,7 @@ TEST_CASE("depth u16: a ray table refuses a point set, a bad description and an 
     CHECK(std::all_of(grid.ob.begin(), grid.ob.end(), [](std::uint8_t o) { return o == 0U; }));
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: the background check matches a uint16 image as its float twin") {
     const std::vector<std::uint16_t> raw = raw_image();
     for (const ScaleOffset so : kScales) {
@@ -320,6 +326,7 @@ TEST_CASE("depth u16: the background check matches a uint16 image as its float t
     CHECK(match_background(u16_reading(raw, 0.001F, 0.0F), reference).error() == ErrorCode::kInvalidArgument);
 }
 
+// verifies: SR-FUSE-013
 TEST_CASE("depth u16: the fingerprint covers every raw value, the scale and the offset") {
     std::vector<std::uint16_t> raw = raw_image();
     const std::uint64_t base = reading_fingerprint(u16_reading(raw, 0.001F, 0.0F));

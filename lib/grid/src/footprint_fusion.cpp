@@ -720,7 +720,9 @@ Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorRe
     if (workspaces.empty()) {
         return ErrorCode::kStorageTooSmall;
     }
-    for (const SensorReading& r : sensors) {
+    const bool parallel = workspaces.size() >= sensors.size();
+    for (std::size_t i = 0U; i < sensors.size(); ++i) {
+        const SensorReading& r = sensors[i];
         const Status valid = validate_sensor_reading(r);
         if (!valid.ok()) {
             return valid.error();
@@ -728,19 +730,17 @@ Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorRe
         if (!is_depth_image(r.kind)) {
             return ErrorCode::kInvalidArgument;
         }
+        // Sensor i uses workspace i when each has its own, else workspace 0.
         const std::size_t cells = depth_pyramid_cells(r.intrinsics.width, r.intrinsics.height);
-        const std::size_t lanes = workspaces.size() >= sensors.size() ? sensors.size() : 1U;
-        for (std::size_t w = 0U; w < lanes; ++w) {
-            const FootprintWorkspace& ws = workspaces[w];
-            if (ws.opinions.size() < grid.voxel_count() || ws.pyramid_min.size() < cells ||
-                ws.pyramid_max.size() < cells || ws.pyramid_invalid.size() < cells) {
-                return ErrorCode::kStorageTooSmall;
-            }
+        const FootprintWorkspace& ws = workspaces[parallel ? i : 0U];
+        if (ws.opinions.size() < grid.voxel_count() || ws.pyramid_min.size() < cells ||
+            ws.pyramid_max.size() < cells || ws.pyramid_invalid.size() < cells) {
+            return ErrorCode::kStorageTooSmall;
         }
     }
     FusionStats total;
     FootprintStats fp;
-    if (workspaces.size() >= sensors.size()) {
+    if (parallel) {
         FrameJob job;
         job.grid = &grid.geometry();
         job.sensors = sensors;

@@ -191,10 +191,10 @@ bool SafetyController::shows_background(const SensorInput& input) noexcept {
     if (input.background == nullptr) {
         return true;
     }
-    if (input.reading.kind != SensorDataKind::kDepthImage) {
+    if (!is_depth_image(input.reading.kind)) {
         return false;  // a reference is a depth image: a point set cannot show it
     }
-    const Result<BackgroundMatch> m = match_background(input.reading.depth, *input.background);
+    const Result<BackgroundMatch> m = match_background(input.reading, *input.background);
     return m.ok() && background_seen(m.value(), input.background->min_match_fraction);
 }
 
@@ -233,8 +233,8 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
             images[image_count++] = s.reading;  // fused together below
             continue;
         }
-        const Result<FusionStats> r = (s.table != nullptr && s.reading.kind == SensorDataKind::kDepthImage)
-                                          ? s.table->fuse(*grid_, s.reading.depth, *model_)
+        const Result<FusionStats> r = (s.table != nullptr && is_depth_image(s.reading.kind))
+                                          ? s.table->fuse(*grid_, s.reading, *model_)
                                           : fuse_sensor(*grid_, s.reading, *model_, scratch_, config_.rasterization);
         if (!r.ok()) {
             faults |= fault_bit(Fault::kFrameInconsistent);
