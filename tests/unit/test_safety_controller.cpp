@@ -19,6 +19,7 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/firmware/scenario.hpp"
+#include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/robot/robot_image.hpp"
@@ -238,6 +239,42 @@ TEST_CASE("controller: a person in the warning zone only gives a warning, not a 
     CHECK(r.zones.zones[0].state == ZoneState::kClear);
     CHECK(r.safety.warning);
     CHECK_FALSE(r.safety.stop_requested);
+}
+
+// verifies: SR-FUSE-010, SR-FUSE-011
+TEST_CASE("controller: fusing by footprint gives the ray path's zone states; no workspace is a frame fault") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    const sim::Scene scenes[] = {sim::reference_scene(), with_person(-0.6, 0.6), with_person(0.2, 0.4),
+                                 sim::reference_scene()};
+    TestClock ray_clock;
+    TestClock fp_clock;
+    SafetyController ray = w.controller(ray_clock);
+    SafetyController fp = w.controller(fc, fp_clock);
+    for (const sim::Scene& scene : scenes) {
+        const CycleReport r = ray.run_cycle(Frame(w, scene, ray_clock.t).span(), false);
+        const CycleReport f = fp.run_cycle(Frame(w, scene, fp_clock.t).span(), false);
+        REQUIRE(f.detected_faults == 0U);
+        CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
+        CHECK(f.fusion.readings_in_grid == r.fusion.readings_in_grid);
+        for (std::size_t z = 0; z < 2U; ++z) {
+            INFO("zone " << z << ": fg " << f.zones.zones[z].foreground << " / " << r.zones.zones[z].foreground
+                         << ", unseen " << f.zones.zones[z].unseen << " / " << r.zones.zones[z].unseen);
+            CHECK(f.zones.zones[z].state == r.zones.zones[z].state);
+            CHECK(f.zones.zones[z].foreground == r.zones.zones[z].foreground);
+        }
+        CHECK(f.safety.stop_requested == r.safety.stop_requested);
+        CHECK(f.safety.warning == r.safety.warning);
+    }
+    fc.footprint.workspaces = {};
+    TestClock clock;
+    SafetyController none = w.controller(fc, clock);
+    const CycleReport& r = none.run_cycle(Frame(w, sim::reference_scene(), clock.t).span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kFrameInconsistent)) != 0U);
+    CHECK(r.safety.stop_requested);
 }
 
 // verifies: SR-CTRL-002, SR-LOGIC-002, SR-LOGIC-005

@@ -91,11 +91,18 @@ public:
         : grid_(g), reading_(r), model_(model), params_(params), pyramid_(pyramid), opinions_(opinions) {
         const Eigen::Matrix3d rt = r.pose.linear().transpose();
         const double s = g.voxel_size();
-        base_ = rt * (g.origin() - r.pose.translation());
-        axis_[0] = rt * Eigen::Vector3d(s, 0.0, 0.0);
-        axis_[1] = rt * Eigen::Vector3d(0.0, s, 0.0);
-        axis_[2] = rt * Eigen::Vector3d(0.0, 0.0, s);
+        const Eigen::Vector3d base = rt * (g.origin() - r.pose.translation());
+        for (Eigen::Index a = 0; a < 3; ++a) {
+            base_[static_cast<std::size_t>(a)] = base[a];
+            for (Eigen::Index e = 0; e < 3; ++e) {
+                axis_[static_cast<std::size_t>(e)][static_cast<std::size_t>(a)] = rt(a, e) * s;
+            }
+        }
         const PinholeIntrinsics& k = r.intrinsics;
+        fx_ = k.fx;
+        fy_ = k.fy;
+        cx_ = k.cx;
+        cy_ = k.cy;
         pixel_angle_ = std::sqrt(1.0 / (k.fx * k.fx) + 1.0 / (k.fy * k.fy));
         budget_ = params.exact_pixel_budget;
     }
@@ -106,10 +113,15 @@ public:
 
 private:
     [[nodiscard]] Eigen::Vector3d lattice(double i, double j, double k) const noexcept {
-        return base_ + i * axis_[0] + j * axis_[1] + k * axis_[2];
+        Eigen::Vector3d p;
+        for (std::size_t a = 0U; a < 3U; ++a) {
+            p[static_cast<Eigen::Index>(a)] = base_[a] + i * axis_[0][a] + j * axis_[1][a] + k * axis_[2][a];
+        }
+        return p;
     }
     [[nodiscard]] Projected project_point(double i, double j, double k) const noexcept;
-    [[nodiscard]] Footprint footprint_of(const std::array<Projected, 8>& corners) const noexcept;
+    [[nodiscard]] Projected project_camera(double x, double y, double z) const noexcept;
+    [[nodiscard]] Footprint footprint_of(const std::array<const Projected*, 8>& corners) const noexcept;
     [[nodiscard]] Footprint project(const Box& b) const noexcept;
     void classify(const Box& b, const Footprint& f) noexcept;
     /// Evaluates a box of sides <= kSmallSide voxel by voxel; false (nothing
@@ -132,29 +144,37 @@ private:
     const FootprintParams& params_;
     const DepthPyramid& pyramid_;
     Span<std::int16_t> opinions_;
-    Eigen::Vector3d base_;
-    std::array<Eigen::Vector3d, 3> axis_;
+    std::array<double, 3> base_{};                  ///< lattice point (0, 0, 0) in the camera frame
+    std::array<std::array<double, 3>, 3> axis_{};   ///< one voxel along each grid axis, in the camera frame
+    double fx_ = 0.0;
+    double fy_ = 0.0;
+    double cx_ = 0.0;
+    double cy_ = 0.0;
     double pixel_angle_ = 0.0;
     std::uint64_t budget_ = 0U;
     FootprintStats stats_{};
 };
 
 Projected SensorPass::project_point(double i, double j, double k) const noexcept {
-    const Eigen::Vector3d p = lattice(i, j, k);
+    return project_camera(base_[0] + i * axis_[0][0] + j * axis_[1][0] + k * axis_[2][0],
+                          base_[1] + i * axis_[0][1] + j * axis_[1][1] + k * axis_[2][1],
+                          base_[2] + i * axis_[0][2] + j * axis_[1][2] + k * axis_[2][2]);
+}
+
+Projected SensorPass::project_camera(double x, double y, double z) const noexcept {
     Projected out;
-    out.z = p.z();
-    out.dist = p.squaredNorm();
-    out.behind = p.z() <= kMinCornerDepth;
+    out.z = z;
+    out.dist = x * x + y * y + z * z;
+    out.behind = z <= kMinCornerDepth;
     if (!out.behind) {
-        const PinholeIntrinsics& in = reading_.intrinsics;
-        const double inv_z = 1.0 / p.z();
-        out.u = in.fx * p.x() * inv_z + in.cx;
-        out.v = in.fy * p.y() * inv_z + in.cy;
+        const double inv_z = 1.0 / z;
+        out.u = fx_ * x * inv_z + cx_;
+        out.v = fy_ * y * inv_z + cy_;
     }
     return out;
 }
 
-Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) const noexcept {
+Footprint SensorPass::footprint_of(const std::array<const Projected*, 8>& corners) const noexcept {
     Footprint f;
     const PinholeIntrinsics& k = reading_.intrinsics;
     double u_min = std::numeric_limits<double>::infinity();
@@ -164,7 +184,8 @@ Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) cons
     f.z_min = u_min;
     f.z_max = -u_min;
     std::int32_t behind = 0;
-    for (const Projected& p : corners) {
+    for (const Projected* c : corners) {
+        const Projected& p = *c;
         f.z_min = p.z < f.z_min ? p.z : f.z_min;
         f.z_max = p.z > f.z_max ? p.z : f.z_max;
         f.d_max = p.dist > f.d_max ? p.dist : f.d_max;  // squared until the end
@@ -197,11 +218,28 @@ Footprint SensorPass::footprint_of(const std::array<Projected, 8>& corners) cons
 }
 
 Footprint SensorPass::project(const Box& b) const noexcept {
-    std::array<Projected, 8> corners{};
-    for (std::int32_t c = 0; c < 8; ++c) {
-        corners[static_cast<std::size_t>(c)] =
-            project_point((c & 1) != 0 ? b.hi[0] : b.lo[0], (c & 2) != 0 ? b.hi[1] : b.lo[1],
-                          (c & 4) != 0 ? b.hi[2] : b.lo[2]);
+    // The low corner, then the others by adding the box's edges.
+    std::array<double, 3> p0{};
+    std::array<std::array<double, 3>, 3> edge{};
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        p0[a] = base_[a] + b.lo[0] * axis_[0][a] + b.lo[1] * axis_[1][a] + b.lo[2] * axis_[2][a];
+        for (std::size_t e = 0U; e < 3U; ++e) {
+            edge[e][a] = static_cast<double>(b.hi[e] - b.lo[e]) * axis_[e][a];
+        }
+    }
+    std::array<Projected, 8> points;
+    std::array<const Projected*, 8> corners{};
+    for (std::size_t c = 0U; c < 8U; ++c) {
+        std::array<double, 3> q = p0;
+        for (std::size_t e = 0U; e < 3U; ++e) {
+            if ((c >> e) & 1U) {
+                q[0] += edge[e][0];
+                q[1] += edge[e][1];
+                q[2] += edge[e][2];
+            }
+        }
+        points[c] = project_camera(q[0], q[1], q[2]);
+        corners[c] = &points[c];
     }
     return footprint_of(corners);
 }
@@ -219,7 +257,7 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
     const std::int32_t n0 = b.hi[0] - b.lo[0] + 1;
     const std::int32_t n1 = b.hi[1] - b.lo[1] + 1;
     const std::int32_t n2 = b.hi[2] - b.lo[2] + 1;
-    std::array<Projected, kSmallLattice> lat{};
+    std::array<Projected, kSmallLattice> lat;
     for (std::int32_t k = 0; k < n2; ++k) {
         for (std::int32_t j = 0; j < n1; ++j) {
             for (std::int32_t i = 0; i < n0; ++i) {
@@ -234,12 +272,12 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
     for (std::int32_t z = 0; z + 1 < n2; ++z) {
         for (std::int32_t y = 0; y + 1 < n1; ++y) {
             for (std::int32_t x = 0; x + 1 < n0; ++x) {
-                std::array<Projected, 8> corners{};
+                std::array<const Projected*, 8> corners{};
                 for (std::int32_t c = 0; c < 8; ++c) {
                     const std::int32_t i = x + (c & 1);
                     const std::int32_t j = y + ((c >> 1) & 1);
                     const std::int32_t k = z + ((c >> 2) & 1);
-                    corners[static_cast<std::size_t>(c)] = lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
+                    corners[static_cast<std::size_t>(c)] = &lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
                 }
                 ++stats_.boxes;
                 const Footprint f = footprint_of(corners);

@@ -106,7 +106,7 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
     std::size_t i = 0U;
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u, ++i) {
-            const float d = reading.depth[i];
+            const float d = depth_value(reading, i);  // either kind, read in place
             // Classify the raw depth first: 0 * inf would hide an infinity as NaN.
             const ReadingClass raw = detail::classify_depth(d);
             if (raw != ReadingClass::kValid) {

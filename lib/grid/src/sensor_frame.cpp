@@ -26,7 +26,14 @@ Status validate_sensor_reading(const SensorReading& reading) noexcept {
         }
         return Status{};
     }
-    if (reading.kind != SensorDataKind::kDepthImage) {
+    if (!is_depth_image(reading.kind)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    const bool u16 = reading.kind == SensorDataKind::kDepthImageU16;
+    if (u16 && !(std::isfinite(reading.depth_scale) && std::isfinite(reading.depth_offset))) {
+        return ErrorCode::kNonFiniteValue;
+    }
+    if (u16 && !(reading.depth_scale > 0.0F)) {
         return ErrorCode::kInvalidArgument;
     }
     const PinholeIntrinsics& k = reading.intrinsics;
@@ -40,7 +47,8 @@ Status validate_sensor_reading(const SensorReading& reading) noexcept {
     if (pixels > kMaxReadingsPerSensor) {
         return ErrorCode::kCapacityExceeded;
     }
-    if (reading.depth.size() != pixels) {
+    // Only the kind's own view counts: the other one may hold anything.
+    if ((u16 ? reading.depth_u16.size() : reading.depth.size()) != pixels) {
         return ErrorCode::kMalformedInput;
     }
     return Status{};
@@ -99,6 +107,24 @@ std::uint64_t reading_fingerprint(const SensorReading& reading) noexcept {
         }
         for (; i < d.size(); ++i) {
             lanes.add(bits_of(d[i]));
+        }
+        return lanes.finish(d.size());
+    }
+    if (reading.kind == SensorDataKind::kDepthImageU16) {
+        // The scale and offset (they change every depth) first, then the raw
+        // values as they are, two to a word.
+        const Span<const std::uint16_t> d = reading.depth_u16;
+        lanes.add(bits_of(reading.depth_scale));
+        lanes.add(bits_of(reading.depth_offset));
+        std::size_t i = 0U;
+        const auto pair = [&d](std::size_t j) noexcept {
+            return static_cast<std::uint32_t>(d[j]) | (static_cast<std::uint32_t>(d[j + 1U]) << 16U);
+        };
+        for (; i + 8U <= d.size(); i += 8U) {
+            lanes.add4(pair(i), pair(i + 2U), pair(i + 4U), pair(i + 6U));
+        }
+        for (; i < d.size(); ++i) {
+            lanes.add(d[i]);
         }
         return lanes.finish(d.size());
     }

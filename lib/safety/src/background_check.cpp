@@ -16,15 +16,31 @@ std::uint32_t is_reading(float d) noexcept {
            static_cast<std::uint32_t>(d < std::numeric_limits<float>::infinity());
 }
 
-}  // namespace
+/// A kDepthImage view read in place: four floats at a time as stored.
+struct FloatLive {
+    const float* depth;
+    float operator[](std::size_t i) const noexcept { return depth[i]; }
+    template <typename Floats>
+    void load4(std::size_t i, Floats& out) const noexcept {
+        std::memcpy(&out, depth + i, sizeof out);
+    }
+};
 
-Result<BackgroundMatch> match_background(Span<const float> live, const BackgroundReference& reference) noexcept {
-    if (live.size() != reference.depth.size()) {
-        return ErrorCode::kMalformedInput;
+/// A kDepthImageU16 reading read in place through depth_value (raw 0: NaN).
+struct U16Live {
+    const SensorReading* reading;
+    float operator[](std::size_t i) const noexcept { return depth_value(*reading, i); }
+    template <typename Floats>
+    void load4(std::size_t i, Floats& out) const noexcept {
+        out = Floats{depth_value(*reading, i), depth_value(*reading, i + 1U), depth_value(*reading, i + 2U),
+                     depth_value(*reading, i + 3U)};
     }
-    if (!(std::isfinite(reference.tolerance_m) && reference.tolerance_m > 0.0F)) {
-        return ErrorCode::kInvalidArgument;
-    }
+};
+
+/// match_background for either kind of @p live image of @p n pixels (the
+/// checks are done by the caller).
+template <typename Live>
+BackgroundMatch match_pixels(const Live& live, std::size_t n, const BackgroundReference& reference) noexcept {
     BackgroundMatch m;
     std::size_t i = 0U;
     // Four pixels at a time in GCC/Clang vector types (SSE2 on x86-64, NEON
@@ -35,11 +51,11 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
     const float inf = std::numeric_limits<float>::infinity();
     Lanes referenced4 = {0, 0, 0, 0};  // per lane: the count (subtracting a true compare, -1, adds one)
     Lanes matching4 = {0, 0, 0, 0};
-    for (; i + 4U <= live.size(); i += 4U) {
+    for (; i + 4U <= n; i += 4U) {
         Floats r;
         Floats d;
         std::memcpy(&r, reference.depth.data() + i, sizeof r);
-        std::memcpy(&d, live.data() + i, sizeof d);
+        live.load4(i, d);
         const Lanes r_ok = (r > 0.0F) & (r < inf);
         const Lanes d_ok = (d > 0.0F) & (d < inf);
         const Floats difference = d - r;
@@ -56,7 +72,7 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
         m.referenced += static_cast<std::uint32_t>(referenced4[lane]);
         m.matching += static_cast<std::uint32_t>(matching4[lane]);
     }
-    for (; i < live.size(); ++i) {
+    for (; i < n; ++i) {
         const float r = reference.depth[i];
         const float d = live[i];
         // The last 0 to 3 pixels: the same comparisons, one at a time.
@@ -67,6 +83,38 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
         m.matching += referenced & within;
     }
     return m;
+}
+
+bool tolerance_ok(const BackgroundReference& reference) noexcept {
+    return std::isfinite(reference.tolerance_m) && reference.tolerance_m > 0.0F;
+}
+
+}  // namespace
+
+Result<BackgroundMatch> match_background(Span<const float> live, const BackgroundReference& reference) noexcept {
+    if (live.size() != reference.depth.size()) {
+        return ErrorCode::kMalformedInput;
+    }
+    if (!tolerance_ok(reference)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    return match_pixels(FloatLive{live.data()}, live.size(), reference);
+}
+
+Result<BackgroundMatch> match_background(const SensorReading& live, const BackgroundReference& reference) noexcept {
+    if (!is_depth_image(live.kind)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    if (live.kind == SensorDataKind::kDepthImage) {
+        return match_background(live.depth, reference);
+    }
+    if (live.depth_u16.size() != reference.depth.size()) {
+        return ErrorCode::kMalformedInput;
+    }
+    if (!tolerance_ok(reference)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    return match_pixels(U16Live{&live}, live.depth_u16.size(), reference);
 }
 
 bool background_seen(const BackgroundMatch& match, float min_fraction) noexcept {

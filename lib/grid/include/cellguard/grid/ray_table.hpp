@@ -185,6 +185,17 @@ public:
     [[nodiscard]] Result<FusionStats> fuse(EvidenceGrid& grid, Span<const float> depth,
                                            const SensorModelTable& model) const noexcept;
 
+    /// Fuses @p reading, a depth image of this sensor of either kind, as
+    /// fuse() above: its depths are read in place through depth_value
+    /// (a kDepthImageU16 image is not converted to floats first; its raw 0
+    /// counts as skipped_nan), so a uint16 image and the float image of the
+    /// same depth_value()s give the same grid and the same counts. The
+    /// table's own pose, intrinsics and ranges are used, not the reading's.
+    /// Errors: those of validate_sensor_reading, kInvalidArgument for a
+    /// point set, then those of fuse() above.
+    [[nodiscard]] Result<FusionStats> fuse(EvidenceGrid& grid, const SensorReading& reading,
+                                           const SensorModelTable& model) const noexcept;
+
     /// Number of stored entries.
     [[nodiscard]] std::size_t step_count() const noexcept { return step_count_; }
     /// Pixels of the sensor.
@@ -226,6 +237,10 @@ private:
     /// 1/fx and 1/fy as doubles, width and height, the pose's 3 x 4 doubles.
     static constexpr std::size_t kCheckHeaderWords = 19U + 12U + 2U + 24U;
     using CheckHeader = std::array<std::uint32_t, kCheckHeaderWords>;
+    /// Both fuse()s: the uint16 image of @p u16 when it is not null, else
+    /// the floats of @p depth.
+    [[nodiscard]] Result<FusionStats> fuse_image(EvidenceGrid& grid, const SensorReading* u16, Span<const float> depth,
+                                                 const SensorModelTable& model) const noexcept;
     /// The table's geometry and limits as words, from the members.
     [[nodiscard]] CheckHeader check_header() const noexcept;
 

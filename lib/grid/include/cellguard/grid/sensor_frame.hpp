@@ -47,7 +47,8 @@ enum class SensorDataKind : std::uint8_t {
     kDepthImage = 1,  ///< depth along the optical axis (z), metres, row-major; 0 or NaN = no reading
     /// Raw uint16 depth along the optical axis as cameras deliver it (GenICam
     /// Coord3D_C16, RealSense Z16), row-major: depth = raw * depth_scale +
-    /// depth_offset metres (depth_value); raw 0 = no reading.
+    /// depth_offset metres (depth_value); raw 0 = no reading (read as NaN,
+    /// so fusion counts it in FusionStats::skipped_nan).
     kDepthImageU16 = 2,
 };
 
@@ -69,8 +70,10 @@ struct SensorReading {
 /// pose finite with an orthonormal rotation (|R^T R - I| <= 1e-6,
 /// det R > 0), ranges 0 <= min_range < max_range <= kMaxSensorRange, at most
 /// kMaxReadingsPerSensor readings, for a depth image positive finite focal
-/// lengths, finite principal point, positive size and depth.size() ==
-/// width * height. Errors: kNonFiniteValue, kInvalidArgument,
+/// lengths, finite principal point, positive size and the kind's view
+/// (depth, or depth_u16 for kDepthImageU16; the other view is ignored) of
+/// width * height values; for kDepthImageU16 a finite depth_scale > 0 and a
+/// finite depth_offset. Errors: kNonFiniteValue, kInvalidArgument,
 /// kCapacityExceeded, kMalformedInput (size mismatch).
 [[nodiscard]] Status validate_sensor_reading(const SensorReading& reading) noexcept;
 
@@ -98,7 +101,8 @@ struct SensorReading {
 
 /// A 64-bit fingerprint of a reading's data: the bit patterns of every depth
 /// value (kDepthImage) or point coordinate (kPointSet), in order, and their
-/// count. Equal data give equal fingerprints on every platform. Different
+/// count; for kDepthImageU16 the bits of depth_scale and depth_offset, then
+/// every raw value as stored, and their count. Equal data give equal fingerprints on every platform. Different
 /// data can share one (the function is fast, not cryptographic); for the
 /// frozen-sensor check that can only raise a false fault, never hide a
 /// frozen image. Used to see a frozen sensor: a new frame (a fresh time

@@ -23,6 +23,7 @@
 
 #include "cellguard/base/result.hpp"
 #include "cellguard/base/span.hpp"
+#include "cellguard/grid/sensor_frame.hpp"
 
 namespace cellguard {
 
@@ -44,6 +45,15 @@ struct BackgroundMatch {
 /// kMalformedInput when the sizes differ, kInvalidArgument for a tolerance
 /// that is not finite and positive.
 [[nodiscard]] Result<BackgroundMatch> match_background(Span<const float> live,
+                                                       const BackgroundReference& reference) noexcept;
+
+/// Compares the depth image @p live, of either kind, with @p reference as
+/// the function above does, reading its depths in place through
+/// depth_value (a kDepthImageU16 raw 0, NaN, is no reading): a uint16
+/// image and the float image of the same depth_value()s match alike.
+/// Errors: kInvalidArgument for a point set, then those above (the size is
+/// that of the kind's view; the reading's other fields are not checked).
+[[nodiscard]] Result<BackgroundMatch> match_background(const SensorReading& live,
                                                        const BackgroundReference& reference) noexcept;
 
 /// True when @p match shows at least @p min_fraction of the referenced
