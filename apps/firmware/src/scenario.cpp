@@ -224,9 +224,9 @@ void write_totals(const char* prefix, const ScenarioSummary& summary, std::uint3
 
 /// How a run of the script fuses, and how its lines begin.
 struct PaperRun {
-    const char* prefix;                 ///< before every line: "" or "footprint "
-    FootprintFusionConfig footprint;    ///< the controller's fusion method and workspaces
-    Span<std::int16_t> fusion_scratch;  ///< fuse_sensor's working memory (empty: none)
+    const char* prefix = "";              ///< before every line: "" or "footprint "
+    FootprintFusionConfig footprint{};    ///< the controller's fusion method and workspaces
+    Span<std::int16_t> fusion_scratch{};  ///< fuse_sensor's working memory (empty: none)
 };
 
 /// Whether every canned image's pyramid fits the footprint workspaces
