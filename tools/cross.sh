@@ -10,7 +10,8 @@
 #     qemu-system-arm -M mps2-an500 with a timeout (its ctest), copies the size report to
 #     certification/size-report.md;
 #  4. compares the three digests of each run with apps/firmware/expected_digest.txt (the
-#     zones-only run) and expected_robot_digest.txt (the robot-cell run).
+#     zones-only run), expected_robot_digest.txt (the robot-cell run) and
+#     expected_footprint_digest.txt (the zones-only run fused by footprint fusion).
 # Needs: tools/install-deps.sh --cross.
 # Usage: tools/cross.sh [--no-aarch64-ctest]
 #   --no-aarch64-ctest: build for aarch64 and run only the firmware digest
@@ -34,10 +35,12 @@ for tool in aarch64-linux-gnu-g++ qemu-aarch64 arm-none-eabi-g++ qemu-system-arm
 done
 expected=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_digest.txt")
 expected_robot=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_robot_digest.txt")
+expected_footprint=$(grep -m1 -E '^0x[0-9a-f]+$' "$root/apps/firmware/expected_footprint_digest.txt")
 t0=$(date +%s)
 stamp() { echo "cross: [$(( $(date +%s) - t0 )) s] $*"; }
 digest_of() { sed -n 's/^digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }
 robot_digest_of() { sed -n 's/^robot digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }  # the robot-cell run
+footprint_digest_of() { sed -n 's/^footprint digest \(0x[0-9a-f]*\)$/\1/p' "$1" | tail -1; }  # footprint fusion
 
 configure() {  # <dir> <preset> [cmake arguments]; the presets (CMakePresets.json) name the toolchains/ files
   mkdir -p "$1"
@@ -52,6 +55,7 @@ cmake --build "$bdir/build-x86" -j "$jobs" --target cellguard-firmware-digest >/
 "$bdir/build-x86/apps/firmware/cellguard-firmware-digest" >"$bdir/build-x86/firmware-digest.log"
 d_x86=$(digest_of "$bdir/build-x86/firmware-digest.log")
 r_x86=$(robot_digest_of "$bdir/build-x86/firmware-digest.log")
+f_x86=$(footprint_digest_of "$bdir/build-x86/firmware-digest.log")
 
 stamp "aarch64: building"
 # No benchmarks (the preset): under qemu-user they would time the emulator, not the SoC.
@@ -68,6 +72,7 @@ qemu-aarch64 -L /usr/aarch64-linux-gnu "$bdir/build-aarch64/apps/firmware/cellgu
   >"$bdir/build-aarch64/firmware-digest.log"
 d_a64=$(digest_of "$bdir/build-aarch64/firmware-digest.log")
 r_a64=$(robot_digest_of "$bdir/build-aarch64/firmware-digest.log")
+f_a64=$(footprint_digest_of "$bdir/build-aarch64/firmware-digest.log")
 
 stamp "cortex-m7: building the firmware (ELF checks and size report run as part of the build)"
 configure "$bdir/build-m7" cortex-m7
@@ -78,14 +83,17 @@ ctest --test-dir "$bdir/build-m7/apps/firmware" --output-on-failure >"$bdir/buil
   { cat "$bdir/build-m7/ctest.log"; echo "cross: firmware checks or run failed" >&2; exit 1; }
 d_m7=$(digest_of "$bdir/build-m7/firmware-qemu.log")
 r_m7=$(robot_digest_of "$bdir/build-m7/firmware-qemu.log")
+f_m7=$(footprint_digest_of "$bdir/build-m7/firmware-qemu.log")
 
 echo "cross: digests  expected $expected  x86-64 ${d_x86:-none}  aarch64 ${d_a64:-none}  cortex-m7 ${d_m7:-none}"
 echo "cross: robot-cell digests  expected $expected_robot  x86-64 ${r_x86:-none}  aarch64 ${r_a64:-none}  cortex-m7 ${r_m7:-none}"
+echo "cross: footprint digests  expected $expected_footprint  x86-64 ${f_x86:-none}  aarch64 ${f_a64:-none}  cortex-m7 ${f_m7:-none}"
 grep -v '^can ' "$bdir/build-m7/firmware-qemu.log"
 stamp "done"
 if [ "$d_x86" != "$expected" ] || [ "$d_a64" != "$expected" ] || [ "$d_m7" != "$expected" ] ||
-  [ "$r_x86" != "$expected_robot" ] || [ "$r_a64" != "$expected_robot" ] || [ "$r_m7" != "$expected_robot" ]; then
+  [ "$r_x86" != "$expected_robot" ] || [ "$r_a64" != "$expected_robot" ] || [ "$r_m7" != "$expected_robot" ] ||
+  [ "$f_x86" != "$expected_footprint" ] || [ "$f_a64" != "$expected_footprint" ] || [ "$f_m7" != "$expected_footprint" ]; then
   echo "cross: DIGESTS DIFFER" >&2
   exit 1
 fi
-echo "cross: both runs' digests are bit-identical on all three targets"
+echo "cross: the three runs' digests are bit-identical on all three targets"

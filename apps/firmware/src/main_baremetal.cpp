@@ -1,7 +1,8 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 // The Cortex-M7 image for qemu-system-arm -M mps2-an500: the canned runs
-// (scenario.hpp, then robot_scenario.hpp) with the SysTick clock and the semihosting CAN backend.
+// (scenario.hpp, then robot_scenario.hpp, then the first run fused by
+// footprint) with the SysTick clock and the semihosting CAN backend.
 #include <cstdint>
 
 #include "cellguard/base/crc32.hpp"
@@ -50,6 +51,25 @@ public:
     void write(const char* text) noexcept override { cellguard::baremetal::semihosting_write(text); }
 };
 
+/// Writes @p label and @p us in decimal.
+void write_us(cellguard::firmware::TextSink& text, const char* label, std::uint64_t us) noexcept {
+    char digits[21];
+    cellguard::firmware::format_decimal(us, digits);
+    text.write(label);
+    text.write(digits);
+}
+
+/// One line of a run's cycle timing: its whole time (set-up and cycles), the
+/// longest and the mean cycle and the longest fusion stage.
+void write_run_timing(cellguard::firmware::TextSink& text, const char* run, std::uint64_t run_us,
+                      const cellguard::firmware::ScenarioSummary& s) noexcept {
+    write_us(text, run, run_us);
+    write_us(text, " cycle max ", s.cycle_us_max);
+    write_us(text, " mean ", s.cycles == 0U ? 0U : s.cycle_us_sum / s.cycles);
+    write_us(text, " fusion max ", s.fuse_us_max);
+    text.write("\n");
+}
+
 }  // namespace
 
 extern "C" int cellguard_firmware_main() noexcept {
@@ -66,8 +86,15 @@ extern "C" int cellguard_firmware_main() noexcept {
     cellguard::baremetal::SemihostingCanSender can;
     const std::uint64_t start = clock.now_us();
     const cellguard::firmware::ScenarioSummary s = cellguard::firmware::run_scenario(clock, can, text);
+    const std::uint64_t ray_end = clock.now_us();
     const cellguard::firmware::ScenarioSummary r = cellguard::firmware::run_robot_scenario(can, text);
-    const std::uint64_t elapsed = clock.now_us() - start;
+    const std::uint64_t footprint_start = clock.now_us();
+    const cellguard::firmware::ScenarioSummary f = cellguard::firmware::run_footprint_scenario(clock, can, text);
+    const std::uint64_t end = clock.now_us();
+    text.write("timing (SysTick, us; under qemu: see README):\n");
+    write_run_timing(text, "zones-only run ", ray_end - start, s);
+    write_run_timing(text, "footprint run ", end - footprint_start, f);
+    const std::uint64_t elapsed = end - start;
     char us[21];
     cellguard::firmware::format_decimal(elapsed, us);
     text.write("run time (SysTick, us): ");
@@ -78,7 +105,8 @@ extern "C" int cellguard_firmware_main() noexcept {
     text.write(stack);
     text.write("\n");
     return s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles && r.setup_ok &&
-                   r.cycles == cellguard::firmware::kRobotScenarioCycles
+                   r.cycles == cellguard::firmware::kRobotScenarioCycles && f.setup_ok &&
+                   f.cycles == cellguard::firmware::kScenarioCycles
                ? 0
                : 1;
 }

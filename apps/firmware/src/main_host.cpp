@@ -1,12 +1,13 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 // cellguard-firmware-digest: the firmware's canned runs (scenario.hpp, then
-// robot_scenario.hpp) on a Linux host (x86-64 natively, aarch64 under
-// qemu-user): prints the same lines and digests as the Cortex-M7 image. With
-// an argument 0x........ it exits 1 unless the first run's digest equals it,
-// with a second one likewise for the robot-cell run's; --help, --version and usage errors as
-// every program (cellguard/host/cli.hpp), a bad command line exits 2. Its one
-// optional arguments are parsed by hand, not with CLI11 (command_line.hpp):
+// robot_scenario.hpp, then the first run fused by footprint) on a Linux host
+// (x86-64 natively, aarch64 under qemu-user): prints the same lines and
+// digests as the Cortex-M7 image. With an argument 0x........ it exits 1
+// unless the first run's digest equals it, with a second one likewise for the
+// robot-cell run's, with a third for the footprint run's; --help, --version
+// and usage errors as every program (cellguard/host/cli.hpp), a bad command
+// line exits 2. Its optional arguments are parsed by hand, not with CLI11 (command_line.hpp):
 // this is the host twin of the bare-metal image's main, built for every
 // Linux target of tools/cross.sh, and CLI11 would bring exceptions, RTTI
 // and the heap for those two arguments.
@@ -56,23 +57,25 @@ public:
 constexpr const char* kProgram = "cellguard-firmware-digest";
 
 constexpr const char* kUsage =
-    "usage: cellguard-firmware-digest [EXPECTED [ROBOT_EXPECTED]]\n"
+    "usage: cellguard-firmware-digest [EXPECTED [ROBOT_EXPECTED [FOOTPRINT_EXPECTED]]]\n"
     "\n"
-    "Runs the firmware's canned scenarios (the zones-only run, then the robot\n"
-    "cell) on this host and prints the same lines, CAN frames and digests as\n"
-    "the Cortex-M7 image.\n"
+    "Runs the firmware's canned scenarios (the zones-only run, the robot cell,\n"
+    "then the zones-only run fused by footprint fusion) on this host and prints\n"
+    "the same lines, CAN frames and digests as the Cortex-M7 image.\n"
     "\n"
     "arguments:\n"
     "  EXPECTED                    the first run's digest: 0x and 1 to 8 hex\n"
     "                              digits, as in apps/firmware/expected_digest.txt\n"
     "  ROBOT_EXPECTED              the robot-cell run's digest, as in\n"
     "                              apps/firmware/expected_robot_digest.txt\n"
+    "  FOOTPRINT_EXPECTED          the footprint run's digest, as in\n"
+    "                              apps/firmware/expected_footprint_digest.txt\n"
     "\n"
     "options:\n"
     "  -h, --help                  print this help and exit\n"
     "  --version                   print the version and exit\n"
     "\n"
-    "Exit status: 0 both runs completed (and the digests match), 1 a set-up\n"
+    "Exit status: 0 the three runs completed (and the digests match), 1 a set-up\n"
     "failed or a digest differs, 2 bad command line.\n";
 
 /// @p text as a digest, "0x" and 1 to 8 hex digits; false for anything else.
@@ -92,10 +95,10 @@ struct Expected {
     unsigned long value = 0U;    ///< its value
 };
 
-/// Reads the command line: the optional EXPECTED and ROBOT_EXPECTED digests
+/// Reads the command line: the optional EXPECTED, ROBOT_EXPECTED and FOOTPRINT_EXPECTED digests
 /// into @p expected, and -1 to run; else the exit status (0 after --help or
 /// --version, 2 after a usage error).
-int parse_args(int argc, char** argv, Expected (&expected)[2]) {
+int parse_args(int argc, char** argv, Expected (&expected)[3]) {
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
@@ -110,15 +113,15 @@ int parse_args(int argc, char** argv, Expected (&expected)[2]) {
             return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + a + "'");
         }
     }
-    if (argc > 3) {
-        return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[3] + "'");
+    if (argc > 4) {
+        return cellguard::host::usage_error(kProgram, std::string("unknown argument '") + argv[4] + "'");
     }
+    constexpr const char* kNames[3] = {"EXPECTED", "ROBOT_EXPECTED", "FOOTPRINT_EXPECTED"};
     for (int i = 1; i < argc; ++i) {
         Expected& e = expected[i - 1];
         if (!parse_digest(argv[i], e.value)) {
-            return cellguard::host::usage_error(kProgram, std::string(i == 1 ? "EXPECTED" : "ROBOT_EXPECTED") +
-                                                              " expects 0x and 1 to 8 hex digits, got '" + argv[i] +
-                                                              "'");
+            return cellguard::host::usage_error(
+                kProgram, std::string(kNames[i - 1]) + " expects 0x and 1 to 8 hex digits, got '" + argv[i] + "'");
         }
         e.text = argv[i];
     }
@@ -141,7 +144,7 @@ bool matches(const Expected& e, std::uint32_t digest) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    Expected expected[2];
+    Expected expected[3];
     const int parse_status = parse_args(argc, argv, expected);
     if (parse_status >= 0) {
         return parse_status;
@@ -157,7 +160,12 @@ int main(int argc, char** argv) {
     if (!r.setup_ok || r.cycles != cellguard::firmware::kRobotScenarioCycles) {
         return 1;
     }
+    const cellguard::firmware::ScenarioSummary f = cellguard::firmware::run_footprint_scenario(clock, can, text);
+    if (!f.setup_ok || f.cycles != cellguard::firmware::kScenarioCycles) {
+        return 1;
+    }
     const bool first = matches(expected[0], s.digest);
     const bool robot = matches(expected[1], r.digest);
-    return first && robot ? 0 : 1;
+    const bool footprint = matches(expected[2], f.digest);
+    return first && robot && footprint ? 0 : 1;
 }

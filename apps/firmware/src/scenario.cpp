@@ -10,8 +10,11 @@
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/grid_config.hpp"
+#include "cellguard/grid/depth_pyramid.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/prior/prior_image.hpp"
+#include "cellguard/safety/cycle.hpp"
 #include "cellguard/safety/zones.hpp"
 #include "embedded_data.hpp"
 #include "scenario_common.hpp"
@@ -35,6 +38,36 @@ GridStorage g_grid;
 std::int16_t g_fusion_scratch[GridStorage::kVoxels];
 // NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): the zone mask's storage, in .bss by design
 std::uint32_t g_zone_mask[GridStorage::kVoxels];
+
+/// Cells of a depth pyramid over a @p width x @p height image, as
+/// depth_pyramid_cells computes them (checked at run time against it).
+constexpr std::size_t pyramid_cells(std::size_t width, std::size_t height) noexcept {
+    std::size_t cells = width * height;
+    while (width > 1U || height > 1U) {
+        width = (width + 1U) / 2U;
+        height = (height + 1U) / 2U;
+        cells += width * height;
+    }
+    return cells;
+}
+/// The largest canned image: the paper's 320 x 240 sensors at half resolution.
+constexpr std::int32_t kFootprintMaxWidth = 160;
+/// Its rows.
+constexpr std::int32_t kFootprintMaxHeight = 120;
+/// Pyramid cells of the footprint run's one workspace (the sensors run one
+/// after another through it, so the largest image sets its size).
+constexpr std::size_t kFootprintPyramidCells = pyramid_cells(kFootprintMaxWidth, kFootprintMaxHeight);
+
+/// The footprint run's depth pyramid (min, max, invalid flag per cell). Its
+/// opinions use g_fusion_scratch: with every sensor a depth image fused by
+/// footprint, the controller gets no ray scratch.
+struct FootprintPyramidStorage {
+    float min[kFootprintPyramidCells];
+    float max[kFootprintPyramidCells];
+    std::uint8_t invalid[kFootprintPyramidCells];
+};
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): footprint fusion's pyramid, in .bss by design
+FootprintPyramidStorage g_footprint_pyramid;
 
 // The controller reads the prior image's payload in place as int16 values.
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the prior payload is little-endian int16");
@@ -133,9 +166,10 @@ bool canned_frames_ok(const Result<CannedFrames>& frames, TextSink& text) noexce
 }
 
 /// One line per cycle: scene, zone states with their counts, stop, warning, faults, the cycle's digest.
-void write_cycle_line(const CycleReport& r, const char* scene_name, std::uint32_t cycle_crc, TextSink& text) noexcept {
+void write_cycle_line(const char* prefix, const CycleReport& r, const char* scene_name, std::uint32_t cycle_crc,
+                      TextSink& text) noexcept {
     Line line;
-    line.text("cycle ").dec(r.cycle).text(" scene ").text(scene_name);
+    line.text(prefix).text("cycle ").dec(r.cycle).text(" scene ").text(scene_name);
     line.text(" zones ");
     for (std::size_t z = 0U; z < r.zones.count; ++z) {
         line.text(z == 0U ? "" : "/").text(to_string(r.zones.zones[z].state));
@@ -156,6 +190,7 @@ struct ScriptRun {
     MonotonicClock& clock;
     Digest& digest;
     TextSink& text;
+    const char* prefix;  // before every line: "" or "footprint "
 };
 
 /// One cycle of the script: the step's frames (missing sensors absent), the
@@ -173,30 +208,48 @@ void run_step(const ScriptRun& run, const Step& step) noexcept {
                                                     step.reset);
     digest_grid(run.frame_grid, run.digest);
     digest_report(r, run.digest);
-    write_cycle_line(r, run.frames.scene_name(step.scene), run.digest.cycle(), run.text);
+    write_cycle_line(run.prefix, r, run.frames.scene_name(step.scene), run.digest.cycle(), run.text);
 }
 
 /// The closing lines: frames sent, the prior's CRC, the run's digest.
-void write_totals(const ScenarioSummary& summary, std::uint32_t frames_sent, TextSink& text) noexcept {
+void write_totals(const char* prefix, const ScenarioSummary& summary, std::uint32_t frames_sent,
+                  TextSink& text) noexcept {
     Line last;
-    last.text("frames ").dec(frames_sent).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    last.text(prefix).text("frames ").dec(frames_sent).text(" prior_crc ").hex(summary.prior_crc).text("\n");
     text.write(last.c_str());
     Line result;
-    result.text("digest ").hex(summary.digest).text("\n");
+    result.text(prefix).text("digest ").hex(summary.digest).text("\n");
     text.write(result.c_str());
 }
 
-}  // namespace
+/// How a run of the script fuses, and how its lines begin.
+struct PaperRun {
+    const char* prefix = "";              ///< before every line: "" or "footprint "
+    FootprintFusionConfig footprint{};    ///< the controller's fusion method and workspaces
+    Span<std::int16_t> fusion_scratch{};  ///< fuse_sensor's working memory (empty: none)
+};
 
-namespace detail {
-
-FirmwareStorage firmware_storage() noexcept {
-    return FirmwareStorage{g_grid.log_odds, g_grid.observed, g_fusion_scratch, g_zone_mask};
+/// Whether every canned image's pyramid fits the footprint workspaces
+/// (always true for the ray run). False (said on @p text) when not.
+bool footprint_workspace_fits(const CannedFrames& frames, const PaperRun& how, TextSink& text) noexcept {
+    if (how.footprint.method != FusionMethod::kFootprint) {
+        return true;
+    }
+    for (std::size_t s = 0U; s < frames.sensor_count(); ++s) {
+        const std::size_t cells = depth_pyramid_cells(frames.sensor(s).width, frames.sensor(s).height);
+        for (const FootprintWorkspace& w : how.footprint.workspaces) {
+            if (cells == 0U || w.pyramid_min.size() < cells || w.pyramid_max.size() < cells ||
+                w.pyramid_invalid.size() < cells || w.opinions.size() < GridStorage::kVoxels) {
+                text.write("error: a canned image's depth pyramid does not fit the footprint workspace\n");
+                return false;
+            }
+        }
+    }
+    return true;
 }
 
-}  // namespace detail
-
-ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
+/// The paper cell's script (see run_scenario), fused as @p how says.
+ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& text, const PaperRun& how) noexcept {
     ScenarioSummary summary;
     const GridGeometry geometry = paper_grid_geometry();
     const Result<PriorImageView, PriorImageError> view = load_prior_image(
@@ -208,7 +261,7 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     const Result<CannedFrames> frames_result = CannedFrames::parse(
         Span<const std::uint8_t>(cellguard_firmware_frames, cellguard_firmware_frames_size),
         Span<const float>(cellguard_firmware_frames_f32, cellguard_firmware_frames_size / sizeof(float)));
-    if (!canned_frames_ok(frames_result, text)) {
+    if (!canned_frames_ok(frames_result, text) || !footprint_workspace_fits(frames_result.value(), how, text)) {
         return summary;
     }
     const CannedFrames& frames = frames_result.value();
@@ -232,11 +285,12 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 
-    const ControllerConfig config = scenario_controller_config(frames.sensor_count());
+    ControllerConfig config = scenario_controller_config(frames.sensor_count());
+    config.footprint = how.footprint;
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of g_grid
-    SafetyController controller(config, frame_grid, Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels),
-                                prior_values, zones.value(), model, clock, &output);
+    SafetyController controller(config, frame_grid, how.fusion_scratch, prior_values, zones.value(), model, clock,
+                                &output);
     summary.prior_crc = controller.prior_crc();
     if (!output.status().ok() || controller.prior_crc() != output_config.prior_crc) {
         text.write("error: CAN output refused or prior CRC differs from the image's payload CRC\n");
@@ -244,14 +298,48 @@ ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& te
     }
     summary.setup_ok = true;
 
-    const ScriptRun run{controller, frames, frame_grid, clock, digest, text};
+    const ScriptRun run{controller, frames, frame_grid, clock, digest, text, how.prefix};
     for (const Step& step : kScript) {
         run_step(run, step);
         ++summary.cycles;
+        const CycleTiming& t = controller.monitor().last();
+        const std::uint64_t fuse_us = t.stage_us[static_cast<std::size_t>(CycleStage::kFuse)];
+        summary.cycle_us_max = t.total_us > summary.cycle_us_max ? t.total_us : summary.cycle_us_max;
+        summary.cycle_us_sum += t.total_us;
+        summary.fuse_us_max = fuse_us > summary.fuse_us_max ? fuse_us : summary.fuse_us_max;
     }
     summary.digest = digest.total();
-    write_totals(summary, sender.frames(), text);
+    write_totals(how.prefix, summary, sender.frames(), text);
     return summary;
+}
+
+}  // namespace
+
+namespace detail {
+
+FirmwareStorage firmware_storage() noexcept {
+    return FirmwareStorage{g_grid.log_odds, g_grid.observed, g_fusion_scratch, g_zone_mask};
+}
+
+}  // namespace detail
+
+ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
+    const PaperRun how{"", FootprintFusionConfig{}, Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels)};
+    return run_paper_cell(clock, can, text, how);
+}
+
+ScenarioSummary run_footprint_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept {
+    // One workspace: the sensors run one after another through it (one core).
+    // Its opinions are g_fusion_scratch, which the controller then does not
+    // get: every canned sensor is a depth image, fused by footprint.
+    const FootprintWorkspace workspace{Span<float>(g_footprint_pyramid.min, kFootprintPyramidCells),
+                                       Span<float>(g_footprint_pyramid.max, kFootprintPyramidCells),
+                                       Span<std::uint8_t>(g_footprint_pyramid.invalid, kFootprintPyramidCells),
+                                       Span<std::int16_t>(g_fusion_scratch, GridStorage::kVoxels)};
+    PaperRun how{"footprint ", FootprintFusionConfig{}, Span<std::int16_t>()};
+    how.footprint.method = FusionMethod::kFootprint;
+    how.footprint.workspaces = Span<const FootprintWorkspace>(&workspace, 1U);
+    return run_paper_cell(clock, can, text, how);
 }
 
 }  // namespace cellguard::firmware

@@ -52,6 +52,11 @@ struct ScenarioSummary {
     std::uint32_t cycles = 0U;     ///< cycles run
     std::uint32_t digest = 0U;     ///< CRC-32 over every cycle's digested content
     std::uint32_t prior_crc = 0U;  ///< SafetyController::prior_crc
+    /// Cycle timing from the controller's monitor (measured, not digested;
+    /// filled by run_scenario and run_footprint_scenario only).
+    std::uint64_t cycle_us_max = 0U;  ///< longest cycle, us
+    std::uint64_t cycle_us_sum = 0U;  ///< all cycles, us
+    std::uint64_t fuse_us_max = 0U;   ///< longest fusion stage (CycleStage::kFuse), us
 };
 
 /// Number of cycles in the script.
@@ -81,6 +86,15 @@ constexpr std::size_t kScenarioZones = 2U;
 /// re-entrant). @p clock only times the cycles; results do not depend on it
 /// as long as a cycle stays within its (generous, 10 s) budget.
 [[nodiscard]] ScenarioSummary run_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept;
+
+/// Runs the same script with the controller fusing by footprint fusion
+/// (ControllerConfig::footprint, FusionMethod::kFootprint, one core): one
+/// footprint workspace in static storage (a depth pyramid for the largest
+/// canned image, 160 x 120, and the fusion scratch as its opinions; the
+/// controller gets no ray scratch). Prints the same lines as run_scenario,
+/// each prefixed "footprint ", the last "footprint digest 0x%08x". Uses the
+/// same static storage as run_scenario (not re-entrant).
+[[nodiscard]] ScenarioSummary run_footprint_scenario(MonotonicClock& clock, CanSender& can, TextSink& text) noexcept;
 
 /// Writes @p value as "0x" and eight lowercase hex digits plus a NUL into @p out.
 void format_hex32(std::uint32_t value, char (&out)[11]) noexcept;
