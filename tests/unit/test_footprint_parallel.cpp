@@ -32,8 +32,7 @@ struct Workspaces {
         invalid.resize(n);
         opinions.resize(n);
         for (std::size_t i = 0U; i < n; ++i) {
-            const std::size_t cells =
-                depth_pyramid_cells(readings[i].intrinsics.width, readings[i].intrinsics.height);
+            const std::size_t cells = depth_pyramid_cells(readings[i].intrinsics.width, readings[i].intrinsics.height);
             mins[i].resize(cells);
             maxs[i].resize(cells);
             invalid[i].resize(cells);
@@ -52,9 +51,9 @@ struct OwnedGrid {
     std::vector<std::uint8_t> ob;
     EvidenceGrid grid;
     explicit OwnedGrid(const GridGeometry& g)
-        : lo(g.voxel_count()), ob(g.voxel_count()),
-          grid(EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()),
-                                  Span<std::uint8_t>(ob.data(), ob.size()))
+        : lo(g.voxel_count()),
+          ob(g.voxel_count()),
+          grid(EvidenceGrid::make(g, Span<std::int16_t>(lo.data(), lo.size()), Span<std::uint8_t>(ob.data(), ob.size()))
                    .value()) {
         grid.clear();
     }

@@ -343,8 +343,8 @@ void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std
        << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max
        << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
        << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham")
-       << (o.footprint ? "; fusion: footprint" : "") << "; one G_B (background.toml) from "
-       << cfg.background_frames << " empty frames; scores summed over " << cfg.foreground_frames
+       << (o.footprint ? "; fusion: footprint" : "") << "; one G_B (background.toml) from " << cfg.background_frames
+       << " empty frames; scores summed over " << cfg.foreground_frames
        << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "
           "recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 likewise. P / R at t_f 0.45 "
           "and 0.2: precision and recall where the thresholded (below 0.5) and the probabilistic (below 0.25) "

@@ -6,8 +6,8 @@
 
 namespace cellguard::host {
 
-OwnedFootprintWorkspaces::OwnedFootprintWorkspaces(const GridGeometry& grid, std::size_t sensors,
-                                                   std::int32_t width, std::int32_t height) {
+OwnedFootprintWorkspaces::OwnedFootprintWorkspaces(const GridGeometry& grid, std::size_t sensors, std::int32_t width,
+                                                   std::int32_t height) {
     const std::size_t n = std::max<std::size_t>(sensors, 1U);
     const std::size_t cells = depth_pyramid_cells(width, height);
     const std::size_t voxels = grid.voxel_count();
@@ -43,10 +43,9 @@ std::size_t OwnedFootprintWorkspaces::bytes() const noexcept {
            opinions_.size() * sizeof(std::int16_t);
 }
 
-Result<FusionStats> fuse_frame_by(EvidenceGrid& grid, Span<const SensorReading> readings,
-                                  const SensorModelTable& model, Span<std::int16_t> scratch,
-                                  Rasterization rasterization, const OwnedFootprintWorkspaces* footprint,
-                                  const FootprintParams& params) {
+Result<FusionStats> fuse_frame_by(EvidenceGrid& grid, Span<const SensorReading> readings, const SensorModelTable& model,
+                                  Span<std::int16_t> scratch, Rasterization rasterization,
+                                  const OwnedFootprintWorkspaces* footprint, const FootprintParams& params) {
     if (footprint == nullptr) {
         return fuse_frame(grid, readings, model, scratch, rasterization);
     }

@@ -87,8 +87,8 @@ void DepthPyramid::build_levels() noexcept {
                 const std::size_t o = out + static_cast<std::size_t>(i);
                 min_[o] = mn0 < mn1 ? mn0 : mn1;
                 max_[o] = mx0 > mx1 ? mx0 : mx1;
-                invalid_[o] = static_cast<std::uint8_t>(invalid_[row0 + c0] | invalid_[row0 + c1] | invalid_[row1 + c0] |
-                                                        invalid_[row1 + c1]);
+                invalid_[o] = static_cast<std::uint8_t>(invalid_[row0 + c0] | invalid_[row0 + c1] |
+                                                        invalid_[row1 + c0] | invalid_[row1 + c1]);
             }
         }
     }

@@ -70,17 +70,17 @@ struct Box {
 
 /// A box's projection into the image.
 struct Footprint {
-    bool behind = false;     ///< every corner at or behind the image plane
-    bool crossed = false;    ///< some corner at or behind it (no finite footprint)
-    bool empty = true;       ///< no pixel centre in the image lies in the bounding box
-    bool in_image = false;   ///< the unclipped bounding box lies inside the image
-    std::int32_t u0 = 0;     ///< pixel-centre rectangle, clipped to the image
+    bool behind = false;    ///< every corner at or behind the image plane
+    bool crossed = false;   ///< some corner at or behind it (no finite footprint)
+    bool empty = true;      ///< no pixel centre in the image lies in the bounding box
+    bool in_image = false;  ///< the unclipped bounding box lies inside the image
+    std::int32_t u0 = 0;    ///< pixel-centre rectangle, clipped to the image
     std::int32_t v0 = 0;
     std::int32_t u1 = -1;
     std::int32_t v1 = -1;
-    double z_min = 0.0;      ///< nearest corner along the optical axis
-    double z_max = 0.0;      ///< farthest corner along the optical axis
-    double d_max = 0.0;      ///< farthest corner from the camera centre
+    double z_min = 0.0;  ///< nearest corner along the optical axis
+    double z_max = 0.0;  ///< farthest corner along the optical axis
+    double d_max = 0.0;  ///< farthest corner from the camera centre
 };
 
 /// One sensor's geometry against the grid, and its pass's state.
@@ -144,8 +144,8 @@ private:
     const FootprintParams& params_;
     const DepthPyramid& pyramid_;
     Span<std::int16_t> opinions_;
-    std::array<double, 3> base_{};                  ///< lattice point (0, 0, 0) in the camera frame
-    std::array<std::array<double, 3>, 3> axis_{};   ///< one voxel along each grid axis, in the camera frame
+    std::array<double, 3> base_{};                 ///< lattice point (0, 0, 0) in the camera frame
+    std::array<std::array<double, 3>, 3> axis_{};  ///< one voxel along each grid axis, in the camera frame
     double fx_ = 0.0;
     double fy_ = 0.0;
     double cx_ = 0.0;
@@ -282,7 +282,8 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
                 ++stats_.boxes;
                 const Footprint f = footprint_of(corners);
                 if (!f.empty) {
-                    const Box v{{b.lo[0] + x, b.lo[1] + y, b.lo[2] + z}, {b.lo[0] + x + 1, b.lo[1] + y + 1, b.lo[2] + z + 1}};
+                    const Box v{{b.lo[0] + x, b.lo[1] + y, b.lo[2] + z},
+                                {b.lo[0] + x + 1, b.lo[1] + y + 1, b.lo[2] + z + 1}};
                     classify(v, f);
                 }
             }
@@ -296,14 +297,16 @@ void SensorPass::fill(const Box& b, std::int16_t value) noexcept {
     for (std::int32_t z = b.lo[2]; z < b.hi[2]; ++z) {
         for (std::int32_t y = b.lo[1]; y < b.hi[1]; ++y) {
             const std::size_t row = static_cast<std::size_t>(d.nx) *
-                                    (static_cast<std::size_t>(y) + static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
+                                    (static_cast<std::size_t>(y) +
+                                     static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
             for (std::int32_t x = b.lo[0]; x < b.hi[0]; ++x) {
                 raise(row + static_cast<std::size_t>(x), value);
             }
         }
     }
     stats_.voxels_filled += static_cast<std::uint64_t>(b.hi[0] - b.lo[0]) *
-                            static_cast<std::uint64_t>(b.hi[1] - b.lo[1]) * static_cast<std::uint64_t>(b.hi[2] - b.lo[2]);
+                            static_cast<std::uint64_t>(b.hi[1] - b.lo[1]) *
+                            static_cast<std::uint64_t>(b.hi[2] - b.lo[2]);
 }
 
 bool SensorPass::decide_box(const Box& b, const Footprint& f, const DepthRange& q) noexcept {
@@ -351,8 +354,8 @@ std::int16_t SensorPass::exact_opinion(const Box& b, const Footprint& f) noexcep
     const PinholeIntrinsics& k = reading_.intrinsics;
     const Eigen::Matrix3d& r = reading_.pose.linear();
     const double s = grid_.voxel_size();
-    const Eigen::Vector3d lo =
-        grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]) - reading_.pose.translation();
+    const Eigen::Vector3d lo = grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]) -
+                               reading_.pose.translation();
     const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(s);
     const double inv_fx = 1.0 / k.fx;
     const double inv_fy = 1.0 / k.fy;
@@ -411,13 +414,13 @@ bool SensorPass::inner_square_passes(const Box& b, double z_max) const noexcept 
     return false;
 }
 
-
 void SensorPass::decide_voxel(const Box& b, const Footprint& f, const DepthRange& q) noexcept {
     const std::size_t index = grid_.index_of(VoxelCoord{b.lo[0], b.lo[1], b.lo[2]});
     if (opinions_[index] == model_.reading_evidence()) {
         return;  // a hit wins over every free value
     }
-    const std::uint64_t area = static_cast<std::uint64_t>(f.u1 - f.u0 + 1) * static_cast<std::uint64_t>(f.v1 - f.v0 + 1);
+    const std::uint64_t area = static_cast<std::uint64_t>(f.u1 - f.u0 + 1) *
+                               static_cast<std::uint64_t>(f.v1 - f.v0 + 1);
     if (area <= params_.exact_footprint_max && area <= budget_) {
         budget_ -= area;
         stats_.pixel_tests += area;
@@ -453,8 +456,8 @@ void SensorPass::run() noexcept {
                 decide_voxel(b, f, q);
                 continue;
             }
-            if (b.hi[0] - b.lo[0] <= kSmallSide && b.hi[1] - b.lo[1] <= kSmallSide &&
-                b.hi[2] - b.lo[2] <= kSmallSide && run_small_box(b)) {
+            if (b.hi[0] - b.lo[0] <= kSmallSide && b.hi[1] - b.lo[1] <= kSmallSide && b.hi[2] - b.lo[2] <= kSmallSide &&
+                run_small_box(b)) {
                 continue;
             }
         }
@@ -644,7 +647,7 @@ Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorRea
         return ErrorCode::kStorageTooSmall;
     }
     const Result<DepthPyramid> made = DepthPyramid::make(reading.intrinsics.width, reading.intrinsics.height,
-                                                      work.pyramid_min, work.pyramid_max, work.pyramid_invalid);
+                                                         work.pyramid_min, work.pyramid_max, work.pyramid_invalid);
     if (!made.ok()) {
         return made.error();
     }
@@ -733,8 +736,8 @@ Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorRe
         // Sensor i uses workspace i when each has its own, else workspace 0.
         const std::size_t cells = depth_pyramid_cells(r.intrinsics.width, r.intrinsics.height);
         const FootprintWorkspace& ws = workspaces[parallel ? i : 0U];
-        if (ws.opinions.size() < grid.voxel_count() || ws.pyramid_min.size() < cells ||
-            ws.pyramid_max.size() < cells || ws.pyramid_invalid.size() < cells) {
+        if (ws.opinions.size() < grid.voxel_count() || ws.pyramid_min.size() < cells || ws.pyramid_max.size() < cells ||
+            ws.pyramid_invalid.size() < cells) {
             return ErrorCode::kStorageTooSmall;
         }
     }

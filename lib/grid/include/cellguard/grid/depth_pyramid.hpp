@@ -62,10 +62,11 @@ public:
     /// Level 0, written by the caller: pixel (u, v) holds depth @p d (valid
     /// reading) or none (@p valid false).
     void set_pixel(std::int32_t u, std::int32_t v, float d, bool valid) noexcept {
-        const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(u);
+        const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) +
+                              static_cast<std::size_t>(u);
         min_[i] = valid ? d : kInfinity;
         max_[i] = valid ? d : -kInfinity;
-        invalid_[i] = valid ? 0U : 1U;
+        invalid_[i] = static_cast<std::uint8_t>(valid ? 0U : 1U);
     }
     /// Builds levels 1.. from level 0. Work: fewer than depth_pyramid_cells() cells.
     void build_levels() noexcept;

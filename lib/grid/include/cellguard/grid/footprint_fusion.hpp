@@ -95,11 +95,11 @@ struct FootprintParams {
 
 /// What one sensor's footprint pass did (for diagnostics, benchmarks and the tests).
 struct FootprintStats {
-    std::uint64_t boxes = 0U;           ///< boxes classified (step 2), single voxels included
-    std::uint64_t voxels_filled = 0U;   ///< voxels given a free value by a whole box
-    std::uint64_t voxels_exact = 0U;    ///< voxels evaluated ray by ray (step 3)
+    std::uint64_t boxes = 0U;             ///< boxes classified (step 2), single voxels included
+    std::uint64_t voxels_filled = 0U;     ///< voxels given a free value by a whole box
+    std::uint64_t voxels_exact = 0U;      ///< voxels evaluated ray by ray (step 3)
     std::uint64_t voxels_safe_side = 0U;  ///< voxels decided by the safe-side rule (step 3)
-    std::uint64_t pixel_tests = 0U;     ///< ray-voxel tests of step 3
+    std::uint64_t pixel_tests = 0U;       ///< ray-voxel tests of step 3
     /// Adds another pass's counts.
     void add(const FootprintStats& other) noexcept;
 };
@@ -107,10 +107,10 @@ struct FootprintStats {
 /// Working memory of one sensor's footprint pass: its pyramid (three spans of
 /// depth_pyramid_cells(width, height)) and its opinions (one int16 per voxel).
 struct FootprintWorkspace {
-    Span<float> pyramid_min{};          ///< min pyramid storage
-    Span<float> pyramid_max{};          ///< max pyramid storage
+    Span<float> pyramid_min{};             ///< min pyramid storage
+    Span<float> pyramid_max{};             ///< max pyramid storage
     Span<std::uint8_t> pyramid_invalid{};  ///< invalid-flag pyramid storage
-    Span<std::int16_t> opinions{};      ///< the sensor's opinion per voxel (kNoOpinion: none)
+    Span<std::int16_t> opinions{};         ///< the sensor's opinion per voxel (kNoOpinion: none)
 };
 
 /// Boxes of the full recursive subdivision of @p grid (step 2's most boxes per sensor).

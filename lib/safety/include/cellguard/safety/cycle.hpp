@@ -43,7 +43,7 @@ struct CycleWorkBound {
     std::uint64_t zone_updates = 0U;  ///< zone counter updates (sum of zone voxel counts)
     std::uint64_t robot_mask_tests = 0U;      ///< voxel tests of the robot mask (robot_mask_work_bound)
     std::uint64_t separation_distances = 0U;  ///< voxel-to-capsule distances of separation (voxels x capsules)
-    std::uint64_t footprint_units = 0U;  ///< footprint fusion's work units (footprint_work_bound), when it fuses
+    std::uint64_t footprint_units = 0U;       ///< footprint fusion's work units (footprint_work_bound), when it fuses
 };
 
 /// The bound for @p grid, the sensors described by @p sensors (their pixel

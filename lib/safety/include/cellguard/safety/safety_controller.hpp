@@ -231,7 +231,7 @@ private:
 
     ControllerConfig config_;
     EvidenceGrid* grid_;
-    Span<std::int16_t> scratch_;  ///< fuse_sensor's working memory
+    Span<std::int16_t> scratch_;     ///< fuse_sensor's working memory
     SequentialRunner sequential_{};  ///< footprint fusion's runner when the port gives none
     Span<const std::int16_t> prior_;
     const CompiledZones* zones_;
