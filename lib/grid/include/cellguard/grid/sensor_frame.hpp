@@ -59,11 +59,11 @@ struct SensorReading {
     Span<const Eigen::Vector3f> points{};                    ///< kPointSet: the points
     Span<const float> depth{};                               ///< kDepthImage: width * height depths
     Span<const std::uint16_t> depth_u16{};                   ///< kDepthImageU16: width * height raw depths
-    float depth_scale = 0.001F;   ///< kDepthImageU16: metres per raw unit (finite, > 0)
-    float depth_offset = 0.0F;    ///< kDepthImageU16: metres added to raw * depth_scale (finite)
-    PinholeIntrinsics intrinsics{};                          ///< depth images: the camera
-    float min_range = 0.0F;   ///< readings nearer than this (metres, along the ray) are skipped
-    float max_range = 10.0F;  ///< readings farther than this are skipped
+    float depth_scale = 0.001F;                              ///< kDepthImageU16: metres per raw unit (finite, > 0)
+    float depth_offset = 0.0F;       ///< kDepthImageU16: metres added to raw * depth_scale (finite)
+    PinholeIntrinsics intrinsics{};  ///< depth images: the camera
+    float min_range = 0.0F;          ///< readings nearer than this (metres, along the ray) are skipped
+    float max_range = 10.0F;         ///< readings farther than this are skipped
 };
 
 /// Checks a reading's description (not its values, which fusion counts):
