@@ -57,6 +57,7 @@ struct Options {
     std::string picture;
     std::string picture_sensor;
     std::string commands;  ///< --commands: "" (by the cell), "sim" or "can"
+    std::string fusion;    ///< --fusion: "" (the config's), "ray" or "footprint"
 };
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
@@ -95,6 +96,11 @@ int parse_args(int argc, char** argv, Options& o) {
                     "with a demo scene the scene stays simulated: an external PLC, as in the vcan\n"
                     "test); default: sim with a demo scene and a robot, else can on an interface")
         ->check(CLI::IsMember({"sim", "can"}));
+    cli.app()
+        .add_option("--fusion", o.fusion,
+                    "how depth images are fused, overriding the config's fusion.method: ray (per\n"
+                    "ray, the reference) or footprint (footprint fusion, for dense cameras)")
+        ->check(CLI::IsMember({"ray", "footprint"}));
     cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
@@ -172,6 +178,11 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     }
     if (opt.cycles > 0) {
         cfg.demo_cycles = opt.cycles;
+    }
+    if (opt.fusion == "ray") {
+        cfg.fusion = FusionSettings{};  // footprint's limits and cores do not apply
+    } else if (opt.fusion == "footprint") {
+        cfg.fusion.method = FusionMethod::kFootprint;
     }
     if (opt.budget_ms > 0) {
         cfg.budget_us = static_cast<std::uint64_t>(opt.budget_ms) * 1000U;
@@ -320,8 +331,17 @@ int run_monitor(int argc, char** argv) {
     if (e.failed()) {
         return fail(e);
     }
+    // fusion.threads: footprint fusion's worker pool.
+    // TODO(issue 18): construct port/linux's WorkerPool (a TaskRunner of
+    // cfg.fusion.threads threads) here when fusion.threads > 1 and pass it
+    // below instead of nullptr; until it lands, every sensor's pass runs on
+    // this thread (the same grid, bit for bit: one core is the reference).
+    TaskRunner* const runner = nullptr;
+    if (cfg.fusion.threads > 1) {
+        std::printf("fusion: threads = %d, but this build has no worker pool yet: one core\n", cfg.fusion.threads);
+    }
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
-                     simulated_robot ? &demo : nullptr);
+                     simulated_robot ? &demo : nullptr, runner);
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));
