@@ -60,8 +60,7 @@ int main(int argc, char** argv) {
                                 .add_option("--demo", demo,
                                             "the demo that wrote the log: paper-cell (the default) or robot-cell")
                                 ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
-    cli.text("--config", config_path, "FILE", "the configuration file of the run that wrote the log")
-        ->excludes(demo_opt);
+    cli.text("--config", config_path, "FILE", "the configuration file of the run that wrote the log (not with --demo)");
     cli.argument("LOG", "the candump log", [&log](const std::string& v) { log = v; });
     cli.argument("CYCLES", "the demo's --cycles, 1.." + std::to_string(kDemoLogMaxCycles),
                  [&cycles](const std::string& v) {
@@ -70,16 +69,22 @@ int main(int argc, char** argv) {
     if (const int status = cli.parse(argc, argv); status >= 0) {
         return status;
     }
-    MonitorConfig config = demo == "robot-cell" ? robot_cell_demo_config() : demo_config();
-    if (!config_path.empty()) {
-        const ConfigLoad load = load_monitor_config(config_path);
-        if (!load.ok) {
-            static_cast<void>(std::fprintf(stderr, "%s: configuration error: %s\n", kProgram, load.error.c_str()));
-            return host::kExitUsage;
-        }
-        config = load.config;
+    if (demo_opt->count() > 0U && !config_path.empty()) {
+        static_cast<void>(std::fprintf(stderr, "%s: --demo and --config exclude each other\n", kProgram));
+        return host::kExitUsage;
     }
-    const DemoLogCheck r = check_demo_log_file(log, cycles, config);
+    ConfigLoad load;  // moved into, not copied: nothing here throws past main
+    if (config_path.empty()) {
+        load.ok = true;
+        load.config = demo == "robot-cell" ? robot_cell_demo_config() : demo_config();
+    } else {
+        load = load_monitor_config(config_path);
+    }
+    if (!load.ok) {
+        static_cast<void>(std::fprintf(stderr, "%s: configuration error: %s\n", kProgram, load.error.c_str()));
+        return host::kExitUsage;
+    }
+    const DemoLogCheck r = check_demo_log_file(log, cycles, load.config);
     for (const std::string& f : r.failures) {
         static_cast<void>(std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str()));
     }

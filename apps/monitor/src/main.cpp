@@ -272,6 +272,19 @@ CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const 
     return interface ? &socket_commands : nullptr;
 }
 
+/// Footprint fusion's runner for fusion.threads (nullptr: one core).
+TaskRunner* fusion_runner(const MonitorConfig& cfg) {
+    // TODO(issue 18): construct port/linux's WorkerPool (a TaskRunner of
+    // cfg.fusion.threads threads, kept alive for the run) here when
+    // fusion.threads > 1 and return it; until it lands, every sensor's pass
+    // runs on the cycle's thread (the same grid, bit for bit: one core is the
+    // reference).
+    if (cfg.fusion.threads > 1) {
+        std::printf("fusion: threads = %d, but this build has no worker pool yet: one core\n", cfg.fusion.threads);
+    }
+    return nullptr;
+}
+
 /// The monitor (main without its last-resort catch).
 int run_monitor(int argc, char** argv) {
     Options opt;
@@ -331,17 +344,8 @@ int run_monitor(int argc, char** argv) {
     if (e.failed()) {
         return fail(e);
     }
-    // fusion.threads: footprint fusion's worker pool.
-    // TODO(issue 18): construct port/linux's WorkerPool (a TaskRunner of
-    // cfg.fusion.threads threads) here when fusion.threads > 1 and pass it
-    // below instead of nullptr; until it lands, every sensor's pass runs on
-    // this thread (the same grid, bit for bit: one core is the reference).
-    TaskRunner* const runner = nullptr;
-    if (cfg.fusion.threads > 1) {
-        std::printf("fusion: threads = %d, but this build has no worker pool yet: one core\n", cfg.fusion.threads);
-    }
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
-                     simulated_robot ? &demo : nullptr, runner);
+                     simulated_robot ? &demo : nullptr, fusion_runner(cfg));
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));

@@ -280,7 +280,7 @@ void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
     // The limits and the cores are footprint fusion's: given with "ray" they would silently do nothing.
     for (const char* key : {"exact_footprint_max", "exact_pixel_budget", "threads"}) {
         if (f.method == FusionMethod::kRay && t.contains(key)) {
-            L.fail(t.get(key)->source(), L.join(p, key), R"(applies only to method = "footprint")");
+            L.fail(t.get(key)->source(), Loader::join(p, key), R"(applies only to method = "footprint")");
         }
     }
     f.params.exact_footprint_max = static_cast<std::uint32_t>(

@@ -281,8 +281,8 @@ PixelRect project_corners(const Eigen::Vector3d (&corners)[8], const Eigen::Isom
 PixelRect box_rect(const Box& b, const Eigen::Isometry3d& world_to_camera, const PinholeIntrinsics& k) noexcept {
     const Eigen::Matrix3d yaw = Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     Eigen::Vector3d corners[8];
-    for (int i = 0; i < 8; ++i) {
-        const Eigen::Vector3d s((i & 1) != 0 ? 0.5 : -0.5, (i & 2) != 0 ? 0.5 : -0.5, (i & 4) != 0 ? 0.5 : -0.5);
+    for (unsigned i = 0U; i < 8U; ++i) {
+        const Eigen::Vector3d s((i & 1U) != 0U ? 0.5 : -0.5, (i & 2U) != 0U ? 0.5 : -0.5, (i & 4U) != 0U ? 0.5 : -0.5);
         // 1 mm more than the box: its rotation here and the ray caster's inverse one round differently.
         corners[i] = b.center + yaw * (s.cwiseProduct(b.size) + 2e-3 * s);
     }
@@ -296,9 +296,9 @@ PixelRect capsule_rect(const PlacedCapsule& c, const Eigen::Isometry3d& world_to
     const Eigen::Vector3d lo = a.cwiseMin(b).array() - (c.radius + 1e-3);
     const Eigen::Vector3d hi = a.cwiseMax(b).array() + (c.radius + 1e-3);
     Eigen::Vector3d corners[8];
-    for (int i = 0; i < 8; ++i) {
-        corners[i] = Eigen::Vector3d((i & 1) != 0 ? hi.x() : lo.x(), (i & 2) != 0 ? hi.y() : lo.y(),
-                                     (i & 4) != 0 ? hi.z() : lo.z());
+    for (unsigned i = 0U; i < 8U; ++i) {
+        corners[i] = Eigen::Vector3d((i & 1U) != 0U ? hi.x() : lo.x(), (i & 2U) != 0U ? hi.y() : lo.y(),
+                                     (i & 4U) != 0U ? hi.z() : lo.z());
     }
     return project_corners(corners, world_to_camera, k);
 }
@@ -465,7 +465,7 @@ bool render_depth_into(const SensorRays& rays, const PreparedScene& scene, Span<
     if (depth.size() != image_size(sensor)) {
         return false;
     }
-    const std::size_t width = static_cast<std::size_t>(sensor.width);
+    const auto width = static_cast<std::size_t>(sensor.width);
     render_culled(sensor, scene, depth,
                   [&rays, width](std::int32_t u, std::int32_t v, Eigen::Vector3d& dir, double& length) {
                       const std::size_t i = static_cast<std::size_t>(v) * width + static_cast<std::size_t>(u);

@@ -161,7 +161,7 @@ public:
     /// boxes and robot (its floor flag is ignored), bit for bit, into
     /// @p depth (exactly width x height values, else false and nothing
     /// written). Allocates nothing.
-    bool render_into(const PreparedScene& moving, Span<float> depth) const noexcept;
+    [[nodiscard]] bool render_into(const PreparedScene& moving, Span<float> depth) const noexcept;
 
 private:
     SensorRays rays_;
