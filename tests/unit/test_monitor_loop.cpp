@@ -176,6 +176,31 @@ TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and
     CHECK(line.back() == '\n');
 }
 
+// verifies: SR-GEN-002, SR-SYS-001
+TEST_CASE("monitor loop: with footprint fusion the demo's and the real cell's cycles allocate nothing") {
+    MonitorConfig paper = demo_config();
+    paper.fusion.method = FusionMethod::kFootprint;
+    paper.fusion.params.exact_pixel_budget = 20000U;  // this test's time; the demo's decisions are the same
+    Monitor m(paper);
+    const int cycles = 30;
+    const std::vector<std::size_t> allocations = m.run(cycles);
+    CHECK(cycles_that_allocated(allocations) == 0);
+    CHECK(m.loop->stats().faults_seen == 0U);
+    CHECK(m.loop->stats().first_stop_after_release == 15);
+    // The real cell: four 640 x 480 cameras into 80 x 80 x 50 voxels (its
+    // start-up fuses the fewest background frames, for this test's time).
+    const ConfigLoad real = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) +
+                                                "/apps/monitor/config/real-cell.toml");
+    REQUIRE(real.ok);
+    MonitorConfig cfg = real.config;
+    cfg.prior.background_frames = 3;
+    Monitor r(cfg);
+    const std::vector<std::size_t> real_allocations = r.run(3);
+    CHECK(cycles_that_allocated(real_allocations) == 0);
+    CHECK(r.loop->stats().faults_seen == 0U);
+    CHECK(r.loop->stats().cycles_run == 3);
+}
+
 // verifies: SR-GEN-002, SR-SYS-005
 TEST_CASE("monitor loop: with a recorded PCD sensor, good and refused frames allocate nothing, each read once") {
     const ConfigLoad load = load_monitor_config(CELLGUARD_SOURCE_DIR "/apps/monitor/test/pcd-cell.toml");

@@ -39,7 +39,9 @@ constexpr const char* kDescription =
     "every separation frame (E2E, its counter, consistent with the safety frame) and\n"
     "reads the PLC's command frames with the controller's command receiver: no fault\n"
     "after start-up, and each cycle that used a valid command echoes its case; the\n"
-    "stop is released after start-up and requested again when the person comes.";
+    "stop is released after start-up and requested again when the person comes.\n"
+    "--config FILE: the log of `cellguard-monitor --config FILE` (a cell that renders\n"
+    "the paper's scripted person, e.g. apps/monitor/config/real-cell.toml).";
 
 constexpr const char* kFooter =
     "Exit status: 0 the log passes, 1 it fails (one FAIL line each on stderr),\n"
@@ -48,13 +50,17 @@ constexpr const char* kFooter =
 }  // namespace
 
 int main(int argc, char** argv) {
-    host::CommandLine cli(kProgram, "cellguard-monitor-check-log [--demo NAME] LOG CYCLES", kDescription, kFooter);
+    host::CommandLine cli(kProgram, "cellguard-monitor-check-log [--demo NAME | --config FILE] LOG CYCLES",
+                          kDescription, kFooter);
     std::string log;
     std::string demo = "paper-cell";
     int cycles = 0;
-    cli.app()
-        .add_option("--demo", demo, "the demo that wrote the log: paper-cell (the default) or robot-cell")
-        ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
+    std::string config_path;
+    CLI::Option* demo_opt = cli.app()
+                                .add_option("--demo", demo,
+                                            "the demo that wrote the log: paper-cell (the default) or robot-cell")
+                                ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
+    cli.text("--config", config_path, "FILE", "the configuration file of the run that wrote the log (not with --demo)");
     cli.argument("LOG", "the candump log", [&log](const std::string& v) { log = v; });
     cli.argument("CYCLES", "the demo's --cycles, 1.." + std::to_string(kDemoLogMaxCycles),
                  [&cycles](const std::string& v) {
@@ -63,8 +69,22 @@ int main(int argc, char** argv) {
     if (const int status = cli.parse(argc, argv); status >= 0) {
         return status;
     }
-    const DemoLogCheck r = check_demo_log_file(log, cycles,
-                                               demo == "robot-cell" ? robot_cell_demo_config() : demo_config());
+    if (demo_opt->count() > 0U && !config_path.empty()) {
+        static_cast<void>(std::fprintf(stderr, "%s: --demo and --config exclude each other\n", kProgram));
+        return host::kExitUsage;
+    }
+    ConfigLoad load;  // moved into, not copied: nothing here throws past main
+    if (config_path.empty()) {
+        load.ok = true;
+        load.config = demo == "robot-cell" ? robot_cell_demo_config() : demo_config();
+    } else {
+        load = load_monitor_config(config_path);
+    }
+    if (!load.ok) {
+        static_cast<void>(std::fprintf(stderr, "%s: configuration error: %s\n", kProgram, load.error.c_str()));
+        return host::kExitUsage;
+    }
+    const DemoLogCheck r = check_demo_log_file(log, cycles, load.config);
     for (const std::string& f : r.failures) {
         static_cast<void>(std::fprintf(stderr, "%s: %s\n", r.input_ok ? "FAIL" : kProgram, f.c_str()));
     }

@@ -57,6 +57,7 @@ struct Options {
     std::string picture;
     std::string picture_sensor;
     std::string commands;  ///< --commands: "" (by the cell), "sim" or "can"
+    std::string fusion;    ///< --fusion: "" (the config's), "ray" or "footprint"
 };
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
@@ -95,6 +96,11 @@ int parse_args(int argc, char** argv, Options& o) {
                     "with a demo scene the scene stays simulated: an external PLC, as in the vcan\n"
                     "test); default: sim with a demo scene and a robot, else can on an interface")
         ->check(CLI::IsMember({"sim", "can"}));
+    cli.app()
+        .add_option("--fusion", o.fusion,
+                    "how depth images are fused, overriding the config's fusion.method: ray (per\n"
+                    "ray, the reference) or footprint (footprint fusion, for dense cameras)")
+        ->check(CLI::IsMember({"ray", "footprint"}));
     cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
@@ -172,6 +178,11 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     }
     if (opt.cycles > 0) {
         cfg.demo_cycles = opt.cycles;
+    }
+    if (opt.fusion == "ray") {
+        cfg.fusion = FusionSettings{};  // footprint's limits and cores do not apply
+    } else if (opt.fusion == "footprint") {
+        cfg.fusion.method = FusionMethod::kFootprint;
     }
     if (opt.budget_ms > 0) {
         cfg.budget_us = static_cast<std::uint64_t>(opt.budget_ms) * 1000U;
@@ -261,6 +272,19 @@ CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const 
     return interface ? &socket_commands : nullptr;
 }
 
+/// Footprint fusion's runner for fusion.threads (nullptr: one core).
+TaskRunner* fusion_runner(const MonitorConfig& cfg) {
+    // TODO(issue 18): construct port/linux's WorkerPool (a TaskRunner of
+    // cfg.fusion.threads threads, kept alive for the run) here when
+    // fusion.threads > 1 and return it; until it lands, every sensor's pass
+    // runs on the cycle's thread (the same grid, bit for bit: one core is the
+    // reference).
+    if (cfg.fusion.threads > 1) {
+        std::printf("fusion: threads = %d, but this build has no worker pool yet: one core\n", cfg.fusion.threads);
+    }
+    return nullptr;
+}
+
 /// The monitor (main without its last-resort catch).
 int run_monitor(int argc, char** argv) {
     Options opt;
@@ -321,7 +345,7 @@ int run_monitor(int argc, char** argv) {
         return fail(e);
     }
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
-                     simulated_robot ? &demo : nullptr);
+                     simulated_robot ? &demo : nullptr, fusion_runner(cfg));
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));

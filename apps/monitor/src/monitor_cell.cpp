@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdarg>
 
+#include "cellguard/grid/depth_pyramid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
@@ -173,6 +174,16 @@ ControllerConfig controller_config(const cell::MonitorConfig& cfg) {
     return cc;
 }
 
+void attach_fusion(ControllerConfig& cc, const cell::MonitorConfig& cfg, const MonitorCell& cell, TaskRunner* runner) {
+    if (cfg.fusion.method != FusionMethod::kFootprint) {
+        return;
+    }
+    cc.footprint.method = FusionMethod::kFootprint;
+    cc.footprint.params = cfg.fusion.params;
+    cc.footprint.workspaces = {cell.footprint_spaces.data(), cell.footprint_spaces.size()};
+    cc.footprint.runner = runner;
+}
+
 SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
     grid = GridGeometry::make(cfg.grid.origin, cfg.grid.voxel_size,
                               GridDims{cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]})
@@ -315,9 +326,10 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
     tables.resize(specs.size());
     std::size_t total_steps = 0U;
     std::size_t total_bytes = 0U;
+    const bool footprint = cfg.fusion.method == FusionMethod::kFootprint;
     for (std::size_t s = 0U; s < specs.size(); ++s) {
-        if (!cfg.sensors[s].pcd_files.empty()) {
-            continue;  // recorded point clouds: fused without a table
+        if (!cfg.sensors[s].pcd_files.empty() || footprint) {
+            continue;  // recorded point clouds, and footprint fusion: fused without a table
         }
         const Status t = tables[s].build(grid, layout.readings[s]);
         if (!t.ok()) {
@@ -340,14 +352,53 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
             100.0 * static_cast<double>(cfg.background_match),
             1000.0 * static_cast<double>(cfg.background_tolerance_m));
     }
-    say(out, "ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
-        static_cast<double>(total_bytes) / 1e6);
+    const Span<const SensorReading> readings{layout.readings.data(), layout.readings.size()};
     // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
-    const CycleWorkBound work = compute_work_bound(grid, {layout.readings.data(), layout.readings.size()}, zones);
-    say(out, "work bound per cycle: %llu rays, %llu voxel steps, %llu grid-pass voxels, %llu zone updates\n",
+    work = compute_work_bound(grid, readings, zones);
+    if (footprint) {
+        allocate_footprint_workspaces(out);
+        work = with_footprint_fusion(work, grid, readings, cfg.fusion.params);
+    } else {
+        say(out, "ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
+            static_cast<double>(total_bytes) / 1e6);
+    }
+    say(out, "work bound per cycle: %llu rays, %llu voxel steps, %llu grid-pass voxels, %llu zone updates",
         static_cast<unsigned long long>(work.rays), static_cast<unsigned long long>(work.voxel_steps),
         static_cast<unsigned long long>(work.grid_voxels), static_cast<unsigned long long>(work.zone_updates));
+    if (footprint) {
+        say(out, ", %llu footprint units", static_cast<unsigned long long>(work.footprint_units));
+    }
+    say(out, "\n");
     return {};
+}
+
+void MonitorCell::allocate_footprint_workspaces(std::FILE* out) {
+    // One workspace per sensor (the sensors can then run as parallel tasks),
+    // allocated here once: the cycle allocates nothing.
+    footprint_storage.clear();
+    footprint_storage.resize(specs.size());
+    footprint_spaces.assign(specs.size(), FootprintWorkspace{});
+    // Each workspace's pyramid holds the largest image: fuse_frame_footprint
+    // checks every workspace against every sensor's image.
+    std::size_t cells = 0U;
+    for (const sim::SensorSpec& spec : specs) {
+        cells = std::max(cells, depth_pyramid_cells(spec.width, spec.height));
+    }
+    std::size_t bytes = 0U;
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        FootprintStorage& st = footprint_storage[s];
+        st.pyramid_min.assign(cells, 0.0F);
+        st.pyramid_max.assign(cells, 0.0F);
+        st.pyramid_invalid.assign(cells, 0U);
+        st.opinions.assign(grid.voxel_count(), 0);
+        footprint_spaces[s] = FootprintWorkspace{{st.pyramid_min.data(), cells},
+                                                 {st.pyramid_max.data(), cells},
+                                                 {st.pyramid_invalid.data(), cells},
+                                                 {st.opinions.data(), st.opinions.size()}};
+        bytes += cells * (2U * sizeof(float) + 1U) + st.opinions.size() * sizeof(std::int16_t);
+    }
+    say(out, "footprint fusion: %zu sensors, no ray tables; workspaces %.1f MB\n", specs.size(),
+        static_cast<double>(bytes) / 1e6);
 }
 
 }  // namespace cellguard::monitor

@@ -22,11 +22,19 @@ SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCe
     return oc;
 }
 
-// The controller's configuration with the cell's robot side.
-ControllerConfig robot_controller_config(const cell::MonitorConfig& cfg, MonitorCell& cell) {
+// The controller's configuration with the cell's robot and fusion sides.
+ControllerConfig robot_controller_config(const cell::MonitorConfig& cfg, MonitorCell& cell, TaskRunner* runner) {
     ControllerConfig cc = controller_config(cfg);
     attach_robot(cc, cfg, cell);
+    attach_fusion(cc, cfg, cell, runner);
     return cc;
+}
+
+// CLOCK_MONOTONIC in microseconds (the frame loads' duration; the cycle has the controller's clock).
+std::uint64_t monotonic_us() noexcept {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return static_cast<std::uint64_t>(t.tv_sec) * 1000000U + static_cast<std::uint64_t>(t.tv_nsec) / 1000U;
 }
 
 // Room for the longest status line of @p cfg: the fixed text and numbers,
@@ -71,6 +79,20 @@ void wait_for_period(timespec& next, std::uint64_t period_us, std::uint64_t& ski
 
 }  // namespace
 
+DurationFigures duration_figures(const std::vector<std::uint64_t>& us, std::size_t n) {
+    std::vector<std::uint64_t> sorted(us.begin(), us.begin() + static_cast<std::ptrdiff_t>(std::min(n, us.size())));
+    std::sort(sorted.begin(), sorted.end());
+    DurationFigures f;
+    f.count = sorted.size();
+    if (f.count == 0U) {
+        return f;
+    }
+    f.median = sorted[f.count / 2U];
+    f.p99 = sorted[(f.count * 99U + 99U) / 100U - 1U];
+    f.max = sorted.back();
+    return f;
+}
+
 const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capacity) noexcept {
     if (capacity == 0U) {
         return out;
@@ -93,7 +115,7 @@ const char* format_fault_names(std::uint32_t mask, char* out, std::size_t capaci
 
 MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
                          const std::vector<cell::FrameSource*>& sources, CanPort& can, CycleClock& clock,
-                         std::FILE* status_out, CommandLink* commands, CycleHook* hook)
+                         std::FILE* status_out, CommandLink* commands, CycleHook* hook, TaskRunner* runner)
     : cfg_(&cfg),
       sources_(sources),
       can_(&can),
@@ -110,17 +132,22 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
-      controller_(robot_controller_config(cfg, cell), cell.frame_grid,
+      controller_(robot_controller_config(cfg, cell, runner), cell.frame_grid,
                   {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
                   cell.zones, cell.model, clock, this),
       output_(output_config(cfg, cell, controller_.prior_crc()), can) {
     for (std::size_t s = 0U; s < inputs_.size() && sources_match_; ++s) {
         const bool simulated = cfg.sensors[s].pcd_files.empty();
         inputs_[s].present = true;
-        inputs_[s].table = simulated ? &cell.tables[s].table() : nullptr;
+        // Footprint fusion needs no ray table (none was built).
+        inputs_[s].table = simulated && cfg.fusion.method == FusionMethod::kRay ? &cell.tables[s].table() : nullptr;
         // A recorded sensor has no commissioned view: refused by the config loader; never compared.
         inputs_[s].background = simulated && cfg.background_match > 0.0F ? &cell.backgrounds[s] : nullptr;
     }
+    const std::size_t recorded = static_cast<std::size_t>(std::max(cfg.demo_cycles, 0));
+    stats_.cycle_us.assign(recorded, 0U);
+    stats_.fuse_us.assign(recorded, 0U);
+    stats_.load_us.assign(recorded, 0U);
 }
 
 Status MonitorLoop::status() const noexcept {
@@ -149,7 +176,12 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     if (hook_ != nullptr) {
         hook_->before_cycle(k, static_cast<double>(static_cast<std::uint64_t>(k) * cfg_->period_us) * 1e-6);
     }
+    const std::uint64_t load_start = monotonic_us();
     load_frames(k);
+    const std::uint64_t load_us = monotonic_us() - load_start;
+    if (k >= 0 && static_cast<std::size_t>(k) < stats_.load_us.size()) {
+        stats_.load_us[static_cast<std::size_t>(k)] = load_us;
+    }
     clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
     for (SensorInput& in : inputs_) {
         in.captured_us = clock_->base();
@@ -174,7 +206,12 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
 }
 
 void MonitorLoop::count(int k, const CycleReport& r) noexcept {
-    stats_.max_cycle_us = std::max(stats_.max_cycle_us, controller_.monitor().last().total_us);
+    const CycleTiming& timing = controller_.monitor().last();
+    stats_.max_cycle_us = std::max(stats_.max_cycle_us, timing.total_us);
+    if (k >= 0 && static_cast<std::size_t>(k) < stats_.cycle_us.size()) {
+        stats_.cycle_us[static_cast<std::size_t>(k)] = timing.total_us;
+        stats_.fuse_us[static_cast<std::size_t>(k)] = timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)];
+    }
     ++stats_.cycles_run;
     stats_.faults_seen |= r.safety.latched_faults;
     if ((r.safety.latched_faults & fault_bit(Fault::kCanError)) != 0U) {
@@ -256,6 +293,7 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         format_fault_names(stats_.faults_seen, faults, sizeof faults),
         static_cast<double>(stats_.max_cycle_us) / 1000.0, static_cast<double>(cfg_->budget_us) / 1000.0,
         static_cast<unsigned long long>(controller_.monitor().overruns())));
+    write_timing(out);
     if (run.paced) {
         static_cast<void>(std::fprintf(out,
                                        "summary: paced: %llu periods skipped after cycles that ran past their period\n",
@@ -267,6 +305,29 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         }
     }
     can_->write_summary(out, log_ok);
+}
+
+void MonitorLoop::write_timing(std::FILE* out) const noexcept {
+    const std::size_t n = static_cast<std::size_t>(std::max(stats_.cycles_run, 0));
+    const char* const method = cfg_->fusion.method == FusionMethod::kFootprint ? "footprint" : "ray";
+    const auto ms = [](std::uint64_t us) { return static_cast<double>(us) / 1000.0; };
+    try {  // the summary's sorting copies allocate; after the run
+        const DurationFigures cycle = duration_figures(stats_.cycle_us, n);
+        const DurationFigures fuse = duration_figures(stats_.fuse_us, n);
+        const DurationFigures load = duration_figures(stats_.load_us, n);
+        static_cast<void>(
+            std::fprintf(out,
+                         "summary: cycle times over %zu cycles: median %.2f ms, p99 %.2f ms, max %.2f ms; "
+                         "fusion stage (%s): median %.2f ms, p99 %.2f ms, max %.2f ms\n",
+                         cycle.count, ms(cycle.median), ms(cycle.p99), ms(cycle.max), method, ms(fuse.median),
+                         ms(fuse.p99), ms(fuse.max)));
+        static_cast<void>(std::fprintf(out,
+                                       "summary: loading the frames (before each cycle, not in its time): median "
+                                       "%.2f ms, p99 %.2f ms, max %.2f ms\n",
+                                       ms(load.median), ms(load.p99), ms(load.max)));
+    } catch (...) {
+        static_cast<void>(std::fprintf(out, "summary: cycle time figures: out of memory\n"));
+    }
 }
 
 int MonitorLoop::exit_status(std::FILE* err, bool log_ok) const noexcept {

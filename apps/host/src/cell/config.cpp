@@ -258,6 +258,38 @@ void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, cons
     }
 }
 
+/// The [fusion] table (optional): the fusion method of depth images and
+/// footprint fusion's limits and cores.
+void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    if (!root.contains("fusion")) {
+        return;
+    }
+    const std::string p = "fusion";
+    const toml::table& t = L.table(root, "", "fusion");
+    L.check_keys(t, p, {"method", "exact_footprint_max", "exact_pixel_budget", "threads"});
+    FusionSettings& f = c.fusion;
+    f.line = static_cast<int>(t.source().begin.line);
+    const std::string method = L.string_or(t, p, "method", "ray");
+    if (method == "ray") {
+        f.method = FusionMethod::kRay;
+    } else if (method == "footprint") {
+        f.method = FusionMethod::kFootprint;
+    } else {
+        L.fail(t.get("method")->source(), "fusion.method", R"(expected "ray" or "footprint", got ")" + method + "\"");
+    }
+    // The limits and the cores are footprint fusion's: given with "ray" they would silently do nothing.
+    for (const char* key : {"exact_footprint_max", "exact_pixel_budget", "threads"}) {
+        if (f.method == FusionMethod::kRay && t.contains(key)) {
+            L.fail(t.get(key)->source(), Loader::join(p, key), R"(applies only to method = "footprint")");
+        }
+    }
+    f.params.exact_footprint_max = static_cast<std::uint32_t>(
+        L.integer_or(t, p, "exact_footprint_max", 0, 65536, f.params.exact_footprint_max));
+    f.params.exact_pixel_budget = static_cast<std::uint32_t>(
+        L.integer_or(t, p, "exact_pixel_budget", 0, 100000000, f.params.exact_pixel_budget));
+    f.threads = static_cast<int>(L.integer_or(t, p, "threads", 1, kMaxFusionThreads, 1));
+}
+
 /// The [can] table: the CAN interface or log and the safety channel's IDs.
 void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const toml::table& t = L.table(root, "", "can");
@@ -387,6 +419,7 @@ void load_demo(const Loader& L, const toml::table& root, MonitorConfig& c, const
 void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
     load_thresholds(L, root, c);
     load_prior(L, root, c, base_dir);
+    load_fusion(L, root, c);
     load_can(L, root, c);
     load_cycle(L, root, c);
     load_restart_interlock(L, root, c);
@@ -403,8 +436,8 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         const toml::table root = toml::parse(text, source_name);
         const Loader L(source_name);
         L.check_keys(root, "",
-                     {"grid", "sensors", "zones", "thresholds", "prior", "can", "cycle", "restart_interlock", "demo",
-                      "cases", "robot", "separation", "speed_classes"});
+                     {"grid", "sensors", "zones", "thresholds", "prior", "fusion", "can", "cycle", "restart_interlock",
+                      "demo", "cases", "robot", "separation", "speed_classes"});
         MonitorConfig c;
         load_grid(L, root, c);
         load_sensors(L, root, c, base_dir);

@@ -11,27 +11,24 @@ namespace cellguard::cell {
 
 SimulatedFrameSource::SimulatedFrameSource(const sim::SensorSpec& spec)
     : spec_(spec),
-      reference_(sim::reference_scene()),
-      prepared_(reference_.boxes.size() + 1U),
+      background_(spec, sim::reference_scene()),
+      prepared_(1U),
       depth_(static_cast<std::size_t>(spec.width > 0 ? spec.width : 0) *
              static_cast<std::size_t>(spec.height > 0 ? spec.height : 0)) {
-    scene_.boxes.reserve(reference_.boxes.size() + 1U);
+    moving_.floor = false;  // the floor is the background's
+    moving_.boxes.reserve(1U);
 }
 
 bool SimulatedFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept {
     status = FrameStatus{};
     // The scene of the cycle, as the demo always made it: the reference
-    // scene plus the person. Within the reserved capacity nothing allocates.
+    // scene (cast once, background_) plus the person. Within the reserved
+    // capacity nothing allocates.
     const int k = cycle > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? std::numeric_limits<int>::max()
                                                                                       : static_cast<int>(cycle);
-    scene_.floor = reference_.floor;
-    scene_.boxes.clear();
-    for (const sim::Box& b : reference_.boxes) {
-        scene_.boxes.push_back(b);
-    }
-    scene_.boxes.push_back(person_box(demo_person(k)));
-    if (!prepared_.assign(scene_) ||
-        !sim::render_depth_into(spec_, prepared_, Span<float>(depth_.data(), depth_.size()))) {
+    moving_.boxes.clear();
+    moving_.boxes.push_back(person_box(demo_person(k)));
+    if (!prepared_.assign(moving_) || !background_.render_into(prepared_, Span<float>(depth_.data(), depth_.size()))) {
         // Not reached: the buffers were sized for this scene and image.
         reading = SensorReading{};
         reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -49,13 +46,14 @@ void SimulatedFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
 
 SceneFrameSource::SceneFrameSource(const sim::SensorSpec& spec, const sim::RobotCellSimulation& simulation)
     : spec_(spec),
+      rays_(spec),
       simulation_(&simulation),
       depth_(static_cast<std::size_t>(spec.width > 0 ? spec.width : 0) *
              static_cast<std::size_t>(spec.height > 0 ? spec.height : 0)) {}
 
 bool SceneFrameSource::load_frame(std::uint64_t /*cycle*/, SensorReading& reading, FrameStatus& status) noexcept {
     status = FrameStatus{};
-    if (!sim::render_depth_into(spec_, simulation_->scene(), Span<float>(depth_.data(), depth_.size()))) {
+    if (!sim::render_depth_into(rays_, simulation_->scene(), Span<float>(depth_.data(), depth_.size()))) {
         // Not reached: the image was sized for the sensor.
         reading = SensorReading{};
         reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());

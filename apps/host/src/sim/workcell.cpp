@@ -181,6 +181,38 @@ std::size_t PreparedScene::capacity() const noexcept {
     return std::min(scene_.boxes.capacity(), inverse_rotation_.capacity());
 }
 
+RayHit PreparedScene::cast_some(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, std::uint64_t boxes,
+                                std::uint64_t capsules, bool floor) const noexcept {
+    RayHit hit;
+    hit.distance = std::numeric_limits<double>::infinity();
+    if (floor && scene_.floor && dir.z() < 0.0) {
+        hit.distance = -origin.z() / dir.z();
+    }
+    for (std::size_t i = 0; i < scene_.boxes.size(); ++i) {
+        if (i < 64U && ((boxes >> i) & 1U) == 0U) {
+            continue;
+        }
+        const double t = intersect_box_prepared(scene_.boxes[i], inverse_rotation_[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = static_cast<int>(i);
+        }
+    }
+    const std::size_t n = std::min<std::size_t>(scene_.robot.count, kMaxRobotCapsules);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (((capsules >> i) & 1U) == 0U) {
+            continue;
+        }
+        const double t = intersect_capsule(scene_.robot.capsules[i], origin, dir);
+        if (t < hit.distance) {
+            hit.distance = t;
+            hit.box = -1;
+            hit.capsule = static_cast<int>(i);
+        }
+    }
+    return hit;
+}
+
 RayHit PreparedScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
     RayHit hit;
     hit.distance = std::numeric_limits<double>::infinity();
@@ -203,25 +235,243 @@ void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vec
     (void)render_depth_into(sensor, scene, Span<float>(depth.data(), depth.size()));
 }
 
-bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept {
-    if (depth.size() != image_size(sensor)) {
-        return false;
+namespace {
+
+// A pixel rectangle [u0, u1] x [v0, v1] (inclusive) that holds every pixel
+// whose ray can meet an object; the whole image when that is not known.
+struct PixelRect {
+    std::int32_t u0 = std::numeric_limits<std::int32_t>::min();
+    std::int32_t u1 = std::numeric_limits<std::int32_t>::max();
+    std::int32_t v0 = std::numeric_limits<std::int32_t>::min();
+    std::int32_t v1 = std::numeric_limits<std::int32_t>::max();
+    [[nodiscard]] bool holds(std::int32_t u, std::int32_t v) const noexcept {
+        return u >= u0 && u <= u1 && v >= v0 && v <= v1;
     }
+};
+
+// The rectangle of the eight corners @p corners (workcell frame) projected
+// into the sensor, grown by 2 pixels. A ray that meets the convex hull of
+// the corners meets it at a point that projects into the hull of the
+// projected corners (all in front of the camera: projection keeps convex
+// sets convex), so its pixel lies in the rectangle; the margin covers
+// rounding. A corner within 1 mm of the camera plane or behind it: the whole image.
+PixelRect project_corners(const Eigen::Vector3d (&corners)[8], const Eigen::Isometry3d& world_to_camera,
+                          const PinholeIntrinsics& k) noexcept {
+    double u_min = std::numeric_limits<double>::infinity();
+    double u_max = -std::numeric_limits<double>::infinity();
+    double v_min = u_min;
+    double v_max = u_max;
+    for (const Eigen::Vector3d& c : corners) {
+        const Eigen::Vector3d p = world_to_camera * c;
+        if (!(p.z() > 1e-3)) {
+            return PixelRect{};
+        }
+        const double u = k.fx * p.x() / p.z() + k.cx;
+        const double v = k.fy * p.y() / p.z() + k.cy;
+        u_min = std::fmin(u_min, u);
+        u_max = std::fmax(u_max, u);
+        v_min = std::fmin(v_min, v);
+        v_max = std::fmax(v_max, v);
+    }
+    const auto clamp = [](double x) { return static_cast<std::int32_t>(std::fmax(-1e6, std::fmin(1e6, x))); };
+    return PixelRect{clamp(std::floor(u_min) - 2.0), clamp(std::ceil(u_max) + 2.0), clamp(std::floor(v_min) - 2.0),
+                     clamp(std::ceil(v_max) + 2.0)};
+}
+
+PixelRect box_rect(const Box& b, const Eigen::Isometry3d& world_to_camera, const PinholeIntrinsics& k) noexcept {
+    const Eigen::Matrix3d yaw = Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    Eigen::Vector3d corners[8];
+    for (unsigned i = 0U; i < 8U; ++i) {
+        const Eigen::Vector3d s((i & 1U) != 0U ? 0.5 : -0.5, (i & 2U) != 0U ? 0.5 : -0.5, (i & 4U) != 0U ? 0.5 : -0.5);
+        // 1 mm more than the box: its rotation here and the ray caster's inverse one round differently.
+        corners[i] = b.center + yaw * (s.cwiseProduct(b.size) + 2e-3 * s);
+    }
+    return project_corners(corners, world_to_camera, k);
+}
+
+PixelRect capsule_rect(const PlacedCapsule& c, const Eigen::Isometry3d& world_to_camera,
+                       const PinholeIntrinsics& k) noexcept {
+    const Eigen::Vector3d a = point_of(c.a);
+    const Eigen::Vector3d b = point_of(c.b);
+    const Eigen::Vector3d lo = a.cwiseMin(b).array() - (c.radius + 1e-3);
+    const Eigen::Vector3d hi = a.cwiseMax(b).array() + (c.radius + 1e-3);
+    Eigen::Vector3d corners[8];
+    for (unsigned i = 0U; i < 8U; ++i) {
+        corners[i] = Eigen::Vector3d((i & 1U) != 0U ? hi.x() : lo.x(), (i & 2U) != 0U ? hi.y() : lo.y(),
+                                     (i & 4U) != 0U ? hi.z() : lo.z());
+    }
+    return project_corners(corners, world_to_camera, k);
+}
+
+// The objects' pixel rectangles of one image (the first 64 boxes, every capsule).
+struct SceneRects {
+    PixelRect boxes[64];
+    PixelRect capsules[kMaxRobotCapsules];
+    std::size_t box_count = 0U;
+    std::size_t capsule_count = 0U;
+
+    SceneRects(const Scene& scene, const Eigen::Isometry3d& pose, const PinholeIntrinsics& k) noexcept {
+        const Eigen::Isometry3d world_to_camera = pose.inverse();
+        box_count = std::min<std::size_t>(scene.boxes.size(), 64U);
+        for (std::size_t i = 0U; i < box_count; ++i) {
+            boxes[i] = box_rect(scene.boxes[i], world_to_camera, k);
+        }
+        capsule_count = std::min<std::size_t>(scene.robot.count, kMaxRobotCapsules);
+        for (std::size_t i = 0U; i < capsule_count; ++i) {
+            capsules[i] = capsule_rect(scene.robot.capsules[i], world_to_camera, k);
+        }
+    }
+    // The objects whose rectangle holds pixel (u, v), as cast_some's masks.
+    void masks(std::int32_t u, std::int32_t v, std::uint64_t& box_mask, std::uint64_t& capsule_mask) const noexcept {
+        box_mask = 0U;
+        capsule_mask = 0U;
+        for (std::size_t i = 0U; i < box_count; ++i) {
+            box_mask |= static_cast<std::uint64_t>(boxes[i].holds(u, v)) << i;
+        }
+        for (std::size_t i = 0U; i < capsule_count; ++i) {
+            capsule_mask |= static_cast<std::uint64_t>(capsules[i].holds(u, v)) << i;
+        }
+    }
+};
+
+// The image of @p sensor: pixel (u, v)'s direction and camera ray length
+// come from @p ray(u, v, dir, length); each ray is tested only against the
+// objects whose pixel rectangle holds its pixel (the others it misses).
+template <typename RayOf>
+void render_culled(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth, RayOf ray) noexcept {
     const PinholeIntrinsics k = sensor.intrinsics();
     const Eigen::Isometry3d pose = sensor.pose();
+    const SceneRects rects(scene.scene(), pose, k);
     std::fill(depth.begin(), depth.end(), 0.0F);
+    Eigen::Vector3d dir;
+    double length = 0.0;
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
-            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-            const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
-            const double t = scene.cast(pose.translation(), dir).distance;
-            const double z = t / ray_cam.norm();
+            ray(u, v, dir, length);
+            std::uint64_t box_mask = 0U;
+            std::uint64_t capsule_mask = 0U;
+            rects.masks(u, v, box_mask, capsule_mask);
+            const double t = scene.cast_some(pose.translation(), dir, box_mask, capsule_mask).distance;
+            const double z = t / length;
             if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
                 depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) + static_cast<std::size_t>(u)] =
                     static_cast<float>(z);
             }
         }
     }
+}
+
+}  // namespace
+
+SensorRays::SensorRays(const SensorSpec& sensor) : sensor_(sensor) {
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    direction_.reserve(image_size(sensor));
+    length_.reserve(image_size(sensor));
+    for (std::int32_t v = 0; v < k.height; ++v) {
+        for (std::int32_t u = 0; u < k.width; ++u) {
+            // render_depth_into's arithmetic, once.
+            const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+            direction_.push_back((pose.linear() * ray_cam).normalized());
+            length_.push_back(ray_cam.norm());
+        }
+    }
+}
+
+BackgroundView::BackgroundView(const SensorSpec& sensor, const Scene& background)
+    : rays_(sensor), distance_(image_size(sensor)), depth_(image_size(sensor), 0.0F) {
+    const PreparedScene scene(background);
+    const Eigen::Vector3d origin = sensor.pose().translation();
+    for (std::size_t i = 0U; i < distance_.size(); ++i) {
+        distance_[i] = scene.cast(origin, rays_.direction(i)).distance;
+        const double t = distance_[i];
+        if (std::isfinite(t) && t <= static_cast<double>(sensor.max_range)) {
+            depth_[i] = static_cast<float>(t / rays_.ray_length(i));
+        }
+    }
+}
+
+bool BackgroundView::render_into(const PreparedScene& moving, Span<float> depth) const noexcept {
+    const SensorSpec& sensor = rays_.sensor();
+    if (depth.size() != depth_.size()) {
+        return false;
+    }
+    std::copy(depth_.begin(), depth_.end(), depth.begin());
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    const SceneRects rects(moving.scene(), pose, k);
+    // Where no moving object can be met the background's image stands; the
+    // first surface elsewhere is the nearer of the background's and the
+    // moving objects' (each object's distance is computed on its own, so the
+    // minimum is the whole scene's, bit for bit).
+    PixelRect all{std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::min(),
+                  std::numeric_limits<std::int32_t>::max(), std::numeric_limits<std::int32_t>::min()};
+    const auto cover = [&all](const PixelRect& r) {
+        all.u0 = std::min(all.u0, r.u0);
+        all.u1 = std::max(all.u1, r.u1);
+        all.v0 = std::min(all.v0, r.v0);
+        all.v1 = std::max(all.v1, r.v1);
+    };
+    for (std::size_t i = 0U; i < rects.box_count; ++i) {
+        cover(rects.boxes[i]);
+    }
+    for (std::size_t i = 0U; i < rects.capsule_count; ++i) {
+        cover(rects.capsules[i]);
+    }
+    const std::size_t n = moving.scene().boxes.size();
+    if (n > rects.box_count) {  // boxes beyond the first 64 have no rectangle: every pixel
+        cover(PixelRect{});
+    }
+    const std::int32_t v_end = std::min(all.v1, k.height - 1);
+    const std::int32_t u_end = std::min(all.u1, k.width - 1);
+    for (std::int32_t v = std::max(all.v0, 0); v <= v_end; ++v) {
+        for (std::int32_t u = std::max(all.u0, 0); u <= u_end; ++u) {
+            std::uint64_t box_mask = 0U;
+            std::uint64_t capsule_mask = 0U;
+            rects.masks(u, v, box_mask, capsule_mask);
+            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) +
+                                  static_cast<std::size_t>(u);
+            if (box_mask == 0U && capsule_mask == 0U && n <= rects.box_count) {
+                continue;
+            }
+            const double t = std::fmin(
+                distance_[i],
+                moving.cast_some(pose.translation(), rays_.direction(i), box_mask, capsule_mask, false).distance);
+            depth[i] = std::isfinite(t) && t <= static_cast<double>(sensor.max_range)
+                           ? static_cast<float>(t / rays_.ray_length(i))
+                           : 0.0F;
+        }
+    }
+    return true;
+}
+
+bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept {
+    if (depth.size() != image_size(sensor)) {
+        return false;
+    }
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const Eigen::Isometry3d pose = sensor.pose();
+    render_culled(sensor, scene, depth,
+                  [&k, &pose](std::int32_t u, std::int32_t v, Eigen::Vector3d& dir, double& length) {
+                      const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+                      dir = (pose.linear() * ray_cam).normalized();
+                      length = ray_cam.norm();
+                  });
+    return true;
+}
+
+bool render_depth_into(const SensorRays& rays, const PreparedScene& scene, Span<float> depth) noexcept {
+    const SensorSpec& sensor = rays.sensor();
+    if (depth.size() != image_size(sensor)) {
+        return false;
+    }
+    const auto width = static_cast<std::size_t>(sensor.width);
+    render_culled(sensor, scene, depth,
+                  [&rays, width](std::int32_t u, std::int32_t v, Eigen::Vector3d& dir, double& length) {
+                      const std::size_t i = static_cast<std::size_t>(v) * width + static_cast<std::size_t>(u);
+                      dir = rays.direction(i);
+                      length = rays.ray_length(i);
+                  });
     return true;
 }
 

@@ -4,7 +4,8 @@
 /// What the monitor's cycle works on, built once at start-up from its
 /// configuration: the sensors, the grid and its storage, the compiled zones,
 /// the prior (from a file or from simulated empty frames), the sensors' ray
-/// tables and their commissioned views of the empty cell. The steps run in
+/// tables (or, with [fusion] method = "footprint", footprint fusion's
+/// workspaces, one per sensor) and their commissioned views of the empty cell. The steps run in
 /// the order of the monitor's start-up (configure, then the CAN output in
 /// main, then build_prior, then build_tables), print what the monitor has
 /// always printed, and say why they stop with the monitor's exit status.
@@ -25,6 +26,7 @@
 #include "cellguard/host/sim/scene_file.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/robot/robot_image.hpp"
+#include "cellguard/safety/cycle.hpp"
 #include "cellguard/safety/monitoring_cases.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
@@ -50,6 +52,9 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
 ControllerConfig controller_config(const cell::MonitorConfig& cfg);
 
 class MonitorCell;
+/// @p cc with the fusion side of @p cell: with footprint fusion its method,
+/// limits, the cell's workspaces and @p runner (nullptr: one core).
+void attach_fusion(ControllerConfig& cc, const cell::MonitorConfig& cfg, const MonitorCell& cell, TaskRunner* runner);
 /// @p cc with the robot side of @p cell: its cases, robot model, mask
 /// storage, margin, separation parameters and command age (nothing when the
 /// cell has neither cases nor a robot).
@@ -72,8 +77,9 @@ public:
     /// The prior, read from its file or computed from simulated empty frames;
     /// prints "prior: ..." to @p out (nullptr: silent).
     SetupError build_prior(const cell::MonitorConfig& cfg, std::FILE* out);
-    /// The simulated sensors' ray tables and views of the empty cell; prints
-    /// the background check, the tables and the work bound to @p out.
+    /// The simulated sensors' ray tables (none with footprint fusion: its
+    /// workspaces instead) and views of the empty cell; prints the background
+    /// check, the tables or workspaces and the work bound to @p out.
     SetupError build_tables(const cell::MonitorConfig& cfg, std::FILE* out);
     /// The monitoring cases, the robot (its URDF imported, written as a robot
     /// image and loaded back from those bytes, as a controller with the image
@@ -95,6 +101,16 @@ public:
     sim::SimulatedFrame layout;                    ///< every sensor's view of the empty (reference) cell
     std::vector<host::OwnedRayTable> tables;       ///< per sensor; built for the simulated ones
     std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
+    /// Footprint fusion's storage of one sensor (fusion.method = "footprint").
+    struct FootprintStorage {
+        std::vector<float> pyramid_min;             ///< depth_pyramid_cells of the sensor's image
+        std::vector<float> pyramid_max;             ///< the same
+        std::vector<std::uint8_t> pyramid_invalid;  ///< the same
+        std::vector<std::int16_t> opinions;         ///< one per voxel
+    };
+    std::vector<FootprintStorage> footprint_storage;   ///< per sensor, with footprint fusion
+    std::vector<FootprintWorkspace> footprint_spaces;  ///< per sensor, over footprint_storage
+    CycleWorkBound work{};                             ///< the cycle's work bound (build_tables)
 
     MonitoringCases cases;                  ///< the configured cases (all_zones() when none are)
     bool has_cases = false;                 ///< the configuration has [[cases]]
@@ -110,6 +126,7 @@ public:
 
 private:
     SetupError configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out);
+    void allocate_footprint_workspaces(std::FILE* out);
 };
 
 }  // namespace cellguard::monitor

@@ -54,7 +54,13 @@ struct MonitorStats {
     int can_fault_cycles = 0;           ///< cycles that ended with the CAN-error fault latched
     std::uint32_t faults_seen = 0U;     ///< every fault latched in some cycle
     std::uint64_t max_cycle_us = 0U;    ///< the longest cycle
-    bool released = false;              ///< some cycle did not request the stop
+    /// Per cycle (the first cfg.demo_cycles, room made at construction):
+    /// the controller's cycle, its fusion stage, and loading the frames
+    /// (rendering or reading them, before the cycle), microseconds.
+    std::vector<std::uint64_t> cycle_us;
+    std::vector<std::uint64_t> fuse_us;  ///< see cycle_us
+    std::vector<std::uint64_t> load_us;  ///< see cycle_us
+    bool released = false;               ///< some cycle did not request the stop
 };
 
 /// How run_cycles() ended.
@@ -63,6 +69,16 @@ struct RunResult {
     bool paced = false;                  ///< one cycle per period on the real clock
     std::uint64_t skipped_periods = 0U;  ///< paced: periods skipped after a cycle that ran past its period
 };
+
+/// Median, 99th percentile and maximum of some durations, microseconds.
+struct DurationFigures {
+    std::size_t count = 0U;     ///< durations
+    std::uint64_t median = 0U;  ///< the middle one (the upper of the two middle ones)
+    std::uint64_t p99 = 0U;     ///< the ceil(0.99 n)-th smallest
+    std::uint64_t max = 0U;     ///< the largest
+};
+/// The figures of the first @p n of @p us (fewer when it holds fewer).
+DurationFigures duration_figures(const std::vector<std::uint64_t>& us, std::size_t n);
 
 /// Writes the names of the faults in @p mask, comma-separated ("-" for none),
 /// into @p out (capacity @p capacity, cut to fit); returns @p out.
@@ -78,9 +94,11 @@ public:
     /// monitoring cases takes the PLC's command from @p commands each cycle
     /// (nullptr: none arrives, so the controller stops); @p hook (optional)
     /// is called around each cycle (the robot-cell demo's simulation).
+    /// With footprint fusion ([fusion] method = "footprint") the sensors'
+    /// passes run on @p runner (nullptr: one core, in order).
     MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
                 CanPort& can, CycleClock& clock, std::FILE* status_out, CommandLink* commands = nullptr,
-                CycleHook* hook = nullptr);
+                CycleHook* hook = nullptr, TaskRunner* runner = nullptr);
     MonitorLoop(const MonitorLoop&) = delete;
     MonitorLoop& operator=(const MonitorLoop&) = delete;
     MonitorLoop(MonitorLoop&&) = delete;
@@ -110,6 +128,7 @@ public:
 private:
     bool publish(const CycleReport& report) noexcept override;
     void load_frames(int k) noexcept;
+    void write_timing(std::FILE* out) const noexcept;
     void count(int k, const CycleReport& r) noexcept;
     void format_status(int k, const CycleReport& r) noexcept;
     void append(const char* format, ...) noexcept __attribute__((format(printf, 2, 3)));

@@ -19,7 +19,9 @@
 
 #include "cellguard/can/command_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/robot/separation.hpp"
+#include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
 
 namespace cellguard::cell {
@@ -113,6 +115,19 @@ struct CanSettings {
     CommandChannelConfig command{};            ///< the PLC's command: CAN IDs, data IDs (can.command_id, ...)
 };
 
+/// How the cycle fuses its depth images ([fusion], optional).
+struct FusionSettings {
+    FusionMethod method = FusionMethod::kRay;  ///< fusion.method: "ray" (default) or "footprint"
+    FootprintParams params{};                  ///< fusion.exact_footprint_max, fusion.exact_pixel_budget
+    /// fusion.threads: cores for footprint fusion; 1 (default): the calling
+    /// thread alone, no worker pool.
+    int threads = 1;
+    int line = 0;  ///< line of the [fusion] table (0: absent)
+};
+
+/// Most fusion.threads (a worker per core of an industrial PC).
+constexpr int kMaxFusionThreads = 64;
+
 /// Everything the monitor needs.
 struct MonitorConfig {
     GridSettings grid;                         ///< the grid
@@ -121,6 +136,7 @@ struct MonitorConfig {
     std::vector<CaseSettings> cases;           ///< monitoring cases; empty: one case 0 with every zone
     RobotSettings robot;                       ///< the robot (robot.enabled false: none)
     PriorSettings prior;                       ///< the prior
+    FusionSettings fusion;                     ///< how depth images are fused
     CanSettings can;                           ///< the CAN output
     std::uint64_t period_us = 100000U;         ///< cycle period
     std::uint64_t budget_us = 100000U;         ///< cycle deadline

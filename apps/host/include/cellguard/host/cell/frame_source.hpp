@@ -57,8 +57,9 @@ protected:
 /// A simulated sensor of the demo cell: every cycle it ray casts the demo's
 /// scene of that cycle, the reference scene (sim::reference_scene) with the
 /// scripted person (scenario.hpp) added, into its depth image
-/// (sim::render_depth_into): the image render_frame gives for that scene,
-/// bit for bit.
+/// (sim::BackgroundView: the reference scene is cast once, then each frame
+/// only the pixels whose ray may meet the person): the image render_frame
+/// gives for that scene, bit for bit.
 class SimulatedFrameSource final : public FrameSource {
 public:
     /// A source for @p spec; allocates its image (width x height) and scene.
@@ -73,9 +74,9 @@ public:
 
 private:
     sim::SensorSpec spec_;
-    sim::Scene reference_;  ///< the reference scene, made once
-    sim::Scene scene_;      ///< this cycle's scene, room for the reference's boxes and the person
-    sim::PreparedScene prepared_;
+    sim::BackgroundView background_;  ///< the reference scene's view, cast once
+    sim::Scene moving_;               ///< this cycle's person, room for one box
+    sim::PreparedScene prepared_;     ///< moving_, prepared
     std::vector<float> depth_;
     std::uint64_t renders_ = 0U;
 };
@@ -95,6 +96,7 @@ public:
 
 private:
     sim::SensorSpec spec_;
+    sim::SensorRays rays_;  ///< the pixels' rays, computed once
     const sim::RobotCellSimulation* simulation_;
     std::vector<float> depth_;
 };

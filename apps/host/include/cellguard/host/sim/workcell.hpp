@@ -115,12 +115,58 @@ public:
     [[nodiscard]] std::size_t capacity() const noexcept;
     /// The first surface along origin + t * dir (dir unit length), as cast_ray_hit.
     [[nodiscard]] RayHit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
+    /// cast() testing only box i where bit i of @p boxes is set (boxes from
+    /// 64 on always), capsule j where bit j of @p capsules is set, and the
+    /// floor only when @p floor: the same hit as cast() whenever the ray
+    /// misses every object left out.
+    [[nodiscard]] RayHit cast_some(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, std::uint64_t boxes,
+                                   std::uint64_t capsules, bool floor = true) const noexcept;
     /// The scene.
     [[nodiscard]] const Scene& scene() const { return scene_; }
 
 private:
     Scene scene_;
     std::vector<Eigen::Matrix3d> inverse_rotation_;
+};
+
+/// One sensor's pixel rays, computed once: each pixel's unit direction in
+/// the workcell frame and the length of its camera ray (u - cx) / fx,
+/// (v - cy) / fy, 1, exactly as render_depth_into computes them per frame.
+/// About 32 bytes per pixel (10 MB for 640 x 480).
+class SensorRays {
+public:
+    /// The rays of @p sensor (allocates).
+    explicit SensorRays(const SensorSpec& sensor);
+    /// The sensor.
+    [[nodiscard]] const SensorSpec& sensor() const noexcept { return sensor_; }
+    /// Pixel i's (row-major) unit direction.
+    [[nodiscard]] const Eigen::Vector3d& direction(std::size_t i) const noexcept { return direction_[i]; }
+    /// Pixel i's camera ray length (range = depth x this).
+    [[nodiscard]] double ray_length(std::size_t i) const noexcept { return length_[i]; }
+
+private:
+    SensorSpec sensor_;
+    std::vector<Eigen::Vector3d> direction_;
+    std::vector<double> length_;
+};
+
+/// A sensor's view of a static background (floor and boxes), cast once, onto
+/// which frames with moving objects are rendered: only the pixels whose ray
+/// may meet a moving object are cast again. About 44 bytes per pixel.
+class BackgroundView {
+public:
+    /// @p sensor's rays and its view of @p background (allocates).
+    BackgroundView(const SensorSpec& sensor, const Scene& background);
+    /// The image render_depth_into gives for the background plus @p moving's
+    /// boxes and robot (its floor flag is ignored), bit for bit, into
+    /// @p depth (exactly width x height values, else false and nothing
+    /// written). Allocates nothing.
+    [[nodiscard]] bool render_into(const PreparedScene& moving, Span<float> depth) const noexcept;
+
+private:
+    SensorRays rays_;
+    std::vector<double> distance_;  ///< per pixel: the background's first surface along the ray (inf: none)
+    std::vector<float> depth_;      ///< per pixel: the background's image
 };
 
 /// render_depth with a prepared scene: the same image, faster.
@@ -130,6 +176,9 @@ void render_depth(const SensorSpec& sensor, const PreparedScene& scene, std::vec
 /// height values (else false, nothing written). Allocates nothing; the same
 /// image, bit for bit (render_depth is this function on a vector).
 bool render_depth_into(const SensorSpec& sensor, const PreparedScene& scene, Span<float> depth) noexcept;
+/// render_depth_into with the sensor's rays computed once (@p rays): the
+/// same image, bit for bit, without the per-pixel direction arithmetic.
+bool render_depth_into(const SensorRays& rays, const PreparedScene& scene, Span<float> depth) noexcept;
 
 /// True when @p p lies inside or on @p box.
 bool box_contains(const Box& box, const Eigen::Vector3d& p);
