@@ -31,6 +31,7 @@
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/picture.hpp"
 #include "cellguard/port/clock.hpp"
+#include "cellguard/port/worker_pool.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -273,16 +274,16 @@ CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const 
 }
 
 /// Footprint fusion's runner for fusion.threads (nullptr: one core).
-TaskRunner* fusion_runner(const MonitorConfig& cfg) {
-    // TODO(issue 18): construct port/linux's WorkerPool (a TaskRunner of
-    // cfg.fusion.threads threads, kept alive for the run) here when
-    // fusion.threads > 1 and return it; until it lands, every sensor's pass
-    // runs on the cycle's thread (the same grid, bit for bit: one core is the
-    // reference).
-    if (cfg.fusion.threads > 1) {
-        std::printf("fusion: threads = %d, but this build has no worker pool yet: one core\n", cfg.fusion.threads);
+/// port/linux's WorkerPool for the fusion's sensor tasks when the
+/// configuration asks for more than one thread (made once, before the first
+/// cycle); nullptr: one core, the reference (the same grid, bit for bit).
+std::unique_ptr<linux_port::WorkerPool> fusion_pool(const MonitorConfig& cfg) {
+    if (cfg.fusion.method != FusionMethod::kFootprint || cfg.fusion.threads <= 1) {
+        return nullptr;
     }
-    return nullptr;
+    auto pool = std::make_unique<linux_port::WorkerPool>(static_cast<std::size_t>(cfg.fusion.threads));
+    std::printf("fusion: %zu worker threads\n", pool->concurrency());
+    return pool;
 }
 
 /// The monitor (main without its last-resort catch).
@@ -344,8 +345,9 @@ int run_monitor(int argc, char** argv) {
     if (e.failed()) {
         return fail(e);
     }
+    const std::unique_ptr<linux_port::WorkerPool> pool = fusion_pool(cfg);
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
-                     simulated_robot ? &demo : nullptr, fusion_runner(cfg));
+                     simulated_robot ? &demo : nullptr, pool.get());
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));

@@ -126,7 +126,7 @@ struct FusionSettings {
 };
 
 /// Most fusion.threads (a worker per core of an industrial PC).
-constexpr int kMaxFusionThreads = 64;
+constexpr int kMaxFusionThreads = 16;  // port/linux WorkerPool's kMaxWorkers
 
 /// Everything the monitor needs.
 struct MonitorConfig {
