@@ -312,6 +312,26 @@ ExactTraversalPlan plan_exact_traversal(const GridGeometry& g, const Eigen::Vect
     return plan;
 }
 
+std::uint64_t tau_bound_below(const ExactTraversalPlan& p, double metres) noexcept {
+    // exit_metres(p, tau) = min(max(fl(fl(tau) * mpt), t_in), t_out): at most metres for every
+    // tau when t_out <= metres, for none when t_in > metres; otherwise when fl(fl(tau) * mpt)
+    // <= metres. Each of the two roundings and the division below is within a factor
+    // (1 + 2^-53) of the exact value, so tau < q * (1 - 2^-50) with q = fl(metres / mpt)
+    // gives fl(fl(tau) * mpt) <= metres * (1 + 2^-53)^3 * (1 - 2^-50) < metres.
+    if (!(p.t_in <= metres) || !(metres > 0.0)) {
+        return 0U;
+    }
+    if (p.t_out <= metres) {
+        return kTauNever;
+    }
+    const double q = metres / p.metres_per_tau * (1.0 - 0x1p-50);
+    constexpr double kNeverAsDouble = 4611686018427387904.0;  // 2^62
+    if (!(q < kNeverAsDouble)) {
+        return kTauNever;
+    }
+    return static_cast<std::uint64_t>(q);  // floor, q >= 0
+}
+
 BresenhamPlan plan_bresenham_traversal(const GridGeometry& g, const Eigen::Vector3d& start,
                                        const Eigen::Vector3d& end) noexcept {
     BresenhamPlan plan;
