@@ -256,9 +256,19 @@ void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, con
             const double delta = w[(a + 1U) % 3U] * w[(a + 2U) % 3U];
             const auto face = static_cast<double>(first[a] + (step > 0 ? 1 : 0));
             plan.tau[a] = to_fixed(std::fabs(face - s.u0[a]) * delta * scale);
-            // delta * scale >= 2^30 (|du| <= 2^30); after a single step the delta only has to retire the axis.
-            plan.tau_delta[a] = steps > 1 ? std::max(to_fixed(delta * scale), std::uint64_t{1}) : 1U;
+            // delta * scale >= 2^30 (|du| <= 2^30); to_fixed saturates below 2^62, so with a
+            // single step (|du| possibly tiny) tau + tau_delta stays below 2^63.
+            plan.tau_delta[a] = std::max(to_fixed(delta * scale), std::uint64_t{1});
             plan.tau_last[a] = plan.tau[a] + static_cast<std::uint64_t>(steps - 1) * plan.tau_delta[a];
+            plan.tau_stop = std::max(plan.tau_stop, plan.tau_last[a]);
+        }
+    }
+    // Retirement is needed only where rounding or an end on a face puts an axis's next
+    // crossing at or before another axis's last one.
+    plan.retire = false;
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        if (plan.tau[a] != kTauNever && plan.tau_last[a] + plan.tau_delta[a] <= plan.tau_stop) {
+            plan.retire = true;
         }
     }
 }

@@ -123,8 +123,13 @@ struct ExactTraversalPlan {
     /// below 2^61); kTauNever when first == last on the axis. With whole- or half-voxel input
     /// every tau is an integer, so crossings that coincide at an edge or corner compare equal.
     std::uint64_t tau[3] = {0U, 0U, 0U};
-    std::uint64_t tau_delta[3] = {0U, 0U, 0U};  ///< tau between crossings per axis (>= 1)
+    std::uint64_t tau_delta[3] = {0U, 0U, 0U};  ///< tau between crossings per axis (>= 1, < 2^62)
     std::uint64_t tau_last[3] = {0U, 0U, 0U};   ///< tau of the last crossing per axis: tau + k * tau_delta, exactly
+    /// Largest tau_last over the stepping axes (0 when none steps): no crossing after it is visited.
+    std::uint64_t tau_stop = 0U;
+    /// false when every stepping axis's crossing after its last one, tau_last + tau_delta, lies
+    /// beyond tau_stop: the loop then needs no per-axis retirement, only tau_next > tau_stop.
+    bool retire = true;
     double metres_per_tau = 0.0;                ///< length / (W * 2^k), > 0
     double t_in = 0.0;                          ///< metres where the first voxel is entered
     double t_out = 0.0;                         ///< metres where the last voxel is left
@@ -180,6 +185,32 @@ std::size_t walk_exact(const ExactTraversalPlan& p, Visitor&& visit, LastVisitor
     std::uint64_t ty = p.tau[1];
     std::uint64_t tz = p.tau[2];
     std::size_t visited = 1U;
+    if (!p.retire) {
+        // The common case, as a plain Amanatides & Woo: an axis past its last crossing has
+        // its tau beyond tau_stop, so it is not stepped again, and the walk ends when the
+        // next crossing lies beyond tau_stop. Same voxels and crossings as the loop below.
+        const std::uint64_t stop = p.tau_stop;
+        for (;;) {
+            const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
+            if (tau_next > stop) {
+                break;
+            }
+            visit(static_cast<std::size_t>(index), c, tau_next);
+            ++visited;
+            const bool sx = tx == tau_next;
+            const bool sy = ty == tau_next;
+            const bool sz = tz == tau_next;
+            tx = sx ? tx + dx : tx;
+            ty = sy ? ty + dy : ty;
+            tz = sz ? tz + dz : tz;
+            c.x += p.step[0] * static_cast<std::int32_t>(sx);
+            c.y += p.step[1] * static_cast<std::int32_t>(sy);
+            c.z += p.step[2] * static_cast<std::int32_t>(sz);
+            index += (sx ? stride_x : 0) + (sy ? stride_y : 0) + (sz ? stride_z : 0);
+        }
+        visit_last(static_cast<std::size_t>(index), c);
+        return visited;
+    }
     for (;;) {
         const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
         if (tau_next == kNever) {  // every axis is at the last voxel
