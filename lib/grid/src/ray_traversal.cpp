@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace cellguard {
 
@@ -39,9 +40,8 @@ bool within_limits(const Eigen::Vector3d& u) noexcept {
 /// Converts the segment to voxel units; false for non-finite or out-of-limit input.
 bool to_voxel_units(const GridGeometry& g, const Eigen::Vector3d& start, const Eigen::Vector3d& end,
                     VoxelSegment& out) noexcept {
-    if (!start.allFinite() || !end.allFinite()) {
-        return false;
-    }
+    // Non-finite input needs no test of its own: it gives a non-finite u0 or u1, which
+    // within_limits rejects (NaN fails its comparisons).
     // The same expression as GridGeometry::world_to_voxel, so that the end
     // voxels agree with it bit for bit.
     const Eigen::Vector3d u0 = (start - g.origin()) / g.voxel_size();
@@ -219,6 +219,25 @@ void plan_end_voxels(const VoxelSegment& s, const BoxClip& c, const Int3& n, Int
     }
 }
 
+/// 2^(61 - e) for w = m * 2^e, m in [0.5, 1) (frexp's exponent), so that w * scale lies in
+/// [2^60, 2^61). Read from the bits for a normal w (every W of plan_crossings, which lies
+/// between ~2^-156 and 2^90), with frexp and ldexp otherwise.
+double power_of_two_scale(double w) noexcept {
+    std::uint64_t bits = 0U;
+    std::memcpy(&bits, &w, sizeof bits);
+    const auto biased = static_cast<std::int32_t>((bits >> 52U) & 0x7FFU);
+    const std::int32_t shift = 61 - (biased - 1022);  // 61 - e
+    if (biased == 0 || biased == 0x7FF || shift < -1022 || shift > 1023) {
+        int exponent = 0;
+        (void)std::frexp(w, &exponent);
+        return std::ldexp(1.0, 61 - exponent);
+    }
+    const std::uint64_t scale_bits = static_cast<std::uint64_t>(shift + 1023) << 52U;
+    double scale = 0.0;
+    std::memcpy(&scale, &scale_bits, sizeof scale);
+    return scale;
+}
+
 /// The exact traversal's fixed-point crossings of @p s from voxel @p first
 /// to @p last: plan.step, stride, tau, tau_delta, tau_last and metres_per_tau.
 void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, const Int3& last,
@@ -237,9 +256,7 @@ void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, con
         w[a] = first[a] != last[a] ? std::fabs(s.du[a]) : 1.0;
     }
     const double big_w = w[0] * w[1] * w[2];
-    int exponent = 0;
-    (void)std::frexp(big_w, &exponent);  // big_w = m * 2^exponent, m in [0.5, 1)
-    const double scale = std::ldexp(1.0, 61 - exponent);
+    const double scale = power_of_two_scale(big_w);
     // Kept positive (also for a zero-length segment) so that kTauNever maps beyond t_out.
     plan.metres_per_tau = std::max(s.length / (big_w * scale), std::numeric_limits<double>::min());
     const std::array<std::ptrdiff_t, 3> stride = strides_of(n);
