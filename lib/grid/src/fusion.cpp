@@ -21,16 +21,19 @@ namespace {
 
 /// trace_ray_opinions for the exact traversal, the same opinions as its generic visitor with
 /// less work per voxel:
-/// - the voxel holding the reading can only be the last one visited (the traversal ends in
-///   world_to_voxel(end) when the end is in the grid and visits no voxel twice), so only the
-///   last voxel is compared with end_index;
+/// - the reading's voxel can only be the last one visited: the traversal ends in
+///   world_to_voxel(end) when the end is in the grid (plan.end_inside, the same half-open test)
+///   and visits no voxel twice; so only the last voxel can take the hit;
 /// - free_evidence(length - t_exit) is the constant p_miss value while length - t_exit >=
 ///   ramp_length, i.e. for every crossing below a per-ray bound (detail::tau_bound_below, a
 ///   few ulps on the safe side): those voxels take the constant without the crossing in metres.
 std::uint32_t trace_exact_opinions(std::int16_t* op, const GridGeometry& g, const Eigen::Vector3d& origin,
-                                   const Eigen::Vector3d& reading, double length, std::size_t end_index,
-                                   const SensorModelTable& model) noexcept {
+                                   const Eigen::Vector3d& reading, double length, const SensorModelTable& model,
+                                   bool* reading_in_grid) noexcept {
     const detail::ExactTraversalPlan p = detail::plan_exact_traversal(g, origin, reading);
+    if (reading_in_grid != nullptr) {
+        *reading_in_grid = p.visits ? p.end_inside : g.contains(g.world_to_voxel_unchecked(reading));
+    }
     if (!p.visits) {
         return 0U;
     }
@@ -51,7 +54,7 @@ std::uint32_t trace_exact_opinions(std::int16_t* op, const GridGeometry& g, cons
                                           : model.free_evidence(length - detail::exit_metres(p, tau)));
         },
         [&](std::size_t index, const VoxelCoord& /*c*/) {
-            keep_max(index, index == end_index
+            keep_max(index, p.end_inside
                                 ? model.reading_evidence()
                                 : model.free_evidence(length - detail::exit_metres(p, detail::kTauNever)));
         });
@@ -67,6 +70,9 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
     if (!std::isfinite(length)) {
         return 0U;
     }
+    if (rasterization == Rasterization::kExact) {
+        return trace_exact_opinions(opinions.data(), g, origin, reading, length, model, reading_in_grid);
+    }
     // The voxel holding the reading, by the same half-open rule as the traversal.
     const VoxelCoord end = g.world_to_voxel_unchecked(reading);
     const bool end_inside = g.contains(end);
@@ -76,9 +82,6 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
     }
     std::int16_t* const op = opinions.data();
     const std::int16_t hit = model.reading_evidence();
-    if (rasterization == Rasterization::kExact) {
-        return trace_exact_opinions(op, g, origin, reading, length, end_index, model);
-    }
     std::uint32_t visits = 0U;
     const auto visit = [&](const TraversedVoxel& v) {
         const std::int16_t e = (v.index == end_index) ? hit : model.free_evidence(length - v.t_exit);

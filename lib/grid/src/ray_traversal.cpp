@@ -335,6 +335,7 @@ ExactTraversalPlan plan_exact_traversal(const GridGeometry& g, const Eigen::Vect
     CG_ENFORCE(g.contains(plan.first) && g.contains(plan.last), "traversal end voxels outside the grid");
     plan.first_index = static_cast<std::ptrdiff_t>(g.index_of(plan.first));
     plan_crossings(s, n, first, last, plan);
+    plan.end_inside = c.end_inside;
     plan.visits = true;
     return plan;
 }

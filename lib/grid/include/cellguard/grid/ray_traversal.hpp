@@ -113,6 +113,7 @@ constexpr std::uint64_t kTauNever = std::uint64_t{1} << 62U;
 /// Per-segment set-up of the exact traversal (ray_traversal.cpp).
 struct ExactTraversalPlan {
     bool visits = false;                   ///< false: the segment visits nothing
+    bool end_inside = false;               ///< the end lies in the grid (then last is its voxel)
     VoxelCoord first{};                    ///< first voxel visited
     VoxelCoord last{};                     ///< last voxel visited
     std::ptrdiff_t first_index = 0;        ///< linear index of first
