@@ -276,7 +276,8 @@ double timed_pass(const std::vector<Ray>& rays, Body body, std::size_t* visits) 
 }
 
 // Exact traversal against the plain A&W on the same rays, interleaved per round.
-void compare_with_plain(const char* name, const char* ray_set, const GridGeometry& g, const std::vector<Ray>& rays, int rounds) {
+void compare_with_plain(const char* name, const char* ray_set, const GridGeometry& g, const std::vector<Ray>& rays,
+                        int rounds) {
     const SensorModelTable model;
     std::vector<std::int16_t> op_exact(g.voxel_count(), kNoOpinion);
     std::vector<std::int16_t> op_plain(g.voxel_count(), kNoOpinion);
@@ -320,14 +321,16 @@ void compare_with_plain(const char* name, const char* ray_set, const GridGeometr
     if (sink == 1U)
         std::puts("");
     const double nr = static_cast<double>(rays.size());
-    std::printf("%-12s %-14s %-12s exact %7.1f ns/ray %5.1f vox/ray | plain A&W %7.1f ns/ray %5.1f vox/ray | "
-                "exact/plain %.2f\n",
-                name, ray_set, "index sum", median(ns[0]), static_cast<double>(visits[0]) / nr, median(ns[1]),
-                static_cast<double>(visits[1]) / nr, median(ratio[0]));
-    std::printf("%-12s %-14s %-12s exact %7.1f ns/ray %5.1f vox/ray | plain A&W %7.1f ns/ray %5.1f vox/ray | "
-                "exact/plain %.2f\n",
-                name, ray_set, "max opinion", median(ns[2]), static_cast<double>(visits[2]) / nr, median(ns[3]),
-                static_cast<double>(visits[3]) / nr, median(ratio[1]));
+    std::printf(
+        "%-12s %-14s %-12s exact %7.1f ns/ray %5.1f vox/ray | plain A&W %7.1f ns/ray %5.1f vox/ray | "
+        "exact/plain %.2f\n",
+        name, ray_set, "index sum", median(ns[0]), static_cast<double>(visits[0]) / nr, median(ns[1]),
+        static_cast<double>(visits[1]) / nr, median(ratio[0]));
+    std::printf(
+        "%-12s %-14s %-12s exact %7.1f ns/ray %5.1f vox/ray | plain A&W %7.1f ns/ray %5.1f vox/ray | "
+        "exact/plain %.2f\n",
+        name, ray_set, "max opinion", median(ns[2]), static_cast<double>(visits[2]) / nr, median(ns[3]),
+        static_cast<double>(visits[3]) / nr, median(ratio[1]));
 }
 
 }  // namespace
@@ -358,9 +361,10 @@ int main(int argc, char** argv) {
         print(grid.name, "bresenham", "index sum", run_bare(grid.g, rays, repeats, bres), setup_bres);
         print(grid.name, "bresenham", "grid update", run(grid.g, rays, repeats, bres), setup_bres);
     }
-    std::printf("\nexact traversal against a plain Amanatides & Woo, same rays, interleaved: medians of %d rounds, "
-                "median of the per-round ratios\n",
-                rounds);
+    std::printf(
+        "\nexact traversal against a plain Amanatides & Woo, same rays, interleaved: medians of %d rounds, "
+        "median of the per-round ratios\n",
+        rounds);
     const std::vector<Ray> frame_rays = reference_frame_rays();
     for (const auto& grid : grids) {
         compare_with_plain(grid.name, "random rays", grid.g, rays, rounds);

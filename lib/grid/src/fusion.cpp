@@ -50,13 +50,11 @@ std::uint32_t trace_exact_opinions(std::int16_t* op, const GridGeometry& g, cons
     const std::size_t visits = detail::walk_exact(
         p,
         [&](std::size_t index, const VoxelCoord& /*c*/, std::uint64_t tau) {
-            keep_max(index, tau < tau_far ? constant_free
-                                          : model.free_evidence(length - detail::exit_metres(p, tau)));
+            keep_max(index, tau < tau_far ? constant_free : model.free_evidence(length - detail::exit_metres(p, tau)));
         },
         [&](std::size_t index, const VoxelCoord& /*c*/) {
-            keep_max(index, p.end_inside
-                                ? model.reading_evidence()
-                                : model.free_evidence(length - detail::exit_metres(p, detail::kTauNever)));
+            keep_max(index, p.end_inside ? model.reading_evidence()
+                                         : model.free_evidence(length - detail::exit_metres(p, detail::kTauNever)));
         });
     return static_cast<std::uint32_t>(visits);
 }

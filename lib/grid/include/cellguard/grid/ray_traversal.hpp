@@ -131,9 +131,9 @@ struct ExactTraversalPlan {
     /// false when every stepping axis's crossing after its last one, tau_last + tau_delta, lies
     /// beyond tau_stop: the loop then needs no per-axis retirement, only tau_next > tau_stop.
     bool retire = true;
-    double metres_per_tau = 0.0;                ///< length / (W * 2^k), > 0
-    double t_in = 0.0;                          ///< metres where the first voxel is entered
-    double t_out = 0.0;                         ///< metres where the last voxel is left
+    double metres_per_tau = 0.0;  ///< length / (W * 2^k), > 0
+    double t_in = 0.0;            ///< metres where the first voxel is entered
+    double t_out = 0.0;           ///< metres where the last voxel is left
 };
 
 /// Per-segment set-up of the Bresenham line (ray_traversal.cpp).
@@ -244,8 +244,7 @@ std::size_t walk_exact(const ExactTraversalPlan& p, Visitor&& visit, LastVisitor
 /// Metres from the segment's start where the voxel left at fixed-point crossing @p tau ends:
 /// tau * metres_per_tau clipped to [t_in, t_out] (t_out for kTauNever). Non-decreasing in tau.
 [[nodiscard]] inline double exit_metres(const ExactTraversalPlan& p, std::uint64_t tau) noexcept {
-    return std::min(std::max(static_cast<double>(static_cast<std::int64_t>(tau)) * p.metres_per_tau, p.t_in),
-                    p.t_out);
+    return std::min(std::max(static_cast<double>(static_cast<std::int64_t>(tau)) * p.metres_per_tau, p.t_in), p.t_out);
 }
 
 /// A crossing bound of plan @p p: every tau < the result has exit_metres(p, tau) <= @p metres
