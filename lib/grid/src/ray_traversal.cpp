@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace cellguard {
 
@@ -39,9 +40,8 @@ bool within_limits(const Eigen::Vector3d& u) noexcept {
 /// Converts the segment to voxel units; false for non-finite or out-of-limit input.
 bool to_voxel_units(const GridGeometry& g, const Eigen::Vector3d& start, const Eigen::Vector3d& end,
                     VoxelSegment& out) noexcept {
-    if (!start.allFinite() || !end.allFinite()) {
-        return false;
-    }
+    // Non-finite input needs no test of its own: it gives a non-finite u0 or u1, which
+    // within_limits rejects (NaN fails its comparisons).
     // The same expression as GridGeometry::world_to_voxel, so that the end
     // voxels agree with it bit for bit.
     const Eigen::Vector3d u0 = (start - g.origin()) / g.voxel_size();
@@ -219,6 +219,25 @@ void plan_end_voxels(const VoxelSegment& s, const BoxClip& c, const Int3& n, Int
     }
 }
 
+/// 2^(61 - e) for w = m * 2^e, m in [0.5, 1) (frexp's exponent), so that w * scale lies in
+/// [2^60, 2^61). Read from the bits for a normal w (every W of plan_crossings, which lies
+/// between ~2^-156 and 2^90), with frexp and ldexp otherwise.
+double power_of_two_scale(double w) noexcept {
+    std::uint64_t bits = 0U;
+    std::memcpy(&bits, &w, sizeof bits);
+    const auto biased = static_cast<std::int32_t>((bits >> 52U) & 0x7FFU);
+    const std::int32_t shift = 61 - (biased - 1022);  // 61 - e
+    if (biased == 0 || biased == 0x7FF || shift < -1022 || shift > 1023) {
+        int exponent = 0;
+        (void)std::frexp(w, &exponent);
+        return std::ldexp(1.0, 61 - exponent);
+    }
+    const std::uint64_t scale_bits = static_cast<std::uint64_t>(shift + 1023) << 52U;
+    double scale = 0.0;
+    std::memcpy(&scale, &scale_bits, sizeof scale);
+    return scale;
+}
+
 /// The exact traversal's fixed-point crossings of @p s from voxel @p first
 /// to @p last: plan.step, stride, tau, tau_delta, tau_last and metres_per_tau.
 void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, const Int3& last,
@@ -237,9 +256,7 @@ void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, con
         w[a] = first[a] != last[a] ? std::fabs(s.du[a]) : 1.0;
     }
     const double big_w = w[0] * w[1] * w[2];
-    int exponent = 0;
-    (void)std::frexp(big_w, &exponent);  // big_w = m * 2^exponent, m in [0.5, 1)
-    const double scale = std::ldexp(1.0, 61 - exponent);
+    const double scale = power_of_two_scale(big_w);
     // Kept positive (also for a zero-length segment) so that kTauNever maps beyond t_out.
     plan.metres_per_tau = std::max(s.length / (big_w * scale), std::numeric_limits<double>::min());
     const std::array<std::ptrdiff_t, 3> stride = strides_of(n);
@@ -256,9 +273,19 @@ void plan_crossings(const VoxelSegment& s, const Int3& n, const Int3& first, con
             const double delta = w[(a + 1U) % 3U] * w[(a + 2U) % 3U];
             const auto face = static_cast<double>(first[a] + (step > 0 ? 1 : 0));
             plan.tau[a] = to_fixed(std::fabs(face - s.u0[a]) * delta * scale);
-            // delta * scale >= 2^30 (|du| <= 2^30); after a single step the delta only has to retire the axis.
-            plan.tau_delta[a] = steps > 1 ? std::max(to_fixed(delta * scale), std::uint64_t{1}) : 1U;
+            // delta * scale >= 2^30 (|du| <= 2^30); to_fixed saturates below 2^62, so with a
+            // single step (|du| possibly tiny) tau + tau_delta stays below 2^63.
+            plan.tau_delta[a] = std::max(to_fixed(delta * scale), std::uint64_t{1});
             plan.tau_last[a] = plan.tau[a] + static_cast<std::uint64_t>(steps - 1) * plan.tau_delta[a];
+            plan.tau_stop = std::max(plan.tau_stop, plan.tau_last[a]);
+        }
+    }
+    // Retirement is needed only where rounding or an end on a face puts an axis's next
+    // crossing at or before another axis's last one.
+    plan.retire = false;
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        if (plan.tau[a] != kTauNever && plan.tau_last[a] + plan.tau_delta[a] <= plan.tau_stop) {
+            plan.retire = true;
         }
     }
 }
@@ -308,8 +335,29 @@ ExactTraversalPlan plan_exact_traversal(const GridGeometry& g, const Eigen::Vect
     CG_ENFORCE(g.contains(plan.first) && g.contains(plan.last), "traversal end voxels outside the grid");
     plan.first_index = static_cast<std::ptrdiff_t>(g.index_of(plan.first));
     plan_crossings(s, n, first, last, plan);
+    plan.end_inside = c.end_inside;
     plan.visits = true;
     return plan;
+}
+
+std::uint64_t tau_bound_below(const ExactTraversalPlan& p, double metres) noexcept {
+    // exit_metres(p, tau) = min(max(fl(fl(tau) * mpt), t_in), t_out): at most metres for every
+    // tau when t_out <= metres, for none when t_in > metres; otherwise when fl(fl(tau) * mpt)
+    // <= metres. Each of the two roundings and the division below is within a factor
+    // (1 + 2^-53) of the exact value, so tau < q * (1 - 2^-50) with q = fl(metres / mpt)
+    // gives fl(fl(tau) * mpt) <= metres * (1 + 2^-53)^3 * (1 - 2^-50) < metres.
+    if (!(p.t_in <= metres) || !(metres > 0.0)) {
+        return 0U;
+    }
+    if (p.t_out <= metres) {
+        return kTauNever;
+    }
+    const double q = metres / p.metres_per_tau * (1.0 - 0x1p-50);
+    constexpr double kNeverAsDouble = 4611686018427387904.0;  // 2^62
+    if (!(q < kNeverAsDouble)) {
+        return kTauNever;
+    }
+    return static_cast<std::uint64_t>(q);  // floor, q >= 0
 }
 
 BresenhamPlan plan_bresenham_traversal(const GridGeometry& g, const Eigen::Vector3d& start,

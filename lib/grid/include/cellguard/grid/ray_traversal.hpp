@@ -113,6 +113,7 @@ constexpr std::uint64_t kTauNever = std::uint64_t{1} << 62U;
 /// Per-segment set-up of the exact traversal (ray_traversal.cpp).
 struct ExactTraversalPlan {
     bool visits = false;                   ///< false: the segment visits nothing
+    bool end_inside = false;               ///< the end lies in the grid (then last is its voxel)
     VoxelCoord first{};                    ///< first voxel visited
     VoxelCoord last{};                     ///< last voxel visited
     std::ptrdiff_t first_index = 0;        ///< linear index of first
@@ -123,11 +124,16 @@ struct ExactTraversalPlan {
     /// below 2^61); kTauNever when first == last on the axis. With whole- or half-voxel input
     /// every tau is an integer, so crossings that coincide at an edge or corner compare equal.
     std::uint64_t tau[3] = {0U, 0U, 0U};
-    std::uint64_t tau_delta[3] = {0U, 0U, 0U};  ///< tau between crossings per axis (>= 1)
+    std::uint64_t tau_delta[3] = {0U, 0U, 0U};  ///< tau between crossings per axis (>= 1, < 2^62)
     std::uint64_t tau_last[3] = {0U, 0U, 0U};   ///< tau of the last crossing per axis: tau + k * tau_delta, exactly
-    double metres_per_tau = 0.0;                ///< length / (W * 2^k), > 0
-    double t_in = 0.0;                          ///< metres where the first voxel is entered
-    double t_out = 0.0;                         ///< metres where the last voxel is left
+    /// Largest tau_last over the stepping axes (0 when none steps): no crossing after it is visited.
+    std::uint64_t tau_stop = 0U;
+    /// false when every stepping axis's crossing after its last one, tau_last + tau_delta, lies
+    /// beyond tau_stop: the loop then needs no per-axis retirement, only tau_next > tau_stop.
+    bool retire = true;
+    double metres_per_tau = 0.0;  ///< length / (W * 2^k), > 0
+    double t_in = 0.0;            ///< metres where the first voxel is entered
+    double t_out = 0.0;           ///< metres where the last voxel is left
 };
 
 /// Per-segment set-up of the Bresenham line (ray_traversal.cpp).
@@ -155,6 +161,99 @@ struct BresenhamPlan {
 
 }  // namespace detail
 
+namespace detail {
+
+/// The exact traversal's loop over plan @p p (p.visits true): calls visit(index, coord, tau)
+/// for every voxel but the last, in order, with tau the fixed-point crossing where the segment
+/// leaves it, then visit_last(index, coord) for the last voxel; returns the number of voxels.
+/// The plan's fields are copied to locals so that they stay in registers whatever the
+/// visitor writes.
+template <typename Visitor, typename LastVisitor>
+std::size_t walk_exact(const ExactTraversalPlan& p, Visitor&& visit, LastVisitor&& visit_last) noexcept {
+    constexpr std::uint64_t kNever = kTauNever;
+    const std::uint64_t dx = p.tau_delta[0];
+    const std::uint64_t dy = p.tau_delta[1];
+    const std::uint64_t dz = p.tau_delta[2];
+    const std::uint64_t lx = p.tau_last[0];
+    const std::uint64_t ly = p.tau_last[1];
+    const std::uint64_t lz = p.tau_last[2];
+    const std::ptrdiff_t stride_x = p.stride[0];
+    const std::ptrdiff_t stride_y = p.stride[1];
+    const std::ptrdiff_t stride_z = p.stride[2];
+    VoxelCoord c = p.first;
+    std::ptrdiff_t index = p.first_index;
+    std::uint64_t tx = p.tau[0];
+    std::uint64_t ty = p.tau[1];
+    std::uint64_t tz = p.tau[2];
+    std::size_t visited = 1U;
+    if (!p.retire) {
+        // The common case, as a plain Amanatides & Woo: an axis past its last crossing has
+        // its tau beyond tau_stop, so it is not stepped again, and the walk ends when the
+        // next crossing lies beyond tau_stop. Same voxels and crossings as the loop below.
+        const std::uint64_t stop = p.tau_stop;
+        for (;;) {
+            const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
+            if (tau_next > stop) {
+                break;
+            }
+            visit(static_cast<std::size_t>(index), c, tau_next);
+            ++visited;
+            const bool sx = tx == tau_next;
+            const bool sy = ty == tau_next;
+            const bool sz = tz == tau_next;
+            tx = sx ? tx + dx : tx;
+            ty = sy ? ty + dy : ty;
+            tz = sz ? tz + dz : tz;
+            c.x += p.step[0] * static_cast<std::int32_t>(sx);
+            c.y += p.step[1] * static_cast<std::int32_t>(sy);
+            c.z += p.step[2] * static_cast<std::int32_t>(sz);
+            index += (sx ? stride_x : 0) + (sy ? stride_y : 0) + (sz ? stride_z : 0);
+        }
+        visit_last(static_cast<std::size_t>(index), c);
+        return visited;
+    }
+    for (;;) {
+        const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
+        if (tau_next == kNever) {  // every axis is at the last voxel
+            break;
+        }
+        visit(static_cast<std::size_t>(index), c, tau_next);
+        ++visited;
+        // Step every axis whose crossing comes next (two or three at an exact edge or
+        // corner). Integer compares and selects only, no data-dependent branch; the
+        // coordinate and index updates are off the tau dependency chain.
+        const bool sx = tx == tau_next;
+        const bool sy = ty == tau_next;
+        const bool sz = tz == tau_next;
+        tx = sx ? tx + dx : tx;
+        ty = sy ? ty + dy : ty;
+        tz = sz ? tz + dz : tz;
+        // An axis past its last crossing is retired (its tau becomes kNever).
+        tx = tx > lx ? kNever : tx;
+        ty = ty > ly ? kNever : ty;
+        tz = tz > lz ? kNever : tz;
+        c.x += p.step[0] * static_cast<std::int32_t>(sx);
+        c.y += p.step[1] * static_cast<std::int32_t>(sy);
+        c.z += p.step[2] * static_cast<std::int32_t>(sz);
+        index += (sx ? stride_x : 0) + (sy ? stride_y : 0) + (sz ? stride_z : 0);
+    }
+    visit_last(static_cast<std::size_t>(index), c);
+    return visited;
+}
+
+/// Metres from the segment's start where the voxel left at fixed-point crossing @p tau ends:
+/// tau * metres_per_tau clipped to [t_in, t_out] (t_out for kTauNever). Non-decreasing in tau.
+[[nodiscard]] inline double exit_metres(const ExactTraversalPlan& p, std::uint64_t tau) noexcept {
+    return std::min(std::max(static_cast<double>(static_cast<std::int64_t>(tau)) * p.metres_per_tau, p.t_in), p.t_out);
+}
+
+/// A crossing bound of plan @p p: every tau < the result has exit_metres(p, tau) <= @p metres
+/// (0 when none is known to; conservative by a few ulps, so callers can take the cheap branch
+/// below it and compute exactly above it without changing any result).
+[[nodiscard]] std::uint64_t tau_bound_below(const ExactTraversalPlan& p, double metres) noexcept;
+
+}  // namespace detail
+
 /// Calls visit(const TraversedVoxel&) for every voxel of the grid the segment passes
 /// through, in order from start to end; returns how many voxels were visited.
 /// Non-finite input visits nothing. A zero-length segment visits the voxel holding it (if inside).
@@ -166,47 +265,17 @@ std::size_t traverse_segment(const GridGeometry& g, const Eigen::Vector3d& start
     if (!p.visits) {
         return 0U;
     }
-    constexpr std::uint64_t kNever = detail::kTauNever;
-    VoxelCoord c = p.first;
-    std::ptrdiff_t index = p.first_index;
-    std::uint64_t tx = p.tau[0];
-    std::uint64_t ty = p.tau[1];
-    std::uint64_t tz = p.tau[2];
     double t_enter = p.t_in;
-    std::size_t visited = 0U;
-    for (;;) {
-        const std::uint64_t tau_next = std::min(std::min(tx, ty), tz);
-        const double t_exit = std::min(
-            std::max(static_cast<double>(static_cast<std::int64_t>(tau_next)) * p.metres_per_tau, p.t_in), p.t_out);
-        visit(TraversedVoxel{static_cast<std::size_t>(index), c, t_enter, t_exit});
-        ++visited;
-        if (tau_next == kNever) {  // every axis is at the last voxel
-            break;
-        }
-        // Step every axis whose crossing comes next (two or three at an exact edge or
-        // corner). Integer compares and selects only, no data-dependent branch; the
-        // coordinate and index updates are off the tau dependency chain.
-        const std::uint64_t nx = tx + p.tau_delta[0];
-        const std::uint64_t ny = ty + p.tau_delta[1];
-        const std::uint64_t nz = tz + p.tau_delta[2];
-        const bool sx = tx == tau_next;
-        const bool sy = ty == tau_next;
-        const bool sz = tz == tau_next;
-        tx = sx ? nx : tx;
-        ty = sy ? ny : ty;
-        tz = sz ? nz : tz;
-        // An axis past its last crossing is retired (its tau becomes kNever).
-        tx = tx > p.tau_last[0] ? kNever : tx;
-        ty = ty > p.tau_last[1] ? kNever : ty;
-        tz = tz > p.tau_last[2] ? kNever : tz;
-        c.x += p.step[0] * static_cast<std::int32_t>(sx);
-        c.y += p.step[1] * static_cast<std::int32_t>(sy);
-        c.z += p.step[2] * static_cast<std::int32_t>(sz);
-        index += p.stride[0] * static_cast<std::ptrdiff_t>(sx) + p.stride[1] * static_cast<std::ptrdiff_t>(sy) +
-                 p.stride[2] * static_cast<std::ptrdiff_t>(sz);
-        t_enter = t_exit;
-    }
-    return visited;
+    return detail::walk_exact(
+        p,
+        [&](std::size_t index, const VoxelCoord& c, std::uint64_t tau) {
+            const double t_exit = detail::exit_metres(p, tau);
+            visit(TraversedVoxel{index, c, t_enter, t_exit});
+            t_enter = t_exit;
+        },
+        [&](std::size_t index, const VoxelCoord& c) {
+            visit(TraversedVoxel{index, c, t_enter, detail::exit_metres(p, detail::kTauNever)});
+        });
 }
 
 /// Same contract with the 3D Bresenham line from voxel(start) to voxel(end) (integer, 26-connected,
