@@ -89,6 +89,7 @@ void compare_on(const GridGeometry& g, const SensorModelTable& model, int rays, 
 
 }  // namespace
 
+// verifies: SR-TRAV-001, SR-FUSE-002
 TEST_CASE("trace_ray_opinions (exact) equals the straightforward visitor over traverse_segment, bit for bit") {
     const GridGeometry g = paper_grid_geometry();
     compare_on(g, SensorModelTable(), 20000, 1U);
@@ -101,6 +102,7 @@ TEST_CASE("trace_ray_opinions (exact) equals the straightforward visitor over tr
     compare_on(g, SensorModelTable::make(no_ramp).value(), 5000, 3U);
 }
 
+// verifies: SR-TRAV-001
 TEST_CASE("tau_bound_below: every crossing below the bound ends at or before the given metres") {
     std::mt19937 rng(9U);
     std::uniform_real_distribution<double> any(-1.5, 2.5);

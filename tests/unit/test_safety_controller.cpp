@@ -242,7 +242,7 @@ TEST_CASE("controller: a person in the warning zone only gives a warning, not a 
 }
 
 // verifies: SR-FUSE-010, SR-FUSE-011
-TEST_CASE("controller: fusing by footprint gives the ray path's zone states; no workspace is a frame fault") {
+TEST_CASE("controller: fusing by footprint gives the ray path's zone states, and no workspace is a frame fault") {
     Workcell w;
     host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
     ControllerConfig fc = w.config();

@@ -213,7 +213,7 @@ TEST_CASE("worker pool: 1,000 runs allocate nothing, on any thread") {
 }
 
 // verifies: SR-GEN-008
-TEST_CASE("worker pool: a worker is pinned to a CPU the process may use; bad indices are refused") {
+TEST_CASE("worker pool: a worker is pinned to a CPU the process may use, bad indices are refused") {
     WorkerPool pool(2U);
     CHECK(pool.pin_worker(2U, 0) == PinError::kNoSuchWorker);
     CHECK(pool.pin_worker(1U, -1) == PinError::kNoSuchCpu);
