@@ -22,6 +22,8 @@ add_library(cellguard_strict_warnings INTERFACE)
 target_link_libraries(cellguard_strict_warnings INTERFACE cellguard_warnings)
 target_compile_options(cellguard_strict_warnings INTERFACE -Wconversion -Wsign-conversion -Wold-style-cast -Wdouble-promotion)
 if(CELLGUARD_COVERAGE)
-  add_compile_options(--coverage -O0)
+  # atomic counters: the worker pool's tests run lib/ code on several threads,
+  # and plain counters then race (gcov reads negative branch counts).
+  add_compile_options(--coverage -fprofile-update=atomic -O0)
   add_link_options(--coverage)
 endif()

@@ -164,7 +164,8 @@ if [ "${CELLGUARD_COV_MODE:-og}" = o0 ]; then
 fi
 if [ ! -f "$cov_build/CMakeCache.txt" ]; then
     # The coverage preset (CMakePresets.json): RelWithDebInfo with "-Og -g -DNDEBUG",
-    # --coverage in the C, C++ and link flags, no benchmarks.
+    # --coverage -fprofile-update=atomic in the C, C++ flags (the worker pool's
+    # tests run lib/ code on several threads), --coverage in the link flags, no benchmarks.
     cmake --preset coverage -B "$cov_build" >/dev/null
 fi
 grep -q -e '--coverage' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
