@@ -78,7 +78,7 @@ void DepthPyramid::build_levels() noexcept {
             const std::size_t row1 = src + static_cast<std::size_t>(r1) * static_cast<std::size_t>(sw);
             const std::size_t out = dst + static_cast<std::size_t>(j) * static_cast<std::size_t>(w);
             for (std::int32_t i = 0; i < w; ++i) {
-                const std::size_t c0 = static_cast<std::size_t>(2 * i);
+                const auto c0 = static_cast<std::size_t>(i) * 2U;
                 const std::size_t c1 = (2 * i + 1 < sw) ? c0 + 1U : c0;
                 const float mn0 = min_[row0 + c0] < min_[row0 + c1] ? min_[row0 + c0] : min_[row0 + c1];
                 const float mn1 = min_[row1 + c0] < min_[row1 + c1] ? min_[row1 + c0] : min_[row1 + c1];
@@ -87,8 +87,9 @@ void DepthPyramid::build_levels() noexcept {
                 const std::size_t o = out + static_cast<std::size_t>(i);
                 min_[o] = mn0 < mn1 ? mn0 : mn1;
                 max_[o] = mx0 > mx1 ? mx0 : mx1;
-                invalid_[o] = static_cast<std::uint8_t>(invalid_[row0 + c0] | invalid_[row0 + c1] |
-                                                        invalid_[row1 + c0] | invalid_[row1 + c1]);
+                const bool any = invalid_[row0 + c0] != 0U || invalid_[row0 + c1] != 0U || invalid_[row1 + c0] != 0U ||
+                                 invalid_[row1 + c1] != 0U;
+                invalid_[o] = static_cast<std::uint8_t>(any ? 1U : 0U);
             }
         }
     }
@@ -105,12 +106,14 @@ DepthRange DepthPyramid::query(std::int32_t u0, std::int32_t v0, std::int32_t u1
         ++level;
     }
     level = level < levels_ - 1 ? level : levels_ - 1;
-    const std::int32_t i0 = u0 >> level;
-    const std::int32_t i1 = u1 >> level;
-    const std::int32_t j0 = v0 >> level;
-    const std::int32_t j1 = v1 >> level;
+    // Cell indices: the pixel coordinates (>= 0) shifted by the level.
+    const auto shift = static_cast<std::uint32_t>(level);
+    const auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(u0) >> shift);
+    const auto i1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(u1) >> shift);
+    const auto j0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(v0) >> shift);
+    const auto j1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(v1) >> shift);
     const std::size_t base = level_offset_[level];
-    const std::size_t w = static_cast<std::size_t>(level_width_[level]);
+    const auto w = static_cast<std::size_t>(level_width_[level]);
     DepthRange r{kInfinity, -kInfinity, false};
     for (std::int32_t j = j0; j <= j1; ++j) {
         for (std::int32_t i = i0; i <= i1; ++i) {

@@ -36,7 +36,9 @@ constexpr std::size_t kStackSize = 7U * 13U + 8U;
 /// A box whose every side is at most this many voxels is evaluated voxel by
 /// voxel from its projected lattice (run_small_box).
 constexpr std::int32_t kSmallSide = 2;
-constexpr std::size_t kSmallLattice = static_cast<std::size_t>((kSmallSide + 1) * (kSmallSide + 1) * (kSmallSide + 1));
+constexpr std::size_t kSmallLattice = static_cast<std::size_t>(kSmallSide + 1) *
+                                      static_cast<std::size_t>(kSmallSide + 1) *
+                                      static_cast<std::size_t>(kSmallSide + 1);
 
 /// @p x limited to [lo, hi] (NaN gives lo).
 double clamp(double x, double lo, double hi) noexcept { return x > lo ? (x < hi ? x : hi) : lo; }
@@ -48,6 +50,13 @@ std::int32_t floor_to_int(double x) noexcept {
 std::int32_t ceil_to_int(double x) noexcept {
     const auto t = static_cast<std::int32_t>(x);
     return static_cast<double>(t) < x ? t + 1 : t;
+}
+
+/// Index of lattice point (i, j, k) of a box's (n0 x n1 x ...) lattice.
+std::size_t lattice_index(std::int32_t i, std::int32_t j, std::int32_t k, std::int32_t n0, std::int32_t n1) noexcept {
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(n0) *
+               (static_cast<std::size_t>(j) + static_cast<std::size_t>(n1) * static_cast<std::size_t>(k));
 }
 
 /// A lattice point (a voxel corner) in the image.
@@ -201,8 +210,8 @@ Footprint SensorPass::footprint_of(const std::array<const Projected*, 8>& corner
     if (f.crossed) {
         return f;
     }
-    const double w_last = static_cast<double>(k.width - 1);
-    const double h_last = static_cast<double>(k.height - 1);
+    const auto w_last = static_cast<double>(k.width - 1);
+    const auto h_last = static_cast<double>(k.height - 1);
     f.in_image = u_min >= 0.0 && v_min >= 0.0 && u_max <= w_last && v_max <= h_last;
     // Clamp to the image (one pixel beyond it on each side), then round inwards to pixel centres.
     const std::int32_t u0 = ceil_to_int(clamp(u_min - kPixelSlack, -1.0, w_last + 1.0));
@@ -232,7 +241,7 @@ Footprint SensorPass::project(const Box& b) const noexcept {
     for (std::size_t c = 0U; c < 8U; ++c) {
         std::array<double, 3> q = p0;
         for (std::size_t e = 0U; e < 3U; ++e) {
-            if ((c >> e) & 1U) {
+            if (((c >> e) & 1U) != 0U) {
                 q[0] += edge[e][0];
                 q[1] += edge[e][1];
                 q[2] += edge[e][2];
@@ -265,7 +274,7 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
                 if (p.behind) {
                     return false;  // near the camera: the general path handles it
                 }
-                lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))] = p;
+                lat[lattice_index(i, j, k, n0, n1)] = p;
             }
         }
     }
@@ -274,10 +283,11 @@ bool SensorPass::run_small_box(const Box& b) noexcept {
             for (std::int32_t x = 0; x + 1 < n0; ++x) {
                 std::array<const Projected*, 8> corners{};
                 for (std::int32_t c = 0; c < 8; ++c) {
-                    const std::int32_t i = x + (c & 1);
-                    const std::int32_t j = y + ((c >> 1) & 1);
-                    const std::int32_t k = z + ((c >> 2) & 1);
-                    corners[static_cast<std::size_t>(c)] = &lat[static_cast<std::size_t>(i + n0 * (j + n1 * k))];
+                    const auto bits = static_cast<std::uint32_t>(c);
+                    const std::int32_t i = x + static_cast<std::int32_t>(bits & 1U);
+                    const std::int32_t j = y + static_cast<std::int32_t>((bits >> 1U) & 1U);
+                    const std::int32_t k = z + static_cast<std::int32_t>((bits >> 2U) & 1U);
+                    corners[static_cast<std::size_t>(c)] = &lat[lattice_index(i, j, k, n0, n1)];
                 }
                 ++stats_.boxes;
                 const Footprint f = footprint_of(corners);
@@ -494,12 +504,11 @@ void SensorPass::run() noexcept {
 /// and the same class for every reading.
 class HitPlacer {
 public:
-    HitPlacer(const GridGeometry& g, const SensorReading& r) noexcept : g_(g), r_(r) {
+    HitPlacer(const GridGeometry& g, const SensorReading& r) noexcept
+        : g_(g), r_(r), inv_fx_(1.0 / r.intrinsics.fx), inv_fy_(1.0 / r.intrinsics.fy) {
         const double s = g.voxel_size();
         m_ = r.pose.linear() / s;
         b_ = (r.pose.translation() - g.origin()) / s;
-        inv_fx_ = 1.0 / r.intrinsics.fx;
-        inv_fy_ = 1.0 / r.intrinsics.fy;
         // Float rounding of a point within kMaxSensorRange of the sensor, in voxels, with a factor 16 to spare.
         margin_ = 1e-9 + 16.0 * 0x1.0p-24 * static_cast<double>(kMaxSensorRange) / s;
         const auto lo = static_cast<double>(r.min_range);
@@ -598,12 +607,39 @@ FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const Sensor
 }
 
 /// The count of intervals after @p levels halvings of an axis of @p n voxels
-/// (an interval of one voxel is not halved further).
+/// (an interval of one voxel is not halved further). After each halving the
+/// intervals have at most two lengths, floor and ceil of the previous
+/// lengths' halves: the count is tracked per length, without recursion.
 std::uint64_t intervals_after(std::int32_t n, std::int32_t levels) noexcept {
-    if (levels == 0 || n <= 1) {
-        return 1U;
+    std::int64_t len_a = n;  // the longer length
+    std::uint64_t count_a = 1U;
+    std::uint64_t count_b = 0U;  // intervals of length len_a - 1
+    for (std::int32_t l = 0; l < levels && len_a > 1; ++l) {
+        // An interval of length m becomes m / 2 and m - m / 2 (lengths 1 stay).
+        const std::int64_t len_b = len_a - 1;
+        std::uint64_t next_hi = 0U;  // count of length ceil(len_a / 2)
+        std::uint64_t next_lo = 0U;  // count of length ceil(len_a / 2) - 1
+        const std::int64_t hi = len_a - len_a / 2;
+        const auto add = [&](std::int64_t m, std::uint64_t count) {
+            if (count == 0U) {
+                return;
+            }
+            if (m <= 1) {
+                (hi == 1 ? next_hi : next_lo) += count;  // m == 1 keeps its length
+                return;
+            }
+            const std::int64_t parts[2] = {m / 2, m - m / 2};
+            for (const std::int64_t p : parts) {
+                (p == hi ? next_hi : next_lo) += count;
+            }
+        };
+        add(len_a, count_a);
+        add(len_b, count_b);
+        len_a = hi;
+        count_a = next_hi;
+        count_b = next_lo;
     }
-    return intervals_after(n / 2, levels - 1) + intervals_after(n - n / 2, levels - 1);
+    return count_a + count_b;
 }
 
 }  // namespace
@@ -615,8 +651,8 @@ std::uint64_t footprint_box_count(const GridGeometry& grid) noexcept {
     }
     std::int32_t depth = 0;
     const std::int32_t longest = d.nx > d.ny ? (d.nx > d.nz ? d.nx : d.nz) : (d.ny > d.nz ? d.ny : d.nz);
-    while ((std::int32_t{1} << depth) < longest) {
-        ++depth;
+    for (std::uint64_t side = 1U; side < static_cast<std::uint64_t>(longest); side *= 2U) {
+        ++depth;  // halvings until the longest axis is one voxel
     }
     // Nodes per level <= product of the axes' intervals at that level (an upper bound:
     // it also counts single voxels that ended on an earlier level).

@@ -14,8 +14,7 @@
 
 #include "cellguard/grid/fusion.hpp"
 
-namespace cellguard {
-namespace detail {
+namespace cellguard::detail {
 
 /// Why a reading is fused or skipped.
 enum class ReadingClass : std::uint8_t { kValid, kNan, kInfinite, kZero, kBehind, kOutOfRange };
@@ -62,7 +61,6 @@ inline void count_skipped(FusionStats& s, ReadingClass c) noexcept {
     }
 }
 
-}  // namespace detail
-}  // namespace cellguard
+}  // namespace cellguard::detail
 
 #endif  // CELLGUARD_GRID_READING_CLASS_HPP

@@ -64,8 +64,8 @@ public:
     void set_pixel(std::int32_t u, std::int32_t v, float d, bool valid) noexcept {
         const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) +
                               static_cast<std::size_t>(u);
-        min_[i] = valid ? d : kInfinity;
-        max_[i] = valid ? d : -kInfinity;
+        min_[i] = valid ? d : std::numeric_limits<float>::infinity();
+        max_[i] = valid ? d : -std::numeric_limits<float>::infinity();
         invalid_[i] = static_cast<std::uint8_t>(valid ? 0U : 1U);
     }
     /// Builds levels 1.. from level 0. Work: fewer than depth_pyramid_cells() cells.
