@@ -186,12 +186,16 @@ Projected SensorPass::project_camera(double x, double y, double z) const noexcep
 Footprint SensorPass::footprint_of(const std::array<const Projected*, 8>& corners) const noexcept {
     Footprint f;
     const PinholeIntrinsics& k = reading_.intrinsics;
-    double u_min = std::numeric_limits<double>::infinity();
-    double v_min = u_min;
-    double u_max = -u_min;
-    double v_max = -u_min;
-    f.z_min = u_min;
-    f.z_max = -u_min;
+    // The extremes start empty: min at +inf, max at -inf (one pair per coordinate).
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    std::array<double, 2> u_range{kInf, -kInf};
+    std::array<double, 2> v_range{kInf, -kInf};
+    double& u_min = u_range[0];
+    double& u_max = u_range[1];
+    double& v_min = v_range[0];
+    double& v_max = v_range[1];
+    f.z_min = kInf;
+    f.z_max = -kInf;
     std::int32_t behind = 0;
     for (const Projected* c : corners) {
         const Projected& p = *c;

@@ -243,10 +243,13 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
         stats.add(r.value());
     }
     if (image_count > 0U) {
-        TaskRunner& runner = config_.footprint.runner != nullptr ? *config_.footprint.runner : sequential_;
+        TaskRunner* runner = config_.footprint.runner;
+        if (runner == nullptr) {
+            runner = &sequential_;  // one core, the reference
+        }
         const Result<FusionStats> r = fuse_frame_footprint(
             *grid_, Span<const SensorReading>(images.data(), image_count), *model_, config_.footprint.params,
-            config_.footprint.workspaces, runner);
+            config_.footprint.workspaces, *runner);
         if (!r.ok()) {
             faults |= fault_bit(Fault::kFrameInconsistent);  // none of them fused: the grid is untouched
         } else {
