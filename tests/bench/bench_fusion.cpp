@@ -19,6 +19,7 @@
 #include "cellguard/grid/ray_table.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "world_readings.hpp"
 
 #ifdef CELLGUARD_HAVE_OCTOMAP
 #include <octomap/octomap.h>
@@ -109,18 +110,9 @@ struct Ray {
 std::vector<Ray> world_rays(const std::vector<SensorReading>& readings) {
     std::vector<Ray> rays;
     for (const SensorReading& r : readings) {
-        const PinholeIntrinsics& k = r.intrinsics;
-        for (int v = 0; v < k.height; ++v) {
-            for (int u = 0; u < k.width; ++u) {
-                const float d = r.depth[static_cast<std::size_t>(v * k.width + u)];
-                if (!(d > 0.0F))
-                    continue;
-                const Eigen::Vector3d p((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
-                if (p.norm() > r.max_range)
-                    continue;
-                rays.push_back(Ray{r.pose.translation(), r.pose * p});
-            }
-        }
+        bench::for_each_world_reading(r, [&](const Eigen::Vector3d& w) {
+            rays.push_back(Ray{r.pose.translation(), w});
+        });
     }
     return rays;
 }

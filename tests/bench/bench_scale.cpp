@@ -66,6 +66,7 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "world_readings.hpp"
 
 #ifdef CELLGUARD_HAVE_WORKER_POOL
 #include "cellguard/port/worker_pool.hpp"
@@ -358,20 +359,9 @@ ExactRun run_exact(const Case& c, const Frame& f, int cycles) {
 std::vector<octomap::Pointcloud> world_clouds(const Frame& f) {
     std::vector<octomap::Pointcloud> clouds(f.readings.size());
     for (std::size_t s = 0; s < f.readings.size(); ++s) {
-        const SensorReading& r = f.readings[s];
-        const PinholeIntrinsics& k = r.intrinsics;
-        for (std::int32_t v = 0; v < k.height; ++v) {
-            for (std::int32_t u = 0; u < k.width; ++u) {
-                const float d = r.depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) +
-                                        static_cast<std::size_t>(u)];
-                const Eigen::Vector3d p((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
-                if (!(d > 0.0F) || p.norm() > r.max_range) {
-                    continue;
-                }
-                const Eigen::Vector3d w = r.pose * p;
-                clouds[s].push_back(static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z()));
-            }
-        }
+        bench::for_each_world_reading(f.readings[s], [&](const Eigen::Vector3d& w) {
+            clouds[s].push_back(static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z()));
+        });
     }
     return clouds;
 }

@@ -27,6 +27,7 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "world_readings.hpp"
 
 using namespace cellguard;
 namespace {
@@ -61,18 +62,9 @@ std::vector<Ray> reference_frame_rays() {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     std::vector<Ray> rays;
     for (const SensorReading& r : frame.readings) {
-        const PinholeIntrinsics& k = r.intrinsics;
-        for (int v = 0; v < k.height; ++v) {
-            for (int u = 0; u < k.width; ++u) {
-                const float d = r.depth[static_cast<std::size_t>(v * k.width + u)];
-                if (!(d > 0.0F))
-                    continue;
-                const Eigen::Vector3d p((u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d);
-                if (p.norm() > r.max_range)
-                    continue;
-                rays.push_back(Ray{r.pose.translation(), r.pose * p});
-            }
-        }
+        bench::for_each_world_reading(r, [&](const Eigen::Vector3d& w) {
+            rays.push_back(Ray{r.pose.translation(), w});
+        });
     }
     return rays;
 }

@@ -14,24 +14,20 @@
 #include "alloc_counter.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
+#include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 
 using namespace cellguard;
 
 namespace {
 
-/// Owned storage of one footprint workspace.
+/// One footprint workspace for an image of @p w x @p h over @p g (host-owned storage).
 struct OwnedWorkspace {
-    std::vector<float> mn;
-    std::vector<float> mx;
-    std::vector<std::uint8_t> inv;
-    std::vector<std::int16_t> op;
+    host::OwnedFootprintWorkspaces owned;
     FootprintWorkspace ws;
-    OwnedWorkspace(const GridGeometry& g, std::int32_t w, std::int32_t h)
-        : mn(depth_pyramid_cells(w, h)), mx(mn.size()), inv(mn.size()), op(g.voxel_count()) {
-        ws = FootprintWorkspace{
-            {mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()}, {op.data(), op.size()}};
-    }
+    OwnedWorkspace(const GridGeometry& g, std::int32_t w, std::int32_t h) : owned(g, 1U, w, h), ws(owned.spans()[0]) {}
+    /// The sensor's opinions, as footprint_opinions wrote them.
+    [[nodiscard]] Span<const std::int16_t> opinions() const { return ws.opinions; }
 };
 
 struct OwnedGrid {
@@ -108,7 +104,7 @@ TEST_CASE("footprint fusion: the paper's simulated sensors give the exact hits a
             const Result<FusionStats> s = footprint_opinions(g, r, model, params, w.ws, &fs);
             REQUIRE(s.ok());
             const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
-            const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
+            const Comparison c = compare(exact, w.opinions(), model);
             MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
                             << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
                             << c.hits_lost << "/added " << c.hits_added << "; boxes " << fs.boxes << ", filled "
@@ -143,7 +139,7 @@ TEST_CASE("footprint fusion: random depths keep every hit and call nothing free 
         FootprintStats fs;
         REQUIRE(footprint_opinions(g, r, model, params, w.ws, &fs).ok());
         const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
-        const Comparison c = compare(exact, Span<const std::int16_t>(w.op.data(), w.op.size()), model);
+        const Comparison c = compare(exact, w.opinions(), model);
         MESSAGE("random: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
                                 << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
                                 << ", safe side " << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
@@ -161,23 +157,18 @@ TEST_CASE("footprint fusion: a frame allocates nothing and pools like fuse_frame
     const GridGeometry g = lowered_paper_grid();
     const SensorModelTable model;
     const SensorReading& r0 = frame.readings.front();
-    std::vector<OwnedWorkspace> owned;
-    owned.reserve(frame.readings.size());
-    for (std::size_t i = 0; i < frame.readings.size(); ++i) {
-        owned.emplace_back(g, r0.intrinsics.width * 2, r0.intrinsics.height * 2);  // room for every sensor
-    }
-    std::vector<FootprintWorkspace> ws;
-    for (const OwnedWorkspace& o : owned) {
-        ws.push_back(o.ws);
-    }
+    // Room for every sensor's image in each workspace.
+    const host::OwnedFootprintWorkspaces owned(g, frame.readings.size(), r0.intrinsics.width * 2,
+                                               r0.intrinsics.height * 2);
+    const Span<const FootprintWorkspace> ws = owned.spans();
     OwnedGrid parallel(g);
     OwnedGrid sequential(g);
     SequentialRunner runner;
     const Span<const SensorReading> sensors(frame.readings.data(), frame.readings.size());
     const FootprintParams params;
     const std::uint64_t before = test::allocation_count();
-    const auto a = fuse_frame_footprint(parallel.grid, sensors, model, params, {ws.data(), ws.size()}, runner);
-    const auto b = fuse_frame_footprint(sequential.grid, sensors, model, params, {ws.data(), 1U}, runner);
+    const auto a = fuse_frame_footprint(parallel.grid, sensors, model, params, ws, runner);
+    const auto b = fuse_frame_footprint(sequential.grid, sensors, model, params, ws.subspan(0U, 1U), runner);
     CHECK(test::allocation_count() == before);
     REQUIRE(a.ok());
     REQUIRE(b.ok());
