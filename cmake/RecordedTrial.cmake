@@ -9,7 +9,7 @@
 #   cmake -DPRIOR=path -DMONITOR=path -DFRAME=file.pcd -DWORK=dir -DMETHOD=m
 #         -DFORM=target|rotation [-DEMULATOR=a|b] -P RecordedTrial.cmake
 #   FORM target:   the camera at the origin aimed at (3, 0, 0) (x forward)
-#   FORM rotation: rotation = [1, 0, 0, 0], the camera's own frame (z forward,
+#   FORM rotation: rotation = { w = 1, x = 0, y = 0, z = 0 }, the camera's own frame (z forward,
 #                  x right, y down: a roll the simulator cannot render)
 string(REPLACE "|" ";" emulator "${EMULATOR}")
 file(REMOVE_RECURSE "${WORK}")
@@ -21,7 +21,7 @@ if(FORM STREQUAL "target")
   set(zone_min "[0.45, -1.5, -0.5]")
   set(zone_max "[3.5, 1.5, 1.5]")
 else()
-  set(pose "rotation = [1.0, 0.0, 0.0, 0.0]")
+  set(pose "rotation = { w = 1.0, x = 0.0, y = 0.0, z = 0.0 }")
   set(origin "[-1.6, -1.2, 0.4]")
   set(dims "[64, 48, 64]")
   set(zone_min "[-1.5, -1.1, 0.45]")
@@ -48,8 +48,8 @@ max = ${zone_max}
 min_foreground_voxels = 1
 max_unseen_voxels = 1000000
 [thresholds]
-foreground = 255
-accessible_min_prior = -754
+foreground_probability = 0.73
+accessible_min_p_fore = 0.05
 [prior]
 source = \"file\"
 file = \"prior/prior.cgprior\"

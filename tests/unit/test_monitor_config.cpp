@@ -83,14 +83,14 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
 TEST_CASE(
     "monitor config: a sensor may give a rotation instead of a target, a prior file resolves against the config's directory") {
     std::string text = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]",
-                              "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+                              "rotation = { w = 1.0, x = 0.0, y = 0.0, z = 0.0 }\nresolution = [176, 144]");
     text = edited("source = \"simulated-background\"", "source = \"file\"\nfile = \"cell.cgprior\"");
     const ConfigLoad l = parse_monitor_config(text, "cell.toml", "/etc/cellguard");
     REQUIRE_MESSAGE(l.ok, l.error);
     CHECK(l.config.prior.source == PriorSource::kFile);
     CHECK(l.config.prior.file == "/etc/cellguard/cell.cgprior");
     const std::string rot = edited("target = [0.0, 0.0, 0.0]\nresolution = [176, 144]",
-                                   "rotation = [1.0, 0.0, 0.0, 0.0]\nresolution = [176, 144]");
+                                   "rotation = { w = 1.0, x = 0.0, y = 0.0, z = 0.0 }\nresolution = [176, 144]");
     const ConfigLoad r = parse_monitor_config(rot, "cell.toml");
     REQUIRE_MESSAGE(r.ok, r.error);
     CHECK_FALSE(r.config.sensors[0].has_target);

@@ -21,20 +21,15 @@
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
+#include "monitor_test_doubles.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
 using namespace cellguard::monitor;
+using cellguard::test::SteppingClock;
 
 #if CELLGUARD_HOST_URDF
 namespace {
-
-/// A clock that advances 10 us per reading.
-class SteppingClock final : public MonotonicClock {
-public:
-    std::uint64_t now_us() noexcept override { return now += 10U; }
-    std::uint64_t now = 5000000U;
-};
 
 /// Counts the frames sent, by CAN ID range.
 class CountingSender final : public CanSender {

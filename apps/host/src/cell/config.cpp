@@ -16,6 +16,7 @@
 
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/grid.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "config_loader.hpp"
@@ -50,105 +51,6 @@ void load_grid(const Loader& L, const toml::table& root, MonitorConfig& c) {
                  static_cast<std::int32_t>(c.grid.dims[2])});
     if (!g.ok()) {
         L.fail(t.source(), "grid", std::string("not a valid grid: ") + to_string(g.error()));
-    }
-}
-
-/// `pcd_files`: one or more paths of readable files (relative: to @p base_dir).
-std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, const std::string& p,
-                                        const std::string& base_dir) {
-    const toml::node& n = *t.get("pcd_files");
-    const toml::array* a = n.as_array();
-    if (a == nullptr || a->empty()) {
-        L.fail(n.source(), p + ".pcd_files", "expected an array of one or more PCD file paths");
-    }
-    std::vector<std::string> files;
-    for (std::size_t k = 0U; k < a->size(); ++k) {
-        const toml::node& e = *a->get(k);
-        std::string key = p;
-        key += ".pcd_files[";
-        key += std::to_string(k);
-        key += "]";
-        if (!e.is_string() || e.as_string()->get().empty()) {
-            L.fail(e.source(), key, "expected a non-empty path string");
-        }
-        std::string path = e.as_string()->get();
-        if (path[0] != '/') {
-            path.insert(0U, base_dir + "/");
-        }
-        if (!std::ifstream(path, std::ios::binary)) {
-            L.fail(e.source(), key, "cannot open '" + path + "'");
-        }
-        files.push_back(path);
-    }
-    return files;
-}
-
-void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
-    const toml::node* n = root.get("sensors");
-    if (n == nullptr || !n->is_array_of_tables() || n->as_array()->empty()) {
-        L.fail(n != nullptr ? n->source() : root.source(), "sensors", "expected one or more [[sensors]] tables");
-    }
-    const toml::array& arr = *n->as_array();
-    if (arr.size() > kMaxSensors) {
-        L.fail(n->source(), "sensors", "at most " + std::to_string(kMaxSensors) + " sensors");
-    }
-    for (std::size_t i = 0U; i < arr.size(); ++i) {
-        const toml::table& t = *arr.get(i)->as_table();
-        const std::string p = "sensors[" + std::to_string(i) + "]";
-        L.check_keys(t, p, {"name", "position", "target", "rotation", "resolution", "fov", "max_range", "pcd_files"});
-        SensorSettings s;
-        s.line = static_cast<int>(t.source().begin.line);
-        s.name = L.string(t, p, "name");
-        s.position = L.vec3(t, p, "position");
-        const bool has_target = t.contains("target");
-        const bool has_rotation = t.contains("rotation");
-        if (has_target == has_rotation) {
-            L.fail(t.source(), p + ".target", "give exactly one of target and rotation");
-        }
-        if (has_target) {
-            s.has_target = true;
-            s.target = L.vec3(t, p, "target");
-            if ((s.target - s.position).norm() < 1e-6) {
-                L.fail(t.get("target")->source(), p + ".target", "must differ from the position");
-            }
-        } else {
-            const std::vector<double> q = L.numbers(*t.get("rotation"), p + ".rotation", 4U);
-            const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-            if (std::fabs(norm - 1.0) > 1e-3) {
-                L.fail(t.get("rotation")->source(), p + ".rotation", "expected a unit quaternion [w, x, y, z]");
-            }
-            s.rotation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
-        }
-        const toml::node& res = L.require(t, p, "resolution");
-        const toml::array* ra = res.as_array();
-        std::optional<std::int64_t> w;
-        std::optional<std::int64_t> h;
-        if (ra != nullptr && ra->size() == 2U) {
-            w = (*ra)[0].value_exact<std::int64_t>();
-            h = (*ra)[1].value_exact<std::int64_t>();
-        }
-        if (!w || !h || *w < 1 || *h < 1 || *w * *h > static_cast<std::int64_t>(kMaxReadingsPerSensor)) {
-            L.fail(res.source(), p + ".resolution",
-                   "expected [width, height], positive integers, at most " + std::to_string(kMaxReadingsPerSensor) +
-                       " pixels");
-        }
-        s.width = static_cast<int>(*w);
-        s.height = static_cast<int>(*h);
-        const std::vector<double> fov = L.numbers(L.require(t, p, "fov"), p + ".fov", 2U);
-        if (!(fov[0] > 0.0 && fov[0] < 180.0 && fov[1] > 0.0 && fov[1] < 180.0)) {
-            L.fail(t.get("fov")->source(), p + ".fov", "expected [horizontal, vertical] degrees, each in (0, 180)");
-        }
-        s.hfov_deg = fov[0];
-        s.vfov_deg = fov[1];
-        s.max_range = L.number(t, p, "max_range");
-        if (!(s.max_range > 0.0 && s.max_range <= static_cast<double>(kMaxSensorRange))) {
-            L.fail(t.get("max_range")->source(), p + ".max_range",
-                   "expected metres in (0, " + std::to_string(kMaxSensorRange) + "]");
-        }
-        if (t.contains("pcd_files")) {
-            s.pcd_files = load_pcd_files(L, t, p, base_dir);
-        }
-        c.sensors.push_back(s);
     }
 }
 
@@ -215,17 +117,53 @@ void load_zones(const Loader& L, const toml::table& root, MonitorConfig& c) {
     }
 }
 
-/// The [thresholds] table (optional): foreground and accessible-space log-odds thresholds.
-void load_thresholds(const Loader& L, const toml::table& root, MonitorConfig& c) {
-    if (const toml::node* n = root.get("thresholds")) {
-        const toml::table& t = L.table(root, "", "thresholds");
-        (void)n;
-        L.check_keys(t, "thresholds", {"foreground", "accessible_min_prior"});
-        c.foreground_threshold = static_cast<std::int16_t>(
-            L.integer_or(t, "thresholds", "foreground", -32767, 32767, 255));
-        c.accessible_min_prior = static_cast<std::int16_t>(
-            L.integer_or(t, "thresholds", "accessible_min_prior", -32767, 0, -754));
+/// Probability thresholds by default: the paper's figures' t_f and P(fore) >= 0.05 (P(acc) >= 0.1).
+constexpr double kDefaultForegroundProbability = 0.73;  // log-odds 255
+constexpr double kDefaultAccessibleMinPFore = 0.05;     // log-odds -754
+
+/// The old raw log-odds key @p old of [thresholds] is refused, naming @p replacement and the probability its value meant.
+void refuse_log_odds_key(const Loader& L, const toml::table& t, const char* old, const char* replacement) {
+    const toml::node* n = t.get(old);
+    if (n == nullptr) {
+        return;
     }
+    std::string meant;
+    if (const std::optional<std::int64_t> v = n->value_exact<std::int64_t>();
+        v && *v >= kLogOddsMin && *v <= kLogOddsMax) {
+        char text[64];
+        static_cast<void>(std::snprintf(text, sizeof text, " (%lld log-odds units is %.6g)", static_cast<long long>(*v),
+                                        probability_from_log_odds(static_cast<std::int16_t>(*v))));
+        meant = text;
+    }
+    L.fail(n->source(), Loader::join("thresholds", old),
+           std::string("raw log-odds are no longer accepted; write thresholds.") + replacement + " as a probability" +
+               meant);
+}
+
+/// The [thresholds] table (optional): t_f and the accessible-space minimum
+/// as probabilities, stored as log-odds rounded to the nearest 1/256 nat
+/// (log_odds_from_probability: 0.73 -> 255, 0.05 -> -754).
+void load_thresholds(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    if (!root.contains("thresholds")) {
+        return;
+    }
+    const std::string p = "thresholds";
+    const toml::table& t = L.table(root, "", "thresholds");
+    refuse_log_odds_key(L, t, "foreground", "foreground_probability");
+    refuse_log_odds_key(L, t, "accessible_min_prior", "accessible_min_p_fore");
+    L.check_keys(t, p, {"foreground_probability", "accessible_min_p_fore"});
+    const double tf = L.number_or(t, p, "foreground_probability", kDefaultForegroundProbability);
+    if (!(tf > 0.0 && tf < 1.0)) {
+        L.fail(t.get("foreground_probability")->source(), "thresholds.foreground_probability",
+               "expected a probability strictly between 0 and 1");
+    }
+    c.foreground_threshold = log_odds_from_probability(tf);
+    const double am = L.number_or(t, p, "accessible_min_p_fore", kDefaultAccessibleMinPFore);
+    if (!(am > 0.0 && am <= 0.5)) {
+        L.fail(t.get("accessible_min_p_fore")->source(), "thresholds.accessible_min_p_fore",
+               "expected a probability in (0, 0.5] (a prior's P(fore) = P(acc) / 2 is at most 0.5)");
+    }
+    c.accessible_min_prior = log_odds_from_probability(am);
 }
 
 /// The [prior] table: a prior image file or a prior built from simulated background frames.
@@ -440,7 +378,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
                       "demo", "cases", "robot", "separation", "speed_classes"});
         MonitorConfig c;
         load_grid(L, root, c);
-        load_sensors(L, root, c, base_dir);
+        config_detail::load_sensors(L, root, c, base_dir);
         load_zones(L, root, c);
         load_rest(L, root, c, base_dir);
         out.config = c;

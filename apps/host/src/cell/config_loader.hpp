@@ -1,7 +1,7 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// The configuration loader's checked getters, shared by config.cpp and
-// robot_config.cpp (private to the host library's cell/ sources).
+// The configuration loader's checked getters, shared by config.cpp,
+// sensor_config.cpp and robot_config.cpp (private to the host library's cell/ sources).
 #ifndef CELLGUARD_HOST_CELL_CONFIG_LOADER_HPP
 #define CELLGUARD_HOST_CELL_CONFIG_LOADER_HPP
 
@@ -32,6 +32,8 @@ public:
 /// Milliseconds (finite, checked by the caller) to microseconds, rounded.
 inline std::uint64_t ms_to_us(double ms) { return static_cast<std::uint64_t>(std::llround(ms * 1000.0)); }
 
+/// The [[sensors]] tables (after [grid]; sensor_config.cpp).
+void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir);
 /// The [[cases]] tables (optional; after [[zones]]).
 void load_cases(const Loader& L, const toml::table& root, MonitorConfig& c);
 /// The [robot], [separation] and [[speed_classes]] tables (optional; after [cycle]).

@@ -9,6 +9,11 @@
 
 namespace cellguard::cell {
 
+void refuse_reading(SensorReading& reading) noexcept {
+    reading = SensorReading{};
+    reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
+}
+
 SimulatedFrameSource::SimulatedFrameSource(const sim::SensorSpec& spec)
     : spec_(spec),
       background_(spec, sim::reference_scene()),

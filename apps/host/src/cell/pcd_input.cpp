@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 #include <utility>
 
 namespace cellguard::cell {
@@ -146,9 +145,7 @@ bool PcdFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, Fra
     status = FrameStatus{};
     // Until the frame has passed every check, the description is one the
     // controller refuses (kFrameInconsistent): a non-finite pose, no points.
-    reading = SensorReading{};
-    reading.kind = SensorDataKind::kPointSet;
-    reading.pose.translation().setConstant(std::numeric_limits<double>::quiet_NaN());
+    refuse_reading(reading);
     reading.max_range = max_range_;
     points_.clear();
     if (files_.empty()) {

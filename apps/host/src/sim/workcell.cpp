@@ -491,11 +491,28 @@ PinholeIntrinsics SensorSpec::intrinsics() const {
     PinholeIntrinsics k;
     k.width = width;
     k.height = height;
+    if (has_intrinsics) {
+        k.fx = fx;
+        k.fy = fy;
+        k.cx = cx;
+        k.cy = cy;
+        return k;
+    }
     k.fx = 0.5 * width / std::tan(0.5 * deg2rad(hfov_deg));
     k.fy = 0.5 * height / std::tan(0.5 * deg2rad(vfov_deg));
     k.cx = 0.5 * (width - 1);
     k.cy = 0.5 * (height - 1);
     return k;
+}
+
+void SensorSpec::set_intrinsics(double focal_x, double focal_y, double centre_x, double centre_y) {
+    has_intrinsics = true;
+    fx = focal_x;
+    fy = focal_y;
+    cx = centre_x;
+    cy = centre_y;
+    hfov_deg = 2.0 * std::atan(0.5 * width / focal_x) * 180.0 / kPi;
+    vfov_deg = 2.0 * std::atan(0.5 * height / focal_y) * 180.0 / kPi;
 }
 
 std::vector<SensorSpec> paper_sensors() {

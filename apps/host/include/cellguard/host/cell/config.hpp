@@ -33,18 +33,67 @@ struct GridSettings {
     int dims[3] = {0, 0, 0};                           ///< voxels along x, y, z
 };
 
+/// The depth pixel format a live camera is set to.
+enum class CameraPixelFormat : std::uint8_t {
+    kCoord3dC16 = 0,  ///< GenICam Coord3D_C16: depth along the optical axis, scale and offset from Scan3d
+    kMono16 = 1,      ///< Mono16 read as depth; scale and offset must be configured
+};
+
+/// Where a sensor's pinhole intrinsics come from.
+enum class IntrinsicsSource : std::uint8_t {
+    kFieldOfView = 0,  ///< sensors.fov: centred principal point, focal lengths from the angles
+    kConfig = 1,       ///< sensors.intrinsics = { fx, fy, cx, cy }
+    kDevice = 2,       ///< sensors.intrinsics = "device": a live camera's Scan3d features, read at start
+};
+
+/// A live GigE Vision camera ([sensors.camera], optional; absent: the
+/// simulator or recorded frames). Exactly one of address, serial and id opens it.
+struct CameraSettings {
+    bool enabled = false;  ///< the sensor has a [sensors.camera] table
+    /// camera.address: IPv4 address, opened directly, no discovery (tests use 127.0.0.N).
+    std::string address;
+    /// camera.serial: opened by discovery on the host's networks (the
+    /// opened camera's DeviceSerialNumber must equal it).
+    std::string serial;
+    std::string device_id;  ///< camera.id: an Aravis device ID ("Vendor-Model-Serial")
+    /// camera.expected_serial: checked against DeviceSerialNumber at every
+    /// (re)connection whichever key opened it (a camera swapped for another is refused).
+    std::string expected_serial;
+    CameraPixelFormat pixel_format = CameraPixelFormat::kCoord3dC16;  ///< camera.pixel_format
+    /// camera.depth_scale / depth_offset present: these, metres per unit and
+    /// metres (Mono16 must give them); absent: the Scan3d features (Coord3D_C16 only).
+    bool has_depth_scale = false;
+    double depth_scale_m = 0.001;                    ///< camera.depth_scale, metres per raw unit
+    double depth_offset_m = 0.0;                     ///< camera.depth_offset, metres
+    double frame_rate_hz = 30.0;                     ///< camera.frame_rate, AcquisitionFrameRate
+    int packet_size = 0;                             ///< camera.packet_size, bytes; 0: the camera's
+    int socket_buffer_bytes = 1048576;               ///< camera.socket_buffer_kib * 1024
+    std::uint64_t reconnect_interval_us = 1000000U;  ///< camera.reconnect_interval_ms: between reopen attempts
+    /// camera.max_stamp_error_ms: most a frame's mapped device time stamp may
+    /// differ from the offset estimate (device clock jump or skew beyond it: the frame is refused).
+    std::uint64_t max_stamp_error_us = 20000U;
+    int line = 0;  ///< line of the [sensors.camera] table
+};
+
 /// One static depth sensor.
 struct SensorSettings {
-    std::string name;                                              ///< label
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();            ///< optical centre, metres
-    bool has_target = false;                                       ///< aimed at `target` (else `rotation`)
-    Eigen::Vector3d target = Eigen::Vector3d::Zero();              ///< point on the optical axis
-    Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  ///< sensor -> cell rotation (w, x, y, z)
-    int width = 0;                                                 ///< image columns
-    int height = 0;                                                ///< image rows
-    double hfov_deg = 0.0;                                         ///< horizontal field of view
-    double vfov_deg = 0.0;                                         ///< vertical field of view
-    double max_range = 10.0;                                       ///< metres
+    std::string name;                                    ///< label
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< optical centre, metres
+    bool has_target = false;                             ///< aimed at `target` (else `rotation`)
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();    ///< point on the optical axis
+    /// sensor -> cell rotation, from rotation = { w, x, y, z } (named keys: no order to mistake)
+    Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+    int width = 0;                                                        ///< image columns
+    int height = 0;                                                       ///< image rows
+    IntrinsicsSource intrinsics_source = IntrinsicsSource::kFieldOfView;  ///< fov, intrinsics table or "device"
+    double hfov_deg = 0.0;    ///< horizontal field of view (kFieldOfView; otherwise derived from fx and width)
+    double vfov_deg = 0.0;    ///< vertical field of view (kFieldOfView; otherwise derived from fy and height)
+    double fx = 0.0;          ///< kConfig / kDevice: focal length along columns, pixels
+    double fy = 0.0;          ///< kConfig / kDevice: focal length along rows, pixels
+    double cx = 0.0;          ///< kConfig / kDevice: principal point, column
+    double cy = 0.0;          ///< kConfig / kDevice: principal point, row
+    CameraSettings camera;    ///< a live camera (camera.enabled), else simulated or recorded
+    double max_range = 10.0;  ///< metres
     /// Recorded frames (PCD files, relative paths resolved against the config
     /// file's directory), one per cycle in order, cycled; empty: the simulator.
     std::vector<std::string> pcd_files;
@@ -150,9 +199,10 @@ struct MonitorConfig {
     std::uint64_t restart_delay_us = 500000U;   ///< restart interlock delay
     bool reset_required = false;                ///< restart also needs a reset edge
     std::uint32_t fault_recovery_cycles = 10U;  ///< clean cycles before a recoverable fault clears
-    std::int16_t foreground_threshold = 255;    ///< t_f, log-odds
-    std::int16_t accessible_min_prior = -754;   ///< unseen counts voxels with a prior at least this
-    int demo_cycles = 60;                       ///< cycles the simulated run lasts
+    std::int16_t foreground_threshold = 255;    ///< t_f, log-odds (from thresholds.foreground_probability)
+    /// unseen counts voxels whose prior is at least this (log-odds of thresholds.accessible_min_p_fore)
+    std::int16_t accessible_min_prior = -754;
+    int demo_cycles = 60;  ///< cycles the simulated run lasts
     /// A scene file (apps/host/sim/scene_file.hpp) the simulated sensors
     /// render instead of the paper's reference scene with the scripted
     /// person, and whose robot trajectory and command schedule the simulated
@@ -181,6 +231,10 @@ ConfigLoad load_monitor_config(const std::string& path);
 /// the roll. The monitor and the commissioning tool both take recorded
 /// sensors' poses from here.
 Eigen::Isometry3d sensor_pose(const SensorSettings& s);
+/// Sets @p s's pinhole intrinsics (pixels) and the fields of view derived
+/// from them as the simulator derives them (sim::SensorSpec::set_intrinsics):
+/// for a configured intrinsics table and for a camera's Scan3d values alike.
+void set_sensor_intrinsics(SensorSettings& s, double fx, double fy, double cx, double cy);
 /// The built-in demo configuration (paper-cell.toml's content).
 MonitorConfig demo_config();
 /// The TOML text of the demo configuration.

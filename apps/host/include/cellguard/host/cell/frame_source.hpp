@@ -30,6 +30,11 @@ struct FrameStatus {
     char reason[kFrameReasonCapacity] = {};  ///< why it was refused (empty when ok)
     std::uint64_t points = 0U;               ///< recorded frames: finite points fused
     std::uint64_t nonfinite = 0U;            ///< recorded frames: points skipped as NaN or infinite
+    /// A live camera's frame: true when stamp_us holds its capture time,
+    /// which the monitor's loop uses as the reading's time instead of the
+    /// cycle's start (false: simulated and recorded frames, stamped with the cycle's start).
+    bool has_stamp = false;
+    std::uint64_t stamp_us = 0U;  ///< has_stamp: the capture time, CLOCK_MONOTONIC microseconds
 };
 
 /// One sensor's frames.
@@ -53,6 +58,11 @@ protected:
     FrameSource(FrameSource&&) = default;
     FrameSource& operator=(FrameSource&&) = default;
 };
+
+/// Makes @p reading the description the controller refuses as
+/// kFrameInconsistent: an empty point set with a non-finite pose. How every
+/// source reports a frame it refused (FrameSource::load_frame).
+void refuse_reading(SensorReading& reading) noexcept;
 
 /// A simulated sensor of the demo cell: every cycle it ray casts the demo's
 /// scene of that cycle, the reference scene (sim::reference_scene) with the

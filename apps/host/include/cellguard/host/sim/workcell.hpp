@@ -50,10 +50,25 @@ struct SensorSpec {
     double hfov_deg = 0.0;                               ///< horizontal field of view, degrees
     double vfov_deg = 0.0;                               ///< vertical field of view, degrees
     float max_range = 10.0F;                             ///< readings beyond are dropped by fusion
+    /// True: fx, fy, cx, cy below are the sensor's intrinsics (a calibrated
+    /// camera, any principal point); false: they follow from the fields of
+    /// view with the principal point in the image centre. Set by set_intrinsics.
+    bool has_intrinsics = false;
+    double fx = 0.0;  ///< has_intrinsics: focal length along columns, pixels
+    double fy = 0.0;  ///< has_intrinsics: focal length along rows, pixels
+    double cx = 0.0;  ///< has_intrinsics: principal point, column (pixel centres at integers)
+    double cy = 0.0;  ///< has_intrinsics: principal point, row
     /// Sensor frame -> workcell frame (x right, y down, z along the optical axis).
     [[nodiscard]] Eigen::Isometry3d pose() const;
-    /// Pinhole intrinsics matching the fields of view.
+    /// Pinhole intrinsics: fx, fy, cx, cy as given (has_intrinsics), else
+    /// from the fields of view with a centred principal point. Every image the
+    /// simulator renders, and every reading and ray it makes, uses these.
     [[nodiscard]] PinholeIntrinsics intrinsics() const;
+    /// Gives explicit intrinsics (after width and height): sets
+    /// has_intrinsics and fx..cy, and hfov_deg / vfov_deg to the angles
+    /// 2 atan(width / (2 fx)) and 2 atan(height / (2 fy)) (for reports; a
+    /// principal point off centre makes the two halves of the view unequal).
+    void set_intrinsics(double focal_x, double focal_y, double centre_x, double centre_y);
 };
 
 /// The paper's four sensors (BENCHMARKING.md's reference frame): two
