@@ -201,3 +201,44 @@ TEST_CASE(
     CHECK(bit(FaultCode::kCanTxBufferFull) == 0x0200U);
     CHECK(bit(FaultCode::kCanSendFailed) == 0x4000U);
 }
+
+// verifies: SR-CMD-020
+TEST_CASE("socketcan: a received frame's arrival is its kernel stamp on the monotonic clock, else the earliest bound") {
+    // The frame arrived 3 ms before the read on the real-time clock; the read happened at 50 ms monotonic.
+    ReceiveStamp stamp{true, 1'000'000'000'000LL, 1'000'003'000'000LL};
+    bool from_kernel = false;
+    CHECK(arrival_monotonic_us(stamp, 50'000U, 40'000U, &from_kernel) == 47'000U);
+    CHECK(from_kernel);
+    // Older than the last time the socket was seen empty: impossible, the real-time clock stepped; the bound.
+    CHECK(arrival_monotonic_us(stamp, 50'000U, 48'000U, &from_kernel) == 48'000U);
+    CHECK_FALSE(from_kernel);
+    // Stamped after the read (the real-time clock stepped back): the bound, not the read time.
+    ReceiveStamp future{true, 1'000'003'000'001LL, 1'000'003'000'000LL};
+    CHECK(arrival_monotonic_us(future, 50'000U, 40'000U, &from_kernel) == 40'000U);
+    CHECK_FALSE(from_kernel);
+    // No kernel stamp: the bound.
+    CHECK(arrival_monotonic_us(ReceiveStamp{}, 50'000U, 40'000U, &from_kernel) == 40'000U);
+    CHECK_FALSE(from_kernel);
+    // An age larger than the whole monotonic time does not wrap around.
+    ReceiveStamp ancient{true, 1'000'000'000LL, 1'000'000'000'000LL};
+    CHECK(arrival_monotonic_us(ancient, 50'000U, 0U, &from_kernel) == 0U);
+    CHECK_FALSE(from_kernel);
+    // A bound after the read (a caller's error) never moves the arrival past the read.
+    CHECK(arrival_monotonic_us(ReceiveStamp{}, 50'000U, 60'000U) == 50'000U);
+    // Arrival exactly at the bound and exactly at the read are accepted from the kernel.
+    ReceiveStamp at_read{true, 5'000'000LL, 5'000'000LL};
+    CHECK(arrival_monotonic_us(at_read, 50'000U, 40'000U, &from_kernel) == 50'000U);
+    CHECK(from_kernel);
+    ReceiveStamp at_bound{true, 5'000'000LL, 15'000'000LL};
+    CHECK(arrival_monotonic_us(at_bound, 50'000U, 40'000U, &from_kernel) == 40'000U);
+    CHECK(from_kernel);
+}
+
+// verifies: SR-CMD-020
+TEST_CASE("socketcan: a closed socket's stamped receive fails and leaves no stamp") {
+    SocketCan closed;
+    CanFrame f{};
+    ReceiveStamp stamp{true, 1, 2};
+    CHECK(closed.receive(f, stamp) == SocketCan::ReceiveOutcome::kFailed);
+    CHECK_FALSE(stamp.kernel);
+}

@@ -9,6 +9,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -52,6 +54,28 @@ void wait_writable(int fd, std::uint32_t wait_us) noexcept {
     timeout.tv_sec = static_cast<time_t>(wait_us / 1000000U);
     timeout.tv_nsec = static_cast<long>(wait_us % 1000000U) * 1000L;
     (void)ppoll(&p, 1U, &timeout, nullptr);
+}
+
+/// CLOCK_REALTIME in nanoseconds.
+std::int64_t realtime_ns() noexcept {
+    timespec t{};
+    (void)clock_gettime(CLOCK_REALTIME, &t);
+    return static_cast<std::int64_t>(t.tv_sec) * 1000000000LL + static_cast<std::int64_t>(t.tv_nsec);
+}
+
+/// Fills @p stamp from the SCM_TIMESTAMPNS message of @p msg (if any) and the real-time clock now.
+void read_stamp(msghdr& msg, ReceiveStamp& stamp) noexcept {
+    stamp.read_realtime_ns = realtime_ns();
+    for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS &&
+            c->cmsg_len >= CMSG_LEN(sizeof(timespec))) {
+            timespec t{};
+            std::memcpy(&t, CMSG_DATA(c), sizeof(t));  // CMSG_DATA need not be aligned for timespec
+            stamp.kernel_realtime_ns = static_cast<std::int64_t>(t.tv_sec) * 1000000000LL +
+                                       static_cast<std::int64_t>(t.tv_nsec);
+            stamp.kernel = stamp.kernel_realtime_ns > 0;
+        }
+    }
 }
 
 }  // namespace
@@ -207,6 +231,10 @@ SocketCanStatus SocketCan::open(const char* interface_name, const SocketCanConfi
         (void)::close(fd);
         return SocketCanStatus{SocketCanError::kSocketSetupFailed, err};
     }
+    // Receive time stamps for the PLC's command frames (arrival_monotonic_us); a kernel that refuses
+    // them leaves every frame unstamped, which the monitor reads on the safe side (the oldest possible arrival).
+    const int on = 1;
+    (void)setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
     sockaddr_can address{};
     address.can_family = AF_CAN;
     address.can_ifindex = static_cast<int>(index);
@@ -265,13 +293,46 @@ SocketCanStatus SocketCan::transmit(const CanFrame& frame) noexcept {
     return status;
 }
 
+std::uint64_t arrival_monotonic_us(const ReceiveStamp& stamp, std::uint64_t read_mono_us, std::uint64_t not_before_us,
+                                   bool* from_kernel) noexcept {
+    bool kernel = false;
+    std::uint64_t arrival = std::min(not_before_us, read_mono_us);
+    if (stamp.kernel && stamp.read_realtime_ns >= stamp.kernel_realtime_ns) {
+        const auto age_us = static_cast<std::uint64_t>(stamp.read_realtime_ns - stamp.kernel_realtime_ns) / 1000U;
+        if (age_us <= read_mono_us && read_mono_us - age_us >= not_before_us) {
+            arrival = read_mono_us - age_us;
+            kernel = true;
+        }
+    }
+    if (from_kernel != nullptr) {
+        *from_kernel = kernel;
+    }
+    return arrival;
+}
+
 SocketCan::ReceiveOutcome SocketCan::receive(CanFrame& out) noexcept {
+    ReceiveStamp ignored{};
+    return receive(out, ignored);
+}
+
+SocketCan::ReceiveOutcome SocketCan::receive(CanFrame& out, ReceiveStamp& stamp) noexcept {
+    stamp = ReceiveStamp{};
     if (fd_ < 0) {
         last_receive_errno_ = EBADF;
         return ReceiveOutcome::kFailed;
     }
     can_frame k{};
-    const ssize_t n = ::read(fd_, &k, sizeof(k));
+    iovec io{&k, sizeof(k)};
+    alignas(cmsghdr) std::array<unsigned char, CMSG_SPACE(sizeof(timespec))> control{};
+    msghdr msg{};
+    msg.msg_iov = &io;
+    msg.msg_iovlen = 1U;
+    msg.msg_control = control.data();
+    msg.msg_controllen = control.size();
+    const ssize_t n = ::recvmsg(fd_, &msg, 0);
+    if (n >= 0) {
+        read_stamp(msg, stamp);
+    }
     if (n < 0) {
         const int err = errno;
         if (err == EAGAIN || err == EWOULDBLOCK) {

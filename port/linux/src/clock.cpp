@@ -6,7 +6,9 @@
 
 namespace cellguard::linux_port {
 
-std::uint64_t LinuxMonotonicClock::now_us() noexcept {
+std::uint64_t LinuxMonotonicClock::now_us() noexcept { return monotonic_now_us(); }
+
+std::uint64_t monotonic_now_us() noexcept {
     timespec ts{};
     if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0 || ts.tv_sec < 0 || ts.tv_nsec < 0) {
         return 0U;

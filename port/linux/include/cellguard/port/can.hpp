@@ -119,6 +119,28 @@ private:
     bool restarted_since_bus_off_ = false;
 };
 
+/// When a received frame reached the kernel: the socket's receive time
+/// stamp (SO_TIMESTAMPNS, CLOCK_REALTIME) and CLOCK_REALTIME read right
+/// after the frame was read, so that the frame's age at the read is known
+/// without trusting the real-time clock's absolute value.
+struct ReceiveStamp {
+    bool kernel = false;                  ///< the kernel stamped the frame
+    std::int64_t kernel_realtime_ns = 0;  ///< that stamp
+    std::int64_t read_realtime_ns = 0;    ///< CLOCK_REALTIME just after the read
+};
+
+/// The arrival of a received frame on the caller's monotonic clock (pure):
+/// @p read_mono_us (the caller's clock at the read) minus the frame's age at
+/// the read (read_realtime_ns - kernel_realtime_ns), accepted only inside
+/// [@p not_before_us, @p read_mono_us]: the frame cannot have arrived before
+/// the socket was last seen empty, nor after it was read. Without a kernel
+/// stamp, or when the age falls outside that window (the real-time clock
+/// stepped between arrival and read), @p not_before_us: the oldest the frame
+/// can be, so that every age and timing check on it errs on the side of the
+/// stop. @p from_kernel (optional) tells which.
+[[nodiscard]] std::uint64_t arrival_monotonic_us(const ReceiveStamp& stamp, std::uint64_t read_mono_us,
+                                                 std::uint64_t not_before_us, bool* from_kernel = nullptr) noexcept;
+
 /// Send behaviour.
 struct SocketCanConfig {
     std::uint8_t send_attempts = 3U;     ///< write() attempts per frame, >= 1
@@ -165,6 +187,10 @@ public:
     bool send(const CanFrame& frame) noexcept override { return transmit(frame).ok(); }
     /// Reads one frame without blocking.
     [[nodiscard]] ReceiveOutcome receive(CanFrame& out) noexcept;
+    /// Reads one frame without blocking, with its receive time stamp
+    /// (open() asks the kernel for SO_TIMESTAMPNS; a kernel that refuses
+    /// leaves stamp.kernel false).
+    [[nodiscard]] ReceiveOutcome receive(CanFrame& out, ReceiveStamp& stamp) noexcept;
     /// errno of the last kFailed receive.
     [[nodiscard]] int last_receive_errno() const noexcept { return last_receive_errno_; }
 

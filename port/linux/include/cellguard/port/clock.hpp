@@ -12,6 +12,11 @@
 
 namespace cellguard::linux_port {
 
+/// CLOCK_MONOTONIC in microseconds, 0 if the call fails: the one reading of it
+/// that the Linux port and the programs on it share (stage and latency timing,
+/// camera receive times, pacing of threads).
+[[nodiscard]] std::uint64_t monotonic_now_us() noexcept;
+
 /// CLOCK_MONOTONIC in microseconds; 0 if the call fails (the controller then sees
 /// a clock that does not advance and latches its clock fault).
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
