@@ -8,10 +8,17 @@
 
 namespace {
 std::atomic<std::size_t> g_allocations{0};
+// Initial-exec TLS of the executable: reading it allocates nothing.
+thread_local std::size_t t_allocations = 0U;
+void count_one() noexcept {
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    ++t_allocations;
 }
+}  // namespace
 
 namespace cellguard::test {
 std::size_t allocation_count() noexcept { return g_allocations.load(std::memory_order_relaxed); }
+std::size_t thread_allocation_count() noexcept { return t_allocations; }
 }  // namespace cellguard::test
 
 #if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
@@ -21,15 +28,15 @@ void* __libc_malloc(std::size_t size);
 void* __libc_calloc(std::size_t n, std::size_t size);
 void* __libc_realloc(void* p, std::size_t size);
 void* malloc(std::size_t size) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    count_one();
     return __libc_malloc(size);
 }
 void* calloc(std::size_t n, std::size_t size) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    count_one();
     return __libc_calloc(n, size);
 }
 void* realloc(void* p, std::size_t size) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    count_one();
     return __libc_realloc(p, size);
 }
 }
@@ -41,7 +48,7 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 #else
 void* operator new(std::size_t size) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    count_one();
     void* p = std::malloc(size == 0 ? 1 : size);
     if (p == nullptr)
         throw std::bad_alloc();

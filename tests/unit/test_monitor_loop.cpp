@@ -24,31 +24,15 @@
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
+#include "monitor_test_doubles.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
 using namespace cellguard::monitor;
+using cellguard::test::CountingSender;
+using cellguard::test::SteppingClock;
 
 namespace {
-
-/// A clock that advances 10 us per reading.
-class SteppingClock final : public MonotonicClock {
-public:
-    std::uint64_t now_us() noexcept override { return now += 10U; }
-    std::uint64_t now = 5000000U;
-};
-
-/// Counts the frames sent and keeps the last one.
-class CountingSender final : public CanSender {
-public:
-    bool send(const CanFrame& frame) noexcept override {
-        last = frame;
-        ++frames;
-        return true;
-    }
-    CanFrame last{0U, 0U, {}};
-    std::size_t frames = 0U;
-};
 
 /// Passes loads on to another source and counts them per cycle.
 class CountingSource final : public FrameSource {

@@ -5,13 +5,15 @@
 
 namespace cellguard::monitor {
 
-linux_port::SocketCanStatus CanPort::open_interface(const std::string& name) {
+linux_port::SocketCanStatus CanPort::open_interface(const std::string& name, MonotonicClock& clock) {
     (void)close();
     kind_ = Kind::kNone;
     const linux_port::SocketCanStatus st = socket_.open(name.c_str());
     if (st.ok()) {
         kind_ = Kind::kInterface;
         target_ = name;
+        clock_ = &clock;
+        empty_seen_us_ = clock.now_us();  // nothing read yet: a frame waiting now arrived after the socket opened
     }
     return st;
 }
@@ -43,6 +45,9 @@ bool CanPort::send(const CanFrame& frame) noexcept {
     }
     if (sent) {
         ++sent_;
+        if (tap_ != nullptr) {
+            tap_->on_frame(frame, TapDirection::kSent);
+        }
     }
     return sent;
 }
@@ -63,32 +68,46 @@ void CanPort::drain() noexcept {
     }
     constexpr int kMaxFramesPerDrain = 256;  // bounds the work when the bus floods
     CanFrame rx{};
+    linux_port::ReceiveStamp stamp{};
     for (int n = 0; n < kMaxFramesPerDrain; ++n) {
-        const linux_port::SocketCan::ReceiveOutcome r = socket_.receive(rx);
-        if (r == linux_port::SocketCan::ReceiveOutcome::kNothing ||
-            r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
+        const std::uint64_t read_us = clock_->now_us();
+        const linux_port::SocketCan::ReceiveOutcome r = socket_.receive(rx, stamp);
+        if (r == linux_port::SocketCan::ReceiveOutcome::kNothing) {
+            empty_seen_us_ = read_us;  // every later frame arrived after this
+            return;
+        }
+        if (r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
             return;
         }
         if (r != linux_port::SocketCan::ReceiveOutcome::kFrame) {
             continue;
         }
+        bool from_kernel = false;
+        const std::uint64_t arrival = linux_port::arrival_monotonic_us(stamp, read_us, empty_seen_us_, &from_kernel);
+        ++(from_kernel ? rx_kernel_stamped_ : rx_bound_stamped_);
         if (rx_count_ == rx_.size()) {
             rx_head_ = (rx_head_ + 1U) % rx_.size();
             --rx_count_;
             ++rx_dropped_;
         }
-        rx_[(rx_head_ + rx_count_) % rx_.size()] = rx;
+        const std::size_t slot = (rx_head_ + rx_count_) % rx_.size();
+        rx_[slot] = rx;
+        rx_arrival_us_[slot] = arrival;
         ++rx_count_;
     }
 }
 
-bool CanPort::take_received(CanFrame& out) noexcept {
+bool CanPort::take_received(CanFrame& out, std::uint64_t& arrival_us) noexcept {
     if (rx_count_ == 0U) {
         return false;
     }
     out = rx_[rx_head_];
+    arrival_us = rx_arrival_us_[rx_head_];
     rx_head_ = (rx_head_ + 1U) % rx_.size();
     --rx_count_;
+    if (tap_ != nullptr) {
+        tap_->on_frame(out, TapDirection::kReceived);
+    }
     return true;
 }
 
@@ -101,7 +120,11 @@ bool CanPort::close() noexcept {
 void CanPort::write_summary(std::FILE* out, bool log_ok) const noexcept {
     switch (kind_) {
         case Kind::kInterface:
-            static_cast<void>(std::fprintf(out, "summary: CAN frames sent on %s\n", target_.c_str()));
+            static_cast<void>(std::fprintf(out,
+                                           "summary: CAN frames sent on %s; %llu frames received with the kernel's "
+                                           "time stamp, %llu stamped at the earliest bound\n",
+                                           target_.c_str(), static_cast<unsigned long long>(rx_kernel_stamped_),
+                                           static_cast<unsigned long long>(rx_bound_stamped_)));
             break;
         case Kind::kLog:
             static_cast<void>(std::fprintf(out, "summary: %zu CAN frames written to %s%s\n", log_.lines(),

@@ -45,8 +45,10 @@ SocketCanCommandLink::SocketCanCommandLink(const CommandReceiverConfig& config, 
 CommandPoll SocketCanCommandLink::poll(std::uint64_t now_us) noexcept {
     port_->drain();
     CanFrame f{};
-    while (port_->take_received(f)) {
-        static_cast<void>(receiver_.on_frame(f, now_us));
+    std::uint64_t arrival_us = 0U;
+    while (port_->take_received(f, arrival_us)) {
+        // Its arrival, not this cycle's start: the SRVT and the sample window are measured on real arrival times.
+        static_cast<void>(receiver_.on_frame(f, std::min(arrival_us, now_us)));
         ++frames_;
     }
     return receiver_.poll(now_us);

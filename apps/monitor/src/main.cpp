@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,8 +26,10 @@
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/command_line.hpp"
+#include "cellguard/monitor/camera_startup.hpp"
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/daemon.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/picture.hpp"
@@ -57,8 +60,12 @@ struct Options {
     bool quiet = false;
     std::string picture;
     std::string picture_sensor;
-    std::string commands;  ///< --commands: "" (by the cell), "sim" or "can"
-    std::string fusion;    ///< --fusion: "" (the config's), "ray" or "footprint"
+    std::string commands;      ///< --commands: "" (by the cell), "sim" or "can"
+    std::string fusion;        ///< --fusion: "" (the config's), "ray" or "footprint"
+    std::string snapshot_dir;  ///< --snapshot-dir: "" (no snapshots)
+    int snapshot_keep = 10;    ///< --snapshot-keep
+    int heartbeat_s = 10;      ///< --heartbeat-s (0: none)
+    bool forever = false;      ///< --forever: until SIGINT or SIGTERM
 };
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
@@ -85,7 +92,12 @@ int parse_args(int argc, char** argv, Options& o) {
                                    "load the configuration from a TOML file\n"
                                    "(example: apps/monitor/config/paper-cell.toml)");
     demo->excludes(config);
-    cli.integer("--cycles", o.cycles, 1, 1000000, "N", "run N cycles (default: the config's demo.cycles, 60)");
+    CLI::Option* cycles = cli.integer("--cycles", o.cycles, 1, 1000000, "N",
+                                      "run N cycles (default: the config's demo.cycles, 60)");
+    cli.flag("--forever", o.forever,
+             "run until SIGINT or SIGTERM (as a service; the summary's cycle-time figures\n"
+             "cover the first demo.cycles cycles, the longest cycle all of them)")
+        ->excludes(cycles);
     CLI::Option* log = cli.text("--log", o.log_file, "FILE", "candump log path (default: the config's can.log_file)");
     CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF",
                                 "send on SocketCAN interface IF instead of the log");
@@ -113,6 +125,14 @@ int parse_args(int argc, char** argv, Options& o) {
              "capsules, mask margin and separation distances) from above and from one\nsensor, and exit");
     cli.text("--picture-sensor", o.picture_sensor, "S",
              "the sensor of that view, by name or number from 1 (default 1)");
+    cli.text("--snapshot-dir", o.snapshot_dir, "DIR",
+             "on each protective stop after a release, write a snapshot (the evidence grid\n"
+             "as .npy, a picture as PNG, the CAN frames around the stop) into a new\n"
+             "directory under DIR (default: no snapshots)");
+    cli.integer("--snapshot-keep", o.snapshot_keep, 1, 10000, "N",
+                "snapshots kept in DIR, oldest removed (default 10)");
+    cli.integer("--heartbeat-s", o.heartbeat_s, 0, 86400, "S",
+                "seconds between the event log's heartbeat lines on stderr (default 10, 0: none)");
     const int status = cli.parse(argc, argv);
     o.demo = demo->count() > 0U;
     if (o.config_path.empty()) {
@@ -201,7 +221,7 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
 /// The CAN output: the configured SocketCAN interface, else the candump log.
 SetupError open_can(const MonitorConfig& cfg, CycleClock& clock, CanPort& can) {
     if (!cfg.can.interface_name.empty()) {
-        const linux_port::SocketCanStatus st = can.open_interface(cfg.can.interface_name);
+        const linux_port::SocketCanStatus st = can.open_interface(cfg.can.interface_name, clock);
         if (!st.ok()) {
             return SetupError{1, "CAN interface '" + cfg.can.interface_name + "': " + linux_port::to_string(st.error) +
                                      " (" + std::strerror(st.sys_errno) + ")"};
@@ -238,12 +258,15 @@ int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCel
     return 0;
 }
 
-/// One frame source per sensor: its recorded PCD files, else the simulator.
-std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg, const MonitorCell& cell) {
+/// One frame source per sensor: its live camera, its recorded PCD files, else the simulator.
+std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg, const MonitorCell& cell,
+                                                       MonitorCameras& cameras) {
     std::vector<std::unique_ptr<FrameSource>> sources;
     for (std::size_t s = 0U; s < cfg.sensors.size(); ++s) {
         const sim::SensorSpec& spec = cell.specs[s];
-        if (cell.has_scene) {
+        if (cameras.has(s)) {
+            sources.push_back(cameras.make_source(s, cfg.sensors[s], spec));
+        } else if (cell.has_scene) {
             sources.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
         } else if (cfg.sensors[s].pcd_files.empty()) {
             sources.push_back(std::make_unique<SimulatedFrameSource>(spec));
@@ -286,6 +309,36 @@ std::unique_ptr<linux_port::WorkerPool> fusion_pool(const MonitorConfig& cfg) {
     return pool;
 }
 
+/// The run after the set-up: the start lines, the daemon's observers, the
+/// cycles, the summary; returns the exit status.
+int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell, CanPort& can,
+                   MonitorLoop& loop) {
+    std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", loop.controller().prior_crc(),
+                cell.zones.size(), static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles,
+                opt.paced ? ", paced" : "");
+    for (const SensorSettings& sensor : cfg.sensors) {
+        if (!sensor.pcd_files.empty()) {
+            std::printf("input: sensor '%s' from %zu recorded PCD frames\n", sensor.name.c_str(),
+                        sensor.pcd_files.size());
+        }
+    }
+    DaemonOptions dopt;
+    dopt.heartbeat_us = static_cast<std::uint64_t>(opt.heartbeat_s) * 1000000U;
+    dopt.snapshot_dir = opt.snapshot_dir;
+    dopt.snapshot_keep = static_cast<std::size_t>(opt.snapshot_keep);
+    Daemon daemon(cfg, dopt);
+    if (const SetupError e = daemon.attach(cfg, cell, can, loop); e.failed()) {
+        return fail(e);
+    }
+    const int cycles_to_run = opt.forever ? std::numeric_limits<int>::max() : cfg.demo_cycles;
+    const RunResult run = run_cycles(loop, cycles_to_run, cfg.period_us, opt.paced, g_stop_signal);
+    daemon.finish(run, loop);
+    const bool log_ok = can.close();
+    loop.write_summary(stdout, run, log_ok);
+    daemon.write_summary(stdout);
+    return loop.exit_status(stderr, log_ok);
+}
+
 /// The monitor (main without its last-resort catch).
 int run_monitor(int argc, char** argv) {
     Options opt;
@@ -309,6 +362,11 @@ int run_monitor(int argc, char** argv) {
     if (opt.realtime) {
         enter_realtime();
     }
+    // Live cameras first: intrinsics "device" complete the sensors' configuration.
+    MonitorCameras cameras;
+    if (opt.picture.empty() && (e = cameras.open(cfg, opt.paced, stdout)).failed()) {
+        return fail(e);
+    }
     MonitorCell cell;  // grid, sensors, zones; then, after the CAN output, the prior and the ray tables
     if ((e = cell.configure(cfg)).failed() || (e = cell.configure_robot(cfg, stdout)).failed()) {
         return fail(e);
@@ -328,7 +386,7 @@ int run_monitor(int argc, char** argv) {
     if ((e = cell.build_tables(cfg, stdout)).failed()) {
         return fail(e);
     }
-    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell);
+    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell, cameras);
     std::vector<FrameSource*> sources;
     sources.reserve(owned.size());
     for (const std::unique_ptr<FrameSource>& s : owned) {
@@ -353,19 +411,7 @@ int run_monitor(int argc, char** argv) {
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));
         return 2;
     }
-    std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", loop.controller().prior_crc(),
-                cell.zones.size(), static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles,
-                opt.paced ? ", paced" : "");
-    for (const SensorSettings& sensor : cfg.sensors) {
-        if (!sensor.pcd_files.empty()) {
-            std::printf("input: sensor '%s' from %zu recorded PCD frames\n", sensor.name.c_str(),
-                        sensor.pcd_files.size());
-        }
-    }
-    const RunResult run = run_cycles(loop, cfg.demo_cycles, cfg.period_us, opt.paced, g_stop_signal);
-    const bool log_ok = can.close();
-    loop.write_summary(stdout, run, log_ok);
-    return loop.exit_status(stderr, log_ok);
+    return run_and_report(opt, cfg, cell, can, loop);
 }
 
 }  // namespace

@@ -134,6 +134,13 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
     spec.height = s.height;
     spec.hfov_deg = s.hfov_deg;
     spec.vfov_deg = s.vfov_deg;
+    if (s.intrinsics_source != cell::IntrinsicsSource::kFieldOfView) {  // fx..cy configured or read from the camera
+        if (!(s.fx > 0.0 && s.fy > 0.0)) {
+            error = "line " + std::to_string(s.line) + ": sensor '" + s.name +
+                    "': intrinsics = \"device\" not yet read from the camera";
+        }
+        spec.set_intrinsics(s.fx, s.fy, s.cx, s.cy);
+    }
     spec.max_range = static_cast<float>(s.max_range);
     if (s.has_target) {
         spec.target = s.target;

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The monitor's cycle without the heap (monitor_loop.hpp).
 #include "cellguard/monitor/monitor_loop.hpp"
+#include "cellguard/port/clock.hpp"
 
 #include <algorithm>
 #include <cstdarg>
@@ -28,13 +29,6 @@ ControllerConfig robot_controller_config(const cell::MonitorConfig& cfg, Monitor
     attach_robot(cc, cfg, cell);
     attach_fusion(cc, cfg, cell, runner);
     return cc;
-}
-
-// CLOCK_MONOTONIC in microseconds (the frame loads' duration; the cycle has the controller's clock).
-std::uint64_t monotonic_us() noexcept {
-    timespec t{};
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return static_cast<std::uint64_t>(t.tv_sec) * 1000000U + static_cast<std::uint64_t>(t.tv_nsec) / 1000U;
 }
 
 // Room for the longest status line of @p cfg: the fixed text and numbers,
@@ -132,6 +126,7 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
+      stamps_(cfg.sensors.size(), 0U),
       controller_(robot_controller_config(cfg, cell, runner), cell.frame_grid,
                   {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
                   cell.zones, cell.model, clock, this),
@@ -148,6 +143,7 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
     stats_.cycle_us.assign(recorded, 0U);
     stats_.fuse_us.assign(recorded, 0U);
     stats_.load_us.assign(recorded, 0U);
+    stats_.latency_us.assign(recorded, 0U);
 }
 
 Status MonitorLoop::status() const noexcept {
@@ -157,15 +153,20 @@ Status MonitorLoop::status() const noexcept {
     return output_.status();
 }
 
-bool MonitorLoop::publish(const CycleReport& report) noexcept { return output_.publish(report); }
+bool MonitorLoop::publish(const CycleReport& report) noexcept {
+    const bool sent = output_.publish(report);
+    sent_us_ = linux_port::monotonic_now_us();
+    return sent;
+}
 
 void MonitorLoop::load_frames(int k) noexcept {
     if (!sources_match_) {
         return;  // no input is present: the controller reports every sensor missing
     }
     for (std::size_t s = 0U; s < inputs_.size(); ++s) {
-        if (!sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_) &&
-            out_ != nullptr) {
+        const bool ok = sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_);
+        stamps_[s] = frame_status_.has_stamp ? frame_status_.stamp_us : 0U;
+        if (!ok && out_ != nullptr) {
             static_cast<void>(std::fprintf(out_, "input: cycle %d sensor '%s': frame %s refused: %s\n", k,
                                            cfg_->sensors[s].name.c_str(), frame_status_.file, frame_status_.reason));
         }
@@ -176,26 +177,35 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     if (hook_ != nullptr) {
         hook_->before_cycle(k, static_cast<double>(static_cast<std::uint64_t>(k) * cfg_->period_us) * 1e-6);
     }
-    const std::uint64_t load_start = monotonic_us();
+    const std::uint64_t load_start = linux_port::monotonic_now_us();
     load_frames(k);
-    const std::uint64_t load_us = monotonic_us() - load_start;
+    const std::uint64_t load_us = linux_port::monotonic_now_us() - load_start;
     if (k >= 0 && static_cast<std::size_t>(k) < stats_.load_us.size()) {
         stats_.load_us[static_cast<std::size_t>(k)] = load_us;
     }
     clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
-    for (SensorInput& in : inputs_) {
-        in.captured_us = clock_->base();
+    std::uint64_t newest = 0U;  // the newest live camera frame's capture time (0: none)
+    for (std::size_t s = 0U; s < inputs_.size(); ++s) {
+        inputs_[s].captured_us = stamps_[s] != 0U ? stamps_[s] : clock_->base();
+        newest = std::max(newest, stamps_[s]);
     }
     const CommandPoll command = commands_ != nullptr ? commands_->poll(clock_->base()) : CommandPoll{};
     const std::size_t sent_before = can_->frames_sent();
+    sent_us_ = 0U;
     const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false, command.input);
     count(k, r);
+    if (newest != 0U && sent_us_ != 0U && stats_.latency_count < stats_.latency_us.size()) {
+        stats_.latency_us[stats_.latency_count++] = sent_us_ > newest ? sent_us_ - newest : 0U;
+    }
     const std::size_t frames_per_cycle = r.robot.configured ? 4U : 3U;
     if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != frames_per_cycle) {
         ++stats_.send_failures;
     }
     if (hook_ != nullptr) {
         hook_->after_cycle(r);
+    }
+    if (observer_ != nullptr) {
+        observer_->after_cycle(CycleView{k, &r, controller_.monitor().last().total_us, linux_port::monotonic_now_us()});
     }
     format_status(k, r);
     if (out_ != nullptr) {
@@ -325,6 +335,13 @@ void MonitorLoop::write_timing(std::FILE* out) const noexcept {
                                        "summary: loading the frames (before each cycle, not in its time): median "
                                        "%.2f ms, p99 %.2f ms, max %.2f ms\n",
                                        ms(load.median), ms(load.p99), ms(load.max)));
+        if (stats_.latency_count > 0U) {
+            const DurationFigures latency = duration_figures(stats_.latency_us, stats_.latency_count);
+            static_cast<void>(std::fprintf(out,
+                                           "summary: latency from the newest camera frame's capture to its CAN "
+                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, max %.2f ms\n",
+                                           latency.count, ms(latency.median), ms(latency.p99), ms(latency.max)));
+        }
     } catch (...) {
         static_cast<void>(std::fprintf(out, "summary: cycle time figures: out of memory\n"));
     }

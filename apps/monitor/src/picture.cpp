@@ -1035,11 +1035,11 @@ PictureRobot picture_robot(const cell::MonitorConfig& cfg, const RobotModel& mod
     return r;
 }
 
-bool write_config_picture(const std::string& path, const std::string& title, const cell::MonitorConfig& cfg,
-                          const GridGeometry& grid, const CompiledZones& zones,
-                          const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
-                          const std::string& view_sensor, const PictureRobot* robot, std::string& error) {
-    PictureInput in;
+bool config_picture_input(const std::string& title, const cell::MonitorConfig& cfg, const GridGeometry& grid,
+                          const CompiledZones& zones, const std::vector<sim::SensorSpec>& specs,
+                          Span<const std::int16_t> prior, const std::string& view_sensor, const PictureRobot* robot,
+                          PictureInput& in, std::string& error) {
+    in = PictureInput{};
     in.robot = robot;
     for (const cell::CaseSettings& k : cfg.cases) {
         in.cases.push_back(PictureCase{k.number, k.name, k.zone_mask});
@@ -1068,7 +1068,16 @@ bool write_config_picture(const std::string& path, const std::string& title, con
             return false;
         }
     }
-    return write_png(path, render_config_picture(in), error);
+    return true;
+}
+
+bool write_config_picture(const std::string& path, const std::string& title, const cell::MonitorConfig& cfg,
+                          const GridGeometry& grid, const CompiledZones& zones,
+                          const std::vector<sim::SensorSpec>& specs, Span<const std::int16_t> prior,
+                          const std::string& view_sensor, const PictureRobot* robot, std::string& error) {
+    PictureInput in;
+    return config_picture_input(title, cfg, grid, zones, specs, prior, view_sensor, robot, in, error) &&
+           write_png(path, render_config_picture(in), error);
 }
 
 }  // namespace cellguard::monitor

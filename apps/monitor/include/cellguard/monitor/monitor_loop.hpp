@@ -10,7 +10,9 @@
 ///  1. each sensor's frame of cycle k, loaded once into its source's buffer
 ///     (a refused recorded frame is reported on the status output);
 ///  2. the clock starts the cycle at 1 s + k periods (cycle_clock.hpp); every
-///     frame is stamped with that time;
+///     frame is stamped with that time, except a live camera's, which
+///     carries its capture time (FrameStatus::stamp_us, CLOCK_MONOTONIC: the
+///     monitor runs cameras paced only);
 ///  3. the controller runs and publishes through the CAN safety output,
 ///     which asks the CAN port for its detail faults (a SocketCAN
 ///     interface reads its error frames then; can_port.hpp);
@@ -33,6 +35,7 @@
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/cycle_observer.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
 #include "cellguard/safety/safety_controller.hpp"
@@ -60,7 +63,12 @@ struct MonitorStats {
     std::vector<std::uint64_t> cycle_us;
     std::vector<std::uint64_t> fuse_us;  ///< see cycle_us
     std::vector<std::uint64_t> load_us;  ///< see cycle_us
-    bool released = false;               ///< some cycle did not request the stop
+    /// Per cycle with a live camera: from the newest frame's capture time to
+    /// the moment the cycle's CAN frames were sent (CLOCK_MONOTONIC),
+    /// microseconds; latency_count of them (the first cfg.demo_cycles).
+    std::vector<std::uint64_t> latency_us;
+    std::size_t latency_count = 0U;  ///< see latency_us
+    bool released = false;           ///< some cycle did not request the stop
 };
 
 /// How run_cycles() ended.
@@ -117,6 +125,8 @@ public:
     [[nodiscard]] const char* status_line() const noexcept { return line_.data(); }
     /// The controller.
     [[nodiscard]] const SafetyController& controller() const noexcept { return controller_; }
+    /// Calls @p observer after each complete cycle (nullptr: none); cycle_observer.hpp.
+    void set_observer(CycleObserver* observer) noexcept { observer_ = observer; }
 
     /// The run's summary lines (counts, faults, pacing, sources, CAN) to
     /// @p out; @p log_ok: CanPort::close() succeeded.
@@ -148,9 +158,12 @@ private:
     std::vector<char> line_;           ///< the status line, sized at construction for the longest one
     std::size_t line_length_ = 0U;
     cell::FrameStatus frame_status_{};
+    std::vector<std::uint64_t> stamps_;  ///< per sensor: the capture time its source gave (0: none)
+    std::uint64_t sent_us_ = 0U;         ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
     SafetyController controller_;
     CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC
     MonitorStats stats_{};
+    CycleObserver* observer_ = nullptr;  ///< after each complete cycle (nullptr: none)
 };
 
 /// Runs cycles 0 .. @p cycles - 1 of @p loop; ends early when @p stop

@@ -145,6 +145,13 @@ RgbImage render_config_picture(const PictureInput& input, PictureLayout* layout 
 /// @p scale x @p scale picture pixels; returns the x after the last character.
 int draw_text(RgbImage& image, int x, int y, const std::string& text, PictureColour colour, int scale);
 
+/// The picture's input for the arguments of write_config_picture, into
+/// @p in; false with @p error set when the sensor is unknown.
+bool config_picture_input(const std::string& title, const cell::MonitorConfig& cfg, const GridGeometry& grid,
+                          const CompiledZones& zones, const std::vector<sim::SensorSpec>& specs,
+                          Span<const std::int16_t> prior, const std::string& view_sensor, const PictureRobot* robot,
+                          PictureInput& in, std::string& error);
+
 /// The monitor's --picture: draws the configuration @p cfg (its grid compiled
 /// into @p grid and @p zones, the sensors @p specs, the @p prior in use) as
 /// seen by the sensor named or numbered (from 1) @p view_sensor (empty: the
