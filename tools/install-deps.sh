@@ -16,9 +16,16 @@ set -euo pipefail
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
 # libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
 # python3-canmatrix: the third-party DBC decoder of tools/dbc_decode_check.py (ctest dbc_decoded_by_canmatrix).
+# libaravis-dev (+ libusb-1.0-0-dev, which its pkg-config file needs): the GigE Vision camera input;
+# aravis-tools: arv-fake-gv-camera-0.8, the fake camera of the gige tests; aravis-tools-cli: arv-tool, Aravis's own client, which checks the fake cameras of the tests;
+# libsystemd-dev: the monitor's service notification (Type=notify, watchdog).
+# iproute2: the loopback namespace of tools/netns-run.sh (fake cameras on 127.0.0.2-8).
+# systemd: systemd-analyze verify of the monitor's unit; python3-numpy: the snapshot's .npy read back.
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev python3-canmatrix)
+      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev python3-canmatrix
+      libaravis-dev libusb-1.0-0-dev aravis-tools aravis-tools-cli libsystemd-dev pkg-config iproute2
+      systemd python3-numpy)
 arm64=0
 for arg in "$@"; do
   case "$arg" in

@@ -144,6 +144,10 @@ mkdir -p "$fs"/{bin,proc,sys,dev,tmp,cellguard/bin,lib/modules/cellguard}
 cp "$busybox" "$fs/bin/busybox"
 ln -s busybox "$fs/bin/sh"
 install -m 0755 "$here/init" "$fs/init"
+# The unprivileged run (vcan-test.sh, run 4) starts the monitor as nobody with su.
+mkdir -p "$fs/etc"
+printf 'root:x:0:0:root:/:/bin/sh\nnobody:x:65534:65534:nobody:/nonexistent:/bin/sh\n' > "$fs/etc/passwd"
+printf 'root:x:0:\nnogroup:x:65534:\n' > "$fs/etc/group"
 cp "$work/vcan-cell.toml" "$work/vcan-robot-cell.toml" "$work/vcan-robot-scene.toml" "$work/robot-arm.urdf" \
    "$work/vcan-test.sh" "$fs/cellguard/"
 cp "$work/bin/"* "$fs/cellguard/bin/"

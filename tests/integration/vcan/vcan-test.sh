@@ -37,6 +37,10 @@
 #    cycle SWITCH_AT, nothing from cycle SILENT_AT, and checks the monitor's
 #    frames live (PlcReceiver): commands accepted and their case echoed, the
 #    stop released, then the stop within SCT + 2 T after the PLC fell silent.
+# 4. unprivileged: UNPRIV_CYCLES cycles as user nobody with no capabilities,
+#    as the systemd unit runs it (apps/monitor/systemd: DynamicUser, an empty
+#    CapabilityBoundingSet): the CAN_RAW socket on the interface, which is
+#    up, opens and every frame is sent (needs root and su to start it).
 set -u
 bin=$1
 cfg=$2
@@ -49,7 +53,8 @@ UP_AT=${UP_AT:-41}
 SWITCH_AT=${SWITCH_AT:-8}
 SILENT_AT=${SILENT_AT:-11}
 END_AT=${END_AT:-16}
-RUNS=${RUNS:-normal fault robot}
+UNPRIV_CYCLES=${UNPRIV_CYCLES:-10}
+RUNS=${RUNS:-normal fault robot unprivileged}
 rcfg=$(dirname "$cfg")/vcan-robot-cell.toml
 
 failures=0
@@ -225,6 +230,38 @@ else
     sed 's/^/    /' "$work/robot.plc"
     say "monitor status lines:"
     grep "cycle *[0-9]* robot" "$work/robot.out" | cut -c1-200 | sed 's/^/    | /'
+fi
+;;
+esac
+
+# --- 4. unprivileged: the service's user, no capabilities -------------------
+case " $RUNS " in *" unprivileged "*)
+if [ "$(id -u)" -ne 0 ] || ! command -v su > /dev/null 2>&1; then
+    say "unprivileged run: SKIPPED (needs root and su to start it as nobody)"
+else
+say "unprivileged run: $UNPRIV_CYCLES cycles as user nobody without capabilities"
+# The program and configuration where nobody can read them.
+upriv=$(mktemp -d /tmp/cellguard-unpriv.XXXXXX)
+cp "$bin/cellguard-monitor" "$cfg" "$upriv/"
+chmod 755 "$upriv" "$upriv/cellguard-monitor"
+chmod 644 "$upriv/$(basename "$cfg")"
+start_candump "$work/unpriv.log" -n $((3 * UNPRIV_CYCLES)) || finish
+su -s /bin/sh nobody -c "cd /; grep '^Cap' /proc/self/status; exec '$upriv/cellguard-monitor' --config '$upriv/$(basename "$cfg")' --can-interface '$ifc' --cycles $UNPRIV_CYCLES --quiet --budget-ms 60000" \
+    > "$work/unpriv.out" 2>&1
+rc=$?
+wait_or_interrupt "$candump_pid" 5
+frames=$(wc -l < "$work/unpriv.log")
+grep '^Cap' "$work/unpriv.out" | sed 's/^/    /'
+grep -q '^CapEff:[[:space:]]*0000000000000000$' "$work/unpriv.out" ||
+    { fail "the monitor did not run without capabilities"; show "$work/unpriv.out"; }
+[ $rc -eq 0 ] || { fail "monitor exit status $rc as nobody"; show "$work/unpriv.out"; }
+if [ "$frames" -eq $((3 * UNPRIV_CYCLES)) ]; then
+    say "PASS unprivileged: $frames frames sent as nobody without capabilities"
+else
+    fail "unprivileged run: $frames frames on $ifc, expected $((3 * UNPRIV_CYCLES))"
+    show "$work/unpriv.out"
+fi
+rm -rf "$upriv"
 fi
 ;;
 esac
