@@ -128,6 +128,8 @@ step "tool versions"
     pkg python3-canmatrix "canmatrix (third-party DBC decoder, ctest dbc_decoded_by_canmatrix)"
     pkg liburdfdom-dev "liburdfdom (URDF parser, cellguard-robot and the monitor's robot import)"
     pkg libclang-rt-14-dev "libFuzzer and sanitizers"
+    pkg libaravis-dev "Aravis (GigE Vision cameras, cellguard-monitor and the fake cameras of the tests)"
+    pkg libsystemd-dev "libsystemd (the monitor's service notification)"
 } >"$out/tools.md"
 
 step "static analysis: clang-tidy checks enabled by .clang-tidy"
