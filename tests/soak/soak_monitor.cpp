@@ -11,14 +11,17 @@
 // Checked in every cycle, and counted:
 // - missed deadlines: the controller's cycle took longer than the
 //   configuration's budget (the overrun the controller itself detects and
-//   latches as kCycleOverrun);
+//   latches as kCycleOverrun), split by the cycle thread's CPU time: over
+//   the budget in CPU time is the cycle's own work and fails the soak;
+//   within it, the thread waited for a core (the host's doing: printed, the
+//   controller's overrun report checked, not a failure);
 // - allocations: any heap allocation on the cycle's thread during the cycle
 //   (tests/support/alloc_counter: operator new and glibc malloc);
 // - the work bound: the rays (readings) and the ray method's voxel steps of
 //   the cycle against the cell's compute_work_bound (monitor_cell.hpp);
-// - faults: any fault latched (the demo's scene latches none);
+// - faults: any fault other than an overrun fails (the demo's scene latches none);
 // - decisions: every round of the scene must stop exactly as the first did
-//   (the stop starts in the same cycle of the scene, and lasts as long within
+//   in every round without a latched fault (the stop starts in the same cycle of the scene, and lasts as long within
 //   one cycle: the restart delay runs on the cycle clock, which advances
 //   with real time within a cycle, so its end may fall a cycle later).
 // Printed: the counts, the cycle time's median, p99, p99.99 and maximum
@@ -161,8 +164,10 @@ struct SoakCounts {
     std::uint64_t cycles_that_allocated = 0U;  ///< cycles with a heap allocation on the cycle's thread
     std::uint64_t allocations = 0U;            ///< those allocations
     std::uint64_t over_work_bound = 0U;        ///< cycles whose rays or voxel steps exceeded the bound
-    std::uint64_t faulted_cycles = 0U;         ///< cycles with a fault detected
-    std::uint64_t rounds_that_differ = 0U;     ///< scene rounds whose stop cycles differ from the first round's
+    std::uint64_t faulted_cycles = 0U;         ///< cycles with a fault detected other than a cycle overrun
+    std::uint64_t overrun_cycles = 0U;         ///< cycles that reported the overrun of the cycle before
+    std::uint64_t rounds_that_differ = 0U;     ///< fault-free scene rounds whose stops differ from the reference's
+    std::uint64_t rounds_with_a_fault = 0U;    ///< scene rounds with a fault latched (not compared)
     std::uint64_t stop_cycles = 0U;            ///< cycles with the stop requested
     std::uint64_t most_rays = 0U, most_steps = 0U;
 };
@@ -249,6 +254,7 @@ int main(int argc, char** argv) {
     SoakCounts n;
     const auto scene = static_cast<std::size_t>(o.scene_cycles);
     std::vector<std::uint8_t> first_round(scene, 0U), this_round(scene, 0U);
+    bool round_faulted = false;  // a fault was latched in some cycle of this round
     std::printf("soak_monitor: %ld cycles of %s, %zu sensors, the scene repeating every %ld cycles, budget %.1f ms, "
                 "fusion: %s\n",
                 o.cycles, o.config.empty() ? "the built-in demo" : o.config.c_str(), cfg.sensors.size(),
@@ -276,12 +282,17 @@ int main(int argc, char** argv) {
         n.most_rays = std::max(n.most_rays, rays);
         n.most_steps = std::max(n.most_steps, r.fusion.voxel_updates);
         n.over_work_bound += (rays > bound.rays || (ray_method && r.fusion.voxel_updates > bound.voxel_steps)) ? 1U : 0U;
-        n.faulted_cycles += r.detected_faults != 0U ? 1U : 0U;
+        const std::uint32_t overrun = fault_bit(Fault::kCycleOverrun);
+        n.faulted_cycles += (r.detected_faults & ~overrun) != 0U ? 1U : 0U;
+        n.overrun_cycles += (r.detected_faults & overrun) != 0U ? 1U : 0U;
+        round_faulted = round_faulted || r.safety.latched_faults != 0U;
         n.stop_cycles += r.safety.stop_requested ? 1U : 0U;
         const auto c = static_cast<std::size_t>(k) % scene;
         // The first round includes the start-up interlock; rounds are compared from the second on.
         (k < o.scene_cycles ? first_round : this_round)[c] = r.safety.stop_requested ? 1U : 0U;
-        if (k >= 2 * o.scene_cycles && c + 1U == scene) {
+        if (k >= 2 * o.scene_cycles && c + 1U == scene && round_faulted) {
+            ++n.rounds_with_a_fault;  // a latched fault holds the stop: not the scene's decisions
+        } else if (k >= 2 * o.scene_cycles && c + 1U == scene) {
             if (!same_stops(this_round, first_round) && n.rounds_that_differ++ == 0U) {
                 std::printf("  the round ending in cycle %ld stopped otherwise than the second round (S: stop):\n", k);
                 print_round("this round", this_round);
@@ -289,6 +300,9 @@ int main(int argc, char** argv) {
             }
         } else if (k >= o.scene_cycles && c + 1U == scene) {
             first_round = this_round;  // the second round is the reference (the first starts interlocked)
+        }
+        if (c + 1U == scene) {
+            round_faulted = false;
         }
         if (o.progress > 0 && (k + 1) % o.progress == 0) {
             std::printf("  %ld cycles: max %.2f ms, missed %llu (by CPU time %llu), allocating %llu, over bound %llu, "
@@ -322,14 +336,29 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(n.most_rays), static_cast<unsigned long long>(n.most_steps),
                 ray_method ? "" : " (footprint: voxel steps not compared)",
                 static_cast<unsigned long long>(n.over_work_bound));
-    std::printf("cycles with a fault: %llu; stop requested in %llu cycles; scene rounds whose stop starts in "
-                "another cycle or lasts otherwise (more than one cycle) than in the second round: %llu\n",
-                static_cast<unsigned long long>(n.faulted_cycles), static_cast<unsigned long long>(n.stop_cycles),
-                static_cast<unsigned long long>(n.rounds_that_differ));
+    std::printf("cycles with a fault other than an overrun: %llu; cycles that reported an overrun: %llu; stop "
+                "requested in %llu cycles\n",
+                static_cast<unsigned long long>(n.faulted_cycles), static_cast<unsigned long long>(n.overrun_cycles),
+                static_cast<unsigned long long>(n.stop_cycles));
+    std::printf("scene rounds whose stop starts in another cycle or lasts otherwise (more than one cycle) than in the "
+                "second round: %llu; rounds not compared because a fault was latched in them: %llu\n",
+                static_cast<unsigned long long>(n.rounds_that_differ),
+                static_cast<unsigned long long>(n.rounds_with_a_fault));
     std::printf("CAN frames encoded: %zu; peak resident memory %.1f MiB; load average %.1f at the end\n", sender.frames,
                 peak_rss_mib(), load_average());
-    const bool ok = n.missed_deadlines == 0U && n.cycles_that_allocated == 0U && n.over_work_bound == 0U &&
-                    n.faulted_cycles == 0U && n.rounds_that_differ == 0U && n.stop_cycles > 0U;
+    // Failures: a cycle whose own work (CPU time) exceeded the budget, an allocation, work over the
+    // bound, a fault other than an overrun, a fault-free round that decided otherwise, no stop at all,
+    // or a wall-clock overrun the controller did not report. A wall-clock overrun with the cycle's CPU
+    // time within the budget is the host's (a wait for a core): counted and printed, and the
+    // controller's reaction (kCycleOverrun, the stop) is checked, but it does not fail the soak.
+    const bool ok = n.missed_by_cpu == 0U && n.cycles_that_allocated == 0U && n.over_work_bound == 0U &&
+                    n.faulted_cycles == 0U && n.rounds_that_differ == 0U && n.stop_cycles > 0U &&
+                    n.overrun_cycles >= n.missed_deadlines;
+    if (n.missed_deadlines > n.missed_by_cpu) {
+        std::printf("soak: %llu wall-clock overruns with the cycle's CPU time within the budget: the host's, each "
+                    "reported by the controller as kCycleOverrun (the stop)\n",
+                    static_cast<unsigned long long>(n.missed_deadlines - n.missed_by_cpu));
+    }
     std::printf("soak: %s\n", ok ? "PASS" : "FAIL");
     return ok ? 0 : 1;
 }
