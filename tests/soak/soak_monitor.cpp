@@ -124,9 +124,10 @@ bool parse(int argc, char** argv, Options& o) {
             o.config = argv[++i];
             continue;
         }
-        long* target = a == "--cycles" ? &o.cycles : a == "--scene-cycles" ? &o.scene_cycles
-                                                   : a == "--progress"     ? &o.progress
-                                                                           : nullptr;
+        long* target = a == "--cycles"         ? &o.cycles
+                       : a == "--scene-cycles" ? &o.scene_cycles
+                       : a == "--progress"     ? &o.progress
+                                               : nullptr;
         if (target == nullptr || !has_value) {
             return false;
         }
@@ -255,10 +256,11 @@ int main(int argc, char** argv) {
     const auto scene = static_cast<std::size_t>(o.scene_cycles);
     std::vector<std::uint8_t> first_round(scene, 0U), this_round(scene, 0U);
     bool round_faulted = false;  // a fault was latched in some cycle of this round
-    std::printf("soak_monitor: %ld cycles of %s, %zu sensors, the scene repeating every %ld cycles, budget %.1f ms, "
-                "fusion: %s\n",
-                o.cycles, o.config.empty() ? "the built-in demo" : o.config.c_str(), cfg.sensors.size(),
-                o.scene_cycles, static_cast<double>(cfg.budget_us) / 1000.0, ray_method ? "ray tables" : "footprint");
+    std::printf(
+        "soak_monitor: %ld cycles of %s, %zu sensors, the scene repeating every %ld cycles, budget %.1f ms, "
+        "fusion: %s\n",
+        o.cycles, o.config.empty() ? "the built-in demo" : o.config.c_str(), cfg.sensors.size(), o.scene_cycles,
+        static_cast<double>(cfg.budget_us) / 1000.0, ray_method ? "ray tables" : "footprint");
     std::fflush(stdout);
     for (long k = 0; k < o.cycles; ++k) {
         const test::ThreadAllocationScope scope;
@@ -281,7 +283,8 @@ int main(int argc, char** argv) {
         const std::uint64_t rays = static_cast<std::uint64_t>(r.fusion.rays_fused) + r.fusion.skipped();
         n.most_rays = std::max(n.most_rays, rays);
         n.most_steps = std::max(n.most_steps, r.fusion.voxel_updates);
-        n.over_work_bound += (rays > bound.rays || (ray_method && r.fusion.voxel_updates > bound.voxel_steps)) ? 1U : 0U;
+        n.over_work_bound += (rays > bound.rays || (ray_method && r.fusion.voxel_updates > bound.voxel_steps)) ? 1U
+                                                                                                               : 0U;
         const std::uint32_t overrun = fault_bit(Fault::kCycleOverrun);
         n.faulted_cycles += (r.detected_faults & ~overrun) != 0U ? 1U : 0U;
         n.overrun_cycles += (r.detected_faults & overrun) != 0U ? 1U : 0U;
@@ -305,14 +308,13 @@ int main(int argc, char** argv) {
             round_faulted = false;
         }
         if (o.progress > 0 && (k + 1) % o.progress == 0) {
-            std::printf("  %ld cycles: max %.2f ms, missed %llu (by CPU time %llu), allocating %llu, over bound %llu, "
-                        "faulted %llu\n",
-                        k + 1, static_cast<double>(histogram->max_us()) / 1000.0,
-                        static_cast<unsigned long long>(n.missed_deadlines),
-                        static_cast<unsigned long long>(n.missed_by_cpu),
-                        static_cast<unsigned long long>(n.cycles_that_allocated),
-                        static_cast<unsigned long long>(n.over_work_bound),
-                        static_cast<unsigned long long>(n.faulted_cycles));
+            std::printf(
+                "  %ld cycles: max %.2f ms, missed %llu (by CPU time %llu), allocating %llu, over bound %llu, "
+                "faulted %llu\n",
+                k + 1, static_cast<double>(histogram->max_us()) / 1000.0,
+                static_cast<unsigned long long>(n.missed_deadlines), static_cast<unsigned long long>(n.missed_by_cpu),
+                static_cast<unsigned long long>(n.cycles_that_allocated),
+                static_cast<unsigned long long>(n.over_work_bound), static_cast<unsigned long long>(n.faulted_cycles));
             std::fflush(stdout);
         }
     }
@@ -321,29 +323,31 @@ int main(int argc, char** argv) {
     std::printf("cycle time over %ld cycles: median %.2f ms, p99 %.2f ms, p99.99 %.2f ms, max %.2f ms (10 us bins)\n",
                 o.cycles, ms(histogram->quantile_us(0.5)), ms(histogram->quantile_us(0.99)),
                 ms(histogram->quantile_us(0.9999)), ms(static_cast<double>(histogram->max_us())));
-    std::printf("missed deadlines (cycle > budget %.1f ms, wall clock): %llu; of those, over the budget in the "
-                "thread's own CPU time: %llu (the most CPU time among them: %.2f ms); the most CPU time of any "
-                "cycle, loading its frames included: %.2f ms\n",
-                static_cast<double>(cfg.budget_us) / 1000.0, static_cast<unsigned long long>(n.missed_deadlines),
-                static_cast<unsigned long long>(n.missed_by_cpu), static_cast<double>(n.missed_worst_cpu_us) / 1000.0,
-                static_cast<double>(n.worst_cpu_us) / 1000.0);
+    std::printf(
+        "missed deadlines (cycle > budget %.1f ms, wall clock): %llu; of those, over the budget in the "
+        "thread's own CPU time: %llu (the most CPU time among them: %.2f ms); the most CPU time of any "
+        "cycle, loading its frames included: %.2f ms\n",
+        static_cast<double>(cfg.budget_us) / 1000.0, static_cast<unsigned long long>(n.missed_deadlines),
+        static_cast<unsigned long long>(n.missed_by_cpu), static_cast<double>(n.missed_worst_cpu_us) / 1000.0,
+        static_cast<double>(n.worst_cpu_us) / 1000.0);
     std::printf("cycles that allocated: %llu (%llu allocations)\n",
                 static_cast<unsigned long long>(n.cycles_that_allocated),
                 static_cast<unsigned long long>(n.allocations));
-    std::printf("work bound: rays %llu, voxel steps %llu; most in a cycle: rays %llu, voxel steps %llu%s; "
-                "cycles over it: %llu\n",
-                static_cast<unsigned long long>(bound.rays), static_cast<unsigned long long>(bound.voxel_steps),
-                static_cast<unsigned long long>(n.most_rays), static_cast<unsigned long long>(n.most_steps),
-                ray_method ? "" : " (footprint: voxel steps not compared)",
-                static_cast<unsigned long long>(n.over_work_bound));
-    std::printf("cycles with a fault other than an overrun: %llu; cycles that reported an overrun: %llu; stop "
-                "requested in %llu cycles\n",
-                static_cast<unsigned long long>(n.faulted_cycles), static_cast<unsigned long long>(n.overrun_cycles),
-                static_cast<unsigned long long>(n.stop_cycles));
-    std::printf("scene rounds whose stop starts in another cycle or lasts otherwise (more than one cycle) than in the "
-                "second round: %llu; rounds not compared because a fault was latched in them: %llu\n",
-                static_cast<unsigned long long>(n.rounds_that_differ),
-                static_cast<unsigned long long>(n.rounds_with_a_fault));
+    std::printf(
+        "work bound: rays %llu, voxel steps %llu; most in a cycle: rays %llu, voxel steps %llu%s; "
+        "cycles over it: %llu\n",
+        static_cast<unsigned long long>(bound.rays), static_cast<unsigned long long>(bound.voxel_steps),
+        static_cast<unsigned long long>(n.most_rays), static_cast<unsigned long long>(n.most_steps),
+        ray_method ? "" : " (footprint: voxel steps not compared)", static_cast<unsigned long long>(n.over_work_bound));
+    std::printf(
+        "cycles with a fault other than an overrun: %llu; cycles that reported an overrun: %llu; stop "
+        "requested in %llu cycles\n",
+        static_cast<unsigned long long>(n.faulted_cycles), static_cast<unsigned long long>(n.overrun_cycles),
+        static_cast<unsigned long long>(n.stop_cycles));
+    std::printf(
+        "scene rounds whose stop starts in another cycle or lasts otherwise (more than one cycle) than in the "
+        "second round: %llu; rounds not compared because a fault was latched in them: %llu\n",
+        static_cast<unsigned long long>(n.rounds_that_differ), static_cast<unsigned long long>(n.rounds_with_a_fault));
     std::printf("CAN frames encoded: %zu; peak resident memory %.1f MiB; load average %.1f at the end\n", sender.frames,
                 peak_rss_mib(), load_average());
     // Failures: a cycle whose own work (CPU time) exceeded the budget, an allocation, work over the
@@ -355,9 +359,10 @@ int main(int argc, char** argv) {
                     n.faulted_cycles == 0U && n.rounds_that_differ == 0U && n.stop_cycles > 0U &&
                     n.overrun_cycles >= n.missed_deadlines;
     if (n.missed_deadlines > n.missed_by_cpu) {
-        std::printf("soak: %llu wall-clock overruns with the cycle's CPU time within the budget: the host's, each "
-                    "reported by the controller as kCycleOverrun (the stop)\n",
-                    static_cast<unsigned long long>(n.missed_deadlines - n.missed_by_cpu));
+        std::printf(
+            "soak: %llu wall-clock overruns with the cycle's CPU time within the budget: the host's, each "
+            "reported by the controller as kCycleOverrun (the stop)\n",
+            static_cast<unsigned long long>(n.missed_deadlines - n.missed_by_cpu));
     }
     std::printf("soak: %s\n", ok ? "PASS" : "FAIL");
     return ok ? 0 : 1;

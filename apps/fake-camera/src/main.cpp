@@ -290,9 +290,10 @@ void serve(const Options& o, fake_camera::ScenarioClock& clock, std::vector<std:
         if (g_start != 0 && !started) {
             started = true;
             const auto now = std::chrono::steady_clock::now().time_since_epoch();
-            const auto now_ns = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
+            const auto now_ns = static_cast<std::uint64_t>(
+                std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
             clock.start(now_ns);
-            for (auto& s : served) {
+            for (const auto& s : served) {
                 s->camera->arm_faults();
             }
             std::printf("scenario started at t=%.3fs\n", static_cast<double>(now_ns) * 1e-9);
