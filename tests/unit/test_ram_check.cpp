@@ -224,3 +224,14 @@ TEST_CASE("ram check: making and stepping a check allocates nothing") {
     CHECK(scope.allocations() == 0U);
     CHECK_FALSE(failed);
 }
+
+// verifies: SR-CTRL-007
+TEST_CASE("ram check: a region at the same address but of another size is not a region the check reads") {
+    Regions r;
+    const SignatureCheck check(r.list());
+    std::array<SignatureRegion, kRegionSizes.size()> resized = r.views;
+    resized[2] = SignatureRegion(r.bytes[2].data(), r.bytes[2].size() - 1U);
+    CHECK_FALSE(check.reads(Span<const SignatureRegion>(resized.data(), resized.size())));
+    resized[2] = r.views[2];
+    CHECK(check.reads(Span<const SignatureRegion>(resized.data(), resized.size())));
+}

@@ -9,6 +9,7 @@
 
 #include "cellguard/safety/robot_command.hpp"
 #include "cellguard/safety/safety_logic.hpp"
+#include "contract_capture.hpp"
 #include "enum_names.hpp"
 
 using namespace cellguard;
@@ -322,4 +323,25 @@ TEST_CASE("safety logic: a speed request outside the enumeration is a stop") {
 // verifies: SR-GEN-004
 TEST_CASE("safety logic: every fault has its own name, and a code outside the enumeration is named unknown fault") {
     test::check_enum_names<Fault>(kFaultCount, "unknown fault");
+}
+
+// verifies: SR-LOGIC-008
+TEST_CASE("safety logic: zone results for another number of zones are a fault, all active zones not clear") {
+    Cell c;
+    SafetyLogic logic(config(0U, false), c.zones);
+    c.eval.count = 3U;  // the compiled zones are 2
+    const SafetyOutputs o = c.step(logic);
+    CHECK(o.stop_requested);
+    CHECK((o.latched_faults & fault_bit(Fault::kZoneEvaluation)) != 0U);
+    CHECK(o.fault_zone_mask == 0x3U);
+    CHECK(o.intruded_mask == 0U);
+}
+
+// verifies: SR-LOGIC-005, SR-GEN-003
+TEST_CASE("safety logic: a fault recovery of 0 cycles is a contract violation") {
+    Cell c;
+    CHECK_FALSE(test::violates_contract([&] { const SafetyLogic ok_logic(config(0U, false), c.zones); }));
+    SafetyLogicConfig zero = config(0U, false);
+    zero.fault_recovery_cycles = 0U;
+    CHECK(test::violates_contract([&] { const SafetyLogic refused(zero, c.zones); }));
 }

@@ -7,6 +7,27 @@ namespace cellguard {
 SafetyLogic::SafetyLogic(const SafetyLogicConfig& config, const CompiledZones& zones) noexcept
     : config_(config), zones_(&zones) {
     CG_ENFORCE(config.fault_recovery_cycles >= 1U, "fault_recovery_cycles must be at least 1");
+    seal_.seal(state_crc());
+}
+
+std::uint32_t SafetyLogic::state_crc() const noexcept {
+    Crc32 crc;
+    seal_add(crc, config_.restart_delay_us);
+    seal_add(crc, config_.reset_required);
+    seal_add(crc, config_.fault_recovery_cycles);
+    seal_add(crc, zones_);
+    seal_add(crc, latched_);
+    for (const std::uint32_t c : clean_cycles_) {
+        seal_add(crc, c);
+    }
+    seal_add(crc, have_time_);
+    seal_add(crc, last_now_us_);
+    seal_add(crc, zone_stop_);
+    seal_add(crc, clear_running_);
+    seal_add(crc, clear_since_us_);
+    seal_add(crc, last_reset_);
+    seal_add(crc, state_failed_);
+    return crc.value();
 }
 
 std::uint32_t SafetyLogic::latch_faults(const SafetyInputs& in) noexcept {
@@ -60,7 +81,23 @@ void SafetyLogic::step_interlock(bool protective_clear, bool reset_input, std::u
 }
 
 SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
-    SafetyOutputs out;
+    SafetyOutputs out;  // the safe state
+    if (state_failed_ || !seal_.matches(state_crc())) {
+        // The state or the configuration copy changed since the last step
+        // (H-MEM-3): latch kInternalCheck and stop, reading neither the zones'
+        // pointer nor the configuration, which may be the corrupted part.
+        state_failed_ = true;  // from now on only this path: the state is not trusted again
+        latched_ |= fault_bit(Fault::kInternalCheck);
+        zone_stop_ = true;
+        clear_running_ = false;
+        out.latched_faults = latched_;
+        out.fault_zone_mask = in.active_zones;
+        out.interlock_holding = false;
+        out.reduced_speed = true;
+        out_ = out;
+        seal_.seal(state_crc());
+        return out;
+    }
     out.latched_faults = latch_faults(in);
     const bool faulted = out.latched_faults != 0U;
     const std::uint32_t active = in.active_zones & all_zone_bits(zones_->size());
@@ -97,6 +134,7 @@ SafetyOutputs SafetyLogic::step(const SafetyInputs& in) noexcept {
     out.stop_requested = zone_stop_ || out.separation_stop;
     out.interlock_holding = out.interlock_holding && !out.separation_stop;
     out_ = out;
+    seal_.seal(state_crc());
     return out;
 }
 

@@ -142,6 +142,41 @@ private:
 /// 8 x 256 entries are intact. Work: 8 x 256 x 8 bit steps.
 [[nodiscard]] bool crc32_table_self_test(const Crc32Table& table = kCrc32Table) noexcept;
 
+/// The same test over the byte values [@p first, @p first + @p count) of
+/// every slice (all 8 entries of each; the range is clipped at 256): true
+/// when those 8 x count entries are intact. crc32_table_self_test is this
+/// over [0, 256).
+[[nodiscard]] bool crc32_table_entries_intact(const Crc32Table& table, std::uint32_t first,
+                                              std::uint32_t count) noexcept;
+
+/// The run-time test of the CRC-32 tables (hazard H-MEM-2): the start-up
+/// self-test spread over the cycles. Each step() tests the next
+/// @p values_per_step byte values (8 entries each) against the bitwise
+/// definition, so it does not depend on the tables it tests; a pass covers
+/// all 256 values in ceil(256 / values_per_step) steps. An entry corrupted
+/// at any time is found by the step that next tests it: within
+/// steps_per_pass() steps. The verdict latches. Holds a pointer and counters.
+class Crc32TableCheck {
+public:
+    /// A check of @p table (it must outlive the check; default: the tables every CRC here uses).
+    explicit Crc32TableCheck(const Crc32Table& table = kCrc32Table) noexcept : table_(&table) {}
+    /// Tests the next @p values_per_step (1..256: contract) byte values; true once any test failed.
+    [[nodiscard]] bool step(std::uint32_t values_per_step) noexcept;
+    /// True once a step has found a corrupted entry (latched).
+    [[nodiscard]] bool failed() const noexcept { return failed_; }
+    /// The tables under test.
+    [[nodiscard]] const Crc32Table* table() const noexcept { return table_; }
+    /// The byte value the next step starts at.
+    [[nodiscard]] std::uint32_t position() const noexcept { return next_; }
+    /// Steps of @p values_per_step (1..256: contract) per pass over all 256 values.
+    [[nodiscard]] static std::uint32_t steps_per_pass(std::uint32_t values_per_step) noexcept;
+
+private:
+    const Crc32Table* table_;
+    std::uint32_t next_ = 0U;
+    bool failed_ = false;
+};
+
 }  // namespace cellguard
 
 #endif  // CELLGUARD_CRC32_HPP

@@ -38,11 +38,18 @@
 ///   latched and go through the interlock as before. Any request other than
 ///   kFull sets reduced_speed (a stop also asks for at most reduced speed);
 ///   any value outside the enumeration counts as kProtectiveStop.
+/// - Its own state is sealed (state_seal.hpp, hazard H-MEM-3): the latches,
+///   the recovery counters, the interlock's timer and flags, the clock
+///   reference and its copy of the configuration are CRC'd at the end of
+///   each step and compared at the start of the next; a mismatch latches
+///   kInternalCheck (non-recoverable) in that step, which then requests the
+///   stop without reading its zones or configuration (every active zone FAULT).
 #ifndef CELLGUARD_SAFETY_LOGIC_HPP
 #define CELLGUARD_SAFETY_LOGIC_HPP
 
 #include <cstdint>
 
+#include "cellguard/base/state_seal.hpp"
 #include "cellguard/safety/faults.hpp"
 #include "cellguard/safety/robot_command.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
@@ -96,7 +103,13 @@ public:
     /// The last outputs.
     [[nodiscard]] const SafetyOutputs& outputs() const noexcept { return out_; }
 
+    /// CRC-32 of the sealed fields as they are now (see the file comment;
+    /// public for the benchmark of its cost).
+    [[nodiscard]] std::uint32_t state_crc() const noexcept;
+
 private:
+    friend struct SafetyLogicTestAccess;  ///< tests corrupt the sealed fields (tests/support)
+
     std::uint32_t latch_faults(const SafetyInputs& in) noexcept;
     void step_interlock(bool protective_clear, bool reset_input, std::uint64_t now_us, SafetyOutputs& out) noexcept;
 
@@ -111,6 +124,8 @@ private:
     bool clear_running_ = false;
     std::uint64_t clear_since_us_ = 0U;
     bool last_reset_ = false;
+    bool state_failed_ = false;  ///< the seal failed once: every later step is the stop (latched)
+    StateSeal seal_{};           ///< state_crc() at the end of the last step (or construction)
 };
 
 }  // namespace cellguard
