@@ -187,6 +187,19 @@ TEST_CASE("command receiver: a late part, a late sample and silence make the com
     }
 }
 
+// verifies: SR-CMD-004
+TEST_CASE("command receiver: an inverted copy in time for its part but after the sample window is incomplete") {
+    Link link;
+    (void)link.bring_up();
+    const CommandFrames s = link.next();
+    const std::uint64_t start = link.now + kPeriodUs;
+    (void)link.deliver_frames(s, 0U, 4U, start);
+    // The last part just inside the window, its copy just outside it (well within the SRVT of the part).
+    CHECK(link.deliver(s.frame[4], start + link.config.sample_window_us - 10U).fault == CommandFault::kNone);
+    REQUIRE(link.config.srvt_us > 20U);
+    check_invalid(link.deliver(s.frame[5], start + link.config.sample_window_us + 1U), CommandFault::kSampleIncomplete);
+}
+
 // verifies: SR-CMD-005
 TEST_CASE("command receiver: a repeated sample or a repeated part makes the command invalid") {
     SUBCASE("the same six frames again") {
@@ -447,4 +460,22 @@ TEST_CASE("command receiver: a configuration is checked, and an invalid one cann
     CHECK_FALSE(CommandReceiver::check_config(c).ok());
     CHECK(test::violates_contract([&] { const CommandReceiver r(c); }));
     test::check_enum_names<CommandFault>(18U, "unknown command fault");
+}
+
+// verifies: SR-CMD-003, SR-CMD-004
+TEST_CASE("command receiver: a part or copy of another length makes the command invalid") {
+    for (std::size_t frame = 0U; frame < 6U; ++frame) {
+        for (const std::uint8_t dlc : {std::uint8_t{7U}, std::uint8_t{0U}}) {
+            CAPTURE(frame);
+            CAPTURE(dlc);
+            Link link;
+            REQUIRE(link.bring_up() == 3);
+            CommandFrames s = link.next();
+            s.frame[frame].dlc = dlc;
+            (void)link.deliver_frames(s, 0U, 6U, link.now + kPeriodUs);
+            CHECK(link.receiver.status().fault_events == 1U);
+            const bool part = frame % 2U == 0U;
+            check_invalid(link, part ? CommandFault::kWrongLength : CommandFault::kInvertedCopyMismatch);
+        }
+    }
 }

@@ -126,6 +126,9 @@ public:
 
     /// The status now, without a time check.
     [[nodiscard]] CommandStatus status() const noexcept;
+    /// The last good sample (its counter and receive time; valid false before
+    /// the first), whether or not recovery is complete: the clock-rate check's input.
+    [[nodiscard]] const CommandInput& last_sample() const noexcept { return input_; }
     /// The configuration in use.
     [[nodiscard]] const CommandReceiverConfig& config() const noexcept { return config_; }
 
