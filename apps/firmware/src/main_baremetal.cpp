@@ -11,37 +11,9 @@
 #include "cellguard/port/can.hpp"
 #include "cellguard/port/clock.hpp"
 #include "cellguard/port/semihosting.hpp"
-
-extern "C" {
-// NOLINTNEXTLINE(bugprone-reserved-identifier,cert-dcl37-c,cert-dcl51-cpp,cppcoreguidelines-avoid-non-const-global-variables): defined by the linker script
-extern std::uint32_t __stack_bottom;
-}
+#include "cellguard/port/stack.hpp"
 
 namespace {
-
-constexpr std::uint32_t kStackPaint = 0x5AFE57ACU;
-
-/// Fills the unused stack below @p in_use (an address in the current frame) with kStackPaint.
-void paint_stack(const volatile std::uint32_t* in_use) noexcept {
-    // cppcheck-suppress comparePointers ; the stack region from the linker script
-    // NOLINTNEXTLINE(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
-    for (volatile std::uint32_t* p = &__stack_bottom; p + 64 < in_use; ++p) {
-        *p = kStackPaint;
-    }
-}
-
-/// Bytes of stack below @p in_use that were written since paint_stack.
-std::uint32_t stack_used_below(const volatile std::uint32_t* in_use) noexcept {
-    const volatile std::uint32_t* p = &__stack_bottom;
-    // cppcheck-suppress comparePointers ; the stack region from the linker script
-    while (p < in_use && *p == kStackPaint) {
-        ++p;  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic): linker-defined region
-    }
-    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): address difference
-    return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(in_use) -
-                                      // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): address difference
-                                      reinterpret_cast<std::uintptr_t>(p));
-}
 
 /// The MPS2 FPGA images run the processor at 25 MHz.
 constexpr std::uint32_t kCpuHz = 25000000U;
@@ -73,8 +45,10 @@ void write_run_timing(cellguard::firmware::TextSink& text, const char* run, std:
 }  // namespace
 
 extern "C" int cellguard_firmware_main() noexcept {
-    volatile std::uint32_t frame_marker = 0U;  // this frame's address: the stack in use so far
-    paint_stack(&frame_marker);
+    // The stack below this frame painted; every controller checks its guard band each cycle.
+    cellguard::baremetal::StackMonitor stack;  // in this frame: above the painting, alive for every run
+    const bool stack_painted = stack.start().ok();
+    cellguard::firmware::set_stack_check(stack_painted ? &stack.paint() : nullptr);
     SemihostingText text;
     text.write("cellguard firmware: mps2-an500 Cortex-M7, canned run\n");
     if (!cellguard::crc32_table_self_test()) {
@@ -99,12 +73,11 @@ extern "C" int cellguard_firmware_main() noexcept {
     cellguard::firmware::format_decimal(elapsed, us);
     text.write("run time (SysTick, us): ");
     text.write(us);
-    char stack[21];
-    cellguard::firmware::format_decimal(stack_used_below(&frame_marker), stack);
-    text.write("\nstack used below main's frame (bytes): ");
-    text.write(stack);
-    text.write("\n");
-    return s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles && r.setup_ok &&
+    write_us(text,
+             "\nstack used below main's frame (bytes, high-water mark of the painting): ", stack.high_water_bytes());
+    write_us(text, " of ", stack.paint().region_bytes());
+    text.write(stack_painted && stack.paint().guard_intact() ? ", guard band intact\n" : ", guard band NOT intact\n");
+    return stack_painted && s.setup_ok && s.cycles == cellguard::firmware::kScenarioCycles && r.setup_ok &&
                    r.cycles == cellguard::firmware::kRobotScenarioCycles && f.setup_ok &&
                    f.cycles == cellguard::firmware::kScenarioCycles
                ? 0

@@ -121,10 +121,22 @@ std::array<ZoneConfig, kScenarioZones> scenario_zone_configs() noexcept {
     return {protective, warning};
 }
 
+namespace {
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): set once by main, before the runs
+const StackPaint* g_stack_check = nullptr;
+// NOLINTNEXTLINE(cppcoreguidelines-avoid-non-const-global-variables): set once by main, before the runs
+std::uint64_t g_restart_delay_us = 0U;
+}  // namespace
+
+void set_stack_check(const StackPaint* paint) noexcept { g_stack_check = paint; }
+
+void set_restart_delay(std::uint64_t delay_us) noexcept { g_restart_delay_us = delay_us; }
+
 ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept {
     ControllerConfig config;
+    config.stack = g_stack_check;
     config.sensor_count = sensor_count;
-    config.logic.restart_delay_us = 0U;  // the interlock is not under test here
+    config.logic.restart_delay_us = g_restart_delay_us;  // 0 unless set: the interlock is not under test here
     config.logic.fault_recovery_cycles = 2U;
     config.cycle_budget_us = 10000000U;  // generous: timing must not change the results
     return config;

@@ -74,11 +74,22 @@ constexpr std::size_t kScenarioZones = 2U;
 [[nodiscard]] std::array<ZoneConfig, kScenarioZones> scenario_zone_configs() noexcept;
 
 /// The scenario's controller configuration for @p sensor_count sensors: no
-/// restart delay (the interlock is not under test), recovery from a fault
+/// restart delay unless set_restart_delay() gave one (the interlock is not
+/// under test in the canned run), recovery from a fault
 /// after 2 good cycles, and a generous 10 s cycle budget, so that timing
 /// cannot change the results. The host tests of the SafetyController start
 /// from it.
 [[nodiscard]] ControllerConfig scenario_controller_config(std::size_t sensor_count) noexcept;
+
+/// The painted stack every later scenario_controller_config() hands its
+/// controller (ControllerConfig::stack); nullptr (the default): none.
+void set_stack_check(const StackPaint* paint) noexcept;
+
+/// The restart delay every later scenario_controller_config() gives its
+/// controller (ControllerLogicConfig::restart_delay_us; default 0, the
+/// canned run's). A delay above 0 makes every start, a watchdog's reset
+/// included, begin with the stop requested (SR-LOGIC-001).
+void set_restart_delay(std::uint64_t delay_us) noexcept;
 
 /// Runs the script: prints one line per cycle ("cycle N ...") and a last
 /// line "digest 0x%08x" to @p text, sends every cycle's CAN frames through
