@@ -64,6 +64,7 @@ data_id_mode = \"both\"
 period_ms = 100
 budget_ms = 100
 max_frame_age_ms = 200
+background_match = 0
 [restart_interlock]
 delay_ms = 500
 reset_required = false

@@ -109,3 +109,36 @@ TEST_CASE(
         CHECK(m.value().matching == matching);
     }
 }
+
+// verifies: SR-BKG-003
+TEST_CASE("background check: pixels deeper than the reference by more than the tolerance are counted, in both paths") {
+    const float kinds[] = {1.0F, 1.0625F, 1.07F, 0.9F, 3.0F, 0.0F, -1.0F, kNaN, kInf, 1e-30F, 99.0F};
+    constexpr std::size_t n_kinds = sizeof(kinds) / sizeof(kinds[0]);
+    BackgroundReference r;
+    r.tolerance_m = 0.0625F;  // 1.0 + 0.0625 is exactly on the edge: not longer
+    for (std::size_t len = 0; len <= 23; ++len) {
+        std::vector<float> ref(len);
+        std::vector<float> live(len);
+        std::uint32_t longer = 0U;
+        for (std::size_t i = 0; i < len; ++i) {
+            ref[i] = (i % 7U == 6U) ? kinds[(i * 3U) % n_kinds] : 1.0F;
+            live[i] = kinds[(i * 5U + len) % n_kinds];
+            const bool r_ok = std::isfinite(ref[i]) && ref[i] > 0.0F;
+            const bool d_ok = std::isfinite(live[i]) && live[i] > 0.0F;
+            longer += (r_ok && d_ok && live[i] - ref[i] > r.tolerance_m) ? 1U : 0U;
+        }
+        r.depth = Span<const float>(ref.data(), ref.size());
+        const Result<BackgroundMatch> m = match_background(Span<const float>(live.data(), live.size()), r);
+        CAPTURE(len);
+        REQUIRE(m.ok());
+        CHECK(m.value().longer == longer);
+    }
+    // A person (shorter) or a missing reading is never longer; the limit is "more than".
+    const std::vector<float> ref = {2.0F, 2.0F, 2.0F, 2.0F, 2.0F};
+    const std::vector<float> live = {1.0F, kNaN, 0.0F, 2.5F, 2.0625F};
+    r.depth = Span<const float>(ref.data(), ref.size());
+    const BackgroundMatch m = match_background(Span<const float>(live.data(), live.size()), r).value();
+    CHECK(m.longer == 1U);
+    CHECK(background_changed(m, 0U));
+    CHECK_FALSE(background_changed(m, 1U));
+}

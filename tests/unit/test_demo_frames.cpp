@@ -23,7 +23,7 @@ namespace {
 
 /// The simulated source's frame of @p cycle, in units of @p scale after @p offset, computed here.
 std::vector<std::uint16_t> expected(const sim::SensorSpec& spec, std::uint64_t cycle, double scale, double offset) {
-    cell::SimulatedFrameSource source(spec);
+    cell::SimulatedFrameSource source(spec, cell::FrameDither::kOff);  // as DemoFrames renders
     SensorReading reading;
     cell::FrameStatus status;
     REQUIRE(source.load_frame(cycle, reading, status));

@@ -62,10 +62,12 @@ TEST_CASE("monitor config: the example paper-cell.toml and the built-in demo loa
     CHECK(c.zones[1].zone.shape == ZoneShape::kPrism);
     CHECK(c.zones[1].zone.polygon_size == 4U);
     CHECK(c.zones[0].zone.max_unseen_voxels == 20U);
-    CHECK(c.table_check_bytes == 262144U);
-    CHECK(c.max_repeated_frames == 0U);
+    CHECK(c.table_check_bytes == 1048576U);
+    CHECK(c.max_repeated_frames == 3U);
     CHECK(c.zone_check_bytes == 16384U);
-    CHECK(c.background_match == 0.0F);
+    CHECK(c.background_match == 0.5F);
+    CHECK(c.background_changed_pixels == 20U);
+    CHECK(c.background_changed_cycles == 3U);
     CHECK(c.background_tolerance_m == doctest::Approx(0.05));
     CHECK(c.prior.source == PriorSource::kSimulatedBackground);
     CHECK(c.can.channel.safety_can_id == 0x101U);
@@ -143,24 +145,24 @@ TEST_CASE("monitor config: a value of the wrong type or out of range names the k
     check_refused(t, line_of(t, "period_ms"), "cycle.period_ms");
     t = edited("budget_ms = 100", "budget_ms = 200");
     check_refused(t, line_of(t, "budget_ms"), "cycle.budget_ms: expected more than 0 and at most period_ms");
-    t = edited("table_check_kib = 256", "table_check_kib = 0");
+    t = edited("table_check_kib = 1024", "table_check_kib = 0");
     check_refused(t, line_of(t, "table_check_kib"), "cycle.table_check_kib: expected an integer in 1..65536");
     t = edited("zone_check_kib = 16", "zone_check_kib = 65537");
     check_refused(t, line_of(t, "zone_check_kib"), "cycle.zone_check_kib: expected an integer in 1..65536");
-    t = edited("background_match = 0 ", "background_match = 1.5 ");
+    t = edited("background_match = 0.5 ", "background_match = 1.5 ");
     check_refused(t, line_of(t, "background_match"), "cycle.background_match: expected 0 (off) to 1");
     t = edited("background_tolerance_m = 0.05", "background_tolerance_m = 0");
     check_refused(t, line_of(t, "background_tolerance_m"), "cycle.background_tolerance_m: expected more than 0");
-    const ConfigLoad with_bg = parse_monitor_config(edited("background_match = 0 ", "background_match = 0.5 "),
+    const ConfigLoad with_bg = parse_monitor_config(edited("background_match = 0.5 ", "background_match = 0.25 "),
                                                     "cell.toml");
     REQUIRE_MESSAGE(with_bg.ok, with_bg.error);
-    CHECK(with_bg.config.background_match == doctest::Approx(0.5));
-    t = edited("max_repeated_frames = 0", "max_repeated_frames = 1001");
+    CHECK(with_bg.config.background_match == doctest::Approx(0.25));
+    t = edited("max_repeated_frames = 3", "max_repeated_frames = 1001");
     check_refused(t, line_of(t, "max_repeated_frames"), "cycle.max_repeated_frames: expected an integer in 0..1000");
-    const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 0", "max_repeated_frames = 3"),
+    const ConfigLoad frozen_check = parse_monitor_config(edited("max_repeated_frames = 3", "max_repeated_frames = 5"),
                                                          "cell.toml");
     REQUIRE_MESSAGE(frozen_check.ok, frozen_check.error);
-    CHECK(frozen_check.config.max_repeated_frames == 3U);
+    CHECK(frozen_check.config.max_repeated_frames == 5U);
     t = edited("reset_required = false", "reset_required = \"no\"");
     check_refused(t, line_of(t, "reset_required"), "restart_interlock.reset_required: expected true or false");
     t = edited("source = \"simulated-background\"", "source = \"guess\"");

@@ -567,6 +567,9 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
     std::istringstream in(std::string(toml.begin(), toml.end()));
     std::string line, text, name;
     while (std::getline(in, line)) {
+        if (line.rfind("background_match = ", 0) == 0) {
+            line = "background_match = 0";  // recorded sensors have no view of the empty cell (SR-BKG-005)
+        }
         text += line + "\n";
         if (line.rfind("name = \"", 0) == 0) {
             name = line.substr(8, line.find('"', 8) - 8);

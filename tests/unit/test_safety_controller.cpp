@@ -24,6 +24,7 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/safety/safety_controller.hpp"
+#include "contract_capture.hpp"
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
 #include "test_robot.hpp"
@@ -402,12 +403,12 @@ TEST_CASE("controller: a corrupted prior is caught while running within one chec
     }
 }
 
-// verifies: SR-CTRL-007, SR-LOGIC-006
+// verifies: SR-CTRL-007, SR-LOGIC-006, SR-MEM-006
 TEST_CASE("controller: a ray table corrupted in RAM is caught while running within two check passes") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
-    config.table_check_slice_bytes = 1U << 20U;
+    REQUIRE(config.table_check_slice_bytes == 1U << 20U);  // the default slice (SR-MEM-006)
     SafetyController c = w.controller(config, clock);
     Frame f(w, sim::reference_scene(), clock.t);
     std::vector<test::RayTableVectors> storage;
@@ -646,6 +647,23 @@ TEST_CASE("controller: a clock that stops advancing latches a clock fault and th
     clock.t += 100000U;  // moving again does not clear it
     for (int i = 0; i < 5; ++i) {
         clock.t += 100000U;
+        CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
+    }
+    CHECK((c.report().safety.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
+}
+
+// verifies: SR-WDG-004
+TEST_CASE("controller: a clock fault reported from outside (the clock-rate check) latches the stop, for good") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c = w.controller(clock);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    CHECK_FALSE(c.run_cycle(f.span(), false).safety.stop_requested);
+    c.report_faults(fault_bit(Fault::kClockFault) | 0x80000000U);  // bits beyond the defined faults are ignored
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK(r.detected_faults == fault_bit(Fault::kClockFault));
+    CHECK(r.safety.stop_requested);
+    for (int i = 0; i < 20; ++i) {
         CHECK(c.run_cycle(f.span(), false).safety.stop_requested);
     }
     CHECK((c.report().safety.latched_faults & fault_bit(Fault::kClockFault)) != 0U);
@@ -1127,4 +1145,37 @@ TEST_CASE("controller: the monitoring cases rewritten in RAM are an internal-che
     const_cast<MonitoringCases&>(c.cases()) = rc.cases;  // NOLINT: repaired: the fault stays latched
     for (int i = 0; i < 3; ++i)
         CHECK(c.run_cycle(empty.span(), false, arm_command(0U, clock.t)).safety.stop_requested);
+}
+
+// verifies: SR-CTRL-007, SR-CTRL-010, SR-MEM-001
+TEST_CASE("controller: a check slice of 0 bytes or a CRC table check count outside 1..256 is a contract violation") {
+    Workcell w;
+    TestClock clock;
+    const ControllerConfig good = w.config();
+    CHECK_FALSE(test::violates_contract([&] {
+        const SafetyController c = w.controller(good, clock);
+        (void)c;
+    }));
+    for (int field = 0; field < 6; ++field) {
+        CAPTURE(field);
+        ControllerConfig bad = good;
+        switch (field) {
+            case 0: bad.prior_check_slice_bytes = 0U; break;
+            case 1: bad.table_check_slice_bytes = 0U; break;
+            case 2: bad.zone_check_slice_bytes = 0U; break;
+            case 3: bad.robot_check_slice_bytes = 0U; break;
+            case 4: bad.crc_table_check_values = 0U; break;
+            default: bad.crc_table_check_values = 257U; break;
+        }
+        CHECK(test::violates_contract([&] {
+            const SafetyController c = w.controller(bad, clock);
+            (void)c;
+        }));
+    }
+    ControllerConfig edge = good;
+    edge.crc_table_check_values = 256U;
+    CHECK_FALSE(test::violates_contract([&] {
+        const SafetyController c = w.controller(edge, clock);
+        (void)c;
+    }));
 }

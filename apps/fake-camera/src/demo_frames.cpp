@@ -18,7 +18,7 @@ std::uint64_t ScenarioClock::cycle(bool first, std::uint64_t now_ns) noexcept {
 }
 
 DemoFrames::DemoFrames(const sim::SensorSpec& spec, const std::vector<std::pair<int, int>>& other_sizes, double scale_m,
-                       double offset_m)
+                       double offset_m, cell::FrameScene scene)
     : scale_m_(scale_m), offset_m_(offset_m) {
     specs_.push_back(spec);
     for (const auto& [w, h] : other_sizes) {
@@ -28,7 +28,8 @@ DemoFrames::DemoFrames(const sim::SensorSpec& spec, const std::vector<std::pair<
         specs_.push_back(s);
     }
     for (const sim::SensorSpec& s : specs_) {
-        sources_.push_back(std::make_unique<cell::SimulatedFrameSource>(s));
+        sources_.push_back(
+            std::make_unique<cell::SimulatedFrameSource>(s, cell::FrameDither::kOff, scene));  // --dither is its own
     }
 }
 

@@ -50,6 +50,7 @@ struct Options {
     bool no_coord3d = false;                 ///< --no-coord3d
     double clock_offset_ms = 0.0;            ///< --clock-offset-ms
     bool dither = false;                     ///< --dither
+    bool empty = false;                      ///< --empty
     std::string scenario_start = "all";      ///< --scenario-start
 };
 
@@ -148,6 +149,9 @@ int parse_args(int argc, char** argv, Options& o) {
               [&o](const std::string& v) { o.frames = host::integer_value("--frames", v, 1, 1000000000L); });
     cli.value("--duration", "S", "stop after S seconds",
               [&o](const std::string& v) { o.duration_s = number_value("--duration", v, 0.001, 1e6); });
+    cli.flag("--empty", o.empty,
+             "serve the empty cell (the reference scene without the demo's person), as at commissioning:\n"
+             "for recording the background views (cellguard-monitor --write-background)");
     cli.flag("--dither", o.dither,
              "odd frames: one pixel 1 raw unit deeper, so that no two frames are bit-identical\n"
              "(a real sensor's noise; for the monitor's frozen-image check, which the simulator's\n"
@@ -248,8 +252,9 @@ bool make_served(const Options& o, const cell::MonitorConfig& cfg, fake_camera::
         if (c.faults.resize_at_frame >= 0) {
             sizes.emplace_back(c.faults.resize_width, c.faults.resize_height);
         }
-        served->frames = std::make_unique<fake_camera::DemoFrames>(spec, sizes, c.coordinate_scale / 1000.0,
-                                                                   c.coordinate_offset / 1000.0);
+        served->frames = std::make_unique<fake_camera::DemoFrames>(
+            spec, sizes, c.coordinate_scale / 1000.0, c.coordinate_offset / 1000.0,
+            o.empty ? cell::FrameScene::kEmpty : cell::FrameScene::kDemo);
         Served* p = served.get();
         const bool dithered = o.dither;
         served->camera = std::make_unique<FakeGigeCamera>(

@@ -4,8 +4,10 @@
 """Writes the recorded-frame fixtures of apps/monitor/test/pcd-cell.toml into
 apps/monitor/test/pcd/: a 16 x 12 sensor 'recorded' at (-1.9, 0, 1.9) aimed
 at the centre of the floor (the simulator's pose convention: x right
-and horizontal, y down, z forward), its rays cut at the floor z = 0; points in
-the sensor frame, metres.
+and horizontal, y down, z forward), its rays cut at the floor z = 0 and the
+reference scene's two background boxes (so that the frames show the empty
+cell the simulated prior and the sensor's background view are made of);
+points in the sensor frame, metres.
 
 - recorded-ascii.pcd: DATA ascii, VIEWPOINT identity, one pixel NaN (no reading)
 - recorded-binary.pcd: DATA binary, VIEWPOINT = the sensor's pose
@@ -56,13 +58,44 @@ def quaternion(m):
     return ((m[1][0] - m[0][1]) / s, (m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s)
 
 
+# The simulator's reference scene (apps/host/src/sim/workcell.cpp,
+# reference_scene): centre, edge lengths, yaw about +z (radians).
+BOXES = [((-0.35, 0.2, 0.3), (0.5, 0.4, 0.6), 0.0), ((0.4, -0.25, 0.2), (0.4, 0.6, 0.4), 0.3)]
+
+
+def intersect_box(box, origin, direction):
+    """Entry parameter t of origin + t * direction into the box (its yaw undone), inf when it misses."""
+    centre, size, yaw = box
+    c, s = math.cos(-yaw), math.sin(-yaw)
+
+    def unyaw(v):
+        return (c * v[0] - s * v[1], s * v[0] + c * v[1], v[2])
+
+    o = unyaw(tuple(a - b for a, b in zip(origin, centre)))
+    d = unyaw(direction)
+    t0, t1 = 0.0, math.inf
+    for a in range(3):
+        half = 0.5 * size[a]
+        if abs(d[a]) < 1e-15:
+            if o[a] < -half or o[a] > half:
+                return math.inf
+            continue
+        ta, tb = (-half - o[a]) / d[a], (half - o[a]) / d[a]
+        t0, t1 = max(t0, min(ta, tb)), min(t1, max(ta, tb))
+        if t0 > t1:
+            return math.inf
+    return t0
+
+
 def points(width=W):
     pts = []
     for v in range(H):
         for u in range(width):
             d = ((u - cx) / fx, (v - cy) / fy, 1.0)
-            world_dz = R[2][0] * d[0] + R[2][1] * d[1] + R[2][2] * d[2]
-            t = -POS[2] / world_dz  # the floor z = 0
+            world = tuple(R[i][0] * d[0] + R[i][1] * d[1] + R[i][2] * d[2] for i in range(3))
+            t = -POS[2] / world[2]  # the floor z = 0
+            for box in BOXES:  # the reference scene's background boxes, as the simulator casts them
+                t = min(t, intersect_box(box, POS, world))
             pts.append((d[0] * t, d[1] * t, d[2] * t))
     return pts
 

@@ -3,6 +3,7 @@
 // cellguard-prior's command line: options, progress bar, report. See prior_tool.hpp.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -19,8 +20,10 @@
 #include <vector>
 
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/cli.hpp"
 #include "cellguard/host/command_line.hpp"
+#include "cellguard/host/io/background_files.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 
@@ -102,6 +105,7 @@ struct Options {  // fields ordered by alignment (no padding between them)
     std::string out_dir;
     std::string name_space = "cellguard_prior";
     std::string config_header;
+    std::string background_file;
     Eigen::Vector3d origin = Eigen::Vector3d::Zero();
     double voxel_size = 0.0;
     AccessibilityParams params{};
@@ -284,6 +288,18 @@ CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progre
     cli.text("--config-header", o.config_header, "H",
              "header prior_flash.hpp includes first, e.g. the one that\n"
              "defines CELLGUARD_GRID_NX/NY/NZ");
+    cli.value("--write-background", "FILE",
+              "also write every sensor's view of the empty cell (the per-\n"
+              "pixel median of the same frames; for recorded .pcd frames\n"
+              "the nearest and farthest range per direction bin) to FILE,\n"
+              "bound to the prior by its CRC (the monitor's\n"
+              "prior.background_file); not with --background-npy",
+              [&o](const std::string& v) {
+                  if (v.empty()) {
+                      reject("--write-background expects a file, got ''");
+                  }
+                  o.background_file = v;
+              });
     CLI::Option* progress_opt = cli.flag("--progress,!--no-progress", progress,
                                          "progress bar on stderr, or none (default: on a\n"
                                          "terminal, for frames and grids of 2^20 voxels or more)");
@@ -613,6 +629,130 @@ RunFailure analyse(const Options& o, const BackgroundGrid& background, bool prog
     return {};
 }
 
+/// Writes @p records to o.background_file for the prior with payload CRC
+/// @p prior_crc (read back and checked); @p size gets the file's size and
+/// @p crc_text the CRC as "0x%08X" for the report.
+RunFailure write_view_records(const Options& o, const std::vector<BackgroundViewRecord>& records,
+                              std::uint32_t prior_crc, std::size_t frames, std::size_t& size, std::string& crc_text) {
+    std::vector<std::uint8_t> bytes;
+    const IoStatus st = write_background_image_file(o.background_file.c_str(),
+                                                    Span<const BackgroundViewRecord>(records.data(), records.size()),
+                                                    prior_crc, static_cast<std::uint32_t>(frames), bytes);
+    if (!st.ok()) {
+        return io_failure(kExitOutputError, st);
+    }
+    size = bytes.size();
+    char crc[32];
+    static_cast<void>(std::snprintf(crc, sizeof(crc), "0x%08X", prior_crc));
+    crc_text = crc;
+    return {};
+}
+
+/// The simulated sensors' views of the empty cell, from the same @p frames
+/// frames as the prior, written to o.background_file and checked.
+RunFailure write_background_views(const Options& o, int frames, std::uint32_t prior_crc, std::ostream& out) {
+    SimulatedFrameSource source(static_cast<std::size_t>(frames));
+    const std::vector<sim::SensorSpec> specs = sim::paper_sensors();
+    std::vector<BackgroundViewBuilder> builders;
+    builders.reserve(specs.size());
+    for (const sim::SensorSpec& s : specs) {
+        builders.emplace_back(static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height));
+    }
+    std::vector<SensorReading> readings;
+    std::vector<BackgroundViewRecord> records(specs.size());
+    for (std::size_t k = 0U; k < source.frame_count(); ++k) {
+        const IoStatus st = source.frame(k, readings);
+        if (!st.ok()) {
+            return io_failure(kExitInputError, st);
+        }
+        for (std::size_t s = 0U; s < specs.size() && s < readings.size(); ++s) {
+            if (!builders[s].add(readings[s])) {
+                return run_failure(kExitInputError, "--write-background: sensor '" + specs[s].name +
+                                                        "' does not deliver a depth image of its size");
+            }
+            records[s].identity = background_identity(specs[s].name, readings[s]);
+        }
+    }
+    std::vector<std::vector<float>> views;
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        views.push_back(builders[s].median());
+        records[s].depth = Span<const float>(views[s].data(), views[s].size());
+    }
+    std::size_t size = 0U;
+    std::string crc;
+    if (RunFailure f = write_view_records(o, records, prior_crc, static_cast<std::size_t>(frames), size, crc);
+        f.failed) {
+        return f;
+    }
+    out << kToolName << ": wrote " << o.background_file << " (" << size << " bytes): " << specs.size()
+        << " sensors' views of the empty cell, median of " << frames << " frames, for the prior with payload CRC-32 "
+        << crc << "; read back and checked\n";
+    return {};
+}
+
+/// The recorded sensors' direction-grid views (SR-BKG-009), from the same
+/// .pcd frames as the prior, written to o.background_file and checked.
+/// Every configured sensor needs recorded frames (the file holds a view of
+/// each, in the configuration's order).
+RunFailure write_recorded_background_views(const Options& o, const std::vector<RecordedSensor>& sensors,
+                                           std::uint32_t prior_crc, std::ostream& out) {
+    std::vector<std::vector<float>> views;
+    std::vector<BackgroundViewRecord> records(sensors.size());
+    std::size_t frames = 0U;
+    std::size_t outside = 0U;
+    for (const RecordedSensor& s : sensors) {
+        if (s.files.empty()) {
+            return run_failure(kExitInputError, "--write-background: sensor '" + s.name +
+                                                    "' has no recorded frames, so no view of the empty cell");
+        }
+        const DirectionGrid grid = recorded_view_grid(s.hfov_deg, s.vfov_deg, s.width, s.height);
+        records[views.size()].identity = point_view_identity(s.name, s.pose, grid);
+        PointViewBuilder builder(grid);
+        cell::PcdFrameSource source(s.name, s.files, s.pose, s.width, s.height, s.max_range);
+        for (std::size_t k = 0U; k < s.files.size(); ++k) {
+            SensorReading r;
+            const cell::PcdFrameCheck c = source.load(k, r);
+            if (!c.ok) {
+                return run_failure(kExitInputError, "--write-background: " + c.file + ": " + c.reason);
+            }
+            if (!builder.add(r)) {
+                return run_failure(kExitInputError, "--write-background: sensor '" + s.name +
+                                                        "': its direction grid is refused (field of view or bins)");
+            }
+        }
+        frames = std::max(frames, s.files.size());
+        outside += builder.outside();
+        views.push_back(builder.values());
+    }
+    for (std::size_t s = 0U; s < sensors.size(); ++s) {
+        records[s].depth = Span<const float>(views[s].data(), views[s].size());
+    }
+    std::size_t size = 0U;
+    std::string crc;
+    if (RunFailure f = write_view_records(o, records, prior_crc, static_cast<std::size_t>(frames), size, crc);
+        f.failed) {
+        return f;
+    }
+    out << kToolName << ": wrote " << o.background_file << " (" << size << " bytes): " << sensors.size()
+        << " recorded sensors' direction-grid views of the empty cell, farthest and nearest range per bin of " << frames
+        << " frames (" << outside << " points outside the grids), for the prior with payload CRC-32 " << crc
+        << "; read back and checked\n";
+    return {};
+}
+
+/// --write-background's views, for the prior just written (nothing without the option).
+RunFailure write_background_if_asked(const Options& o, const GridChoice& c, const WrittenOutputs& written,
+                                     std::ostream& out) {
+    if (o.background_file.empty()) {
+        return {};
+    }
+    if (o.input != InputKind::kSimulated) {
+        return write_recorded_background_views(o, c.sensors, written.header.payload_crc, out);
+    }
+    const int frames = o.background_frames > 0 ? o.background_frames : c.config_frames;
+    return write_background_views(o, frames, written.header.payload_crc, out);
+}
+
 /// What was written and verified, on @p out.
 void report_outputs(const WrittenOutputs& written, std::ostream& out) {
     const PriorImageHeader& h = written.header;
@@ -638,6 +778,11 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     if (const RunFailure f = check_source_options(o); f.failed) {
         return error(f);
+    }
+    if (!o.background_file.empty() && o.input == InputKind::kNpy) {
+        return error(run_failure(kExitInputError,
+                                 "--write-background: only with --simulated or recorded frames; a .npy grid has "
+                                 "no sensors, so it gives no view"));
     }
     GridChoice c;
     if (const RunFailure f = choose_grid(o, c); f.failed) {
@@ -689,6 +834,9 @@ int run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
         return error(io_failure(kExitOutputError, st));
     }
     report_outputs(written, out);
+    if (const RunFailure f = write_background_if_asked(o, c, written, out); f.failed) {
+        return error(f);
+    }
     char times[160];
     static_cast<void>(
         std::snprintf(times, sizeof(times),

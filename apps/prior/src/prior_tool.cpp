@@ -367,6 +367,8 @@ IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files
         r.max_range = static_cast<float>(s.max_range);
         r.width = s.width;
         r.height = s.height;
+        r.hfov_deg = s.hfov_deg;
+        r.vfov_deg = s.vfov_deg;
         if (with_pcd_files) {
             r.files = s.pcd_files;
         }

@@ -803,8 +803,8 @@ Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorRe
     } else {
         for (const SensorReading& r : sensors) {
             const Result<FusionStats> s = footprint_opinions(grid.geometry(), r, model, params, workspaces[0], &fp);
-            if (!s.ok()) {
-                return s.error();  // unreachable: checked above
+            if (!s.ok()) {         // GCOVR_EXCL_BR_LINE: checked above
+                return s.error();  // unreachable: checked above GCOVR_EXCL_BR_LINE
             }
             total.add(s.value());
             pool_opinions(grid, Span<const std::int16_t>(workspaces[0].opinions.data(), grid.voxel_count()), model);

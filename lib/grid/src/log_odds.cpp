@@ -15,7 +15,7 @@ std::int16_t log_odds_from_probability(double p) noexcept {
     }
     const double nats = std::log(p) - std::log1p(-p);
     const double units = std::nearbyint(nats * static_cast<double>(kLogOddsScale));
-    if (units >= static_cast<double>(kLogOddsMax)) {
+    if (units >= static_cast<double>(kLogOddsMax)) {  // GCOVR_EXCL_BR_LINE: unreachable, binary64 p < 1 is < 9400 units
         return kLogOddsMax;
     }
     if (units <= static_cast<double>(kLogOddsMin)) {
@@ -45,7 +45,7 @@ std::int16_t threshold_log_odds(double t) noexcept {
         return kLogOddsMax;
     }
     const double units = std::ceil((std::log(t) - std::log1p(-t)) * static_cast<double>(kLogOddsScale));
-    if (units >= static_cast<double>(kLogOddsMax)) {
+    if (units >= static_cast<double>(kLogOddsMax)) {  // GCOVR_EXCL_BR_LINE: unreachable, binary64 t < 1 is < 9400 units
         return kLogOddsMax;
     }
     if (units <= static_cast<double>(kLogOddsMin)) {

@@ -51,6 +51,7 @@ BackgroundMatch match_pixels(const Live& live, std::size_t n, const BackgroundRe
     const float inf = std::numeric_limits<float>::infinity();
     Lanes referenced4 = {0, 0, 0, 0};  // per lane: the count (subtracting a true compare, -1, adds one)
     Lanes matching4 = {0, 0, 0, 0};
+    Lanes longer4 = {0, 0, 0, 0};
     for (; i + 4U <= n; i += 4U) {
         Floats r;
         Floats d;
@@ -67,10 +68,12 @@ BackgroundMatch match_pixels(const Live& live, std::size_t n, const BackgroundRe
         const Lanes near = magnitude <= reference.tolerance_m;
         referenced4 -= r_ok;
         matching4 -= r_ok & d_ok & near;
+        longer4 -= r_ok & d_ok & (difference > reference.tolerance_m);
     }
     for (int lane = 0; lane < 4; ++lane) {
         m.referenced += static_cast<std::uint32_t>(referenced4[lane]);
         m.matching += static_cast<std::uint32_t>(matching4[lane]);
+        m.longer += static_cast<std::uint32_t>(longer4[lane]);
     }
     for (; i < n; ++i) {
         const float r = reference.depth[i];
@@ -81,8 +84,13 @@ BackgroundMatch match_pixels(const Live& live, std::size_t n, const BackgroundRe
                                      static_cast<std::uint32_t>(std::fabs(d - r) <= reference.tolerance_m);
         m.referenced += referenced;
         m.matching += referenced & within;
+        m.longer += referenced & is_reading(d) & static_cast<std::uint32_t>(d - r > reference.tolerance_m);
     }
     return m;
+}
+
+std::uint32_t saturating_add(std::uint32_t a, std::uint32_t b) noexcept {
+    return a > UINT32_MAX - b ? UINT32_MAX : a + b;
 }
 
 bool tolerance_ok(const BackgroundReference& reference) noexcept {
@@ -101,9 +109,49 @@ Result<BackgroundMatch> match_background(Span<const float> live, const Backgroun
     return match_pixels(FloatLive{live.data()}, live.size(), reference);
 }
 
-Result<BackgroundMatch> match_background(const SensorReading& live, const BackgroundReference& reference) noexcept {
-    if (!is_depth_image(live.kind)) {
+Result<BackgroundMatch> match_points(Span<const Eigen::Vector3f> points,
+                                     const BackgroundReference& reference) noexcept {
+    const Status grid_ok = check_direction_grid(reference.grid);
+    if (!grid_ok.ok()) {
+        return grid_ok.error();
+    }
+    const std::size_t bins = reference.grid.bin_count();
+    if (reference.depth.size() != bins || reference.nearest.size() != bins) {
+        return ErrorCode::kMalformedInput;
+    }
+    if (!tolerance_ok(reference)) {
         return ErrorCode::kInvalidArgument;
+    }
+    BackgroundMatch m;
+    const float tolerance = reference.tolerance_m;
+    for (const Eigen::Vector3f& p : points) {
+        float range = 0.0F;
+        const std::size_t bin = direction_bin(reference.grid, p, range);
+        if (bin == kNoDirectionBin) {
+            m.outside = saturating_add(m.outside, static_cast<std::uint32_t>(range > 0.0F));
+            continue;
+        }
+        const float far = reference.depth[bin];
+        if (is_reading(far) == 0U) {
+            continue;  // no background return in this direction: nothing to compare with
+        }
+        // At most kMaxReadingsPerSensor points are checked by the caller;
+        // the counts saturate all the same.
+        m.referenced = saturating_add(m.referenced, 1U);
+        const bool longer = range - far > tolerance;
+        const bool within = !longer && range >= reference.nearest[bin] - tolerance;
+        m.matching = saturating_add(m.matching, static_cast<std::uint32_t>(within));
+        m.longer = saturating_add(m.longer, static_cast<std::uint32_t>(longer));
+    }
+    return m;
+}
+
+Result<BackgroundMatch> match_background(const SensorReading& live, const BackgroundReference& reference) noexcept {
+    if (live.kind == SensorDataKind::kPointSet) {
+        return match_points(live.points, reference);
+    }
+    if (!is_depth_image(live.kind) || !reference.nearest.empty()) {
+        return ErrorCode::kInvalidArgument;  // a depth image against a point-set view (or an unknown kind)
     }
     if (live.kind == SensorDataKind::kDepthImage) {
         return match_background(live.depth, reference);
@@ -115,6 +163,23 @@ Result<BackgroundMatch> match_background(const SensorReading& live, const Backgr
         return ErrorCode::kInvalidArgument;
     }
     return match_pixels(U16Live{&live}, live.depth_u16.size(), reference);
+}
+
+void BackgroundChangeTracker::track(std::size_t slot, const BackgroundMatch& match,
+                                    const BackgroundReference& reference) noexcept {
+    if (slot >= kMaxSensors) {
+        return;
+    }
+    last[slot] = match;
+    std::uint32_t& run = streak[slot];
+    if (reference.changed_cycles == 0U || !background_changed(match, reference.max_longer_pixels)) {
+        run = 0U;  // a frame that shows the commissioned background ends the run
+        return;
+    }
+    run = run == UINT32_MAX ? run : run + 1U;
+    if (run >= reference.changed_cycles) {
+        latched |= 1U << slot;  // only a restart (and recommissioning) clears it
+    }
 }
 
 bool background_seen(const BackgroundMatch& match, float min_fraction) noexcept {

@@ -21,6 +21,39 @@ void add_to_crc(Crc32& crc, const T& value) noexcept {
     crc.update(as_bytes(Span<const T>(&value, 1U)));
 }
 
+/// The configuration's fields that the robot settings' CRC (checked every
+/// cycle on its own) does not cover, field by field (never padding).
+void add_config(Crc32& crc, const ControllerConfig& c) noexcept {
+    seal_add(crc, c.logic.restart_delay_us);
+    seal_add(crc, c.logic.reset_required);
+    seal_add(crc, c.logic.fault_recovery_cycles);
+    seal_add(crc, c.zones.foreground_threshold);
+    seal_add(crc, c.zones.accessible_min_prior);
+    const std::uint64_t sizes[] = {c.sensor_count,           c.max_frame_age_us,        c.max_repeated_frames,
+                                   c.cycle_budget_us,        c.prior_check_slice_bytes, c.table_check_slice_bytes,
+                                   c.zone_check_slice_bytes, c.robot_check_slice_bytes, c.crc_table_check_values};
+    for (const std::uint64_t v : sizes) {
+        seal_add(crc, v);
+    }
+    seal_add(crc, c.rasterization);
+    seal_add(crc, c.footprint.method);
+    seal_add(crc, c.footprint.params.exact_footprint_max);
+    seal_add(crc, c.footprint.params.exact_pixel_budget);
+    seal_add(crc, c.footprint.workspaces.data());
+    seal_add(crc, c.footprint.workspaces.size());
+    seal_add(crc, c.footprint.runner);
+    seal_add(crc, c.cases);
+    seal_add(crc, c.stack);
+}
+
+/// A signature check's reference, verdict and place in its pass.
+void add_check(Crc32& crc, const SignatureCheck& check) noexcept {
+    seal_add(crc, check.reference());
+    seal_add(crc, check.failed());
+    seal_add(crc, check.position());
+    seal_add(crc, check.total_bytes());
+}
+
 /// Metres to whole millimetres, rounded up (forgiving 1e-6 mm, as
 /// separation.cpp does) and saturated at kDistanceFarMm.
 std::uint16_t ceil_mm(double metres) noexcept {
@@ -66,7 +99,59 @@ SafetyController::SafetyController(const ControllerConfig& config, EvidenceGrid&
         config.sensor_count > kMaxSensors) {
         construction_faults_ |= fault_bit(Fault::kInternalCheck);
     }
+    CG_ENFORCE(config.crc_table_check_values >= 1U && config.crc_table_check_values <= 256U,
+               "crc_table_check_values must be 1 to 256");
     check_robot_config(frame_grid);
+    seal_.seal(state_crc());
+}
+
+std::uint32_t SafetyController::state_crc() const noexcept {
+    Crc32 crc;
+    add_config(crc, config_);
+    add_state(crc);
+    return crc.value();
+}
+
+void SafetyController::add_state(Crc32& crc) const noexcept {
+    const void* const parts[] = {grid_, scratch_.data(), prior_.data(), zones_, model_, clock_, output_};
+    for (const void* p : parts) {
+        seal_add(crc, p);
+    }
+    seal_add(crc, scratch_.size());
+    seal_add(crc, prior_.size());
+    seal_add(crc, monitor_.budget_us());
+    const std::uint32_t words[] = {pending_faults_, construction_faults_, zone_settings_crc_, cases_crc_,
+                                   robot_settings_crc_};
+    for (const std::uint32_t w : words) {
+        seal_add(crc, w);
+    }
+    add_check(crc, prior_check_);
+    add_check(crc, zone_mask_check_);
+    add_check(crc, robot_check_);
+    for (const TableCheck& t : table_checks_) {
+        seal_add(crc, t.table);
+        add_check(crc, t.check);
+    }
+    for (const FrameHistory& h : frame_history_) {
+        seal_add(crc, h.seen);
+        seal_add(crc, h.captured_us);
+        seal_add(crc, h.fingerprint);
+        seal_add(crc, h.repeats);
+    }
+    for (const std::uint32_t run : background_change_.streak) {
+        seal_add(crc, run);
+    }
+    seal_add(crc, background_change_.latched);  // the changed-background latch
+    const bool flags[] = {zone_settings_failed_, table_failed_, command_expected_, crc_table_check_.failed(),
+                          memory_failed_};
+    for (const bool f : flags) {
+        seal_add(crc, f);
+    }
+    seal_add(crc, table_check_sensor_);
+    seal_add(crc, active_case_);
+    seal_add(crc, speed_class_);
+    seal_add(crc, crc_table_check_.position());
+    seal_add(crc, crc_table_check_.table());
 }
 
 void SafetyController::check_robot_config(const EvidenceGrid& frame_grid) noexcept {
@@ -133,7 +218,10 @@ std::uint32_t SafetyController::step_integrity_checks(Span<const SensorInput> se
     const bool table_failed = step_table_check(sensors);
     const bool zones_failed = step_zone_checks();
     const bool robot_failed = robot_check_.step(config_.robot_check_slice_bytes);
-    if (table_failed || zones_failed || robot_failed) {
+    const bool crc_tables_failed = crc_table_check_.step(config_.crc_table_check_values);
+    const bool stack_failed = config_.stack != nullptr && !config_.stack->guard_intact();
+    memory_failed_ = memory_failed_ || crc_tables_failed || stack_failed;
+    if (table_failed || zones_failed || robot_failed || memory_failed_) {
         faults |= fault_bit(Fault::kInternalCheck);
     }
     return faults;
@@ -187,15 +275,18 @@ bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& inpu
     return h.repeats >= config_.max_repeated_frames;
 }
 
-bool SafetyController::shows_background(const SensorInput& input) noexcept {
+bool SafetyController::shows_background(std::size_t slot, const SensorInput& input) noexcept {
     if (input.background == nullptr) {
         return true;
     }
-    if (!is_depth_image(input.reading.kind)) {
-        return false;  // a reference is a depth image: a point set cannot show it
-    }
+    // A point set is compared per direction bin (match_points); a reading
+    // of another kind than its reference's is an error: refused.
     const Result<BackgroundMatch> m = match_background(input.reading, *input.background);
-    return m.ok() && background_seen(m.value(), input.background->min_match_fraction);
+    if (!m.ok()) {
+        return false;
+    }
+    background_change_.track(slot, m.value(), *input.background);
+    return background_seen(m.value(), input.background->min_match_fraction);
 }
 
 bool SafetyController::accept_frame(std::size_t slot, const SensorInput& s, std::uint64_t now,
@@ -208,7 +299,7 @@ bool SafetyController::accept_frame(std::size_t slot, const SensorInput& s, std:
         faults |= fault_bit(Fault::kSensorStale);
         return false;
     }
-    if (!shows_background(s)) {
+    if (!shows_background(slot, s)) {
         faults |= fault_bit(Fault::kFrameInconsistent);
         return false;
     }
@@ -255,6 +346,9 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
         } else {
             stats.add(r.value());
         }
+    }
+    if (background_change_.latched != 0U) {
+        faults |= fault_bit(Fault::kPriorCheckFailed);  // a changed background: the prior no longer fits
     }
     return faults;
 }
@@ -344,12 +438,29 @@ SpeedRequest SafetyController::separate(Span<const std::uint8_t> robot_mask, std
     return result.request;
 }
 
+void SafetyController::report_faults(std::uint32_t faults) noexcept {
+    const std::uint32_t add = faults & kAllFaults;
+    if (add == 0U) {
+        return;
+    }
+    const bool intact = seal_.matches(state_crc());
+    pending_faults_ |= add;
+    if (intact) {
+        seal_.seal(state_crc());
+    }
+}
+
 const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept {
     return run_cycle(sensors, reset_input, CommandInput{});
 }
 
 const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, bool reset_input,
                                                const CommandInput& command) noexcept {
+    // The state and the configuration copy as the last cycle left them
+    // (H-MEM-3), before any of it is used. Once memory has failed, the cycle
+    // only sends the stop: no stage reads a pointer or a setting that may be
+    // corrupt (the clock and the output still are called, to send it).
+    memory_failed_ = memory_failed_ || !seal_.matches(state_crc());
     const std::uint64_t start = clock_->now_us();
     monitor_.begin(start);
     CycleReport r;
@@ -357,21 +468,30 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     r.started_us = start;
     std::uint32_t detected = pending_faults_ | construction_faults_;
     pending_faults_ = 0U;
-
-    grid_->clear();
-    detected |= fuse_sensors(sensors, start, r.fusion);
+    const bool work = !memory_failed_;
+    if (work) {
+        grid_->clear();
+        detected |= fuse_sensors(sensors, start, r.fusion);
+    }
     monitor_.end_stage(CycleStage::kFuse, clock_->now_us());
 
     ZoneEvaluationScope scope;
-    scope.robot_mask = apply_command(command, start, r.robot, detected);
-    scope.active_zones = cases_.contains(active_case_) ? cases_.zones_of(active_case_) : 0U;
-    const bool zones_ok = (construction_faults_ == 0U) &&
-                          evaluate_zones(*grid_, prior_, *zones_, config_.zones, scope, r.zones).ok();
+    bool zones_ok = false;
+    SpeedRequest speed = SpeedRequest::kProtectiveStop;
+    if (work) {
+        scope.robot_mask = apply_command(command, start, r.robot, detected);
+        scope.active_zones = cases_.contains(active_case_) ? cases_.zones_of(active_case_) : 0U;
+        zones_ok = (construction_faults_ == 0U) &&
+                   evaluate_zones(*grid_, prior_, *zones_, config_.zones, scope, r.zones).ok();
+        speed = separate(scope.robot_mask, scope.active_zones, r.robot, detected);
+        detected |= step_integrity_checks(sensors);
+    }
     if (!zones_ok) {
         detected |= fault_bit(Fault::kZoneEvaluation);
     }
-    const SpeedRequest speed = separate(scope.robot_mask, scope.active_zones, r.robot, detected);
-    detected |= step_integrity_checks(sensors);
+    if (memory_failed_) {
+        detected |= fault_bit(Fault::kInternalCheck);
+    }
     monitor_.end_stage(CycleStage::kSubtractAndZones, clock_->now_us());
 
     SafetyInputs in;
@@ -395,6 +515,7 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     if (monitor_.end(clock_->now_us())) {
         pending_faults_ |= fault_bit(Fault::kCycleOverrun);
     }
+    seal_.seal(state_crc());
     return report_;
 }
 

@@ -35,6 +35,11 @@
 #            back 2 s later as a new camera at its power-on defaults: a stop
 #            within 3 + 2 cycles, then the monitor reconnects and, after the
 #            fault recovery cycles, runs again without a fault
+#   views    commissioning with cameras: the prior from cellguard-prior, the
+#            cameras showing the empty cell (--empty), cellguard-monitor
+#            --write-background records their views (5 frames each); then the
+#            demo scene runs against those views: they load, and the person
+#            (nearer than the background, never deeper) latches no fault
 # Nothing leaves the machine: it runs inside tools/netns-run.sh (loopback only,
 # 127.0.0.1-8), every program under a timeout.
 #
@@ -54,9 +59,10 @@ if [[ "${CELLGUARD_IN_NETNS:-}" != 1 ]]; then
 fi
 fake=$(realpath "$1")
 monitor=$(realpath "$2")
+prior_tool=$(dirname "$monitor")/../prior/cellguard-prior
 shift 2
 cases=("$@")
-[[ ${#cases[@]} -gt 0 ]] || cases=(same loss1 loss20 stopped resolution format frozen jump reboot)
+[[ ${#cases[@]} -gt 0 ]] || cases=(same loss1 loss20 stopped resolution format frozen jump reboot views)
 config=${CELLGUARD_FAKE_CAMERAS_CONFIG:-$root/apps/monitor/config/paper-cell-cameras.toml}
 min_shift=-1
 max_shift=8
@@ -257,7 +263,15 @@ run_case() {
         start_fakes dither --dither || return
         run_monitor dither frozen.toml --cycles 50
         stop_fakes dither
-        [[ "$(faults_latched dither.txt)" == "-" ]] || fail "dithered frames latched: $(faults_latched dither.txt)"
+        latched=$(faults_latched dither.txt)
+        if [[ "$latched" == "sensor stale" && $attempt -eq 1 ]]; then
+            # Frames older than max_frame_age_ms on an overloaded host (seen with a soak on the other core):
+            # not the frozen-image check. Once more; twice is a failure.
+            echo "the dithered run latched only 'sensor stale' (a late frame on this loaded host): once more"
+            again=1
+            return
+        fi
+        [[ "$latched" == "-" ]] || fail "dithered frames latched: $latched"
         start_fakes frozen --dither --fault-sensor lidar-b --freeze-at 38 || return
         run_monitor frozen frozen.toml --cycles 50
         stop_fakes frozen
@@ -294,6 +308,31 @@ run_case() {
         check_reaction "$r" "$bound_stale_ms" "the camera went away"
         [[ -n "$back" ]] || fail "the monitor did not recover after the camera came back"
         grep -q "lidar-a': .* 1 restarts" reboot.fake.txt || fail "the fake did not reboot lidar-a"
+        ;;
+    views)
+        "$prior_tool" --simulated --config "$config" --out "$out/views-prior" >views.prior.txt 2>&1 ||
+            { cat views.prior.txt; fail "cellguard-prior failed"; return; }
+        sed "s|^source = \"simulated-background\".*|source = \"file\"\nfile = \"$out/views-prior/prior.cgprior\"|" \
+            "$config" >views-rec.toml
+        start_fakes views-empty --empty --dither || return
+        kill -USR1 "$scene_pid" 2>/dev/null
+        timeout 120 "$monitor" --config views-rec.toml --paced --write-background "$out/views.cgbv" \
+            --background-frames 5 >views-rec.txt 2>&1
+        status=$?
+        stop_fakes views-empty
+        grep '^background views' views-rec.txt
+        [[ $status -eq 0 && -s "$out/views.cgbv" ]] || { cat views-rec.txt; fail "recording exited $status"; return; }
+        sed "s|^file = \"$out/views-prior/prior.cgprior\"|&\nbackground_file = \"$out/views.cgbv\"|" \
+            views-rec.toml >views.toml
+        start_fakes views --dither || return
+        run_monitor views views.toml --cycles 40
+        stop_fakes views
+        [[ $status -eq 0 ]] || fail "the monitor exited with $status"
+        grep -q "^background views: $out/views.cgbv (4 sensors" views.txt || fail "the recorded views were not loaded"
+        echo "demo scene against the recorded views: stop cycles $(grep -c '| STOP' views.txt)," \
+            "faults latched: $(faults_latched views.txt)"
+        grep -q '| STOP' views.txt || fail "the person never stopped the robot"
+        [[ "$(faults_latched views.txt)" == "-" ]] || fail "faults latched: $(faults_latched views.txt)"
         ;;
     *)
         echo "unknown case '$case'" >&2

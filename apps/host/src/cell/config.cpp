@@ -169,7 +169,7 @@ void load_thresholds(const Loader& L, const toml::table& root, MonitorConfig& c)
 /// The [prior] table: a prior image file or a prior built from simulated background frames.
 void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir) {
     const toml::table& t = L.table(root, "", "prior");
-    L.check_keys(t, "prior", {"source", "file", "background_frames"});
+    L.check_keys(t, "prior", {"source", "file", "background_file", "background_frames"});
     const std::string src = L.string(t, "prior", "source");
     if (src == "file") {
         c.prior.source = PriorSource::kFile;
@@ -180,8 +180,21 @@ void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, cons
         if (c.prior.file[0] != '/') {
             c.prior.file = base_dir + "/" + c.prior.file;
         }
+        if (t.contains("background_file")) {  // the sensors' commissioned views, written with the prior
+            c.prior.background_file = L.string(t, "prior", "background_file");
+            if (c.prior.background_file.empty()) {
+                L.fail(t.get("background_file")->source(), "prior.background_file", "must not be empty");
+            }
+            if (c.prior.background_file[0] != '/') {
+                c.prior.background_file = base_dir + "/" + c.prior.background_file;
+            }
+        }
     } else if (src == "simulated-background") {
         c.prior.source = PriorSource::kSimulatedBackground;
+        if (t.contains("background_file")) {
+            L.fail(t.get("background_file")->source(), "prior.background_file",
+                   "only with source = \"file\": the simulated background makes its views in memory");
+        }
         c.prior.background_frames = static_cast<int>(L.integer_or(t, "prior", "background_frames", 1, 1000, 8));
         // The monitor's prior is probabilistic: space seen free must fall below t_E (min_background_frames).
         const std::uint32_t need = min_background_frames(AccessibilityParams{}, SensorModelTable{});
@@ -228,13 +241,28 @@ void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
     f.threads = static_cast<int>(L.integer_or(t, p, "threads", 1, kMaxFusionThreads, 1));
 }
 
+/// The [can] table's clock-rate check against the PLC's samples (off without command_period_ms).
+void load_clock_rate(const Loader& L, const toml::table& t, MonitorConfig& c) {
+    const std::string p = "can";
+    ClockRateConfig& r = c.can.clock_rate;
+    r.nominal_period_us = static_cast<std::uint64_t>(L.integer_or(t, p, "command_period_ms", 0, 10000, 0)) * 1000U;
+    r.window_periods = static_cast<std::uint32_t>(L.integer_or(t, p, "clock_rate_window", 10, 100000, 50));
+    const double percent = L.number_or(t, p, "clock_rate_tolerance_percent", 2.0);
+    if (!(percent >= 0.1 && percent <= 50.0)) {
+        L.fail(t.get("clock_rate_tolerance_percent")->source(), "can.clock_rate_tolerance_percent",
+               "expected 0.1 .. 50 (percent)");
+    }
+    r.tolerance_ppm = static_cast<std::uint32_t>(std::lround(percent * 10000.0));
+}
+
 /// The [can] table: the CAN interface or log and the safety channel's IDs.
 void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const toml::table& t = L.table(root, "", "can");
     const std::string p = "can";
     L.check_keys(t, p,
                  {"interface", "log_file", "log_interface", "safety_id", "diagnostics_id", "safety_data_id",
-                  "diagnostics_data_id", "data_id_mode", "separation_id", "separation_data_id", "command_id"});
+                  "diagnostics_data_id", "data_id_mode", "separation_id", "separation_data_id", "command_id",
+                  "command_period_ms", "clock_rate_window", "clock_rate_tolerance_percent"});
     c.can.interface_name = L.string_or(t, p, "interface", "");
     c.can.log_file = L.string_or(t, p, "log_file", c.can.log_file);
     c.can.log_interface_name = L.string_or(t, p, "log_interface", c.can.log_interface_name);
@@ -274,6 +302,7 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     c.can.command.base_can_id = static_cast<std::uint32_t>(
         L.integer_or(t, p, "command_id", 0, 0x7FA, c.can.command.base_can_id));
     c.can.command.data_id_mode = ch.data_id_mode;
+    load_clock_rate(L, t, c);
     if (!check_channel_config(ch).ok() || !check_channels_compatible(ch, c.can.command).ok()) {
         L.fail(
             t.source(), "can",
@@ -282,12 +311,46 @@ void load_can(const Loader& L, const toml::table& root, MonitorConfig& c) {
     }
 }
 
+/// The background checks of the [cycle] table (after [sensors]: it checks them).
+void load_background_checks(const Loader& L, const toml::table& t, MonitorConfig& c) {
+    const double match = L.number_or(t, "cycle", "background_match", kDefaultBackgroundMatch);
+    // An absent key is reported at the table (its default is on).
+    const toml::source_region where = t.contains("background_match") ? t.get("background_match")->source() : t.source();
+    if (!(match >= 0.0 && match <= 1.0)) {
+        L.fail(where, "cycle.background_match", "expected 0 (off) to 1");
+    }
+    // Recorded (pcd_files) sensors are compared per direction bin of their
+    // view (SR-BKG-009): with a prior file, the view must come from the
+    // recorded frames (prior.background_file), not from the simulator.
+    for (const SensorSettings& s : c.sensors) {
+        if (match > 0.0 && !s.pcd_files.empty() && c.prior.source == PriorSource::kFile &&
+            c.prior.background_file.empty()) {
+            L.fail(where, "cycle.background_match",
+                   "is on, but recorded sensor '" + s.name +
+                       "' has no view of the empty cell: give prior.background_file (written by cellguard-prior "
+                       "--write-background from the recorded frames), or set background_match = 0");
+        }
+    }
+    c.background_match = static_cast<float>(match);
+    const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
+    if (!(tolerance > 0.0 && tolerance <= 1.0)) {
+        L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
+               "expected more than 0, at most 1 m");
+    }
+    c.background_tolerance_m = static_cast<float>(tolerance);
+    c.background_changed_pixels = static_cast<std::uint32_t>(
+        L.integer_or(t, "cycle", "background_changed_pixels", 0, 10000000, kDefaultBackgroundChangedPixels));
+    c.background_changed_cycles = static_cast<std::uint32_t>(
+        L.integer_or(t, "cycle", "background_changed_cycles", 0, 1000, kDefaultBackgroundChangedCycles));
+}
+
 /// The [cycle] table: period, budget, frame age, background checks (after [sensors]: it checks them).
 void load_cycle(const Loader& L, const toml::table& root, MonitorConfig& c) {
     const toml::table& t = L.table(root, "", "cycle");
-    L.check_keys(t, "cycle",
-                 {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib",
-                  "max_repeated_frames", "background_match", "background_tolerance_m"});
+    L.check_keys(
+        t, "cycle",
+        {"period_ms", "budget_ms", "max_frame_age_ms", "table_check_kib", "zone_check_kib", "max_repeated_frames",
+         "background_match", "background_tolerance_m", "background_changed_pixels", "background_changed_cycles"});
     const double period = L.number(t, "cycle", "period_ms");
     if (!(period >= 1.0 && period <= 10000.0)) {
         L.fail(t.get("period_ms")->source(), "cycle.period_ms", "expected 1..10000 ms");
@@ -303,27 +366,11 @@ void load_cycle(const Loader& L, const toml::table& root, MonitorConfig& c) {
         L.fail(t.get("max_frame_age_ms")->source(), "cycle.max_frame_age_ms", "expected more than 0, at most 60000");
     }
     c.max_frame_age_us = ms_to_us(age);
-    c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 256)) * 1024U;
+    c.table_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "table_check_kib", 1, 65536, 1024)) * 1024U;
     c.zone_check_bytes = static_cast<std::size_t>(L.integer_or(t, "cycle", "zone_check_kib", 1, 65536, 16)) * 1024U;
-    c.max_repeated_frames = static_cast<std::uint32_t>(L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, 0));
-    const double match = L.number_or(t, "cycle", "background_match", 0.0);
-    if (!(match >= 0.0 && match <= 1.0)) {
-        L.fail(t.get("background_match")->source(), "cycle.background_match", "expected 0 (off) to 1");
-    }
-    for (const SensorSettings& s : c.sensors) {
-        if (match > 0.0 && !s.pcd_files.empty()) {
-            L.fail(t.get("background_match")->source(), "cycle.background_match",
-                   "needs each sensor's view of the empty cell, which recorded sensors (pcd_files) do not have; "
-                   "set it to 0");
-        }
-    }
-    c.background_match = static_cast<float>(match);
-    const double tolerance = L.number_or(t, "cycle", "background_tolerance_m", 0.05);
-    if (!(tolerance > 0.0 && tolerance <= 1.0)) {
-        L.fail(t.get("background_tolerance_m")->source(), "cycle.background_tolerance_m",
-               "expected more than 0, at most 1 m");
-    }
-    c.background_tolerance_m = static_cast<float>(tolerance);
+    c.max_repeated_frames = static_cast<std::uint32_t>(
+        L.integer_or(t, "cycle", "max_repeated_frames", 0, 1000, kDefaultMaxRepeatedFrames));
+    load_background_checks(L, t, c);
 }
 
 /// The [restart_interlock] table: delay, reset, recovery after a fault.

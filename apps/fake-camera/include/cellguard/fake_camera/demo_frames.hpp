@@ -59,9 +59,10 @@ private:
 class DemoFrames {
 public:
     /// Frames of @p spec, also at each of @p other_sizes (width, height);
-    /// raw depth = metres / @p scale_m after @p offset_m. Allocates the sources.
+    /// raw depth = metres / @p scale_m after @p offset_m; @p scene the demo's
+    /// (with its person) or the empty cell. Allocates the sources.
     DemoFrames(const sim::SensorSpec& spec, const std::vector<std::pair<int, int>>& other_sizes, double scale_m,
-               double offset_m);
+               double offset_m, cell::FrameScene scene = cell::FrameScene::kDemo);
 
     /// Writes the raw image of scenario cycle @p cycle at @p width x @p
     /// height into @p image; zeros when no source has that size. Renders each

@@ -173,6 +173,8 @@ struct RecordedSensor {
     int width = 0;                                           ///< image columns (capacity: width x height points)
     int height = 0;                                          ///< image rows
     float max_range = 10.0F;                                 ///< readings beyond are not fused
+    double hfov_deg = 0.0;                                   ///< horizontal field of view (its view's direction grid)
+    double vfov_deg = 0.0;                                   ///< vertical field of view
     std::vector<std::string> files;                          ///< its frames, in order
 };
 

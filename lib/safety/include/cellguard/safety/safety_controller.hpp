@@ -11,6 +11,8 @@
 ///   than max_frame_age_us or stamped in the future (kSensorStale), a frame
 ///   whose description fails its checks or that no longer shows its
 ///   commissioned background (kFrameInconsistent): this cycle;
+/// - a changed background (background_changed) in changed_cycles frames of a
+///   sensor in a row (kPriorCheckFailed): in that cycle, latched for good;
 /// - the prior in RAM no longer matching its CRC (kPriorCheckFailed): at the
 ///   end of the pass of the periodic check that reads the changed byte
 ///   (prior_check_slice_bytes per cycle); a prior or zones that do not
@@ -38,7 +40,15 @@
 ///   settings (separation parameters, margin, image CRC, command age): every
 ///   cycle; a robot model that fails check_robot_model, a robot mask storage
 ///   smaller than the grid, a bad margin or separation parameters, cases
-///   that do not fit the zones: at construction; latched for good.
+///   that do not fit the zones: at construction; latched for good;
+/// - memory (hazards H-MEM-2, H-MEM-3; kInternalCheck, latched for good):
+///   a CRC-32 table entry that no longer matches its definition, at the
+///   cycle that tests it (crc_table_check_values byte values per cycle, a
+///   pass in 256 / that many cycles); the controller's own state and its
+///   copy of the configuration changed between two cycles (a StateSeal,
+///   compared at the start of each cycle); the cycle thread's stack grown
+///   into the guard band of the port's painting (ControllerConfig::stack),
+///   every cycle. The safety logic seals its own state (safety_logic.hpp).
 ///
 /// The robot side (robot_command.hpp, robot/*.hpp). A cell expects the PLC's
 /// command when it has a robot or a case set (ControllerConfig::robot.model
@@ -68,6 +78,8 @@
 #include <cstdint>
 
 #include "cellguard/base/ram_check.hpp"
+#include "cellguard/base/stack_paint.hpp"
+#include "cellguard/base/state_seal.hpp"
 #include "cellguard/base/task_runner.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
@@ -93,9 +105,10 @@ struct SensorInput {
     std::uint64_t captured_us = 0U;   ///< when it was captured, on the controller's clock
     bool present = false;             ///< false: no frame arrived for this cycle
     const RayTable* table = nullptr;  ///< optional precomputed rays of this (static) depth sensor
-    /// Optional commissioned view of the empty cell of this (static) depth
-    /// sensor: a frame that shows less of it than reference.min_match_fraction
-    /// is kFrameInconsistent and is not fused (background_check.hpp).
+    /// Optional commissioned view of the empty cell of this static sensor (per
+    /// pixel of a depth image, per direction bin of a point set):
+    /// too little of it shown is kFrameInconsistent, not fused; a changed one
+    /// latches kPriorCheckFailed (background_check.hpp, BackgroundChangeTracker).
     const BackgroundReference* background = nullptr;
 };
 
@@ -143,10 +156,10 @@ struct ControllerConfig {
     /// the check off: for noise-free sources (the simulator's ideal frames,
     /// a recording replayed frame by frame) whose frames repeat by design.
     std::uint32_t max_repeated_frames = 0U;
-    std::uint64_t cycle_budget_us = 5000U;          ///< deadline of one cycle
-    std::size_t prior_check_slice_bytes = 4096U;    ///< bytes of the prior re-checked per cycle (> 0)
-    std::size_t table_check_slice_bytes = 262144U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)
-    std::size_t zone_check_slice_bytes = 16384U;    ///< bytes of the zone membership mask re-checked per cycle (> 0)
+    std::uint64_t cycle_budget_us = 5000U;           ///< deadline of one cycle
+    std::size_t prior_check_slice_bytes = 4096U;     ///< bytes of the prior re-checked per cycle (> 0)
+    std::size_t table_check_slice_bytes = 1048576U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)
+    std::size_t zone_check_slice_bytes = 16384U;     ///< bytes of the zone membership mask re-checked per cycle (> 0)
     Rasterization rasterization = Rasterization::kExact;  ///< for sensors without a ray table
     FootprintFusionConfig footprint{};                    ///< footprint fusion of depth images, if chosen
     RobotCellConfig robot{};                              ///< the robot, if any
@@ -155,6 +168,11 @@ struct ControllerConfig {
     /// A command that arrived longer ago than this at a cycle's start is stale (kCommandInvalid).
     std::uint64_t max_command_age_us = 200000U;
     std::size_t robot_check_slice_bytes = 4096U;  ///< bytes of the robot model re-checked per cycle (> 0)
+    /// Byte values of the CRC-32 tables tested per cycle (1..256; 8 entries each): a pass in 256 / this cycles.
+    std::uint32_t crc_table_check_values = 32U;
+    /// The port's painting of the cycle thread's stack (cellguard/port/stack.hpp), its guard band checked
+    /// every cycle; nullptr: no stack check. It must outlive the controller.
+    const StackPaint* stack = nullptr;
 };
 
 /// The cycle executive. All references must outlive it.
@@ -183,6 +201,14 @@ public:
     const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input,
                                  const CommandInput& command) noexcept;
 
+    /// Faults a check outside the controller found (the port's clock-rate
+    /// check against the PLC's samples: kClockFault): counted among the
+    /// detected faults of the next run_cycle (bits beyond kAllFaults ignored).
+    /// The pending faults are sealed state (H-MEM-3): the seal is renewed
+    /// only if it held before the change, so a corruption since the last
+    /// cycle is still found by the next one.
+    void report_faults(std::uint32_t faults) noexcept;
+
     /// The last cycle's report.
     [[nodiscard]] const CycleReport& report() const noexcept { return report_; }
     /// The deadline monitor.
@@ -191,8 +217,18 @@ public:
     [[nodiscard]] std::uint32_t prior_crc() const noexcept { return prior_check_.reference(); }
     /// The monitoring cases in force (the configuration's copy, or the default).
     [[nodiscard]] const MonitoringCases& cases() const noexcept { return cases_; }
+    /// The robot's capsules as the last cycle placed them (meaningful when its report's command_valid).
+    [[nodiscard]] const RobotPose& robot_pose() const noexcept { return pose_; }
+    /// CRC-32 of the sealed configuration and state as they are now (public
+    /// for the benchmark of its cost; the safety logic's own is separate).
+    [[nodiscard]] std::uint32_t state_crc() const noexcept;
+    /// The changed-background check: each slot's last comparison and the latch.
+    [[nodiscard]] const BackgroundChangeTracker& background_change() const noexcept { return background_change_; }
 
 private:
+    friend struct SafetyControllerTestAccess;  ///< tests corrupt the sealed fields (tests/support)
+
+    void add_state(Crc32& crc) const noexcept;
     std::uint32_t fuse_sensors(Span<const SensorInput> sensors, std::uint64_t now, FusionStats& stats) noexcept;
     [[nodiscard]] bool accept_frame(std::size_t slot, const SensorInput& s, std::uint64_t now,
                                     std::uint32_t& faults) noexcept;
@@ -208,7 +244,7 @@ private:
                           std::uint32_t& detected) noexcept;
     bool step_table_check(Span<const SensorInput> sensors) noexcept;
     bool frame_is_frozen(std::size_t slot, const SensorInput& input) noexcept;
-    static bool shows_background(const SensorInput& input) noexcept;
+    bool shows_background(std::size_t slot, const SensorInput& input) noexcept;
 
     /// What the frozen-sensor check keeps of a sensor slot's last frame.
     struct FrameHistory {
@@ -251,6 +287,7 @@ private:
     std::size_t table_check_sensor_ = 0U;                 ///< the sensor slot whose table the next cycle checks
     bool table_failed_ = false;
     std::array<FrameHistory, kMaxSensors> frame_history_{};  ///< per sensor slot, for max_repeated_frames
+    BackgroundChangeTracker background_change_{};            ///< per sensor slot: the changed-background check
     MonitoringCases cases_{};                ///< the configuration's cases (a copy), or one case 0 = all zones
     std::uint32_t cases_crc_ = 0U;           ///< cases_.settings_crc() at construction
     bool command_expected_ = false;          ///< the cell has a robot or a case set
@@ -259,6 +296,9 @@ private:
     SignatureCheck robot_check_;             ///< the robot model's bytes, reference taken at construction
     std::uint32_t robot_settings_crc_ = 0U;  ///< robot_settings_crc() at construction
     RobotPose pose_{};                       ///< this cycle's robot pose (valid while the cycle's mask is)
+    Crc32TableCheck crc_table_check_{};      ///< the CRC-32 tables, in slices
+    bool memory_failed_ = false;             ///< the seal, the CRC tables or the stack guard failed (latched)
+    StateSeal seal_{};                       ///< state_crc() at the end of the last cycle (or construction)
 };
 
 }  // namespace cellguard

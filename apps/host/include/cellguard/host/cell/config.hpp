@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cellguard/can/clock_rate_check.hpp"
 #include "cellguard/can/command_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
@@ -152,7 +153,23 @@ struct PriorSettings {
     PriorSource source = PriorSource::kSimulatedBackground;  ///< where it comes from
     std::string file;           ///< kFile: path (relative paths: to the config file's directory)
     int background_frames = 8;  ///< kSimulatedBackground: empty frames accumulated
+    /// kFile: the sensors' commissioned views (background_files.hpp), bound
+    /// to the prior by its CRC; empty: none (simulated sensors then use
+    /// their render of the empty scene)
+    std::string background_file;
 };
+
+/// cycle.max_repeated_frames when absent: a sensor whose data are
+/// bit-identical in 3 new frames in a row is frozen.
+constexpr std::uint32_t kDefaultMaxRepeatedFrames = 3U;
+/// cycle.background_match when absent: a frame must show half its view of the empty cell.
+constexpr double kDefaultBackgroundMatch = 0.5;
+/// cycle.background_changed_pixels when absent: more pixels than this
+/// beyond the view (by background_tolerance_m) show a changed background.
+constexpr std::uint32_t kDefaultBackgroundChangedPixels = 20U;
+/// cycle.background_changed_cycles when absent: that many frames in a row
+/// showing a changed background latch kPriorCheckFailed (0 = off).
+constexpr std::uint32_t kDefaultBackgroundChangedCycles = 3U;
 
 /// The CAN output: an interface, or a candump log file.
 struct CanSettings {
@@ -162,6 +179,10 @@ struct CanSettings {
     std::string log_interface_name = "vcan0";  ///< interface name written in the log lines
     SafetyChannelConfig channel{};             ///< CAN IDs, data IDs, data ID mode
     CommandChannelConfig command{};            ///< the PLC's command: CAN IDs, data IDs (can.command_id, ...)
+    /// The controller clock's rate against the PLC's samples (clock_rate_check.hpp):
+    /// can.command_period_ms (the PLC's nominal sample period; 0 or absent: off),
+    /// can.clock_rate_tolerance_percent (default 2), can.clock_rate_window (PLC periods, default 50).
+    ClockRateConfig clock_rate{};
 };
 
 /// How the cycle fuses its depth images ([fusion], optional).
@@ -190,12 +211,17 @@ struct MonitorConfig {
     std::uint64_t period_us = 100000U;         ///< cycle period
     std::uint64_t budget_us = 100000U;         ///< cycle deadline
     std::uint64_t max_frame_age_us = 200000U;  ///< older frames are stale
-    std::size_t table_check_bytes = 262144U;   ///< ray-table bytes CRC-checked per cycle (cycle.table_check_kib)
-    std::uint32_t max_repeated_frames = 0U;    ///< frozen-sensor limit, 0 = off (cycle.max_repeated_frames)
-    std::size_t zone_check_bytes = 16384U;     ///< zone-mask bytes CRC-checked per cycle (cycle.zone_check_kib)
-    float background_match =
-        0.0F;  ///< fraction of the commissioned view a frame must show, 0 = off (cycle.background_match)
-    float background_tolerance_m = 0.05F;       ///< depth tolerance of that comparison (cycle.background_tolerance_m)
+    std::size_t table_check_bytes = 1048576U;  ///< ray-table bytes CRC-checked per cycle (cycle.table_check_kib)
+    std::uint32_t max_repeated_frames =
+        kDefaultMaxRepeatedFrames;          ///< frozen-sensor limit, 0 = off (cycle.max_repeated_frames)
+    std::size_t zone_check_bytes = 16384U;  ///< zone-mask bytes CRC-checked per cycle (cycle.zone_check_kib)
+    float background_match = static_cast<float>(
+        kDefaultBackgroundMatch);  ///< fraction of the commissioned view a frame must show, 0 = off (cycle.background_match)
+    float background_tolerance_m = 0.05F;  ///< depth tolerance of that comparison (cycle.background_tolerance_m)
+    /// changed background: more pixels beyond the view than this (cycle.background_changed_pixels)
+    std::uint32_t background_changed_pixels = kDefaultBackgroundChangedPixels;
+    /// ... in this many frames in a row latch the prior fault, 0 = off (cycle.background_changed_cycles)
+    std::uint32_t background_changed_cycles = kDefaultBackgroundChangedCycles;
     std::uint64_t restart_delay_us = 500000U;   ///< restart interlock delay
     bool reset_required = false;                ///< restart also needs a reset edge
     std::uint32_t fault_recovery_cycles = 10U;  ///< clean cycles before a recoverable fault clears

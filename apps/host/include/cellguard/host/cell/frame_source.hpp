@@ -64,16 +64,36 @@ protected:
 /// source reports a frame it refused (FrameSource::load_frame).
 void refuse_reading(SensorReading& reading) noexcept;
 
+/// Whether a simulated source varies its frames: the simulator is noise-free,
+/// so with nothing moving its frames are bit-identical and the frozen-sensor
+/// check (cycle.max_repeated_frames) would take it for frozen.
+enum class FrameDither : std::uint8_t {
+    kOff = 0,  ///< the render, bit for bit
+    kOn = 1,   ///< in odd cycles the first pixel with a reading one float step (ulp) deeper
+};
+
+/// What a simulated demo sensor shows.
+enum class FrameScene : std::uint8_t {
+    kDemo = 0,   ///< the reference scene with the demo's scripted person (scenario.hpp)
+    kEmpty = 1,  ///< the reference scene alone: the empty cell, as at commissioning
+};
+
+/// The dither of FrameDither::kOn on @p depth for @p cycle (nothing in even
+/// cycles): deterministic, far below any depth tolerance (about 0.24 um at 2 m).
+void dither_depth(std::uint64_t cycle, Span<float> depth) noexcept;
+
 /// A simulated sensor of the demo cell: every cycle it ray casts the demo's
 /// scene of that cycle, the reference scene (sim::reference_scene) with the
 /// scripted person (scenario.hpp) added, into its depth image
 /// (sim::BackgroundView: the reference scene is cast once, then each frame
 /// only the pixels whose ray may meet the person): the image render_frame
-/// gives for that scene, bit for bit.
+/// gives for that scene, bit for bit (with FrameDither::kOff; kOn, the
+/// default, adds dither_depth).
 class SimulatedFrameSource final : public FrameSource {
 public:
-    /// A source for @p spec; allocates its image (width x height) and scene.
-    explicit SimulatedFrameSource(const sim::SensorSpec& spec);
+    /// A source for @p spec showing @p scene; allocates its image (width x height) and scene.
+    explicit SimulatedFrameSource(const sim::SensorSpec& spec, FrameDither dither = FrameDither::kOn,
+                                  FrameScene scene = FrameScene::kDemo);
 
     bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
     /// A simulated sensor has no summary line.
@@ -84,6 +104,8 @@ public:
 
 private:
     sim::SensorSpec spec_;
+    FrameDither dither_;
+    FrameScene scene_;
     sim::BackgroundView background_;  ///< the reference scene's view, cast once
     sim::Scene moving_;               ///< this cycle's person, room for one box
     sim::PreparedScene prepared_;     ///< moving_, prepared
@@ -94,11 +116,12 @@ private:
 /// A simulated sensor of a scene-file cell (the robot-cell demo): every
 /// cycle it ray casts the scene that @p simulation holds at that moment (the
 /// monitor's loop moves the simulation before it loads the frames) into its
-/// depth image.
+/// depth image (with dither_depth unless FrameDither::kOff).
 class SceneFrameSource final : public FrameSource {
 public:
     /// A source for @p spec of @p simulation (which must outlive it); allocates its image.
-    SceneFrameSource(const sim::SensorSpec& spec, const sim::RobotCellSimulation& simulation);
+    SceneFrameSource(const sim::SensorSpec& spec, const sim::RobotCellSimulation& simulation,
+                     FrameDither dither = FrameDither::kOn);
 
     bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
     /// A simulated sensor has no summary line.
@@ -106,6 +129,7 @@ public:
 
 private:
     sim::SensorSpec spec_;
+    FrameDither dither_;
     sim::SensorRays rays_;  ///< the pixels' rays, computed once
     const sim::RobotCellSimulation* simulation_;
     std::vector<float> depth_;
