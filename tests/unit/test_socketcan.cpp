@@ -6,10 +6,12 @@
 #include <linux/can.h>
 #include <linux/can/error.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "cellguard/port/can.hpp"
 
@@ -241,4 +243,26 @@ TEST_CASE("socketcan: a closed socket's stamped receive fails and leaves no stam
     ReceiveStamp stamp{true, 1, 2};
     CHECK(closed.receive(f, stamp) == SocketCan::ReceiveOutcome::kFailed);
     CHECK_FALSE(stamp.kernel);
+}
+
+// verifies: SR-CMD-020
+TEST_CASE("socketcan: the read's two clocks are paired at one moment, the tightest of three tries") {
+    // A monotonic clock whose first pair of readings straddles a 7 ms preemption, the second does not.
+    std::vector<std::uint64_t> readings = {1000U, 8000U, 8010U, 8020U};
+    std::size_t next = 0U;
+    auto mono = [&]() { return readings[std::min(next++, readings.size() - 1U)]; };
+    cellguard::linux_port::ReceiveStamp stamp;
+    std::uint64_t gap = 0U;
+    const std::uint64_t mid = cellguard::linux_port::pair_with_realtime(stamp, mono, 50U, &gap);
+    CHECK(mid == 8015U);  // the second try's middle, not 4500 (the preempted pair's)
+    CHECK(gap == 10U);
+    CHECK(next == 4U);  // the tight pair ended the tries
+    CHECK(stamp.read_realtime_ns > 0);
+    // Every try preempted: the tightest pair is taken, after three tries.
+    readings = {0U, 900U, 1000U, 1300U, 2000U, 2500U, 3000U};
+    next = 0U;
+    const std::uint64_t worst = cellguard::linux_port::pair_with_realtime(stamp, mono, 50U, &gap);
+    CHECK(gap == 300U);
+    CHECK(worst == 1150U);
+    CHECK(next == 6U);
 }

@@ -3,6 +3,8 @@
 // The monitor's CAN port (can_port.hpp).
 #include "cellguard/monitor/can_port.hpp"
 
+#include <algorithm>
+
 namespace cellguard::monitor {
 
 linux_port::SocketCanStatus CanPort::open_interface(const std::string& name, MonotonicClock& clock) {
@@ -70,12 +72,19 @@ void CanPort::drain() noexcept {
     CanFrame rx{};
     linux_port::ReceiveStamp stamp{};
     for (int n = 0; n < kMaxFramesPerDrain; ++n) {
-        const std::uint64_t read_us = clock_->now_us();
+        const std::uint64_t before_us = clock_->now_us();
         const linux_port::SocketCan::ReceiveOutcome r = socket_.receive(rx, stamp);
         if (r == linux_port::SocketCan::ReceiveOutcome::kNothing) {
-            empty_seen_us_ = read_us;  // every later frame arrived after this
+            empty_seen_us_ = before_us;  // every later frame arrived after this
             return;
         }
+        // The frame's age on the real-time clock, paired with this clock read at the same moment (the
+        // tightest of up to three monotonic readings around a real-time one, after the read). Read on
+        // opposite sides of the call, or with a preemption between them, the two clocks would shift
+        // the frame's arrival by the preemption: two frames of one sample came out in reverse order
+        // ('time went backwards') or a copy late, in the vcan VM under load.
+        const std::uint64_t read_us = std::max(
+            before_us, linux_port::pair_with_realtime(stamp, [this]() { return clock_->now_us(); }));
         if (r == linux_port::SocketCan::ReceiveOutcome::kFailed) {
             return;
         }
@@ -83,7 +92,10 @@ void CanPort::drain() noexcept {
             continue;
         }
         bool from_kernel = false;
-        const std::uint64_t arrival = linux_port::arrival_monotonic_us(stamp, read_us, empty_seen_us_, &from_kernel);
+        // FIFO: a frame read after another did not arrive before it.
+        const std::uint64_t arrival = std::max(
+            linux_port::arrival_monotonic_us(stamp, read_us, empty_seen_us_, &from_kernel), last_arrival_us_);
+        last_arrival_us_ = arrival;
         ++(from_kernel ? rx_kernel_stamped_ : rx_bound_stamped_);
         if (rx_count_ == rx_.size()) {
             rx_head_ = (rx_head_ + 1U) % rx_.size();

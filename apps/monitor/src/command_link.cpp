@@ -14,8 +14,27 @@ CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg) {
     return rc;
 }
 
-SimulatedPlcLink::SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus) noexcept
-    : sender_(config.channel), receiver_(config), bus_(bus) {}
+ClockRateConfig clock_rate_config(const cell::MonitorConfig& cfg) { return cfg.can.clock_rate; }
+
+CheckedReceiver::CheckedReceiver(const CommandReceiverConfig& config, const ClockRateConfig& rate) noexcept
+    : receiver_(config), rate_(rate) {}
+
+void CheckedReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    const CommandStatus s = receiver_.on_frame(frame, now_us);
+    if (s.fault_events != fault_events_) {
+        fault_events_ = s.fault_events;
+        rate_.restart();  // the link broke: its own checks act; the next good sample starts a new window
+    }
+    if (s.good_samples != good_samples_) {
+        good_samples_ = s.good_samples;
+        const CommandInput& sample = receiver_.last_sample();
+        static_cast<void>(rate_.on_sample(sample.counter, sample.received_us));
+    }
+}
+
+SimulatedPlcLink::SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus,
+                                   const ClockRateConfig& rate) noexcept
+    : sender_(config.channel), receiver_(config, rate), bus_(bus) {}
 
 void SimulatedPlcLink::set_command(const RobotCommand& command) noexcept {
     command_ = command;
@@ -31,7 +50,7 @@ CommandPoll SimulatedPlcLink::poll(std::uint64_t now_us) noexcept {
                 if (bus_ != nullptr) {
                     static_cast<void>(bus_->send(f));  // the log shows the PLC's frames; a failed write is the log's
                 }
-                static_cast<void>(receiver_.on_frame(f, arrival));
+                receiver_.on_frame(f, arrival);
                 ++frames_;
             }
         }
@@ -39,8 +58,9 @@ CommandPoll SimulatedPlcLink::poll(std::uint64_t now_us) noexcept {
     return receiver_.poll(now_us);
 }
 
-SocketCanCommandLink::SocketCanCommandLink(const CommandReceiverConfig& config, CanPort& port) noexcept
-    : receiver_(config), port_(&port) {}
+SocketCanCommandLink::SocketCanCommandLink(const CommandReceiverConfig& config, CanPort& port,
+                                           const ClockRateConfig& rate) noexcept
+    : receiver_(config, rate), port_(&port) {}
 
 CommandPoll SocketCanCommandLink::poll(std::uint64_t now_us) noexcept {
     port_->drain();
@@ -48,7 +68,7 @@ CommandPoll SocketCanCommandLink::poll(std::uint64_t now_us) noexcept {
     std::uint64_t arrival_us = 0U;
     while (port_->take_received(f, arrival_us)) {
         // Its arrival, not this cycle's start: the SRVT and the sample window are measured on real arrival times.
-        static_cast<void>(receiver_.on_frame(f, std::min(arrival_us, now_us)));
+        receiver_.on_frame(f, std::min(arrival_us, now_us));
         ++frames_;
     }
     return receiver_.poll(now_us);

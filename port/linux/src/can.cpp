@@ -293,6 +293,8 @@ SocketCanStatus SocketCan::transmit(const CanFrame& frame) noexcept {
     return status;
 }
 
+std::int64_t realtime_now_ns() noexcept { return realtime_ns(); }
+
 std::uint64_t arrival_monotonic_us(const ReceiveStamp& stamp, std::uint64_t read_mono_us, std::uint64_t not_before_us,
                                    bool* from_kernel) noexcept {
     bool kernel = false;

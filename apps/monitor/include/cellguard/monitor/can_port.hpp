@@ -64,8 +64,10 @@ public:
     void drain() noexcept;
     /// Takes the oldest queued data frame into @p out and its arrival on the
     /// port's clock into @p arrival_us: the kernel's receive time stamp moved
-    /// to that clock (linux_port::arrival_monotonic_us), never earlier than
-    /// the last time the socket was seen empty and never later than the read;
+    /// to that clock (linux_port::arrival_monotonic_us, with the clock read
+    /// just after the frame's read, as the real-time clock is), never earlier
+    /// than the last time the socket was seen empty nor than the frame before
+    /// it (the socket's queue is first in, first out), never later than the read;
     /// without a usable kernel stamp that earliest time (the safe side for
     /// every age check). False when none is queued.
     [[nodiscard]] bool take_received(CanFrame& out, std::uint64_t& arrival_us) noexcept;
@@ -102,8 +104,9 @@ private:
     CanSender* sender_ = nullptr;
     CanFrameTap* tap_ = nullptr;
     std::size_t sent_ = 0U;
-    MonotonicClock* clock_ = nullptr;                                 ///< an interface's: stamps received frames
-    std::uint64_t empty_seen_us_ = 0U;                                ///< when a read last found the socket empty
+    MonotonicClock* clock_ = nullptr;     ///< an interface's: stamps received frames
+    std::uint64_t empty_seen_us_ = 0U;    ///< when a read last found the socket empty
+    std::uint64_t last_arrival_us_ = 0U;  ///< the last queued frame's arrival: the next is never earlier (FIFO)
     std::array<CanFrame, kReceiveQueueFrames> rx_{};                  ///< ring of received data frames
     std::array<std::uint64_t, kReceiveQueueFrames> rx_arrival_us_{};  ///< their arrival times
     std::uint64_t rx_kernel_stamped_ = 0U;

@@ -11,13 +11,22 @@
 ///   (the log or the interface, as a PLC on the same bus would) and feeds
 ///   them to the receiver, stamped a fixed lead before the cycle starts;
 /// - a SocketCAN interface: every frame waiting on the CAN port's socket
-///   (non-blocking) is fed to the receiver, stamped with the cycle's start.
+///   (non-blocking) is fed to the receiver with its kernel receive stamp.
+/// Both feed each good sample the receiver accepts to the clock-rate check
+/// (lib/can/clock_rate_check.hpp; on when [can] command_period_ms is set):
+/// the PLC's oscillator as a second time base for the controller's clock. A
+/// receiver fault restarts the check's window (a PLC that stops is the
+/// receiver's SCT, not a clock fault). The simulated PLC is stamped on the
+/// controller's own clock and sends once per executed cycle (a skipped
+/// period looks like a fast clock): the monitor gives it no rate check
+/// (main.cpp); the unit tests exercise the wiring through it.
 /// Neither allocates per cycle.
 #ifndef CELLGUARD_MONITOR_COMMAND_LINK_HPP
 #define CELLGUARD_MONITOR_COMMAND_LINK_HPP
 
 #include <cstdint>
 
+#include "cellguard/can/clock_rate_check.hpp"
 #include "cellguard/can/command_receiver.hpp"
 #include "cellguard/can/plc_command_sender.hpp"
 #include "cellguard/host/cell/config.hpp"
@@ -33,6 +42,31 @@ namespace cellguard::monitor {
 /// within 20 ms).
 [[nodiscard]] CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg);
 
+/// The clock-rate check's configuration for the cell of @p cfg ([can] command_period_ms, ...).
+[[nodiscard]] ClockRateConfig clock_rate_config(const cell::MonitorConfig& cfg);
+
+/// A CommandReceiver and the ClockRateCheck fed by its good samples.
+class CheckedReceiver {
+public:
+    /// @p config must pass CommandReceiver::check_config, @p rate ClockRateCheck::check_config.
+    CheckedReceiver(const CommandReceiverConfig& config, const ClockRateConfig& rate) noexcept;
+    /// Hands @p frame, received at @p now_us, to the receiver; a new good
+    /// sample goes to the rate check, a new receiver fault restarts its window.
+    void on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept;
+    /// The receiver's poll at @p now_us.
+    [[nodiscard]] CommandPoll poll(std::uint64_t now_us) noexcept { return receiver_.poll(now_us); }
+    /// The receiver.
+    [[nodiscard]] const CommandReceiver& receiver() const noexcept { return receiver_; }
+    /// The rate check.
+    [[nodiscard]] const ClockRateCheck& rate() const noexcept { return rate_; }
+
+private:
+    CommandReceiver receiver_;
+    ClockRateCheck rate_;
+    std::uint32_t good_samples_ = 0U;
+    std::uint32_t fault_events_ = 0U;
+};
+
 /// Source of the PLC's command frames (see the file comment).
 class CommandLink {
 public:
@@ -40,6 +74,8 @@ public:
     [[nodiscard]] virtual CommandPoll poll(std::uint64_t now_us) noexcept = 0;
     /// Command frames handed to the receiver so far.
     [[nodiscard]] virtual std::uint64_t frames_received() const noexcept = 0;
+    /// The clock-rate check on this link's samples.
+    [[nodiscard]] virtual const ClockRateCheck& clock_rate() const noexcept = 0;
 
 protected:
     CommandLink() = default;
@@ -58,7 +94,7 @@ constexpr std::uint64_t kSimulatedCommandLeadUs = 5000U;
 class SimulatedPlcLink final : public CommandLink {
 public:
     /// A PLC that sends through @p bus (nullptr: frames go to the receiver only).
-    SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus) noexcept;
+    SimulatedPlcLink(const CommandReceiverConfig& config, CanSender* bus, const ClockRateConfig& rate = {}) noexcept;
     /// The command of the next sample (sent at the next poll). Without one, nothing is sent.
     void set_command(const RobotCommand& command) noexcept;
     /// Stops sending for good, whatever set_command says later (a PLC that
@@ -66,12 +102,13 @@ public:
     void go_silent() noexcept { silent_ = true; }
     [[nodiscard]] CommandPoll poll(std::uint64_t now_us) noexcept override;
     [[nodiscard]] std::uint64_t frames_received() const noexcept override { return frames_; }
+    [[nodiscard]] const ClockRateCheck& clock_rate() const noexcept override { return receiver_.rate(); }
     /// The receiver.
-    [[nodiscard]] const CommandReceiver& receiver() const noexcept { return receiver_; }
+    [[nodiscard]] const CommandReceiver& receiver() const noexcept { return receiver_.receiver(); }
 
 private:
     PlcCommandSender sender_;
-    CommandReceiver receiver_;
+    CheckedReceiver receiver_;
     CanSender* bus_;
     RobotCommand command_{};
     bool has_command_ = false;
@@ -84,12 +121,13 @@ private:
 class SocketCanCommandLink final : public CommandLink {
 public:
     /// Reads from @p port (an interface; other kinds give no frames).
-    SocketCanCommandLink(const CommandReceiverConfig& config, CanPort& port) noexcept;
+    SocketCanCommandLink(const CommandReceiverConfig& config, CanPort& port, const ClockRateConfig& rate = {}) noexcept;
     [[nodiscard]] CommandPoll poll(std::uint64_t now_us) noexcept override;
     [[nodiscard]] std::uint64_t frames_received() const noexcept override { return frames_; }
+    [[nodiscard]] const ClockRateCheck& clock_rate() const noexcept override { return receiver_.rate(); }
 
 private:
-    CommandReceiver receiver_;
+    CheckedReceiver receiver_;
     CanPort* port_;
     std::uint64_t frames_ = 0U;
 };

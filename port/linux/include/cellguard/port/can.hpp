@@ -141,6 +141,40 @@ struct ReceiveStamp {
 [[nodiscard]] std::uint64_t arrival_monotonic_us(const ReceiveStamp& stamp, std::uint64_t read_mono_us,
                                                  std::uint64_t not_before_us, bool* from_kernel = nullptr) noexcept;
 
+/// CLOCK_REALTIME now, in nanoseconds (the clock of the kernel's receive stamps).
+[[nodiscard]] std::int64_t realtime_now_ns() noexcept;
+
+/// Reads @p stamp's read_realtime_ns again, paired with @p mono_now (the
+/// caller's monotonic clock), and returns that clock's reading at the same
+/// moment: the middle of two monotonic readings around the real-time one,
+/// the pair whose readings lie closest together of up to three tries (the
+/// first within @p tight_us ends them). A thread preempted between the two
+/// clocks' readings would otherwise shift the frame's arrival by the
+/// preemption (seen: two frames of one PLC sample dated in reverse order,
+/// and a copy dated milliseconds late, in the vcan VM under load). Pure but
+/// for the clocks; @p gap_us (optional) gets the chosen pair's spread.
+template <typename MonoNow>
+[[nodiscard]] std::uint64_t pair_with_realtime(ReceiveStamp& stamp, MonoNow&& mono_now, std::uint64_t tight_us = 50U,
+                                               std::uint64_t* gap_us = nullptr) noexcept {
+    std::uint64_t best_mid = 0U;
+    std::uint64_t best_gap = ~std::uint64_t{0U};
+    for (int i = 0; i < 3 && best_gap > tight_us; ++i) {
+        const std::uint64_t m1 = mono_now();
+        const std::int64_t real = realtime_now_ns();
+        const std::uint64_t m2 = mono_now();
+        const std::uint64_t gap = m2 >= m1 ? m2 - m1 : 0U;
+        if (gap < best_gap) {
+            best_gap = gap;
+            best_mid = m1 + gap / 2U;
+            stamp.read_realtime_ns = real;
+        }
+    }
+    if (gap_us != nullptr) {
+        *gap_us = best_gap;
+    }
+    return best_mid;
+}
+
 /// Send behaviour.
 struct SocketCanConfig {
     std::uint8_t send_attempts = 3U;     ///< write() attempts per frame, >= 1
