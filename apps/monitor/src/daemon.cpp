@@ -27,7 +27,25 @@ Daemon::Daemon(const cell::MonitorConfig& cfg, const DaemonOptions& opt)
       writer_(queue_, STDERR_FILENO, linux_port::journal_stream_matches(STDERR_FILENO)),
       events_(cfg, queue_, opt.heartbeat_us),
       status_(notifier_),
+      feed_(&notifier_, &watchdog_, cfg.budget_us, &queue_),
       opt_(opt) {}
+
+SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
+    if (opt_.watchdog_path.empty()) {
+        return {};
+    }
+    const std::uint64_t timeout_us = static_cast<std::uint64_t>(opt_.watchdog_timeout_s) * 1000000U;
+    if (timeout_us < 2U * cfg.period_us) {
+        return SetupError{2, "--watchdog-timeout-s " + std::to_string(opt_.watchdog_timeout_s) +
+                                 " is shorter than two cycle periods: the watchdog would reset a working monitor"};
+    }
+    if (!watchdog_.open(opt_.watchdog_path.c_str(), opt_.watchdog_timeout_s)) {
+        return SetupError{2, std::string("watchdog: ") + watchdog_.message()};
+    }
+    std::printf("watchdog: %s armed, timeout %d s (asked for %d s), fed after healthy cycles\n",
+                opt_.watchdog_path.c_str(), watchdog_.timeout_s(), opt_.watchdog_timeout_s);
+    return {};
+}
 
 SetupError Daemon::attach(const cell::MonitorConfig& cfg, const MonitorCell& cell, CanPort& can, MonitorLoop& loop) {
     if (!writer_.start()) {
@@ -39,9 +57,14 @@ SetupError Daemon::attach(const cell::MonitorConfig& cfg, const MonitorCell& cel
         }
         can.set_tap(recorder_.get());
     }
+    if (SetupError e = open_watchdog(cfg); e.failed()) {
+        return e;
+    }
+    static_cast<void>(observers_.list.add(&feed_));
     static_cast<void>(observers_.list.add(&events_));
     static_cast<void>(observers_.list.add(&status_));
     static_cast<void>(observers_.list.add(recorder_.get()));
+    static_cast<void>(observers_.list.add(extra_));
     loop.set_observer(&observers_);
     if (notifier_.enabled()) {
         std::printf("service: notifying systemd, watchdog %s\n", notifier_.watchdog_interval_us() == 0U ? "off" : "on");
@@ -54,6 +77,10 @@ SetupError Daemon::attach(const cell::MonitorConfig& cfg, const MonitorCell& cel
 }
 
 void Daemon::finish(const RunResult& run, const MonitorLoop& loop) {
+    if (watchdog_.is_open() && !watchdog_.stop()) {
+        queue_.push(linux_port::LogPriority::kError, "watchdog: %s: the orderly stop (magic 'V') failed",
+                    opt_.watchdog_path.c_str());
+    }
     static_cast<void>(notifier_.stopping(run.stopped_by_signal ? "stopping (signal)" : "stopping (cycles done)"));
     if (recorder_) {
         recorder_->finish();
@@ -69,12 +96,23 @@ void Daemon::write_summary(std::FILE* out) const {
                                    static_cast<unsigned long long>(events_.counts().lines),
                                    static_cast<unsigned long long>(queue_.dropped()),
                                    static_cast<unsigned long long>(events_.counts().heartbeats)));
-    static_cast<void>(
-        std::fprintf(out, "summary: observers (event log, service%s) after each cycle: longest %.3f ms, mean %.3f ms\n",
-                     recorder_ ? ", snapshots" : "", static_cast<double>(observers_.max_us) / 1000.0,
-                     observers_.calls == 0U
-                         ? 0.0
-                         : static_cast<double>(observers_.total_us) / 1000.0 / static_cast<double>(observers_.calls)));
+    static_cast<void>(std::fprintf(
+        out,
+        "summary: observers (watchdog feed, event log, service%s) after each cycle: longest %.3f ms, mean %.3f ms\n",
+        recorder_ ? ", snapshots" : "", static_cast<double>(observers_.max_us) / 1000.0,
+        observers_.calls == 0U
+            ? 0.0
+            : static_cast<double>(observers_.total_us) / 1000.0 / static_cast<double>(observers_.calls)));
+    const FeedCounts& f = feed_.counts();
+    static_cast<void>(std::fprintf(
+        out,
+        "summary: watchdog feed: %llu healthy cycles fed, refused %llu over budget, %llu with a non-recoverable "
+        "fault, %llu without a new cycle; device %s: %llu keepalives, %llu failed\n",
+        static_cast<unsigned long long>(f.fed), static_cast<unsigned long long>(f.over_budget),
+        static_cast<unsigned long long>(f.non_recoverable), static_cast<unsigned long long>(f.no_new_cycle),
+        opt_.watchdog_path.empty() ? "none" : opt_.watchdog_path.c_str(),
+        static_cast<unsigned long long>(watchdog_.counts().keepalives),
+        static_cast<unsigned long long>(watchdog_.counts().failures)));
     if (notifier_.enabled()) {
         const linux_port::ServiceCounts& c = notifier_.counts();
         static_cast<void>(std::fprintf(out, "summary: service: %llu notifications sent (%llu watchdog), %llu failed\n",

@@ -149,7 +149,6 @@ void ServiceStatus::after_cycle(const CycleView& cycle) noexcept {
         warning_ = s.warning;
         faults_ = s.latched_faults;
     }
-    static_cast<void>(notifier_->watchdog(cycle.now_us));
 }
 
 }  // namespace cellguard::monitor

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -26,13 +27,21 @@
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/command_line.hpp"
+#include "cellguard/monitor/background_recording.hpp"
 #include "cellguard/monitor/camera_startup.hpp"
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/daemon.hpp"
+#include "cellguard/monitor/live_view.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/picture.hpp"
+#include "cellguard/monitor/web_content.hpp"
+#ifdef CELLGUARD_MONITOR_HTTP
+#include <sys/stat.h>
+
+#include "cellguard/monitor/web_server.hpp"
+#endif
 #include "cellguard/port/clock.hpp"
 #include "cellguard/port/worker_pool.hpp"
 
@@ -59,14 +68,64 @@ struct Options {
     bool realtime = false;
     bool quiet = false;
     std::string picture;
+    std::string write_background;  ///< --write-background: "" (run the monitor)
+    int background_frames = 0;     ///< --background-frames (0: prior.background_frames)
     std::string picture_sensor;
-    std::string commands;      ///< --commands: "" (by the cell), "sim" or "can"
-    std::string fusion;        ///< --fusion: "" (the config's), "ray" or "footprint"
-    std::string snapshot_dir;  ///< --snapshot-dir: "" (no snapshots)
-    int snapshot_keep = 10;    ///< --snapshot-keep
-    int heartbeat_s = 10;      ///< --heartbeat-s (0: none)
-    bool forever = false;      ///< --forever: until SIGINT or SIGTERM
+    std::string commands;        ///< --commands: "" (by the cell), "sim" or "can"
+    std::string fusion;          ///< --fusion: "" (the config's), "ray" or "footprint"
+    std::string snapshot_dir;    ///< --snapshot-dir: "" (no snapshots)
+    int snapshot_keep = 10;      ///< --snapshot-keep
+    int heartbeat_s = 10;        ///< --heartbeat-s (0: none)
+    std::string watchdog;        ///< --watchdog: "" (no watchdog device)
+    int watchdog_timeout_s = 5;  ///< --watchdog-timeout-s
+    bool forever = false;        ///< --forever: until SIGINT or SIGTERM
+    std::string http;            ///< --http: "" (no browser view)
 };
+
+/// --http: the browser view, or in a build without CivetWeb, why not.
+void add_http_option(host::CommandLine& cli, Options& o) {
+#ifdef CELLGUARD_MONITOR_HTTP
+    cli.text("--http", o.http, "ADDRESS:PORT",
+             "serve the read-only browser view (zones, prior, live foreground, zone states,\n"
+             "stop history) on ADDRESS:PORT; PORT or :PORT binds 127.0.0.1, port 0 a free\n"
+             "port (printed); not a safety function (default: off)");
+#else
+    cli.text("--http", o.http, "ADDRESS:PORT",
+             "the browser view: not in this build (CivetWeb, libcivetweb-dev, was not found)");
+#endif
+}
+
+/// The options for what the monitor writes besides its CAN output: the
+/// commissioning picture and background views, snapshots, the event log, the
+/// watchdog device.
+void add_output_options(host::CommandLine& cli, Options& o) {
+    cli.text("--picture", o.picture, "FILE",
+             "write a PNG of the grid, the background and the zones (with a robot: its\n"
+             "capsules, mask margin and separation distances) from above and from one\nsensor, and exit");
+    cli.text("--picture-sensor", o.picture_sensor, "S",
+             "the sensor of that view, by name or number from 1 (default 1)");
+    cli.text("--snapshot-dir", o.snapshot_dir, "DIR",
+             "on each protective stop after a release, write a snapshot (the evidence grid\n"
+             "as .npy, a picture as PNG, the CAN frames around the stop) into a new\n"
+             "directory under DIR (default: no snapshots)");
+    cli.integer("--snapshot-keep", o.snapshot_keep, 1, 10000, "N",
+                "snapshots kept in DIR, oldest removed (default 10)");
+    cli.integer("--heartbeat-s", o.heartbeat_s, 0, 86400, "S",
+                "seconds between the event log's heartbeat lines on stderr (default 10, 0: none)");
+    cli.text("--watchdog", o.watchdog, "DEV",
+             "open the watchdog device DEV (e.g. /dev/watchdog) and feed it after each healthy\n"
+             "cycle (within budget, no internal, clock or prior fault latched); the orderly\n"
+             "end disarms it (default: none)");
+    cli.integer("--watchdog-timeout-s", o.watchdog_timeout_s, 1, 3600, "S",
+                "the watchdog device's timeout (default 5; at least two cycle periods)");
+    cli.text("--write-background", o.write_background, "FILE",
+             "commissioning: record every sensor's view of the EMPTY cell from its own frames\n"
+             "(live cameras included), the per-pixel median of --background-frames frames,\n"
+             "write it to FILE bound to the prior's CRC, and exit; then name FILE in\n"
+             "[prior] background_file");
+    cli.integer("--background-frames", o.background_frames, 1, 1000, "N",
+                "frames per sensor for --write-background (default: prior.background_frames)");
+}
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
 /// after --help or --version, 2 after a usage error). No arguments, or
@@ -120,19 +179,8 @@ int parse_args(int argc, char** argv, Options& o) {
                 "emulators or loaded hosts, where the real budget is not the point");
     cli.flag("--realtime", o.realtime, "SCHED_FIFO, mlockall and CPU affinity where permitted");
     cli.flag("--quiet", o.quiet, "no per-cycle status lines");
-    cli.text("--picture", o.picture, "FILE",
-             "write a PNG of the grid, the background and the zones (with a robot: its\n"
-             "capsules, mask margin and separation distances) from above and from one\nsensor, and exit");
-    cli.text("--picture-sensor", o.picture_sensor, "S",
-             "the sensor of that view, by name or number from 1 (default 1)");
-    cli.text("--snapshot-dir", o.snapshot_dir, "DIR",
-             "on each protective stop after a release, write a snapshot (the evidence grid\n"
-             "as .npy, a picture as PNG, the CAN frames around the stop) into a new\n"
-             "directory under DIR (default: no snapshots)");
-    cli.integer("--snapshot-keep", o.snapshot_keep, 1, 10000, "N",
-                "snapshots kept in DIR, oldest removed (default 10)");
-    cli.integer("--heartbeat-s", o.heartbeat_s, 0, 86400, "S",
-                "seconds between the event log's heartbeat lines on stderr (default 10, 0: none)");
+    add_output_options(cli, o);
+    add_http_option(cli, o);
     const int status = cli.parse(argc, argv);
     o.demo = demo->count() > 0U;
     if (o.config_path.empty()) {
@@ -248,9 +296,15 @@ int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCel
     if (has_robot) {  // the demo scene's trajectory, empty without one
         robot = picture_robot(cfg, cell.robot.model, cell.simulation.trajectory());
     }
-    if (!write_config_picture(opt.picture, title, cfg, cell.grid, cell.zones, cell.specs,
-                              {cell.prior.data(), cell.prior.size()}, opt.picture_sensor, has_robot ? &robot : nullptr,
-                              error)) {
+    PictureInput in;
+    bool ok = config_picture_input(title, cfg, cell.grid, cell.zones, cell.specs,
+                                   {cell.prior.data(), cell.prior.size()}, opt.picture_sensor,
+                                   has_robot ? &robot : nullptr, in, error);
+    if (ok) {
+        in.observed = {cell.background_observed.data(), cell.background_observed.size()};  // unseen zone parts hatched
+        ok = host::write_png(opt.picture, render_config_picture(in), error);
+    }
+    if (!ok) {
         static_cast<void>(std::fprintf(stderr, "cellguard-monitor: picture: %s\n", error.c_str()));
         return 1;
     }
@@ -277,6 +331,49 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
         }
     }
     return sources;
+}
+
+/// The real clock and pause for --write-background.
+class RealRecordingTime final : public RecordingTime {
+public:
+    std::uint64_t now_us() noexcept override { return clock_.now_us(); }
+    void pause(std::uint64_t us) noexcept override {
+        timespec t{static_cast<std::time_t>(us / 1000000U), static_cast<long>((us % 1000000U) * 1000U)};
+        while (nanosleep(&t, &t) != 0 && errno == EINTR) {
+        }
+    }
+
+private:
+    linux_port::LinuxMonotonicClock clock_;
+};
+
+/// --write-background: records the views from the sensors' own frames and exits.
+int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& cell, MonitorCameras& cameras) {
+    // The views' identities come from the sensors' layout (build_tables); the file to be
+    // written is not read, even when the configuration already names it.
+    MonitorConfig recording = cfg;
+    recording.prior.background_file.clear();
+    if (const SetupError e = cell.build_tables(recording, stdout); e.failed()) {
+        return fail(e);
+    }
+    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(recording, cell, cameras);
+    std::vector<FrameSource*> sources;
+    sources.reserve(owned.size());
+    for (const std::unique_ptr<FrameSource>& s : owned) {
+        sources.push_back(s.get());
+    }
+    BackgroundRecording rec;
+    rec.path = opt.write_background;
+    rec.frames = opt.background_frames > 0 ? opt.background_frames : cfg.prior.background_frames;
+    // Live cameras at their frame rate, plus their start: a generous bound, not a timing claim.
+    rec.deadline_us = 10000000U +
+                      static_cast<std::uint64_t>(rec.frames) * 4U * std::max<std::uint64_t>(cfg.period_us, 100000U);
+    RealRecordingTime time;
+    std::vector<RecordedSensor> counts;
+    if (const SetupError e = record_background_views(cell, sources, rec, time, counts, stdout); e.failed()) {
+        return fail(e);
+    }
+    return 0;
 }
 
 /// The PLC's command link for the cycle (nullptr: none) as --commands asks;
@@ -309,6 +406,69 @@ std::unique_ptr<linux_port::WorkerPool> fusion_pool(const MonitorConfig& cfg) {
     return pool;
 }
 
+/// The browser view (--http): the live view observer and the server started;
+/// @p live and @p web stay empty without --http.
+SetupError start_http(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell, Daemon& daemon,
+                      const MonitorLoop& loop, std::unique_ptr<LiveView>& live, std::shared_ptr<void>& web) {
+    if (opt.http.empty()) {
+        return {};
+    }
+#ifdef CELLGUARD_MONITOR_HTTP
+    WebServerSettings settings;
+    std::string error;
+    if (!parse_http_address(opt.http, settings.address, settings.port, error)) {
+        return SetupError{2, error};
+    }
+    struct stat st {};
+    settings.page_dir = stat(CELLGUARD_WEB_INSTALL_DIR "/index.html", &st) == 0 ? CELLGUARD_WEB_INSTALL_DIR
+                                                                                : CELLGUARD_WEB_SOURCE_DIR;
+    settings.snapshot_dir = opt.snapshot_dir;
+    live = std::make_unique<LiveView>(cfg, cell.frame_grid, cell.prior.data(), cell.prior.size(), cell.zones);
+    live->set_controller(&loop.controller());
+    live->set_robot_mask(cell.robot_mask.data(), cell.robot_mask.size());
+    auto server = std::make_shared<WebServer>(live->channel(),
+                                              make_static_json(cfg, cell.grid, cell.prior.data(), cell.prior.size()));
+    if (!server->start(settings, error)) {
+        return SetupError{1, "--http: " + error};
+    }
+    daemon.add_observer(live.get());
+    std::printf("http: serving on http://%s:%d/ (read-only view, not a safety function)\n", settings.address.c_str(),
+                server->port());
+    static_cast<void>(std::fflush(stdout));
+    web = server;
+    return {};
+#else
+    static_cast<void>(cfg);
+    static_cast<void>(cell);
+    static_cast<void>(daemon);
+    static_cast<void>(loop);
+    static_cast<void>(live);
+    static_cast<void>(web);
+    return SetupError{2, "--http: this build has no HTTP server (CivetWeb, libcivetweb-dev, was not found)"};
+#endif
+}
+
+/// The browser view's summary line, after its server stopped.
+void stop_http(const std::unique_ptr<LiveView>& live, std::shared_ptr<void>& web) {
+#ifdef CELLGUARD_MONITOR_HTTP
+    if (web) {
+        auto* server = static_cast<WebServer*>(web.get());
+        server->stop();
+        const WebCounts c = server->counts();
+        std::printf(
+            "summary: http: %llu requests, %llu refused (4xx), %llu busy (503), %llu events sent; "
+            "live view's copy after each cycle: longest %.3f ms\n",
+            static_cast<unsigned long long>(c.requests), static_cast<unsigned long long>(c.refused),
+            static_cast<unsigned long long>(c.busy), static_cast<unsigned long long>(c.events),
+            static_cast<double>(live->max_us()) / 1000.0);
+        web.reset();
+    }
+#else
+    static_cast<void>(live);
+    static_cast<void>(web);
+#endif
+}
+
 /// The run after the set-up: the start lines, the daemon's observers, the
 /// cycles, the summary; returns the exit status.
 int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell, CanPort& can,
@@ -326,15 +486,33 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
     dopt.heartbeat_us = static_cast<std::uint64_t>(opt.heartbeat_s) * 1000000U;
     dopt.snapshot_dir = opt.snapshot_dir;
     dopt.snapshot_keep = static_cast<std::size_t>(opt.snapshot_keep);
+    dopt.watchdog_path = opt.watchdog;
+    dopt.watchdog_timeout_s = opt.watchdog_timeout_s;
     Daemon daemon(cfg, dopt);
+    std::unique_ptr<LiveView> live;
+    std::shared_ptr<void> web;  // the WebServer (type-erased: absent from builds without CivetWeb)
+    if (const SetupError e = start_http(opt, cfg, cell, daemon, loop, live, web); e.failed()) {
+        return fail(e);
+    }
     if (const SetupError e = daemon.attach(cfg, cell, can, loop); e.failed()) {
         return fail(e);
     }
+    // The stack below this frame painted; the controller checks its guard band every cycle (H-MEM-3).
+    if (const Status st = cycle_stack().start(); !st.ok()) {
+        return fail(SetupError{1, std::string("stack painting refused: ") + to_string(st.error())});
+    }
     const int cycles_to_run = opt.forever ? std::numeric_limits<int>::max() : cfg.demo_cycles;
     const RunResult run = run_cycles(loop, cycles_to_run, cfg.period_us, opt.paced, g_stop_signal);
+    stop_http(live, web);
     daemon.finish(run, loop);
     const bool log_ok = can.close();
     loop.write_summary(stdout, run, log_ok);
+    const StackPaint& stack = cycle_stack().paint();
+    std::printf(
+        "summary: cycle thread's stack: high-water mark %zu of %zu bytes painted below the run's frame, "
+        "guard band (%zu bytes) %s\n",
+        stack.high_water_bytes(), stack.region_bytes(), stack.guard_bytes(),
+        stack.guard_intact() ? "intact" : "REACHED");
     daemon.write_summary(stdout);
     return loop.exit_status(stderr, log_ok);
 }
@@ -383,6 +561,9 @@ int run_monitor(int argc, char** argv) {
     if (!opt.picture.empty()) {
         return write_picture(opt, cfg, cell);
     }
+    if (!opt.write_background.empty()) {
+        return write_background(opt, cfg, cell, cameras);
+    }
     if ((e = cell.build_tables(cfg, stdout)).failed()) {
         return fail(e);
     }
@@ -393,8 +574,10 @@ int run_monitor(int argc, char** argv) {
         sources.push_back(s.get());
     }
     const CommandReceiverConfig receiver = command_receiver_config(cfg);
+    // The simulated PLC sends on the controller's own cycle and clock: no second time base (and paced,
+    // a skipped period would look like a fast clock), so only a PLC on a CAN interface feeds the check.
     SimulatedPlcLink plc(receiver, &can);
-    SocketCanCommandLink socket_commands(receiver, can);
+    SocketCanCommandLink socket_commands(receiver, can, clock_rate_config(cfg));
     RobotCellDemo demo(cfg, cell, plc);
     // A demo scene with a robot keeps moving (people, the robot's program)
     // whichever link brings the commands.
@@ -402,6 +585,9 @@ int run_monitor(int argc, char** argv) {
     CommandLink* const commands = choose_commands(opt, cell, can, plc, socket_commands, e);
     if (e.failed()) {
         return fail(e);
+    }
+    if (commands == &plc && cfg.can.clock_rate.nominal_period_us != 0U) {
+        std::printf("clock rate: not checked: the simulated PLC has no clock of its own (can.command_period_ms)\n");
     }
     const std::unique_ptr<linux_port::WorkerPool> pool = fusion_pool(cfg);
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,

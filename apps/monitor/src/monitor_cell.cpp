@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdarg>
 
+#include "cellguard/base/crc32.hpp"
 #include "cellguard/grid/depth_pyramid.hpp"
 #include "cellguard/grid/fusion.hpp"
+#include "cellguard/host/io/background_files.hpp"
 #include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
 #include "cellguard/prior/accessibility.hpp"
@@ -46,7 +48,7 @@ __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char*
 
 // The prior image file of @p cfg, copied into @p prior.
 SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std::vector<std::int16_t>& prior,
-                      std::FILE* out) {
+                      std::uint32_t& payload_crc, std::FILE* out) {
     std::vector<std::uint8_t> bytes;
     PriorImageView view;
     const IoStatus st = read_prior_image_file(cfg.prior.file.c_str(), g, bytes, view);
@@ -56,6 +58,7 @@ SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std
     if (!view.copy_to({prior.data(), prior.size()}).ok()) {
         return failure(1, "prior: %s does not fit the grid", cfg.prior.file.c_str());
     }
+    payload_crc = view.header().payload_crc;
     say(out, "prior: %s\n", cfg.prior.file.c_str());
     return {};
 }
@@ -299,7 +302,7 @@ SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, st
 
 SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* out) {
     if (cfg.prior.source == cell::PriorSource::kFile) {
-        return read_prior(cfg, grid, prior, out);
+        return read_prior(cfg, grid, prior, prior_payload_crc, out);
     }
     std::vector<std::int16_t> bg_lo(grid.voxel_count());
     std::vector<std::uint8_t> bg_ob(grid.voxel_count());
@@ -313,6 +316,7 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
             return failure(1, "background: fusing the empty frames failed");
         }
     }
+    background_observed = bg_ob;
     AccessibilityParams params;
     const AccessibilityScratchSize size = accessibility_scratch_size(grid.dims(), params);
     std::vector<std::uint32_t> words(size.words);
@@ -323,6 +327,14 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
     if (!st.ok()) {
         return failure(1, "prior: computing the accessibility prior failed: %s", to_string(st.error()));
     }
+    // The payload's CRC as a prior image would hold it: the values as int16 little-endian.
+    std::vector<std::uint8_t> payload(2U * prior.size());
+    for (std::size_t i = 0U; i < prior.size(); ++i) {
+        const auto bits = static_cast<std::uint16_t>(prior[i]);
+        payload[2U * i] = static_cast<std::uint8_t>(bits & 0xFFU);
+        payload[2U * i + 1U] = static_cast<std::uint8_t>(bits >> 8U);
+    }
+    prior_payload_crc = crc32(Span<const std::uint8_t>(payload.data(), payload.size()));
     say(out, "prior: probabilistic accessibility prior from %d simulated empty frames\n", cfg.prior.background_frames);
     return {};
 }
@@ -345,19 +357,9 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
         total_steps += tables[s].table().step_count();
         total_bytes += tables[s].storage_bytes();
     }
-    // Commissioned views of the empty cell (cycle.background_match > 0): the
-    // simulated sensors' renders of the reference scene, like their tables.
-    backgrounds.assign(specs.size(), BackgroundReference{});
-    for (std::size_t s = 0U; s < specs.size(); ++s) {
-        backgrounds[s].depth = layout.readings[s].depth;
-        backgrounds[s].tolerance_m = cfg.background_tolerance_m;
-        backgrounds[s].min_match_fraction = cfg.background_match;
-    }
-    if (cfg.background_match > 0.0F) {
-        say(out,
-            "background check: every frame must show %.0f %% of its sensor's view of the empty cell (within %.0f mm)\n",
-            100.0 * static_cast<double>(cfg.background_match),
-            1000.0 * static_cast<double>(cfg.background_tolerance_m));
+    SetupError views = attach_backgrounds(cfg, out);
+    if (views.failed()) {
+        return views;
     }
     const Span<const SensorReading> readings{layout.readings.data(), layout.readings.size()};
     // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
@@ -376,6 +378,72 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
         say(out, ", %llu footprint units", static_cast<unsigned long long>(work.footprint_units));
     }
     say(out, "\n");
+    return {};
+}
+
+SetupError MonitorCell::attach_backgrounds(const cell::MonitorConfig& cfg, std::FILE* out) {
+    // Commissioned views of the empty cell (cycle.background_match > 0):
+    // read from prior.background_file, checked against the prior's CRC and
+    // each sensor's name, size, pose and intrinsics; without one, the
+    // simulated sensors' renders of the empty scene, like their tables.
+    background_views.clear();
+    std::vector<BackgroundSensorIdentity> expected;
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        const cell::SensorSettings& settings = cfg.sensors[s];
+        expected.push_back(settings.pcd_files.empty()
+                               ? background_identity(specs[s].name, layout.readings[s])
+                               : point_view_identity(settings.name, cell::sensor_pose(settings),
+                                                     recorded_view_grid(settings.hfov_deg, settings.vfov_deg,
+                                                                        settings.width, settings.height)));
+    }
+    if (!cfg.prior.background_file.empty()) {
+        const IoStatus st = read_background_views(cfg.prior.background_file.c_str(), prior_payload_crc, expected,
+                                                  background_views);
+        if (!st.ok()) {
+            return failure(1, "background views: %s", st.message());
+        }
+        say(out, "background views: %s (%zu sensors, prior CRC 0x%08x)\n", cfg.prior.background_file.c_str(),
+            background_views.size(), prior_payload_crc);
+    } else {
+        // A recorded (point-set) sensor's view from its render of the empty
+        // scene, the frame its part of the prior is made of, as points.
+        background_views.assign(specs.size(), {});
+        for (std::size_t s = 0U; s < specs.size(); ++s) {
+            if (cfg.sensors[s].pcd_files.empty() || !(cfg.background_match > 0.0F)) {
+                continue;  // a depth sensor's view is its render; with the checks off none is compared
+            }
+            PointViewBuilder builder(direction_grid_of(expected[s]));
+            if (!builder.add(layout.readings[s])) {
+                return failure(1, "sensor '%s': its direction-grid view is refused (field of view or bins)",
+                               specs[s].name.c_str());
+            }
+            background_views[s] = builder.values();
+        }
+    }
+    backgrounds.assign(specs.size(), BackgroundReference{});
+    for (std::size_t s = 0U; s < specs.size(); ++s) {
+        const std::vector<float>& view = background_views[s];
+        if (expected[s].kind == kBackgroundViewDirectionGrid) {
+            const std::size_t bins = view.size() / 2U;
+            backgrounds[s].grid = direction_grid_of(expected[s]);
+            backgrounds[s].depth = Span<const float>(view.data(), bins);
+            backgrounds[s].nearest = Span<const float>(view.data() + bins, bins);
+        } else {
+            backgrounds[s].depth = view.empty() ? layout.readings[s].depth
+                                                : Span<const float>(view.data(), view.size());
+        }
+        backgrounds[s].tolerance_m = cfg.background_tolerance_m;
+        backgrounds[s].min_match_fraction = cfg.background_match;
+        backgrounds[s].max_longer_pixels = cfg.background_changed_pixels;
+        backgrounds[s].changed_cycles = cfg.background_changed_cycles;
+    }
+    if (cfg.background_match > 0.0F) {
+        say(out,
+            "background check: every frame must show %.0f %% of its sensor's view of the empty cell (within %.0f mm); "
+            "more than %u pixels beyond it in %u frames in a row: changed background, the prior fault for good\n",
+            100.0 * static_cast<double>(cfg.background_match), 1000.0 * static_cast<double>(cfg.background_tolerance_m),
+            cfg.background_changed_pixels, cfg.background_changed_cycles);
+    }
     return {};
 }
 

@@ -26,6 +26,7 @@ SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCe
 // The controller's configuration with the cell's robot and fusion sides.
 ControllerConfig robot_controller_config(const cell::MonitorConfig& cfg, MonitorCell& cell, TaskRunner* runner) {
     ControllerConfig cc = controller_config(cfg);
+    cc.stack = &cycle_stack().paint();
     attach_robot(cc, cfg, cell);
     attach_fusion(cc, cfg, cell, runner);
     return cc;
@@ -72,6 +73,11 @@ void wait_for_period(timespec& next, std::uint64_t period_us, std::uint64_t& ski
 }
 
 }  // namespace
+
+linux_port::StackMonitor& cycle_stack() noexcept {
+    static linux_port::StackMonitor stack;
+    return stack;
+}
 
 DurationFigures duration_figures(const std::vector<std::uint64_t>& us, std::size_t n) {
     std::vector<std::uint64_t> sorted(us.begin(), us.begin() + static_cast<std::ptrdiff_t>(std::min(n, us.size())));
@@ -136,8 +142,8 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
         inputs_[s].present = true;
         // Footprint fusion needs no ray table (none was built).
         inputs_[s].table = simulated && cfg.fusion.method == FusionMethod::kRay ? &cell.tables[s].table() : nullptr;
-        // A recorded sensor has no commissioned view: refused by the config loader; never compared.
-        inputs_[s].background = simulated && cfg.background_match > 0.0F ? &cell.backgrounds[s] : nullptr;
+        // A recorded sensor's view is per direction bin (MonitorCell::attach_backgrounds).
+        inputs_[s].background = cfg.background_match > 0.0F ? &cell.backgrounds[s] : nullptr;
     }
     const std::size_t recorded = static_cast<std::size_t>(std::max(cfg.demo_cycles, 0));
     stats_.cycle_us.assign(recorded, 0U);
@@ -190,6 +196,10 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
         newest = std::max(newest, stamps_[s]);
     }
     const CommandPoll command = commands_ != nullptr ? commands_->poll(clock_->base()) : CommandPoll{};
+    command_fault_ = command.status.fault;
+    if (commands_ != nullptr) {
+        controller_.report_faults(commands_->clock_rate().faults());  // the clock's rate against the PLC's
+    }
     const std::size_t sent_before = can_->frames_sent();
     sent_us_ = 0U;
     const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false, command.input);
@@ -283,6 +293,10 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
         }
         append(" | case %u %-7s d %-7s S_p %.2f m", r.robot.active_case, to_string(r.robot.speed_request), distance,
                r.robot.required_mm / 1000.0);
+        if (!r.robot.command_valid && r.robot.command_check != 0U) {
+            append(" cmd refused: %s (link: %s)", to_string(static_cast<CommandRefusal>(r.robot.command_check)),
+                   to_string(command_fault_));
+        }
     }
     char faults[256];
     append(" | %-4s %-4s | faults %s | cycle %.2f ms\n", r.safety.stop_requested ? "STOP" : "run",
@@ -313,6 +327,16 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         if (s != nullptr) {
             s->write_summary(out);
         }
+    }
+    if (commands_ != nullptr && commands_->clock_rate().enabled()) {
+        const ClockRateCounts& c = commands_->clock_rate().counts();
+        static_cast<void>(std::fprintf(
+            out,
+            "summary: clock rate against the PLC's samples: %u samples, %u windows, %u restarts, last %+.3f %%, "
+            "largest |deviation| %.3f %% (tolerance %.3f %%)%s\n",
+            c.samples, c.windows, c.restarts, c.last_deviation_ppm / 1e4, c.max_abs_deviation_ppm / 1e4,
+            commands_->clock_rate().config().tolerance_ppm / 1e4,
+            commands_->clock_rate().faulted() ? ": CLOCK FAULT" : ""));
     }
     can_->write_summary(out, log_ok);
 }

@@ -283,12 +283,15 @@ ColumnBits draw_top_columns(RgbImage& img, const PictureInput& in, const Picture
         for (int ix = 0; ix < d.nx; ++ix) {
             int top = -1;
             std::uint32_t bits = 0U;
+            bool unseen = false;  // an accessible zone voxel no sensor observes in the empty cell
             for (int iz = 0; iz < d.nz; ++iz) {
                 const std::size_t i = in.grid.index_of(VoxelCoord{ix, iy, iz});
-                if (is_background(in, i)) {
+                const bool background = is_background(in, i);
+                if (background) {
                     top = iz;
                 }
                 bits |= mask[i];
+                unseen = unseen || (mask[i] != 0U && !background && i < in.observed.size() && in.observed[i] == 0U);
             }
             columns.set(ix, iy, bits);
             // Background: grey by the height of its highest voxel (darker = higher).
@@ -309,6 +312,13 @@ ColumnBits draw_top_columns(RgbImage& img, const PictureInput& in, const Picture
             const int px = L.top_x + ix * s;
             const int py = L.top_y + (d.ny - 1 - iy) * s;
             fill_rect(img, px, py, s, s, c);
+            for (int v = 0; unseen && v < s; ++v) {
+                for (int u = 0; u < s; ++u) {
+                    if ((px + u + py + v) % 4 == 0) {  // diagonal hatching, continuous across columns
+                        put(img, px + u, py + v, kUnseenColour);
+                    }
+                }
+            }
         }
     }
     return columns;
@@ -908,7 +918,10 @@ int draw_legend(RgbImage& img, const PictureInput& in, const std::vector<std::st
     static_cast<void>(swatch(img, x, y, grey(160.0), "background (darker = higher / farther)"));
     y += kLineHeight;
     x = swatch(img, kMargin, y, kFree, "free grid space");
-    static_cast<void>(swatch(img, x, y, kOutside, "outside the grid"));
+    x = swatch(img, x, y, kOutside, "outside the grid");
+    if (!in.observed.empty()) {
+        static_cast<void>(swatch(img, x, y, kUnseenColour, "hatched: zone part no sensor sees (unseen)"));
+    }
     y += kLineHeight + 8;
     draw_text(img, kMargin, y, " # name           kind       shape", kText, kTextScale);
     y += kLineHeight;

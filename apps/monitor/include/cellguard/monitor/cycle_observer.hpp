@@ -68,7 +68,7 @@ protected:
 };
 
 /// Most observers an ObserverList holds.
-constexpr std::size_t kMaxObservers = 4U;
+constexpr std::size_t kMaxObservers = 6U;  // watchdog feed, event log, service status, snapshots, and room
 
 /// Several observers behind one, called in the order added.
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): never deleted through the base

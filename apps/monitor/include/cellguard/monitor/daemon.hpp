@@ -25,8 +25,10 @@
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/picture.hpp"
 #include "cellguard/monitor/snapshot.hpp"
+#include "cellguard/monitor/watchdog_feed.hpp"
 #include "cellguard/port/log_queue.hpp"
 #include "cellguard/port/service.hpp"
+#include "cellguard/port/watchdog.hpp"
 
 namespace cellguard::monitor {
 
@@ -38,6 +40,8 @@ struct DaemonOptions {
     std::uint64_t heartbeat_us = kDefaultHeartbeatUs;  ///< --heartbeat-s in microseconds (0: none)
     std::string snapshot_dir;                          ///< --snapshot-dir ("": no snapshots)
     std::size_t snapshot_keep = 10U;                   ///< --snapshot-keep
+    std::string watchdog_path;                         ///< --watchdog ("": no watchdog device)
+    int watchdog_timeout_s = 5;                        ///< --watchdog-timeout-s
 };
 
 /// The observers behind one, with the time their calls take.
@@ -63,28 +67,37 @@ public:
     Daemon& operator=(Daemon&&) = delete;
     ~Daemon() = default;
 
-    /// Starts the log writer and the snapshot writer, hooks them into
-    /// @p loop and @p can, and tells systemd the monitor is ready.
+    /// Adds @p observer (the browser view's, live_view.hpp) to the list
+    /// attach() hooks into the loop; call before attach().
+    void add_observer(CycleObserver* observer) noexcept { extra_ = observer; }
+    /// Starts the log writer and the snapshot writer, opens the watchdog
+    /// device (--watchdog: a failure, or a timeout under two periods, is an
+    /// error: the monitor does not run), hooks them into @p loop and @p can,
+    /// and tells systemd the monitor is ready.
     [[nodiscard]] SetupError attach(const cell::MonitorConfig& cfg, const MonitorCell& cell, CanPort& can,
                                     MonitorLoop& loop);
-    /// After the last cycle: STOPPING=1, the last snapshot, the last
-    /// heartbeat, the log written out.
+    /// After the last cycle: the watchdog device's orderly stop (magic 'V'),
+    /// STOPPING=1, the last snapshot, the last heartbeat, the log written out.
     void finish(const RunResult& run, const MonitorLoop& loop);
     /// The daemon's summary lines (event log, observers, service, snapshots) to @p out.
     void write_summary(std::FILE* out) const;
 
 private:
     SetupError make_recorder(const cell::MonitorConfig& cfg, const MonitorCell& cell);
+    SetupError open_watchdog(const cell::MonitorConfig& cfg);
 
     linux_port::LogQueue queue_;
     linux_port::LogWriter writer_;
     linux_port::ServiceNotifier notifier_;
     EventLog events_;
     ServiceStatus status_;
+    linux_port::Watchdog watchdog_;
+    WatchdogFeed feed_;
     DaemonOptions opt_;
     std::unique_ptr<PictureRobot> robot_;
     std::unique_ptr<SnapshotRecorder> recorder_;
     TimedObservers observers_;
+    CycleObserver* extra_ = nullptr;  ///< add_observer()'s (nullptr: none)
 };
 
 }  // namespace cellguard::monitor

@@ -19,9 +19,8 @@
 /// allocation; a full queue drops the line and counts it.
 ///
 /// ServiceStatus sends, through port/linux's ServiceNotifier (service.hpp),
-/// WATCHDOG=1 after each complete cycle (the notifier keeps it to one per
-/// half watchdog interval) and STATUS= when the stop, the warning or the
-/// latched faults change.
+/// STATUS= when the stop, the warning or the latched faults change.
+/// WATCHDOG=1 is WatchdogFeed's (watchdog_feed.hpp): after healthy cycles only.
 #ifndef CELLGUARD_MONITOR_DAEMON_OBSERVERS_HPP
 #define CELLGUARD_MONITOR_DAEMON_OBSERVERS_HPP
 

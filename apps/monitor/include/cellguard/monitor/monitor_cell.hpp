@@ -100,7 +100,10 @@ public:
     std::vector<std::int16_t> prior;               ///< one prior value per voxel
     sim::SimulatedFrame layout;                    ///< every sensor's view of the empty (reference) cell
     std::vector<host::OwnedRayTable> tables;       ///< per sensor; built for the simulated ones
-    std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout
+    std::vector<BackgroundReference> backgrounds;  ///< per sensor: its view in layout or in background_views
+    /// Per sensor: its commissioned view read from prior.background_file (empty without one).
+    std::vector<std::vector<float>> background_views;
+    std::uint32_t prior_payload_crc = 0U;  ///< CRC-32 of the prior's payload (the image's field, or computed)
     /// Footprint fusion's storage of one sensor (fusion.method = "footprint").
     struct FootprintStorage {
         std::vector<float> pyramid_min;             ///< depth_pyramid_cells of the sensor's image
@@ -120,12 +123,17 @@ public:
     bool has_scene = false;                 ///< the demo renders a scene file (cfg.demo_scene)
     sim::SceneFile scene;                   ///< that scene (its static boxes are the background)
     sim::RobotCellSimulation simulation;    ///< its people, robot and PLC schedule (with a robot)
+
+    /// The empty cell's observed flags (one per voxel) from the simulated
+    /// background; empty with a prior file. The picture's unseen zone parts.
+    std::vector<std::uint8_t> background_observed;
     /// The scene the background, the ray tables and the views of the empty
     /// cell come from: the scene file's static boxes, or the paper's reference scene.
     [[nodiscard]] sim::Scene background_scene() const;
 
 private:
     SetupError configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out);
+    SetupError attach_backgrounds(const cell::MonitorConfig& cfg, std::FILE* out);
     void allocate_footprint_workspaces(std::FILE* out);
 };
 

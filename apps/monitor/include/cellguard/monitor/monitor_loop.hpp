@@ -38,6 +38,7 @@
 #include "cellguard/monitor/cycle_observer.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
+#include "cellguard/port/stack.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 
 namespace cellguard::monitor {
@@ -87,6 +88,11 @@ struct DurationFigures {
 };
 /// The figures of the first @p n of @p us (fewer when it holds fewer).
 DurationFigures duration_figures(const std::vector<std::uint64_t>& us, std::size_t n);
+
+/// The painting of the cycle thread's stack (port/linux stack.hpp, hazard
+/// H-MEM-3) that every MonitorLoop hands its controller: no region (never
+/// failing) until the program starts it on the thread that runs the cycles.
+linux_port::StackMonitor& cycle_stack() noexcept;
 
 /// Writes the names of the faults in @p mask, comma-separated ("-" for none),
 /// into @p out (capacity @p capacity, cut to fit); returns @p out.
@@ -141,6 +147,7 @@ private:
     void write_timing(std::FILE* out) const noexcept;
     void count(int k, const CycleReport& r) noexcept;
     void format_status(int k, const CycleReport& r) noexcept;
+    CommandFault command_fault_ = CommandFault::kNoSampleYet;  ///< the last poll's receiver status
     void append(const char* format, ...) noexcept __attribute__((format(printf, 2, 3)));
 
     const cell::MonitorConfig* cfg_;

@@ -106,6 +106,11 @@ struct PictureInput {
     std::size_t view_sensor = 0U;              ///< index of the sensor whose view is drawn
     const PictureRobot* robot = nullptr;       ///< the robot (nullptr: none)
     std::vector<PictureCase> cases;            ///< the monitoring cases (empty: none configured)
+    /// One flag per voxel, nonzero: some sensor observes it in the empty
+    /// cell (empty: not known). Zone columns holding an accessible voxel no
+    /// sensor observes are hatched in the top view: the zone evaluation
+    /// counts such voxels as unseen (unknown space is never taken for empty).
+    Span<const std::uint8_t> observed{};
 };
 
 /// Where the top view landed in the picture (for tests and tools).
@@ -123,6 +128,8 @@ struct PictureLayout {
 /// The top-view pixel (column, row) of the centre of voxel column (@p ix, @p iy).
 void top_view_pixel(const PictureLayout& layout, const GridGeometry& grid, int ix, int iy, int& px, int& py);
 
+/// The hatching of unseen zone parts (PictureInput::observed).
+constexpr PictureColour kUnseenColour{200, 120, 0};
 /// The robot's capsules (lighter where higher in the top view, shaded in the sensor view).
 constexpr PictureColour kRobotColour{40, 90, 190};
 /// The mask margin's dashed outline.
