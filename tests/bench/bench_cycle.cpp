@@ -65,6 +65,8 @@
 
 #include <time.h>
 
+#include "cellguard/base/crc32.hpp"
+#include "cellguard/base/stack_paint.hpp"
 #include "cellguard/can/safety_output.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/grid/ray_table.hpp"
@@ -353,6 +355,67 @@ void bench_robot(const GridGeometry& g, const std::vector<std::uint32_t>& member
 }
 
 }  // namespace
+
+/// CPU time per call of @p f, microseconds: the median over 31 batches of @p reps calls.
+template <typename F>
+double cost_us(int reps, F&& f) {
+    std::vector<double> batches;
+    for (int b = 0; b < 31; ++b) {
+        const double t0 = thread_cpu_ms();
+        for (int r = 0; r < reps; ++r) {
+            f();
+        }
+        batches.push_back((thread_cpu_ms() - t0) * 1000.0 / reps);
+    }
+    return median(batches);
+}
+
+/// The memory diagnostics of hazards H-MEM-2..4: each one's cost per cycle
+/// (this thread's CPU time) and the ray-table check's detection time for
+/// slices of 256 KiB, 1 MiB and 2 MiB (the largest of @p table_bytes).
+void bench_memory_checks(const SafetyController& controller, const ControllerConfig& cc,
+                         const std::vector<std::size_t>& table_bytes) {
+    std::printf("\nmemory diagnostics per cycle (H-MEM-2..4), this thread's CPU time, median of 31 batches:\n");
+    Crc32TableCheck tables;
+    const double crc_table_us = cost_us(2000, [&] { static_cast<void>(tables.step(cc.crc_table_check_values)); });
+    std::printf("  CRC-32 tables: %u byte values (%u entries) per cycle: %.3f us; a pass in %u cycles\n",
+                cc.crc_table_check_values, 8U * cc.crc_table_check_values, crc_table_us,
+                Crc32TableCheck::steps_per_pass(cc.crc_table_check_values));
+    volatile std::uint32_t sink = 0U;
+    const double seal_us = cost_us(20000, [&] { sink = sink + controller.state_crc(); });
+    const CompiledZones no_zones{};
+    SafetyLogic logic(cc.logic, no_zones);
+    const double logic_us = cost_us(20000, [&] { sink = sink + logic.state_crc(); });
+    std::printf(
+        "  seals: the controller's state and configuration %.3f us, the safety logic's %.3f us per CRC;\n"
+        "  each is computed twice per cycle (compared, then sealed): %.3f us per cycle\n",
+        seal_us, logic_us, 2.0 * (seal_us + logic_us));
+    std::vector<std::uint32_t> stack(1024U * 128U);
+    StackPaint paint(Span<std::uint32_t>(stack.data(), stack.size()), 1024U);
+    paint.paint();
+    const double guard_us = cost_us(2000, [&] { sink = sink + (paint.guard_intact() ? 1U : 0U); });
+    const double scan_us = cost_us(20, [&] { sink = sink + static_cast<std::uint32_t>(paint.high_water_bytes()); });
+    std::printf(
+        "  stack guard band of 4 KiB: %.3f us per cycle (the high-water scan of 512 KiB, for summaries: %.1f us)\n",
+        guard_us, scan_us);
+    std::vector<std::uint8_t> bytes(2U * 1024U * 1024U);
+    for (std::size_t i = 0U; i < bytes.size(); ++i) {
+        bytes[i] = static_cast<std::uint8_t>(i * 131U);
+    }
+    const std::size_t largest = *std::max_element(table_bytes.begin(), table_bytes.end());
+    std::printf("  ray-table check, one sensor's slice per cycle (%zu sensors in turn, largest table %zu bytes):\n",
+                table_bytes.size(), largest);
+    std::printf("    %-10s %12s %14s %22s %22s\n", "slice", "cost/cycle", "cycles/pass", "2 passes @ 100 ms",
+                "2 passes @ 10 ms");
+    for (const std::size_t slice : {std::size_t{262144U}, std::size_t{1048576U}, std::size_t{2097152U}}) {
+        const double us = cost_us(3, [&] { sink = sink + crc32(Span<const std::uint8_t>(bytes.data(), slice)); });
+        const std::size_t pass = table_bytes.size() * ((largest + slice - 1U) / slice);
+        std::printf("    %4zu KiB%s %9.1f us %14zu %17zu cyc %4.1f s %13zu cyc %4.2f s\n", slice / 1024U,
+                    slice == cc.table_check_slice_bytes ? "*" : " ", us, pass, 2U * pass,
+                    static_cast<double>(2U * pass) * 0.1, 2U * pass, static_cast<double>(2U * pass) * 0.01);
+    }
+    std::printf("    (* the default, ControllerConfig::table_check_slice_bytes)\n");
+}
 
 int main(int argc, char** argv) {
     int cycles = 10000;
@@ -653,6 +716,11 @@ int main(int argc, char** argv) {
         "  bound (median costs) above every measured cycle's CPU time: %s (%.2fx the largest); "
         "above every wall-clock time: %s\n",
         b_med >= max_cpu ? "yes" : "NO", b_med / max_cpu, b_med >= max_wall ? "yes" : "no");
+    std::vector<std::size_t> table_sizes;
+    for (const host::OwnedRayTable& t : tables) {
+        table_sizes.push_back(t.table().checked_bytes());
+    }
+    bench_memory_checks(controller, cc, table_sizes);
     bench_robot(g, membership, median(fuse_ms), max_cpu, std::min(cycles, 2000));
     return over_bound ? 1 : 0;
 }
