@@ -817,3 +817,19 @@ TEST_CASE("accessibility: computing a prior allocates nothing") {
         CHECK(s.ok());
     }
 }
+
+// verifies: SR-PRIOR-002
+TEST_CASE("accessibility: the padded work box clamps the radius and is empty for an empty grid") {
+    using accessibility_detail::padded_count;
+    using accessibility_detail::padded_extent;
+    const GridDims dims{4, 5, 6};
+    // No open faces: each axis grows by 2 (r + 1).
+    CHECK(padded_count(dims, 1, 0U) == (4U + 4U) * (5U + 4U) * (6U + 4U));
+    CHECK(padded_count(dims, -3, 0U) == padded_count(dims, 0, 0U));  // a negative radius counts as 0
+    CHECK(padded_count(dims, kMaxAccessibilityAnalysisRadius + 5, 0x3FU) ==
+          padded_count(dims, kMaxAccessibilityAnalysisRadius, 0x3FU));  // above the largest: clamped
+    CHECK(padded_extent(4, 2, 0x01U, 0U) == 4U + 2U + 2U * 3U);         // the low x face open
+    CHECK(padded_extent(4, 2, 0x02U, 0U) == 4U + 2U + 2U * 3U);         // the high x face open
+    CHECK(padded_extent(0, 2, 0x3FU, 1U) == 0U);
+    CHECK(padded_count(GridDims{4, 0, 6}, 2, 0U) == 0U);
+}

@@ -49,6 +49,57 @@ TEST_CASE("can frame: layout checks accept multiplexed signals sharing bits and 
 }
 
 // verifies: SR-CAN-002
+TEST_CASE("can frame: the layout check run on tables made at run time rejects each bad field") {
+    // The same check as the static_asserts, evaluated at run time on tables that differ
+    // from a good one in one field each: every clause of layout_is_consistent refuses.
+    const auto one = [](SignalLayout s) {
+        const SignalLayout table[] = {s};
+        return layout_is_consistent(table);
+    };
+    const SignalLayout good = make("a", 8U, 8U);
+    CHECK(one(good));
+    SignalLayout s = good;
+    s.byte_order = ByteOrder::kMotorola;
+    CHECK_FALSE(one(s));
+    s = good;
+    s.length = 0U;
+    CHECK_FALSE(one(s));
+    s = good;
+    s.length = 33U;
+    CHECK_FALSE(one(s));
+    s = good;
+    s.start_bit = 57U;  // 57 + 8 > 64
+    CHECK_FALSE(one(s));
+    s = good;
+    s.factor = 0U;
+    CHECK_FALSE(one(s));
+    s = good;
+    s.raw_max = 256U;  // does not fit in 8 bits
+    CHECK_FALSE(one(s));
+    s = make("w", 0U, 32U);
+    s.raw_max = 0xFFFFFFFFU;  // a 32-bit signal: any raw_max fits
+    CHECK(one(s));
+    s = good;
+    s.is_signed = true;
+    s.raw_max = 127U;
+    CHECK(one(s));
+    s.raw_max = 128U;  // does not fit in 7 bits plus sign
+    CHECK_FALSE(one(s));
+    s = make("b", 8U, 1U);
+    s.is_signed = true;
+    s.raw_max = 0U;  // a signed signal needs 2 bits at least
+    CHECK_FALSE(one(s));
+    const SignalLayout same_page[] = {make("m0", 16U, 8U, Multiplex::kMultiplexed, 1U),
+                                      make("m1", 20U, 8U, Multiplex::kMultiplexed, 1U)};
+    CHECK_FALSE(layout_is_consistent(same_page));  // same selector value: they coexist and overlap
+    const SignalLayout other_page[] = {make("m0", 16U, 8U, Multiplex::kMultiplexed, 1U),
+                                       make("m1", 20U, 8U, Multiplex::kMultiplexed, 2U)};
+    CHECK(layout_is_consistent(other_page));
+    const SignalLayout mux_and_plain[] = {make("m0", 16U, 8U, Multiplex::kMultiplexed, 1U), make("p", 20U, 8U)};
+    CHECK_FALSE(layout_is_consistent(mux_and_plain));
+}
+
+// verifies: SR-CAN-002
 TEST_CASE("can frame: an Intel signal's start bit is its least significant bit, byte 0 first") {
     CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
     set_signal(f, make("word", 24U, 16U), 0xBEEFU);

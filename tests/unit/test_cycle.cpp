@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/ray_traversal.hpp"
 #include "cellguard/robot/robot_mask.hpp"
 #include "cellguard/safety/cycle.hpp"
@@ -53,6 +54,19 @@ TEST_CASE("cycle: a clock that runs backwards within a cycle counts as an overru
     m.begin(1000U);
     m.end_stage(CycleStage::kFuse, 900U);
     CHECK(m.end(1200U));
+}
+
+// verifies: SR-CTRL-005
+TEST_CASE("cycle: a clock that is behind the cycle's start at its end counts as an overrun of 0 us") {
+    CycleMonitor m(5000U);
+    m.begin(1000U);
+    CHECK(m.end(400U));  // backwards over the whole cycle: an overrun although the duration is short
+    CHECK(m.last().total_us == 0U);
+    CHECK(m.overruns() == 1U);
+    m.begin(2000U);
+    CHECK_FALSE(m.end(2100U));  // the next cycle starts afresh
+    CHECK(m.overruns() == 1U);
+    CHECK(m.worst().total_us == 100U);
 }
 
 // verifies: SR-CTRL-005, SR-GEN-003
@@ -113,4 +127,38 @@ TEST_CASE("cycle: with a robot, the work bound adds the mask's tests, voxels x c
     CHECK(with.separation_distances == 30600U * 7U);  // the test arm's seven capsules
     // A larger margin never lowers the bound.
     CHECK(compute_work_bound(g, sensors, zones, arm, 0.2).robot_mask_tests >= with.robot_mask_tests);
+}
+
+// verifies: SR-FUSE-011
+TEST_CASE("cycle: with footprint fusion, depth images cost footprint units instead of ray steps") {
+    const GridGeometry g = paper_grid_geometry();
+    std::vector<std::uint32_t> mask(g.voxel_count());
+    const CompiledZones zones = CompiledZones::compile(g, {}, {mask.data(), mask.size()}).value();
+    SensorReading cam;
+    cam.kind = SensorDataKind::kDepthImage;
+    cam.intrinsics.width = 320;
+    cam.intrinsics.height = 240;
+    SensorReading empty_cam = cam;  // a depth image without pixels (width 0): no rays, no footprint work
+    empty_cam.intrinsics.width = 0;
+    SensorReading points;
+    points.kind = SensorDataKind::kPointSet;
+    const SensorReading sensors[] = {cam, empty_cam, points};
+    const CycleWorkBound rays = compute_work_bound(g, sensors, zones);
+    const FootprintParams params;
+    const CycleWorkBound b = with_footprint_fusion(rays, g, sensors, params);
+    const std::uint64_t pixels = 320U * 240U;
+    CHECK(b.rays == rays.rays);
+    CHECK(b.voxel_steps == rays.voxel_steps - pixels * max_voxels_per_segment(g));
+    CHECK(b.footprint_units == footprint_work_bound(g, pixels, params) + footprint_work_bound(g, 0U, params));
+    CHECK(b.footprint_units > 0U);
+    CHECK(b.grid_voxels == rays.grid_voxels + 2U * g.voxel_count());  // one pass per depth image
+}
+
+// verifies: SR-CTRL-005, SR-GEN-003
+TEST_CASE("cycle: a budget of 0 us, or an end without a begin, is a contract violation") {
+    CHECK(test::violates_contract([] { const CycleMonitor zero(0U); }));
+    CHECK_FALSE(test::violates_contract([] { const CycleMonitor one(1U); }));
+    CycleMonitor m(5000U);
+    CHECK(test::violates_contract([&] { (void)m.end(10U); }));
+    CHECK(test::violates_contract([&] { m.end_stage(CycleStage::kFuse, 10U); }));  // no cycle begun
 }

@@ -180,3 +180,11 @@ TEST_CASE("e2e crc: a CRC byte outside the data is a contract violation") {
     CHECK(test::violates_contract([&] { (void)e2e_p01_crc(view(d), 8U, 1U, E2eP01DataIdMode::kBoth, 0U); }));
     CHECK(test::violates_contract([&] { (void)e2e_p01_crc(view(d), 0U, 1U, static_cast<E2eP01DataIdMode>(9), 0U); }));
 }
+
+// verifies: SR-CAN-001, SR-GEN-003
+TEST_CASE("e2e crc: comparing data IDs under an unknown data ID mode is a contract violation") {
+    CHECK_FALSE(
+        test::violates_contract([] { (void)e2e_p01_data_ids_distinguishable(1U, 2U, E2eP01DataIdMode::kBoth); }));
+    CHECK(test::violates_contract(
+        [] { (void)e2e_p01_data_ids_distinguishable(1U, 2U, static_cast<E2eP01DataIdMode>(4)); }));
+}

@@ -205,3 +205,87 @@ TEST_CASE("footprint fusion: bad input is refused and leaves the grid untouched"
     }
     CHECK(grid.grid.observed_count() == 0U);
 }
+
+// verifies: SR-FUSE-011
+TEST_CASE("footprint fusion: each short span, a bad reading and too many sensors are refused before any evidence") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    const SensorReading& r = frame.readings.front();
+    OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+    OwnedGrid grid(g);
+    SequentialRunner runner;
+    const FootprintParams params;
+    SensorReading bad = r;
+    bad.intrinsics.width = 0;  // fails validate_sensor_reading
+    SensorReading points;
+    points.kind = SensorDataKind::kPointSet;
+    // One sensor's opinions.
+    CHECK(footprint_opinions(g, bad, model, params, w.ws, nullptr).error() != ErrorCode::kOk);
+    CHECK(footprint_opinions(g, points, model, params, w.ws, nullptr).error() == ErrorCode::kInvalidArgument);
+    FootprintWorkspace shorter = w.ws;
+    shorter.opinions = shorter.opinions.subspan(0U, g.voxel_count() - 1U);
+    CHECK(footprint_opinions(g, r, model, params, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
+    shorter = w.ws;
+    shorter.pyramid_invalid = shorter.pyramid_invalid.subspan(0U, 10U);
+    CHECK(footprint_opinions(g, r, model, params, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
+    // The frame.
+    CHECK(fuse_frame_footprint(grid.grid, {&bad, 1U}, model, params, {&w.ws, 1U}, runner).error() != ErrorCode::kOk);
+    shorter = w.ws;
+    shorter.opinions = shorter.opinions.subspan(0U, g.voxel_count() - 1U);
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+          ErrorCode::kStorageTooSmall);
+    shorter = w.ws;
+    shorter.pyramid_min = shorter.pyramid_min.subspan(0U, 10U);
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+          ErrorCode::kStorageTooSmall);
+    shorter = w.ws;
+    shorter.pyramid_invalid = shorter.pyramid_invalid.subspan(0U, 10U);
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+          ErrorCode::kStorageTooSmall);
+    std::vector<SensorReading> many(kMaxSensors + 1U, r);
+    CHECK(fuse_frame_footprint(grid.grid, {many.data(), many.size()}, model, params, {&w.ws, 1U}, runner).error() ==
+          ErrorCode::kCapacityExceeded);
+    CHECK(grid.grid.observed_count() == 0U);
+}
+
+// verifies: SR-FUSE-011
+TEST_CASE("footprint fusion: the box count of the full subdivision, whichever axis is longest, 0 for no grid") {
+    CHECK(footprint_box_count(GridGeometry{}) == 0U);
+    const auto count = [](std::int32_t nx, std::int32_t ny, std::int32_t nz) {
+        return footprint_box_count(GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{nx, ny, nz}).value());
+    };
+    CHECK(count(1, 1, 1) == 1U);
+    // 4 along one axis: 1 box, 2 halves, 4 single voxels.
+    CHECK(count(4, 1, 1) == 7U);
+    CHECK(count(1, 4, 1) == 7U);
+    CHECK(count(1, 1, 4) == 7U);
+    // The count does not depend on which axis is the longest.
+    const std::uint64_t c = count(5, 3, 2);
+    for (const GridDims& d :
+         {GridDims{5, 2, 3}, GridDims{3, 5, 2}, GridDims{3, 2, 5}, GridDims{2, 5, 3}, GridDims{2, 3, 5}}) {
+        CAPTURE(d.nx);
+        CAPTURE(d.ny);
+        CHECK(count(d.nx, d.ny, d.nz) == c);
+    }
+    CHECK(c > 5U * 3U * 2U);  // every voxel on the last level, plus the whole grid on the first
+}
+
+// verifies: SR-FUSE-009
+TEST_CASE("footprint fusion: the statistics are optional, the opinions the same without them") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    const FootprintParams params;
+    const SensorReading& r = frame.readings[0];
+    OwnedWorkspace with(g, r.intrinsics.width, r.intrinsics.height);
+    OwnedWorkspace without(g, r.intrinsics.width, r.intrinsics.height);
+    FootprintStats fs;
+    const Result<FusionStats> a = footprint_opinions(g, r, model, params, with.ws, &fs);
+    const Result<FusionStats> b = footprint_opinions(g, r, model, params, without.ws, nullptr);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(fs.boxes > 0U);
+    CHECK(a.value().rays_fused == b.value().rays_fused);
+    CHECK(std::equal(with.opinions().begin(), with.opinions().end(), without.opinions().begin()));
+}

@@ -13,6 +13,7 @@
 #include "alloc_counter.hpp"
 #include "cellguard/robot/kinematics.hpp"
 #include "cellguard/robot/robot_image.hpp"
+#include "contract_capture.hpp"
 #include "test_robot.hpp"
 
 using namespace cellguard;
@@ -324,4 +325,46 @@ TEST_CASE("every JointCheck has its own name") {
     }
     CHECK(names.size() == 5U);
     CHECK(std::string(to_string(static_cast<JointCheck>(99))) == "unknown joint check");
+}
+
+// verifies: SR-ROB-010
+TEST_CASE("place_robot refuses, as a contract violation, a model it was not checked for") {
+    const RobotModel arm = planar_arm();
+    REQUIRE(is_no_error(check_robot_model(arm)));
+    RobotPose pose;
+    CHECK_FALSE(test::violates_contract([&] { place_robot(arm, two(0.0, 0.0), pose); }));
+    JointPositions short_q = two(0.0, 0.0);
+    short_q.count = 1U;
+    CHECK(test::violates_contract([&] { place_robot(arm, short_q, pose); }));
+    RobotModel no_links = arm;
+    no_links.link_count = 0U;
+    CHECK(test::violates_contract([&] { place_robot(no_links, two(0.0, 0.0), pose); }));
+    RobotModel too_many_links = arm;
+    too_many_links.link_count = kMaxRobotLinks + 1U;
+    CHECK(test::violates_contract([&] { place_robot(too_many_links, two(0.0, 0.0), pose); }));
+    RobotModel too_many_capsules = arm;
+    too_many_capsules.capsule_count = kMaxRobotCapsules + 1U;
+    CHECK(test::violates_contract([&] { place_robot(too_many_capsules, two(0.0, 0.0), pose); }));
+    RobotModel child_first = arm;
+    child_first.links[2].parent = 2U;
+    CHECK(test::violates_contract([&] { place_robot(child_first, two(0.0, 0.0), pose); }));
+    RobotModel revolute_beyond = arm;
+    revolute_beyond.links[2].command_index = 2U;
+    CHECK(test::violates_contract([&] { place_robot(revolute_beyond, two(0.0, 0.0), pose); }));
+    RobotModel prismatic_beyond = arm;
+    prismatic_beyond.links[2].joint = JointType::kPrismatic;
+    prismatic_beyond.links[2].command_index = 2U;
+    CHECK(test::violates_contract([&] { place_robot(prismatic_beyond, two(0.0, 0.0), pose); }));
+    RobotModel capsule_beyond = arm;
+    capsule_beyond.capsules[1].link = 3U;
+    CHECK(test::violates_contract([&] { place_robot(capsule_beyond, two(0.0, 0.0), pose); }));
+}
+
+// verifies: SR-ROB-031
+TEST_CASE("joint_positions on a model whose joints lack a link is a contract violation") {
+    RobotModel arm = planar_arm();
+    const std::uint32_t crc = 0x00C0FFEEU;
+    REQUIRE(joint_positions(arm, crc, command_for(crc, 2U, {0, 0})).ok());
+    arm.links[2].joint = JointType::kFixed;  // joint 1 has no link now: not a checked model
+    CHECK(test::violates_contract([&] { (void)joint_positions(arm, crc, command_for(crc, 2U, {0, 0})); }));
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cellguard/safety/monitoring_cases.hpp"
+#include "contract_capture.hpp"
 
 using namespace cellguard;
 
@@ -116,4 +117,14 @@ TEST_CASE("monitoring cases: the settings CRC changes with any case's zones, the
     const std::uint32_t zone3[] = {0b1000U};
     CHECK_FALSE(MonitoringCases::make(four.zones, zone3).value().fits(z.zones));
     CHECK_FALSE(MonitoringCases{}.fits(z.zones));  // the placeholder has no case
+}
+
+// verifies: SR-CASE-002, SR-GEN-003
+TEST_CASE("monitoring cases: the zones of a case number that does not exist are a contract violation") {
+    const Zones z;
+    const std::uint32_t masks[] = {0b001U, 0b110U};
+    const MonitoringCases c = MonitoringCases::make(z.zones, masks).value();
+    CHECK_FALSE(test::violates_contract([&] { (void)c.zones_of(1U); }));
+    CHECK(test::violates_contract([&] { (void)c.zones_of(2U); }));
+    CHECK(test::violates_contract([&] { (void)c.zones_of(kMaxMonitoringCases); }));
 }

@@ -150,3 +150,22 @@ TEST_CASE("morphology: a region without a surrounding layer, small storage or ov
         erode_cross(good, Span<const std::uint8_t>(c.data(), 125U), Span<std::uint8_t>(c.data() + 125, 125U));
     }));
 }
+
+// verifies: SR-PRIOR-001
+TEST_CASE("morphology: a region is valid only with a box of at least one voxel and a layer on all six sides") {
+    const GridDims array{6, 6, 6};
+    CHECK(region_of(array, {1, 1, 1}, {4, 4, 4}).valid());
+    CHECK_FALSE(region_of(array, {1, 1, 1}, {0, 4, 4}).valid());
+    CHECK_FALSE(region_of(array, {1, 1, 1}, {4, 0, 4}).valid());
+    CHECK_FALSE(region_of(array, {1, 1, 1}, {4, 4, 0}).valid());
+    CHECK_FALSE(region_of(array, {0, 1, 1}, {4, 4, 4}).valid());
+    CHECK_FALSE(region_of(array, {1, 0, 1}, {4, 4, 4}).valid());
+    CHECK_FALSE(region_of(array, {1, 1, 0}, {4, 4, 4}).valid());
+    CHECK_FALSE(region_of(array, {2, 1, 1}, {4, 4, 4}).valid());  // no layer beyond x
+    CHECK_FALSE(region_of(array, {1, 2, 1}, {4, 4, 4}).valid());  // no layer beyond y
+    CHECK_FALSE(region_of(array, {1, 1, 2}, {4, 4, 4}).valid());  // no layer beyond z
+    CHECK(region_of(array, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 216U);
+    CHECK(region_of({0, 6, 6}, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 0U);
+    CHECK(region_of({6, -1, 6}, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 0U);
+    CHECK(region_of({6, 6, 0}, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 0U);
+}

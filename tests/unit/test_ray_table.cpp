@@ -15,6 +15,7 @@
 #include "cellguard/grid/ray_table.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "contract_capture.hpp"
 #include "ray_table_vectors.hpp"
 
 using namespace cellguard;
@@ -513,4 +514,28 @@ TEST_CASE("ray table: the compact exit step is the smallest power of two that re
     invalid.max_range = -1.0F;
     CHECK(compact_exit_step(g, invalid) == 0.0F);
     CHECK_FALSE(ray_table_is_compact(g, invalid));
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: an entry beyond the table or not of the pixel asked for is a contract violation") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const OwnedTable t = make_table(g, frame.readings[0]);
+    const RayTable& table = t.table;
+    REQUIRE(table.step_count() > 0U);
+    std::size_t pixel = 1U;  // a pixel after the first with at least one entry
+    while (pixel + 1U < table.pixel_count() &&
+           (table.pixel_begin(pixel) == 0U || table.pixel_begin(pixel + 1U) == table.pixel_begin(pixel))) {
+        ++pixel;
+    }
+    REQUIRE(pixel + 1U < table.pixel_count());
+    const std::uint32_t first = table.pixel_begin(pixel);
+    const std::uint32_t end = table.pixel_begin(pixel + 1U);
+    CHECK_FALSE(test::violates_contract([&] { (void)table.entry_voxel(table.step_count() - 1U); }));
+    CHECK(test::violates_contract([&] { (void)table.entry_voxel(table.step_count()); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)table.entry_exit(pixel, first); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)table.entry_exit(pixel, end - 1U); }));
+    CHECK(test::violates_contract([&] { (void)table.entry_exit(pixel, first - 1U); }));
+    CHECK(test::violates_contract([&] { (void)table.entry_exit(pixel, end); }));
+    CHECK(test::violates_contract([&] { (void)table.entry_exit(table.pixel_count(), 0U); }));
 }

@@ -233,7 +233,7 @@ TEST_CASE("real cell: a background cast once plus moving objects gives the whole
         CAPTURE(sensor.name);
         const sim::BackgroundView view(sensor, sim::reference_scene());
         // The demo's frame source: the reference scene and the person, cycle by cycle.
-        SimulatedFrameSource source(sensor);
+        SimulatedFrameSource source(sensor, FrameDither::kOff);
         std::size_t changed = 0U;
         for (int k = 0; k <= 50; k += 5) {
             CAPTURE(k);

@@ -238,3 +238,41 @@ TEST_CASE("the test arm's mask covers its capsules, and the work stays within ro
     MESSAGE("robot mask work: most tests " << most << ", bound " << bound);
     CHECK(most * 3U > bound);  // the bound is not absurdly loose
 }
+
+// verifies: SR-ROB-023
+TEST_CASE("a pose with more capsules than capacity or a NaN or infinite radius marks the whole grid") {
+    const GridGeometry g = small_grid();
+    std::vector<std::uint8_t> mask(g.voxel_count(), 0U);
+    RobotMaskStats stats;
+    const Span<std::uint8_t> span(mask.data(), mask.size());
+    RobotPose bad = one(capsule({0.2, 0.2, 0.2}, {0.4, 0.2, 0.2}, 0.05));
+    bad.count = kMaxRobotCapsules + 1U;
+    CHECK(mark_robot_voxels(g, bad, 0.01, span, stats).error() == ErrorCode::kInvalidArgument);
+    CHECK(std::count(mask.begin(), mask.end(), 1U) == static_cast<std::ptrdiff_t>(mask.size()));
+    for (const double r : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+        bad = one(capsule({0.2, 0.2, 0.2}, {0.4, 0.2, 0.2}, 0.05));
+        bad.capsules[0].radius = r;
+        std::fill(mask.begin(), mask.end(), 0U);
+        CHECK(mark_robot_voxels(g, bad, 0.01, span, stats).error() == ErrorCode::kInvalidArgument);
+        CHECK(stats.marked == g.voxel_count());
+    }
+    bad = one(capsule({0.2, 0.2, 0.2}, {0.4, 0.2, 0.2}, 0.05));
+    bad.capsules[0].a[0] = -std::numeric_limits<double>::infinity();
+    CHECK(mark_robot_voxels(g, bad, 0.01, span, stats).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-ROB-024
+TEST_CASE("robot_mask_work_bound is 0 for inputs it cannot bound and saturates for huge ones") {
+    RobotModel arm = make_test_arm(0.0, 0.0, 0.0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    CHECK(robot_mask_work_bound(arm, nan, 0.05) == 0U);
+    CHECK(robot_mask_work_bound(arm, inf, 0.05) == 0U);
+    CHECK(robot_mask_work_bound(arm, 0.1, nan) == 0U);
+    CHECK(robot_mask_work_bound(arm, 0.1, inf) == 0U);
+    CHECK(robot_mask_work_bound(arm, 0.1, -0.05) == 0U);
+    CHECK(robot_mask_work_bound(arm, 0.0, 0.05) > 0U);           // margin 0 is allowed
+    CHECK(robot_mask_work_bound(arm, 0.1, 1e-9) == UINT64_MAX);  // more tests than 64 bits: saturated
+    arm.capsule_count = kMaxRobotCapsules + 1U;
+    CHECK(robot_mask_work_bound(arm, 0.1, 0.05) == 0U);
+}

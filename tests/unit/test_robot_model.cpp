@@ -96,6 +96,17 @@ TEST_CASE("the model check refuses a broken chain and a root that moves or has a
     expect_refused([](RobotModel& m) { m.links[0].command_index = 0U; }, ErrorCode::kInvalidArgument, 0U);
     expect_refused([](RobotModel& m) { m.links[0].origin_xyz[2] = 0.1; }, ErrorCode::kInvalidArgument, 0U);
     expect_refused([](RobotModel& m) { m.links[0].origin_wxyz[0] = -1.0; }, ErrorCode::kInvalidArgument, 0U);
+    expect_refused([](RobotModel& m) { m.links[0].origin_xyz[0] = 0.1; }, ErrorCode::kInvalidArgument, 0U);
+    expect_refused([](RobotModel& m) { m.links[0].origin_xyz[1] = -0.1; }, ErrorCode::kInvalidArgument, 0U);
+    for (std::size_t k = 1U; k < 4U; ++k) {
+        CAPTURE(k);
+        expect_refused(
+            [k](RobotModel& m) {
+                m.links[0].origin_wxyz[0] = 0.0;
+                m.links[0].origin_wxyz[k] = 1.0;  // a unit rotation other than the identity
+            },
+            ErrorCode::kInvalidArgument, 0U);
+    }
     expect_refused([](RobotModel& m) { m.links[2].joint = static_cast<JointType>(3); }, ErrorCode::kInvalidArgument,
                    2U);
 }

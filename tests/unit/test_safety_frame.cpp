@@ -472,3 +472,59 @@ TEST_CASE("separation frame: the decoder checks ID, length, CRC, its own data ID
     CHECK_FALSE(encode_separation_frame(m, 0U, c).ok());
     CHECK(SeparationMessage{}.speed_request == SpeedRequest::kProtectiveStop);
 }
+
+namespace {
+/// True when @p m equals itself and differs from each of @p changed (copies of it with one field changed).
+template <typename M, std::size_t N>
+bool each_field_compared(const M& m, const M (&changed)[N]) {
+    bool ok = m == m;
+    for (const M& c : changed) {
+        ok = ok && !(m == c) && !(c == m);
+    }
+    return ok;
+}
+}  // namespace
+
+// verifies: SR-CAN-004
+TEST_CASE("safety frame: the messages' equality compares every field") {
+    const SafetyMessage s;
+    SafetyMessage sc[8] = {s, s, s, s, s, s, s, s};
+    sc[0].protective_stop = false;
+    sc[1].warning = true;
+    sc[2].fault = true;
+    sc[3].active_case = 1U;
+    sc[4].reduced_speed = true;
+    sc[5].zone_intrusion = 1U;
+    sc[6].zone_unseen = 1U;
+    sc[7].zone_count = 1U;
+    CHECK(each_field_compared(s, sc));
+    CHECK_FALSE(s != s);
+    CHECK(s != sc[7]);
+    const DiagnosticsMessage d;
+    DiagnosticsMessage dc[5] = {d, d, d, d, d};
+    dc[0].cycle_time = 1U;
+    dc[1].max_cycle_time = 1U;
+    dc[2].active_faults = 1U;
+    dc[3].prior_crc_page = 1U;
+    dc[4].prior_crc_part = 1U;
+    CHECK(each_field_compared(d, dc));
+    const SeparationMessage p;
+    SeparationMessage pc[6] = {p, p, p, p, p, p};
+    pc[0].distance_mm = 1U;
+    pc[1].required_mm = 1U;
+    pc[2].active_case = 1U;
+    pc[3].speed_request = SpeedRequest::kFull;
+    pc[4].command_valid = true;
+    pc[5].command_counter = 1U;
+    CHECK(each_field_compared(p, pc));
+}
+
+// verifies: SR-CAN-004, SR-GEN-003
+TEST_CASE("safety frame: checking a diagnostics frame under an invalid channel configuration is a contract violation") {
+    SafetyChannelConfig c;
+    c.data_id_mode = static_cast<E2eP01DataIdMode>(7);
+    DiagnosticsFrameContent out;
+    const CanFrame f{0x102U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    CHECK(test::violates_contract([&] { (void)check_diagnostics_frame(f, c, out); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)check_diagnostics_frame(f, SafetyChannelConfig{}, out); }));
+}

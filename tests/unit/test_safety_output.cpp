@@ -292,3 +292,21 @@ TEST_CASE("safety output: the robot's speed request sets the stop and reduced bi
     CHECK(sender.frames.size() == 4U);
     CHECK(out.encoder().separation_counter() == 1U);
 }
+
+// verifies: SR-CAN-006
+TEST_CASE("safety output: more than 16 zones, case 16, counter 15 or an unchecked config are contract violations") {
+    const SafetyOutputs clear = report_with(false, 0U, 0U).safety;
+    CHECK_FALSE(test::violates_contract([&] { (void)safety_message(clear, 16U); }));
+    CHECK(test::violates_contract([&] { (void)safety_message(clear, 17U); }));
+    RobotReport robot;
+    robot.active_case = 15U;
+    robot.command_counter = 14U;
+    CHECK_FALSE(test::violates_contract([&] { (void)separation_message(robot); }));
+    robot.active_case = 16U;
+    CHECK(test::violates_contract([&] { (void)separation_message(robot); }));
+    robot.active_case = 15U;
+    robot.command_counter = 15U;
+    CHECK(test::violates_contract([&] { (void)separation_message(robot); }));
+    CHECK_FALSE(test::violates_contract([&] { const CycleFrameEncoder ok_encoder(output_config(16U)); }));
+    CHECK(test::violates_contract([&] { const CycleFrameEncoder too_many(output_config(17U)); }));
+}

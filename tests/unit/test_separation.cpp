@@ -15,6 +15,7 @@
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/robot/robot_mask.hpp"
 #include "cellguard/robot/separation.hpp"
+#include "contract_capture.hpp"
 #include "test_robot.hpp"
 
 using namespace cellguard;
@@ -354,6 +355,42 @@ TEST_CASE("compute_separation refuses short spans, an unknown speed class and ba
     CHECK(out.request == SpeedRequest::kFull);
 }
 
+// verifies: SR-SSM-008
+TEST_CASE("compute_separation refuses each short input span and each unusable pose with a stop") {
+    Cell cell(small_grid());
+    const SeparationParams p = demo_params();
+    SeparationResult out;
+    const auto refused = [&](const SeparationInputs& in, const RobotPose& pose, ErrorCode expected) {
+        out.request = SpeedRequest::kFull;
+        const Status st = compute_separation(cell.g, in, pose, p, 0U, out);
+        return !st.ok() && st.error() == expected && out.request == SpeedRequest::kProtectiveStop &&
+               out.distance_mm == 0U;
+    };
+    SeparationInputs in = cell.inputs();
+    in.frame_log_odds = Span<const std::int16_t>(cell.frame.data(), cell.frame.size() - 1U);
+    CHECK(refused(in, sphere_pose(), ErrorCode::kStorageTooSmall));
+    in = cell.inputs();
+    in.observed = Span<const std::uint8_t>(cell.observed.data(), cell.observed.size() - 1U);
+    CHECK(refused(in, sphere_pose(), ErrorCode::kStorageTooSmall));
+    in = cell.inputs();
+    in.robot_mask = Span<const std::uint8_t>(cell.mask.data(), cell.mask.size() - 1U);
+    CHECK(refused(in, sphere_pose(), ErrorCode::kStorageTooSmall));
+    RobotPose pose = sphere_pose();
+    pose.count = 0U;
+    CHECK(refused(cell.inputs(), pose, ErrorCode::kInvalidArgument));
+    pose.count = kMaxRobotCapsules + 1U;
+    CHECK(refused(cell.inputs(), pose, ErrorCode::kInvalidArgument));
+    pose = sphere_pose();
+    pose.capsules[0].b[1] = std::numeric_limits<double>::infinity();
+    CHECK(refused(cell.inputs(), pose, ErrorCode::kInvalidArgument));
+    pose = sphere_pose();
+    pose.capsules[0].radius = -0.01;
+    CHECK(refused(cell.inputs(), pose, ErrorCode::kInvalidArgument));
+    pose.capsules[0].radius = std::numeric_limits<double>::quiet_NaN();
+    CHECK(refused(cell.inputs(), pose, ErrorCode::kInvalidArgument));
+    CHECK(compute_separation(cell.g, cell.inputs(), sphere_pose(), p, 0U, out).ok());
+}
+
 // verifies: SR-SSM-009
 TEST_CASE("the bounded search gives the brute-force distances for the test arm in random poses and scenes") {
     const RobotModel arm = make_test_arm(0.05, -0.1, 0.0);
@@ -391,4 +428,15 @@ TEST_CASE("the bounded search gives the brute-force distances for the test arm i
         CHECK(r.distance_mm == std::min(r.foreground_mm, r.hidden_mm));
         CHECK(r.candidates <= g.voxel_count());
     }
+}
+
+// verifies: SR-SSM-001
+TEST_CASE("S_p of a speed class beyond the commissioned ones is a contract violation") {
+    SeparationParams p = demo_params();
+    REQUIRE(check_separation_params(p).ok());
+    const auto last = static_cast<std::uint8_t>(p.class_count - 1U);
+    CHECK_FALSE(test::violates_contract([&] { (void)protective_separation_distance(p, last); }));
+    CHECK(test::violates_contract([&] { (void)protective_separation_distance(p, p.class_count); }));
+    p.class_count = static_cast<std::uint8_t>(kSpeedClasses + 1U);  // unchecked parameters
+    CHECK(test::violates_contract([&] { (void)protective_separation_distance(p, kSpeedClasses); }));
 }

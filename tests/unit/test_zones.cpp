@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cellguard/safety/zones.hpp"
+#include "contract_capture.hpp"
 
 using namespace cellguard;
 
@@ -173,4 +174,31 @@ TEST_CASE("zones: the settings CRC changes with a zone's kind, thresholds or cou
     CHECK(crc_with(box(0, 0, 0, 0.5, 0.5, 0.49)) == base);
     const ZoneConfig two[] = {a, a};
     CHECK(CompiledZones::compile(grid10(), two, {mask.data(), mask.size()}).value().settings_crc() != base);
+}
+
+// verifies: SR-ZONE-001
+TEST_CASE("zones: zone_contains is false outside a prism's height and for a prism of fewer than 3 vertices") {
+    const ZoneConfig p = prism({{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}}, 0.2, 0.8);
+    CHECK(zone_contains(p, Eigen::Vector3d(0.5, 0.5, 0.5)));
+    CHECK(zone_contains(p, Eigen::Vector3d(0.5, 0.5, 0.2)));  // the bounds are inclusive
+    CHECK(zone_contains(p, Eigen::Vector3d(0.5, 0.5, 0.8)));
+    CHECK_FALSE(zone_contains(p, Eigen::Vector3d(0.5, 0.5, 0.1)));
+    CHECK_FALSE(zone_contains(p, Eigen::Vector3d(0.5, 0.5, 0.9)));
+    CHECK_FALSE(zone_contains(p, Eigen::Vector3d(1.5, 0.5, 0.5)));
+    const ZoneConfig segment = prism({{0.0, 0.0}, {1.0, 1.0}}, 0.0, 1.0);  // not validated: a caller's raw config
+    CHECK_FALSE(zone_contains(segment, Eigen::Vector3d(0.5, 0.5, 0.5)));
+    const ZoneConfig b = box(0.0, 0.0, 0.0, 1.0, 1.0, 1.0);
+    CHECK(zone_contains(b, Eigen::Vector3d(1.0, 0.0, 0.5)));
+    CHECK_FALSE(zone_contains(b, Eigen::Vector3d(1.0, -0.01, 0.5)));
+}
+
+// verifies: SR-ZONE-001, SR-GEN-003
+TEST_CASE("zones: the configuration or voxel count of a zone beyond the compiled ones is a contract violation") {
+    std::vector<std::uint32_t> mask(1000);
+    const ZoneConfig zs[] = {box(0.0, 0.0, 0.0, 0.3, 0.2, 0.1)};
+    const CompiledZones c = CompiledZones::compile(grid10(), zs, {mask.data(), mask.size()}).value();
+    CHECK_FALSE(test::violates_contract([&] { (void)c.config(0U); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)c.voxel_count(0U); }));
+    CHECK(test::violates_contract([&] { (void)c.config(1U); }));
+    CHECK(test::violates_contract([&] { (void)c.voxel_count(1U); }));
 }
