@@ -21,11 +21,13 @@ set -euo pipefail
 # libsystemd-dev: the monitor's service notification (Type=notify, watchdog).
 # iproute2: the loopback namespace of tools/netns-run.sh (fake cameras on 127.0.0.2-8).
 # systemd: systemd-analyze verify of the monitor's unit; python3-numpy: the snapshot's .npy read back.
+# libcivetweb-dev: the monitor's browser view (--http); libjs-three: the three.js r111 it serves;
+# chromium, python3-websocket: the headless-browser test of that view (DevTools protocol).
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
       gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev python3-canmatrix
       libaravis-dev libusb-1.0-0-dev aravis-tools aravis-tools-cli libsystemd-dev pkg-config iproute2
-      systemd python3-numpy)
+      systemd python3-numpy libcivetweb-dev libjs-three chromium python3-websocket)
 arm64=0
 for arg in "$@"; do
   case "$arg" in
