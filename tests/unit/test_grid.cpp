@@ -63,3 +63,22 @@ TEST_CASE("grid: invalid geometries are rejected with a clear error") {
     CHECK(GridGeometry::make(o, 0.1, GridDims{1, kMaxDimension + 1, 1}).error() == ErrorCode::kInvalidArgument);
     CHECK(GridGeometry::make(o, 0.1, GridDims{4096, 4096, 16}).error() == ErrorCode::kCapacityExceeded);
 }
+
+// verifies: SR-GRID-001
+TEST_CASE("grid: voxel coordinates and dimensions are equal exactly when every component is") {
+    constexpr VoxelCoord a{3, -4, 5};
+    static_assert(a == VoxelCoord{3, -4, 5}, "equal components");
+    CHECK(a == VoxelCoord{3, -4, 5});
+    CHECK(a != VoxelCoord{2, -4, 5});
+    CHECK(a != VoxelCoord{3, 4, 5});
+    CHECK(a != VoxelCoord{3, -4, -5});
+    constexpr std::int32_t lo = std::numeric_limits<std::int32_t>::min();
+    constexpr std::int32_t hi = std::numeric_limits<std::int32_t>::max();
+    CHECK(VoxelCoord{lo, hi, 0} == VoxelCoord{lo, hi, 0});
+    CHECK(VoxelCoord{lo, hi, 0} != VoxelCoord{hi, lo, 0});
+    CHECK(VoxelCoord{0, 0, lo} != VoxelCoord{0, 0, hi});
+    CHECK(GridDims{4, 5, 6} == GridDims{4, 5, 6});
+    CHECK_FALSE(GridDims{4, 5, 6} == GridDims{5, 5, 6});
+    CHECK_FALSE(GridDims{4, 5, 6} == GridDims{4, 6, 6});
+    CHECK_FALSE(GridDims{4, 5, 6} == GridDims{4, 5, 7});
+}

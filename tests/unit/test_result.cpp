@@ -121,3 +121,45 @@ TEST_CASE("result: a Result carries a richer error type, and its success reports
     CHECK(good.value() == 5);
     CHECK(is_no_error(good.error()));
 }
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a Result of trivially copyable types is itself trivially copyable, and copies keep value or error") {
+    static_assert(std::is_trivially_copyable<Result<std::int32_t>>::value, "byte copies, no branch on the member");
+    static_assert(std::is_trivially_copyable<Result<int, ZoneError>>::value, "a richer but plain error type too");
+    static_assert(std::is_trivially_destructible<Result<std::int32_t>>::value, "nothing to destroy");
+    static_assert(!std::is_trivially_copyable<Result<Counted>>::value, "a counted value is copied by its constructor");
+    const Result<std::int32_t> good(9);
+    const Result<std::int32_t> bad(ErrorCode::kOutOfGrid);
+    Result<std::int32_t> r = bad;
+    CHECK(r.error() == ErrorCode::kOutOfGrid);
+    r = good;
+    CHECK(r.value() == 9);
+    r = bad;
+    CHECK_FALSE(r.ok());
+    CHECK(r.error() == ErrorCode::kOutOfGrid);
+}
+
+// verifies: SR-GEN-004
+TEST_CASE("result: a Result assigned to itself keeps its value or error and builds or destroys nothing") {
+    {
+        Result<Counted> good = Counted(4);
+        Result<Counted>& alias = good;
+        good = alias;
+        CHECK(Counted::live == 1);
+        CHECK(good.value().value == 4);
+        good = std::move(alias);
+        CHECK(Counted::live == 1);
+        CHECK(good.value().value == 4);
+        Result<Counted> bad = ErrorCode::kBadMagic;
+        Result<Counted>& bad_alias = bad;
+        bad = bad_alias;
+        bad = std::move(bad_alias);
+        CHECK(bad.error() == ErrorCode::kBadMagic);
+        Result<Counted> moved_error(std::move(bad));  // an error moves too
+        CHECK(moved_error.error() == ErrorCode::kBadMagic);
+        good = std::move(moved_error);  // the value is destroyed, the error taken
+        CHECK(Counted::live == 0);
+        CHECK(good.error() == ErrorCode::kBadMagic);
+    }
+    CHECK(Counted::live == 0);
+}

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <new>
+#include <type_traits>
 #include <utility>
 
 #include "cellguard/base/contract.hpp"
@@ -46,115 +47,142 @@ const char* to_string(ErrorCode code) noexcept;
 /// Result provides, found by argument-dependent lookup.
 constexpr bool is_no_error(ErrorCode code) noexcept { return code == ErrorCode::kOk; }
 
+namespace result_detail {
+
+/// True when a Result of T and E may be copied byte for byte and needs no
+/// destruction: then its copy, move and destructor are the compiler's
+/// trivial ones, which neither branch on the active member nor call anything.
+template <typename T, typename E>
+inline constexpr bool kTriviallyCopyable = std::is_trivially_copyable_v<T>&& std::is_trivially_copyable_v<E>;
+
+/// The value or the error, constructed in place: no default T is needed.
+/// `none` is active until a Result constructs one of the two. Its copy and
+/// destructor are trivial when T and E are trivially copyable.
+template <typename T, typename E, bool = kTriviallyCopyable<T, E>>
+union Storage {
+    Storage() noexcept : none() {}
+    char none;  ///< active only until the value or the error is constructed
+    T value;    ///< active when the Result holds a value
+    E error;    ///< active when the Result holds an error
+};
+
+/// Storage for a T or E that is not trivially copyable: the owning
+/// Result copies, moves and destroys the active member itself.
+template <typename T, typename E>
+union Storage<T, E, false> {
+    Storage() noexcept : none() {}
+    // NOLINTNEXTLINE(modernize-use-equals-default,hicpp-use-equals-default): the Result destroys the active member
+    ~Storage() {}
+    Storage(const Storage&) = delete;
+    Storage& operator=(const Storage&) = delete;
+    Storage(Storage&&) = delete;
+    Storage& operator=(Storage&&) = delete;
+    char none;  ///< active only until the value or the error is constructed
+    T value;    ///< active when the Result holds a value
+    E error;    ///< active when the Result holds an error
+};
+
+/// The storage, the flag and the in-place construction every Result shares;
+/// its copy, move and destructor are trivial (trivially copyable T and E).
+template <typename T, typename E>
+class Core {
+protected:
+    template <typename U>
+    void construct_value(U&& v) noexcept {
+        ::new (static_cast<void*>(&storage_.value)) T(std::forward<U>(v));  // placement: no allocation
+        ok_ = true;
+    }
+    template <typename U>
+    void construct_error(U&& e) noexcept {
+        ::new (static_cast<void*>(&storage_.error)) E(std::forward<U>(e));  // placement: no allocation
+        ok_ = false;
+    }
+    Storage<T, E> storage_;  ///< the value when ok_, else the error
+    bool ok_ = false;        ///< which member of storage_ is active
+};
+
+/// Copy, move and destruction of the active member, for a T or E that is
+/// not trivially copyable (the branch on ok_ is needed only here).
+template <typename T, typename E, bool = kTriviallyCopyable<T, E>>
+class Base : public Core<T, E> {};
+
+/// See the primary template.
+template <typename T, typename E>
+class Base<T, E, false> : public Core<T, E> {
+protected:
+    Base() noexcept = default;
+    Base(const Base& other) noexcept : Core<T, E>() { take(other); }
+    Base(Base&& other) noexcept : Core<T, E>() { take(std::move(other)); }
+    Base& operator=(const Base& other) noexcept {
+        if (this != &other) {
+            destroy();
+            take(other);
+        }
+        return *this;
+    }
+    Base& operator=(Base&& other) noexcept {
+        if (this != &other) {
+            destroy();
+            take(std::move(other));
+        }
+        return *this;
+    }
+    ~Base() { destroy(); }
+
+private:
+    template <typename B>
+    void take(B&& other) noexcept {
+        if (other.ok_) {
+            this->construct_value(std::forward<B>(other).storage_.value);
+        } else {
+            this->construct_error(std::forward<B>(other).storage_.error);
+        }
+    }
+    void destroy() noexcept {
+        if (this->ok_) {
+            this->storage_.value.~T();
+        } else {
+            this->storage_.error.~E();
+        }
+    }
+};
+
+}  // namespace result_detail
+
 /// Either a value of type T or an error of type E (ErrorCode unless an
 /// operation has a richer error, such as zones.hpp's ZoneError), never both.
 /// T needs no default constructor: the value is constructed only on success
 /// (iceoryx's `expected` is the model). Constructed from a T (success) or
 /// from an E that is not "no error" (is_no_error(E) false; a contract).
+/// Trivially copyable when T and E are (result_detail::kTriviallyCopyable).
 template <typename T, typename E = ErrorCode>
-class [[nodiscard]] Result {
+class [[nodiscard]] Result : private result_detail::Base<T, E> {
 public:
     /// A successful result holding @p value.
     // cppcheck-suppress noExplicitConstructor ; implicit by design, like std::expected
     // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit by design, like std::expected
-    Result(T value) noexcept : ok_(true) { construct_value(std::move(value)); }
+    Result(T value) noexcept { this->construct_value(std::move(value)); }
     /// A failed result; @p error must not be "no error" (contract).
     // cppcheck-suppress noExplicitConstructor ; implicit by design, like std::expected
     // NOLINTNEXTLINE(google-explicit-constructor,hicpp-explicit-conversions): implicit by design
-    Result(E error) noexcept : ok_(false) {
+    Result(E error) noexcept {
         CG_ENFORCE(!is_no_error(error), "a failed Result needs an error");
-        construct_error(std::move(error));
+        this->construct_error(std::move(error));
     }
-    /// A copy of @p other.
-    Result(const Result& other) noexcept : ok_(other.ok_) {
-        if (ok_) {
-            construct_value(other.storage_.value);
-        } else {
-            construct_error(other.storage_.error);
-        }
-    }
-    /// Takes @p other's value or error.
-    Result(Result&& other) noexcept : ok_(other.ok_) {
-        if (ok_) {
-            construct_value(std::move(other.storage_.value));
-        } else {
-            construct_error(std::move(other.storage_.error));
-        }
-    }
-    /// Becomes a copy of @p other.
-    Result& operator=(const Result& other) noexcept {
-        if (this != &other) {
-            destroy();
-            ok_ = other.ok_;
-            if (ok_) {
-                construct_value(other.storage_.value);
-            } else {
-                construct_error(other.storage_.error);
-            }
-        }
-        return *this;
-    }
-    /// Takes @p other's value or error.
-    Result& operator=(Result&& other) noexcept {
-        if (this != &other) {
-            destroy();
-            ok_ = other.ok_;
-            if (ok_) {
-                construct_value(std::move(other.storage_.value));
-            } else {
-                construct_error(std::move(other.storage_.error));
-            }
-        }
-        return *this;
-    }
-    /// Destroys the value or the error.
-    ~Result() { destroy(); }
 
     /// True when the result holds a value.
-    [[nodiscard]] bool ok() const noexcept { return ok_; }
+    [[nodiscard]] bool ok() const noexcept { return this->ok_; }
     /// Same as ok().
     explicit operator bool() const noexcept { return ok(); }
     /// The error; E's "no error" value (E{}, kOk for ErrorCode) when the result holds a value.
-    [[nodiscard]] E error() const noexcept { return ok_ ? E{} : storage_.error; }
+    [[nodiscard]] E error() const noexcept { return this->ok_ ? E{} : this->storage_.error; }
     /// The value; calling it on a failed result is a contract violation.
     [[nodiscard]] const T& value() const noexcept {
         CG_ENFORCE(ok(), "value() of a failed Result");
-        return storage_.value;
+        return this->storage_.value;
     }
     /// The value, or @p fallback when the result failed.
-    [[nodiscard]] T value_or(const T& fallback) const noexcept { return ok_ ? storage_.value : fallback; }
-
-private:
-    /// The value or the error, constructed in place: no default T is needed.
-    union Storage {
-        // NOLINTNEXTLINE(modernize-use-equals-default,hicpp-use-equals-default): a union with non-trivial members needs it user-provided
-        Storage() noexcept {}
-        // NOLINTNEXTLINE(modernize-use-equals-default,hicpp-use-equals-default): the Result destroys the active member
-        ~Storage() {}
-        Storage(const Storage&) = delete;
-        Storage& operator=(const Storage&) = delete;
-        Storage(Storage&&) = delete;
-        Storage& operator=(Storage&&) = delete;
-        T value;  ///< active when ok_
-        E error;  ///< active when !ok_
-    };
-    template <typename U>
-    void construct_value(U&& v) noexcept {
-        ::new (static_cast<void*>(&storage_.value)) T(std::forward<U>(v));  // placement: no allocation
-    }
-    template <typename U>
-    void construct_error(U&& e) noexcept {
-        ::new (static_cast<void*>(&storage_.error)) E(std::forward<U>(e));  // placement: no allocation
-    }
-    void destroy() noexcept {
-        if (ok_) {
-            storage_.value.~T();
-        } else {
-            storage_.error.~E();
-        }
-    }
-    Storage storage_;
-    bool ok_;
+    [[nodiscard]] T value_or(const T& fallback) const noexcept { return this->ok_ ? this->storage_.value : fallback; }
 };
 
 /// The result of an operation that returns nothing but may fail.

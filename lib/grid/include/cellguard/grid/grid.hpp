@@ -30,12 +30,17 @@ struct VoxelCoord {
     std::int32_t x = 0;  ///< column, along world x
     std::int32_t y = 0;  ///< row, along world y
     std::int32_t z = 0;  ///< layer, along world z (up)
-    /// Component-wise equality.
+    /// Component-wise equality, without a branch: the components' differing
+    /// bits are or-ed and compared once (no short-circuit per component).
     friend constexpr bool operator==(const VoxelCoord& a, const VoxelCoord& b) noexcept {
-        return a.x == b.x && a.y == b.y && a.z == b.z;
+        return (bits(a.x, b.x) | bits(a.y, b.y) | bits(a.z, b.z)) == 0U;
     }
     /// Component-wise inequality.
     friend constexpr bool operator!=(const VoxelCoord& a, const VoxelCoord& b) noexcept { return !(a == b); }
+    /// The bits in which @p u and @p v differ (0 when equal).
+    static constexpr std::uint32_t bits(std::int32_t u, std::int32_t v) noexcept {
+        return static_cast<std::uint32_t>(u) ^ static_cast<std::uint32_t>(v);
+    }
 };
 
 /// Number of voxels along each axis.
@@ -43,9 +48,9 @@ struct GridDims {
     std::int32_t nx = 0;  ///< voxels along x
     std::int32_t ny = 0;  ///< voxels along y
     std::int32_t nz = 0;  ///< voxels along z
-    /// Component-wise equality.
+    /// Component-wise equality, without a branch (as VoxelCoord's).
     friend constexpr bool operator==(const GridDims& a, const GridDims& b) noexcept {
-        return a.nx == b.nx && a.ny == b.ny && a.nz == b.nz;
+        return (VoxelCoord::bits(a.nx, b.nx) | VoxelCoord::bits(a.ny, b.ny) | VoxelCoord::bits(a.nz, b.nz)) == 0U;
     }
 };
 
