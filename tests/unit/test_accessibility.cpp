@@ -833,3 +833,42 @@ TEST_CASE("accessibility: the padded work box clamps the radius and is empty for
     CHECK(padded_extent(0, 2, 0x3FU, 1U) == 0U);
     CHECK(padded_count(GridDims{4, 0, 6}, 2, 0U) == 0U);
 }
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: a grid with an empty axis needs no scratch, for either method or any parameters") {
+    std::vector<int> extents = {0, 7, 9};  // read at run time
+    for (std::size_t empty_axis = 0U; empty_axis < 3U; ++empty_axis) {
+        std::swap(extents[0], extents[empty_axis]);
+        const GridDims dims{extents[0], extents[1], extents[2]};
+        CAPTURE(empty_axis);
+        const AccessibilityScratchSize any = accessibility_scratch_size_any(dims);
+        CHECK(any.words == 2U * MonotoneBucketQueue::kListHeads);  // only the queue's list heads
+        CHECK(any.bytes == 0U);
+        const AccessibilityScratchSize t = accessibility_scratch_size(dims,
+                                                                      params_of(PriorMethod::kThresholded, 2, 0U));
+        CHECK(t.words == 0U);
+        CHECK(t.bytes == 0U);
+        std::swap(extents[0], extents[empty_axis]);
+    }
+    // A non-empty grid: the probabilistic method's words, the thresholded method's bytes.
+    const GridDims dims{extents[1], extents[1], extents[2]};
+    const AccessibilityScratchSize any = accessibility_scratch_size_any(dims);
+    CHECK(any.words == accessibility_scratch_size(dims, params_of(PriorMethod::kProbabilistic, 8, kAllFaces)).words);
+    CHECK(any.bytes == accessibility_scratch_size(dims, params_of(PriorMethod::kThresholded, 8, kAllFaces)).bytes);
+    CHECK(any.bytes > 0U);
+}
+
+// verifies: SR-FUSE-008
+TEST_CASE("accessibility: no number of background frames suffices when the clamp stops at or above the threshold") {
+    const SensorModelTable model;
+    AccessibilityParams p;
+    p.method = PriorMethod::kProbabilistic;
+    const std::int16_t empty_below = threshold_log_odds(p.t_e);
+    CHECK(min_background_frames(p, model, BackgroundClamp{static_cast<std::int16_t>(empty_below + 10), 1768}) == 0U);
+    CHECK(min_background_frames(p, model, BackgroundClamp{0, 1768}) == 0U);
+    CHECK(min_background_frames(p, model, BackgroundClamp{}) == 3U);  // with the defaults (H-PRI-7)
+    // A t_B so small that not even the lowest log-odds lies below it.
+    p.method = PriorMethod::kThresholded;
+    p.t_b = 1e-300;
+    CHECK(min_background_frames(p, model, BackgroundClamp{kLogOddsMin, kLogOddsMax}) == 0U);
+}
