@@ -871,4 +871,27 @@ TEST_CASE("accessibility: no number of background frames suffices when the clamp
     p.method = PriorMethod::kThresholded;
     p.t_b = 1e-300;
     CHECK(min_background_frames(p, model, BackgroundClamp{kLogOddsMin, kLogOddsMax}) == 0U);
+    // A t_B of 1 (outside what validate_accessibility_params accepts): P(occ) < 1 for every log-odds up to where it
+    // rounds to 1 in binary64, so one frame of free evidence is below it.
+    p.t_b = 1.0;
+    CHECK(min_background_frames(p, model) == 1U);
+}
+
+// verifies: SR-PRIOR-002, SR-PRIOR-004
+TEST_CASE("accessibility: a cell full of surfaces at the top log-odds is reachable only at saturation everywhere") {
+    Background bg(6, 5, 4, kLogOddsMax);
+    const Prior p = compute(bg, params_of(PriorMethod::kProbabilistic, 1, kAllFaces));
+    for (std::size_t i = 0; i < p.prior.size(); ++i) {
+        REQUIRE(p.prior[i] == kLogOddsMin);  // tiny but not the never-foreground sentinel: there are sources
+        REQUIRE(p.p_acc[i] == 0.0F);
+    }
+    // A free voxel on an open face costs nothing to reach; a voxel inside the solid stays saturated.
+    bg.set(0, 2, 2, kFree);
+    for (const std::uint8_t faces : {kAllFaces, static_cast<std::uint8_t>(kFaceMinX)}) {
+        CAPTURE(static_cast<int>(faces));
+        const Prior q = compute(bg, params_of(PriorMethod::kProbabilistic, 0, faces));
+        CHECK(q.prior[bg.index(0, 2, 2)] == 0);
+        CHECK(q.p_acc[bg.index(0, 2, 2)] == 1.0F);
+        CHECK(q.prior[bg.index(3, 2, 2)] == kLogOddsMin);
+    }
 }

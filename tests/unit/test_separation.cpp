@@ -519,3 +519,20 @@ TEST_CASE("a voxel centre on a capsule's axis, where rounding makes the squared 
     CHECK(r.candidates == 1U);
     CHECK(r.request == SpeedRequest::kProtectiveStop);
 }
+
+// verifies: SR-SSM-004
+TEST_CASE(
+    "once a kind has its k voxels at distance 0 its further voxels are not measured, the other kind's still are") {
+    Cell cell(small_grid());
+    const SeparationParams p = demo_params();  // k = 1 for both kinds
+    cell.active = 1U;
+    cell.foreground(6, 5, 5);  // touches the sphere: the foreground distance is 0 at once
+    cell.foreground(5, 5, 8);  // a row visited later: foreground only, not a candidate any more
+    cell.unseen(5, 5, 2, 1U);  // the unseen voxel still sets the hidden distance: 0.15 - 0.1 - 0.0433 m
+    const SeparationResult r = run(cell, sphere_pose(), p);
+    CHECK(r.foreground_mm == 0U);
+    CHECK(r.hidden_mm == reference_mm(cell, sphere_pose(), true, 1U));
+    CHECK(r.hidden_mm == 6U);
+    CHECK(r.candidates == 2U);
+    CHECK(r.request == SpeedRequest::kProtectiveStop);
+}
