@@ -894,4 +894,17 @@ TEST_CASE("accessibility: a cell full of surfaces at the top log-odds is reachab
         CHECK(q.p_acc[bg.index(0, 2, 2)] == 1.0F);
         CHECK(q.prior[bg.index(3, 2, 2)] == kLogOddsMin);
     }
+    // r = 1: the object fits only half outside the open face at that voxel; every move inward newly covers several
+    // voxels at the top log-odds, more than the saturation cost in one step.
+    for (const int x : {0, 6}) {
+        Background solid(7, 7, 7, kLogOddsMax);
+        solid.set(x, 3, 3, kFree);
+        const auto face = static_cast<std::uint8_t>(x == 0 ? kFaceMinX : kFaceMaxX);
+        const Prior r = compute(solid, params_of(PriorMethod::kProbabilistic, 1, face));
+        CAPTURE(x);
+        CHECK(r.prior[solid.index(x, 3, 3)] == 0);
+        CHECK(r.p_acc[solid.index(x, 3, 3)] == 1.0F);
+        CHECK(r.prior[solid.index(x == 0 ? 1 : 5, 3, 3)] == kLogOddsMin);
+        CHECK(r.prior[solid.index(3, 3, 3)] == kLogOddsMin);
+    }
 }
