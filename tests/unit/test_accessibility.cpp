@@ -908,3 +908,25 @@ TEST_CASE("accessibility: a cell full of surfaces at the top log-odds is reachab
         CHECK(r.prior[solid.index(3, 3, 3)] == kLogOddsMin);
     }
 }
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: the thresholded baseline's test P(occ) < t_B is exact at one ulp above a voxel's P(occ)") {
+    Background bg(3, 1, 1);
+    bg.set(0, 0, 0, kFree);
+    bg.set(1, 0, 0, static_cast<std::int16_t>(kFree + 1));
+    bg.set(2, 0, 0, kOcc);
+    const double p_free = probability_from_log_odds(kFree);
+    AccessibilityParams p = params_of(PriorMethod::kThresholdedBaseline, 0, 0U);
+    // One ulp above P(kFree): kFree is below it (empty), kFree + 1 is not. (The logit of this t_B rounds down
+    // to kFree, so the first guess must be corrected upwards.)
+    p.t_b = std::nextafter(p_free, 1.0);
+    const Prior above = compute(bg, p);
+    CHECK(above.prior[0] == kLogOddsUnknown);
+    CHECK(above.prior[1] == kNeverForeground);
+    CHECK(above.prior[2] == kNeverForeground);
+    // At P(kFree) itself kFree is not below it.
+    p.t_b = p_free;
+    const Prior at = compute(bg, p);
+    CHECK(at.prior[0] == kNeverForeground);
+    CHECK(at.p_acc[0] == 0.0F);
+}
