@@ -833,3 +833,100 @@ TEST_CASE("accessibility: the padded work box clamps the radius and is empty for
     CHECK(padded_extent(0, 2, 0x3FU, 1U) == 0U);
     CHECK(padded_count(GridDims{4, 0, 6}, 2, 0U) == 0U);
 }
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: a grid with an empty axis needs no scratch, for either method or any parameters") {
+    std::vector<int> extents = {0, 7, 9};  // read at run time
+    for (std::size_t empty_axis = 0U; empty_axis < 3U; ++empty_axis) {
+        std::swap(extents[0], extents[empty_axis]);
+        const GridDims dims{extents[0], extents[1], extents[2]};
+        CAPTURE(empty_axis);
+        const AccessibilityScratchSize any = accessibility_scratch_size_any(dims);
+        CHECK(any.words == 2U * MonotoneBucketQueue::kListHeads);  // only the queue's list heads
+        CHECK(any.bytes == 0U);
+        const AccessibilityScratchSize t = accessibility_scratch_size(dims,
+                                                                      params_of(PriorMethod::kThresholded, 2, 0U));
+        CHECK(t.words == 0U);
+        CHECK(t.bytes == 0U);
+        std::swap(extents[0], extents[empty_axis]);
+    }
+    // A non-empty grid: the probabilistic method's words, the thresholded method's bytes.
+    const GridDims dims{extents[1], extents[1], extents[2]};
+    const AccessibilityScratchSize any = accessibility_scratch_size_any(dims);
+    CHECK(any.words == accessibility_scratch_size(dims, params_of(PriorMethod::kProbabilistic, 8, kAllFaces)).words);
+    CHECK(any.bytes == accessibility_scratch_size(dims, params_of(PriorMethod::kThresholded, 8, kAllFaces)).bytes);
+    CHECK(any.bytes > 0U);
+}
+
+// verifies: SR-FUSE-008
+TEST_CASE("accessibility: no number of background frames suffices when the clamp stops at or above the threshold") {
+    const SensorModelTable model;
+    AccessibilityParams p;
+    p.method = PriorMethod::kProbabilistic;
+    const std::int16_t empty_below = threshold_log_odds(p.t_e);
+    CHECK(min_background_frames(p, model, BackgroundClamp{static_cast<std::int16_t>(empty_below + 10), 1768}) == 0U);
+    CHECK(min_background_frames(p, model, BackgroundClamp{0, 1768}) == 0U);
+    CHECK(min_background_frames(p, model, BackgroundClamp{}) == 3U);  // with the defaults (H-PRI-7)
+    // A t_B so small that not even the lowest log-odds lies below it.
+    p.method = PriorMethod::kThresholded;
+    p.t_b = 1e-300;
+    CHECK(min_background_frames(p, model, BackgroundClamp{kLogOddsMin, kLogOddsMax}) == 0U);
+    // A t_B of 1 (outside what validate_accessibility_params accepts): P(occ) < 1 for every log-odds up to where it
+    // rounds to 1 in binary64, so one frame of free evidence is below it.
+    p.t_b = 1.0;
+    CHECK(min_background_frames(p, model) == 1U);
+}
+
+// verifies: SR-PRIOR-002, SR-PRIOR-004
+TEST_CASE("accessibility: a cell full of surfaces at the top log-odds is reachable only at saturation everywhere") {
+    Background bg(6, 5, 4, kLogOddsMax);
+    const Prior p = compute(bg, params_of(PriorMethod::kProbabilistic, 1, kAllFaces));
+    for (std::size_t i = 0; i < p.prior.size(); ++i) {
+        REQUIRE(p.prior[i] == kLogOddsMin);  // tiny but not the never-foreground sentinel: there are sources
+        REQUIRE(p.p_acc[i] == 0.0F);
+    }
+    // A free voxel on an open face costs nothing to reach; a voxel inside the solid stays saturated.
+    bg.set(0, 2, 2, kFree);
+    for (const std::uint8_t faces : {kAllFaces, static_cast<std::uint8_t>(kFaceMinX)}) {
+        CAPTURE(static_cast<int>(faces));
+        const Prior q = compute(bg, params_of(PriorMethod::kProbabilistic, 0, faces));
+        CHECK(q.prior[bg.index(0, 2, 2)] == 0);
+        CHECK(q.p_acc[bg.index(0, 2, 2)] == 1.0F);
+        CHECK(q.prior[bg.index(3, 2, 2)] == kLogOddsMin);
+    }
+    // r = 1: the object fits only half outside the open face at that voxel; every move inward newly covers several
+    // voxels at the top log-odds, more than the saturation cost in one step.
+    for (const int x : {0, 6}) {
+        Background solid(7, 7, 7, kLogOddsMax);
+        solid.set(x, 3, 3, kFree);
+        const auto face = static_cast<std::uint8_t>(x == 0 ? kFaceMinX : kFaceMaxX);
+        const Prior r = compute(solid, params_of(PriorMethod::kProbabilistic, 1, face));
+        CAPTURE(x);
+        CHECK(r.prior[solid.index(x, 3, 3)] == 0);
+        CHECK(r.p_acc[solid.index(x, 3, 3)] == 1.0F);
+        CHECK(r.prior[solid.index(x == 0 ? 1 : 5, 3, 3)] == kLogOddsMin);
+        CHECK(r.prior[solid.index(3, 3, 3)] == kLogOddsMin);
+    }
+}
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: the thresholded baseline's test P(occ) < t_B is exact at one ulp above a voxel's P(occ)") {
+    Background bg(3, 1, 1);
+    bg.set(0, 0, 0, kFree);
+    bg.set(1, 0, 0, static_cast<std::int16_t>(kFree + 1));
+    bg.set(2, 0, 0, kOcc);
+    const double p_free = probability_from_log_odds(kFree);
+    AccessibilityParams p = params_of(PriorMethod::kThresholdedBaseline, 0, 0U);
+    // One ulp above P(kFree): kFree is below it (empty), kFree + 1 is not. (The logit of this t_B rounds down
+    // to kFree, so the first guess must be corrected upwards.)
+    p.t_b = std::nextafter(p_free, 1.0);
+    const Prior above = compute(bg, p);
+    CHECK(above.prior[0] == kLogOddsUnknown);
+    CHECK(above.prior[1] == kNeverForeground);
+    CHECK(above.prior[2] == kNeverForeground);
+    // At P(kFree) itself kFree is not below it.
+    p.t_b = p_free;
+    const Prior at = compute(bg, p);
+    CHECK(at.prior[0] == kNeverForeground);
+    CHECK(at.p_acc[0] == 0.0F);
+}

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -400,4 +401,178 @@ TEST_CASE("background image: a view beyond the sensor count, a refused image and
           kBackgroundImageHeaderSize + 2U * kBackgroundRecordHeaderSize + 4U * (65535ULL * 16384U + 3U));
     large.records[0].identity.height = 65535U;
     CHECK(background_image_size(large.span()) == 0U);
+}
+
+namespace {
+
+void store_u32(std::vector<std::uint8_t>& img, std::size_t at, std::uint32_t v) {
+    for (std::size_t i = 0; i < 4U; ++i)
+        img[at + i] = static_cast<std::uint8_t>((v >> (8U * i)) & 0xFFU);
+}
+
+// Recomputes the file header's CRC, so that a changed header field is judged by its value, not by the CRC.
+void reseal_header(std::vector<std::uint8_t>& img) {
+    store_u32(img, 28U, crc32(Span<const std::uint8_t>(img.data(), 28U)));
+}
+
+// Recomputes the payload CRC (when @p payload_bytes > 0) and the header CRC of the record at @p at.
+void reseal_record(std::vector<std::uint8_t>& img, std::size_t at, std::size_t payload_bytes) {
+    if (payload_bytes > 0U)
+        store_u32(img, at + 108U,
+                  crc32(Span<const std::uint8_t>(img.data() + at + kBackgroundRecordHeaderSize, payload_bytes)));
+    store_u32(img, at + 116U, crc32(Span<const std::uint8_t>(img.data() + at, 116U)));
+}
+
+std::uint32_t bits(float f) {
+    std::uint32_t b = 0U;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
+}
+
+// A valid 2 x 1 direction grid: 2 azimuth bins of 0.5 rad from -1 rad, 1 elevation bin from -0.25 rad.
+DirectionGrid small_direction_grid() {
+    DirectionGrid g;
+    g.azimuth_min_rad = -1.0F;
+    g.elevation_min_rad = -0.25F;
+    g.bin_rad = 0.5F;
+    g.azimuth_bins = 2U;
+    g.elevation_bins = 1U;
+    return g;
+}
+
+}  // namespace
+
+// verifies: SR-BKG-001
+TEST_CASE("background image: header fields that are wrong under a valid header CRC are refused as a bad header") {
+    const std::vector<std::uint8_t> img = TwoViews().image();
+    const auto with = [&](std::size_t at, std::uint32_t value, std::size_t bytes) {
+        std::vector<std::uint8_t> changed = img;
+        for (std::size_t i = 0; i < bytes; ++i)
+            changed[at + i] = static_cast<std::uint8_t>((value >> (8U * i)) & 0xFFU);
+        reseal_header(changed);
+        return check(changed);
+    };
+    CHECK(with(6U, 33U, 2U) == BackgroundImageError::kBadHeader);  // header size
+    CHECK(with(16U, 0U, 4U) == BackgroundImageError::kBadHeader);  // frames
+    CHECK(with(20U, 2U, 4U) == BackgroundImageError::kBadHeader);  // statistic
+    CHECK(with(24U, 1U, 4U) == BackgroundImageError::kBadHeader);  // reserved
+    CHECK(with(16U, 1U, 4U) == BackgroundImageError::kNone);       // one frame is enough
+    CHECK(with(8U, 0U, 4U) == BackgroundImageError::kSensorCountMismatch);
+    std::vector<std::uint8_t> nine = img;
+    store_u32(nine, 8U, 9U);
+    reseal_header(nine);
+    CHECK(check(nine, 9U) == BackgroundImageError::kSensorCountMismatch);  // above the maximum even when expected
+    CHECK(with(12U, kPriorCrc ^ 0x100U, 4U) == BackgroundImageError::kPriorCrcMismatch);
+}
+
+// verifies: SR-BKG-001
+TEST_CASE("background image: record fields that are wrong under a valid record CRC are refused as a bad record") {
+    const TwoViews v;
+    const std::vector<std::uint8_t> img = v.image();
+    const std::size_t first = kBackgroundImageHeaderSize;
+    const auto with = [&](std::size_t field, std::uint32_t value) {
+        std::vector<std::uint8_t> changed = img;
+        store_u32(changed, first + field, value);
+        reseal_record(changed, first, 0U);
+        return check(changed);
+    };
+    CHECK(with(4U, 0U) == BackgroundImageError::kBadRecord);     // width 0
+    CHECK(with(8U, 0U) == BackgroundImageError::kBadRecord);     // height 0
+    CHECK(with(12U, 2U) == BackgroundImageError::kBadRecord);    // unknown kind
+    CHECK(with(104U, 36U) == BackgroundImageError::kBadRecord);  // payload length not 4 x 4 x 2
+    CHECK(with(112U, 1U) == BackgroundImageError::kBadRecord);   // reserved
+    CHECK(with(12U, 1U) == BackgroundImageError::kBadRecord);    // a direction grid with fx = 100 as azimuth_min
+    CHECK(with(4U, 2U) == BackgroundImageError::kBadRecord);     // 2 x 2 pixels: payload length 32 differs
+    // A depth below 0 or NaN under valid CRCs: refused by its value.
+    const std::size_t payload = first + kBackgroundRecordHeaderSize;
+    for (const float bad : {-1.0F, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        std::vector<std::uint8_t> changed = img;
+        store_u32(changed, payload + 4U * 5U, bits(bad));
+        reseal_record(changed, first, 4U * 8U);
+        CAPTURE(bad);
+        CHECK(check(changed) == BackgroundImageError::kDepthOutOfRange);
+    }
+}
+
+// verifies: SR-BKG-001, SR-BKG-009
+TEST_CASE("background image: a direction grid view loads back; the writer refuses a grid that is not exact binary32") {
+    const std::vector<float> ranges = {4.0F, 0.0F, 1.5F, 0.0F};  // farthest per bin, then nearest
+    BackgroundViewRecord r;
+    r.identity.name_crc = 33U;
+    r.identity = with_direction_grid(r.identity, small_direction_grid());
+    r.depth = Span<const float>(ranges.data(), ranges.size());
+    REQUIRE(background_view_values(r.identity) == 4U);
+    std::vector<std::uint8_t> out(1024U);
+    const Span<std::uint8_t> o(out.data(), out.size());
+    const Result<std::size_t> w = write_background_image({&r, 1U}, kPriorCrc, 4U, o);
+    REQUIRE(w.ok());
+    const Span<const std::uint8_t> img(out.data(), w.value());
+    std::vector<float> back(4U, -1.0F);
+    const auto loaded = load_background_view(img, 1U, kPriorCrc, 0U, r.identity, {back.data(), back.size()});
+    REQUIRE(loaded.ok());
+    CHECK(back == ranges);
+    // The same sensor as a depth image, or another grid, is another sensor.
+    BackgroundSensorIdentity other = r.identity;
+    other.kind = kBackgroundViewDepthImage;
+    CHECK(load_background_view(img, 1U, kPriorCrc, 0U, other, {back.data(), back.size()}).error() ==
+          BackgroundImageError::kWrongSensor);
+    other = r.identity;
+    other.height = 2U;
+    CHECK(load_background_view(img, 1U, kPriorCrc, 0U, other, {back.data(), back.size()}).error() ==
+          BackgroundImageError::kWrongSensor);
+    other = r.identity;
+    other.intrinsics[2] = 0.25;
+    CHECK(load_background_view(img, 1U, kPriorCrc, 0U, other, {back.data(), back.size()}).error() ==
+          BackgroundImageError::kWrongSensor);
+    other = r.identity;
+    other.rotation[3] = -0.0;  // equal as a number, not bit for bit
+    CHECK(load_background_view(img, 1U, kPriorCrc, 0U, other, {back.data(), back.size()}).error() ==
+          BackgroundImageError::kWrongSensor);
+    // Intrinsics that binary32 cannot hold, a fourth value, or an invalid grid: refused.
+    for (int field = 0; field < 5; ++field) {
+        BackgroundViewRecord bad = r;
+        if (field < 3)
+            bad.identity.intrinsics[field] += 0.1;  // -0.9, -0.15, 0.6: not binary32 values
+        else if (field == 3)
+            bad.identity.intrinsics[3] = 1.0;
+        else
+            bad.identity.intrinsics[0] = 3.0;  // 3 + 2 x 0.5 rad reaches beyond pi
+        CAPTURE(field);
+        CHECK(write_background_image({&bad, 1U}, kPriorCrc, 4U, o).error() == ErrorCode::kInvalidArgument);
+    }
+}
+
+// verifies: SR-BKG-009
+TEST_CASE("background image: a direction grid bin with its nearest beyond its farthest, or one range 0, is refused") {
+    BackgroundViewRecord r;
+    r.identity = with_direction_grid(r.identity, small_direction_grid());
+    std::vector<std::uint8_t> out(1024U);
+    const Span<std::uint8_t> o(out.data(), out.size());
+    const std::vector<std::vector<float>> bad = {
+        {4.0F, 0.0F, 4.5F, 0.0F},   // nearest 4.5 beyond farthest 4
+        {4.0F, 0.0F, 0.0F, 0.0F},   // farthest only
+        {4.0F, 2.0F, 1.0F, -1.0F},  // a negative range
+    };
+    for (const std::vector<float>& ranges : bad) {
+        r.depth = Span<const float>(ranges.data(), ranges.size());
+        CHECK(write_background_image({&r, 1U}, kPriorCrc, 4U, o).error() == ErrorCode::kInvalidArgument);
+    }
+    // The same in an image: written valid, then a nearest changed under valid CRCs.
+    const std::vector<float> good = {4.0F, 0.0F, 1.5F, 0.0F};
+    r.depth = Span<const float>(good.data(), good.size());
+    const Result<std::size_t> w = write_background_image({&r, 1U}, kPriorCrc, 4U, o);
+    REQUIRE(w.ok());
+    const std::vector<std::uint8_t> img(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(w.value()));
+    const std::size_t payload = kBackgroundImageHeaderSize + kBackgroundRecordHeaderSize;
+    for (const float nearest : {4.5F, 0.0F}) {
+        std::vector<std::uint8_t> changed = img;
+        store_u32(changed, payload + 4U * 2U, bits(nearest));
+        reseal_record(changed, kBackgroundImageHeaderSize, 16U);
+        CAPTURE(nearest);
+        CHECK(check(changed, 1U) == BackgroundImageError::kDepthOutOfRange);
+    }
+    std::vector<std::uint8_t> nearest_only = img;
+    store_u32(nearest_only, payload + 4U * 3U, bits(2.0F));  // bin 1: a nearest range without a farthest one
+    reseal_record(nearest_only, kBackgroundImageHeaderSize, 16U);
+    CHECK(check(nearest_only, 1U) == BackgroundImageError::kDepthOutOfRange);
 }

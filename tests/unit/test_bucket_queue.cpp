@@ -4,6 +4,8 @@
 // fine and coarse buckets), re-files decreased keys, and refuses small storage.
 #include <doctest/doctest.h>
 
+#include <sys/mman.h>
+
 #include <cstdint>
 #include <random>
 #include <set>
@@ -151,4 +153,21 @@ TEST_CASE("bucket queue: popping an empty queue violates a contract") {
     QueueStorage s(2U);
     MonotoneBucketQueue q = s.make();
     CHECK(test::violates_contract([&] { (void)q.pop(); }));
+}
+
+// verifies: SR-PRIOR-002
+TEST_CASE("bucket queue: more items than 32-bit links can index are refused before any key is read") {
+    if constexpr (sizeof(std::size_t) > 4U) {
+        // kMaxItems + 1 keys of address space that is reserved but not readable: a read would fault.
+        const std::size_t items = MonotoneBucketQueue::kMaxItems + 1U;
+        const std::size_t bytes = items * sizeof(std::uint32_t);
+        void* const reserved = ::mmap(nullptr, bytes, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+        REQUIRE(reserved != MAP_FAILED);
+        std::vector<std::uint32_t> links(16U);
+        const Span<std::uint32_t> l(links.data(), links.size());
+        const Span<const std::uint32_t> keys(static_cast<const std::uint32_t*>(reserved), items);
+        CHECK(MonotoneBucketQueue::make(keys, l, l).error() == ErrorCode::kCapacityExceeded);
+        CHECK(MonotoneBucketQueue::make(keys.subspan(0U, 8U), l, l).error() == ErrorCode::kStorageTooSmall);
+        CHECK(::munmap(reserved, bytes) == 0);
+    }
 }

@@ -169,3 +169,21 @@ TEST_CASE("morphology: a region is valid only with a box of at least one voxel a
     CHECK(region_of({6, -1, 6}, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 0U);
     CHECK(region_of({6, 6, 0}, {1, 1, 1}, {4, 4, 4}).array_voxel_count() == 0U);
 }
+
+// verifies: SR-PRIOR-001, SR-GEN-003
+TEST_CASE("morphology: an input smaller than the array violates the contract, for 8-bit and 32-bit values") {
+    const PaddedRegion good = region_of(GridDims{5, 5, 5}, VoxelCoord{1, 1, 1}, GridDims{3, 3, 3});
+    std::vector<std::uint8_t> a(125U);
+    std::vector<std::uint8_t> b(125U);
+    CHECK(test::violates_contract(
+        [&] { dilate_cross(good, Span<const std::uint8_t>(a.data(), 124U), Span<std::uint8_t>(b.data(), 125U)); }));
+    std::vector<std::uint32_t> w(125U, 7U);
+    std::vector<std::uint32_t> v(125U, 0U);
+    CHECK(test::violates_contract(
+        [&] { min_cross(good, Span<const std::uint32_t>(w.data(), 124U), Span<std::uint32_t>(v.data(), 125U)); }));
+    CHECK(test::violates_contract(
+        [&] { min_cross(good, Span<const std::uint32_t>(w.data(), 125U), Span<std::uint32_t>(v.data(), 124U)); }));
+    CHECK_FALSE(test::violates_contract(
+        [&] { min_cross(good, Span<const std::uint32_t>(w.data(), 125U), Span<std::uint32_t>(v.data(), 125U)); }));
+    CHECK(v[static_cast<std::size_t>(2 + 5 * (2 + 5 * 2))] == 7U);  // the box's centre: the minimum of sevens
+}

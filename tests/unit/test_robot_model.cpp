@@ -173,3 +173,17 @@ TEST_CASE("the model check refuses capsules on missing links, bad radii and anyt
         m.capsules[1].b[1] = 0.0;
     })));
 }
+
+// verifies: SR-ROB-002
+TEST_CASE("the model check refuses a root rotation that differs from the identity in any one of x, y, z") {
+    for (std::size_t k = 1U; k < 4U; ++k) {
+        CAPTURE(k);
+        const RobotModelError e = check_changed([k](RobotModel& m) {
+            m.links[0].origin_wxyz[0] = 1.0;
+            m.links[0].origin_wxyz[k] = 1e-9;  // of unit length within any tolerance, but not the identity
+        });
+        CHECK(e.code == ErrorCode::kInvalidArgument);
+        CHECK(e.index == 0U);
+        CHECK(std::string(e.reason).find("identity") != std::string::npos);
+    }
+}

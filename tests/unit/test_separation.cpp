@@ -440,3 +440,99 @@ TEST_CASE("S_p of a speed class beyond the commissioned ones is a contract viola
     p.class_count = static_cast<std::uint8_t>(kSpeedClasses + 1U);  // unchecked parameters
     CHECK(test::violates_contract([&] { (void)protective_separation_distance(p, kSpeedClasses); }));
 }
+
+// verifies: SR-SSM-007
+TEST_CASE("an S_p beyond the millimetre range is required as kDistanceFarMm, and a near voxel still stops the robot") {
+    Cell cell(small_grid());
+    SeparationParams p = demo_params();
+    p.human_speed_mps = 200.0;  // S_p(0) = 200 x 0.5 m + ... > 65.535 m
+    cell.foreground(15, 5, 5);
+    const SeparationResult r = run(cell, sphere_pose(), p);
+    CHECK(r.required_mm == kDistanceFarMm);
+    CHECK(r.distance_mm == 356U);
+    CHECK(r.request == SpeedRequest::kProtectiveStop);
+}
+
+// verifies: SR-SSM-009
+TEST_CASE("a grid of more rows than the row flags cover gives the brute-force distances") {
+    // 2 x 100 x 100 voxels: 10000 rows of 2 voxels, more than the 8192 rows whose contents the search flags.
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(0.0, 0.0, 0.0), 0.05, {2, 100, 100}).value();
+    Cell cell(g);
+    RobotPose pose = sphere_pose();
+    for (int k = 1; k < 3; ++k)
+        pose.capsules[0].a[k] = pose.capsules[0].b[k] = 2.525;  // voxel (., 50, 50)
+    cell.foreground(1, 50, 60);
+    cell.foreground(0, 90, 10);
+    cell.active = 1U;
+    cell.unseen(0, 44, 50, 1U);
+    SeparationParams p = demo_params();
+    for (const std::uint32_t k : {1U, 2U}) {
+        p.min_foreground_voxels = k;
+        const SeparationResult r = run(cell, pose, p);
+        CAPTURE(k);
+        CHECK(r.foreground_mm == reference_mm(cell, pose, false, k));
+        CHECK(r.hidden_mm == reference_mm(cell, pose, true, 1U));
+        CHECK(r.foreground_mm < kDistanceFarMm);
+    }
+}
+
+// verifies: SR-SSM-009
+TEST_CASE("a capsule beyond either x end of the grid: rows near only it are searched nowhere, distances exact") {
+    for (const double beyond : {-5.0, 7.0}) {
+        Cell cell(small_grid());
+        RobotPose pose;
+        pose.count = 2U;
+        for (int k = 0; k < 3; ++k) {  // a small sphere at voxel (10, 9, 9), one outside the grid on row (0, 0)
+            pose.capsules[0].a[k] = pose.capsules[0].b[k] = k == 0 ? 0.525 : 0.475;
+            pose.capsules[1].a[k] = pose.capsules[1].b[k] = k == 0 ? beyond : 0.025;
+        }
+        pose.capsules[0].radius = 0.02;
+        pose.capsules[1].radius = 0.02;
+        cell.foreground(12, 9, 9);  // near the first sphere: found before the rows near the second one
+        cell.foreground(20, 0, 0);  // on the second sphere's row, but far from both
+        SeparationParams p = demo_params();
+        CAPTURE(beyond);
+        for (const std::uint32_t k : {1U, 2U}) {
+            p.min_foreground_voxels = k;
+            CAPTURE(k);
+            CHECK(run(cell, pose, p).foreground_mm == reference_mm(cell, pose, false, k));
+        }
+        p.min_foreground_voxels = 1U;
+        CHECK(run(cell, pose, p).foreground_mm == 36U);  // 0.1 - 0.02 - 0.0433 m
+    }
+}
+
+// verifies: SR-SSM-003
+TEST_CASE("a voxel centre on a capsule's axis, where rounding makes the squared distance negative, is at distance 0") {
+    // The segment from voxel (0, 0, 0)'s centre to voxel (0, 0, 6)'s passes through voxel (0, 0, 1)'s centre; in
+    // binary64 its squared distance to the axis comes out as -4.3e-19, not 0.
+    Cell cell(small_grid());
+    RobotPose pose;
+    pose.count = 1U;
+    for (int k = 0; k < 3; ++k)
+        pose.capsules[0].a[k] = pose.capsules[0].b[k] = 0.025;
+    pose.capsules[0].b[2] = 0.325;
+    pose.capsules[0].radius = 0.01;
+    cell.foreground(0, 0, 1);
+    const SeparationResult r = run(cell, pose, demo_params());
+    CHECK(r.foreground_mm == 0U);
+    CHECK(r.candidates == 1U);
+    CHECK(r.request == SpeedRequest::kProtectiveStop);
+}
+
+// verifies: SR-SSM-004
+TEST_CASE(
+    "once a kind has its k voxels at distance 0 its further voxels are not measured, the other kind's still are") {
+    Cell cell(small_grid());
+    const SeparationParams p = demo_params();  // k = 1 for both kinds
+    cell.active = 1U;
+    cell.foreground(6, 5, 5);  // touches the sphere: the foreground distance is 0 at once
+    cell.foreground(5, 5, 8);  // a row visited later: foreground only, not a candidate any more
+    cell.unseen(5, 5, 2, 1U);  // the unseen voxel still sets the hidden distance: 0.15 - 0.1 - 0.0433 m
+    const SeparationResult r = run(cell, sphere_pose(), p);
+    CHECK(r.foreground_mm == 0U);
+    CHECK(r.hidden_mm == reference_mm(cell, sphere_pose(), true, 1U));
+    CHECK(r.hidden_mm == 6U);
+    CHECK(r.candidates == 2U);
+    CHECK(r.request == SpeedRequest::kProtectiveStop);
+}
