@@ -371,3 +371,21 @@ TEST_CASE("fusion: a background frame whose fusion or accumulation fails is refu
     REQUIRE(fuse_background_frame(background.grid, frame.grid, {&good, 1U}, model, frame.scratch).ok());
     CHECK(background.grid.observed_count() == frame.grid.observed_count());
 }
+
+// verifies: SR-FUSE-001
+TEST_CASE(
+    "fusion: a reading exactly on the grid's far face is outside it, and the last voxel gets the weakest free value") {
+    SmallGrid s;
+    const SensorModelTable model;
+    const GridGeometry& g = s.grid.geometry();
+    const Eigen::Vector3d origin(0.05, 0.15, 0.15);
+    const Eigen::Vector3d reading(2.0, 0.15, 0.15);  // x = 2.0: the maximum face (half-open: outside)
+    std::vector<std::int16_t> op(g.voxel_count(), kNoOpinion);
+    bool in_grid = true;
+    CHECK(trace_ray_opinions({op.data(), op.size()}, g, origin, reading, model, Rasterization::kExact, &in_grid) ==
+          20U);
+    CHECK_FALSE(in_grid);
+    CHECK(op[g.index_of(VoxelCoord{19, 1, 1})] == model.free_evidence(0.0));
+    CHECK(op[g.index_of(VoxelCoord{0, 1, 1})] == model.constant_free_evidence());
+    CHECK(std::count(op.begin(), op.end(), model.reading_evidence()) == 0);
+}
