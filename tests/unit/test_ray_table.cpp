@@ -649,3 +649,41 @@ TEST_CASE("ray table: a wide table holds as many entries as its shorter entry sp
     CHECK(a.rays_fused == b.rays_fused);
     CHECK(tabled.grid.observed_count() == direct.grid.observed_count());
 }
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: a reading beyond the last exit step of a compact table still gives the exact opinions") {
+    // A 0.4 m cube seen along its diagonal from 0.9998 m off its far corner: the
+    // compact step is 2^-16 m (65535 steps reach 0.99998 m), and readings at
+    // 0.99999 m lie beyond the last step but within a ramp of where the
+    // central rays leave the grid.
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.05, GridDims{8, 8, 8}).value();
+    const double offset = 0.9998 / std::sqrt(3.0) - 0.4;
+    const Eigen::Vector3d axis = Eigen::Vector3d::Ones().normalized();
+    const Eigen::Vector3d right = Eigen::Vector3d(1.0, -1.0, 0.0).normalized();
+    SensorReading sensor;
+    sensor.kind = SensorDataKind::kDepthImage;
+    sensor.pose.linear().col(0) = right;
+    sensor.pose.linear().col(1) = axis.cross(right);
+    sensor.pose.linear().col(2) = axis;
+    sensor.pose.translation() = Eigen::Vector3d::Constant(-offset);
+    sensor.intrinsics = PinholeIntrinsics{20.0, 20.0, 4.0, 4.0, 9, 9};
+    sensor.min_range = 0.1F;
+    sensor.max_range = 5.0F;
+    std::vector<float> placeholder(81U, 1.0F);
+    sensor.depth = {placeholder.data(), placeholder.size()};
+    REQUIRE(validate_sensor_reading(sensor).ok());
+    REQUIRE(ray_table_is_compact(g, sensor));
+    REQUIRE(compact_exit_step(g, sensor) == std::ldexp(1.0F, -16));
+    host::OwnedRayTable t;
+    REQUIRE(t.build(g, sensor).ok());
+    const SensorModelTable model;
+    const std::vector<float> depth = depths_at(t, 81U, [](std::size_t) { return 0.99999F; });
+    SensorReading r = sensor;
+    r.depth = {depth.data(), depth.size()};
+    OwnedGrid fused(g);
+    const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
+    CHECK(st.rays_fused == 81U);
+    CHECK(st.readings_in_grid == 0U);
+    CHECK(fused.grid.observed_count() > 0U);
+    CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g), model) == 0U);
+}
