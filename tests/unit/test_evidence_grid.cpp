@@ -68,6 +68,11 @@ TEST_CASE("evidence grid: background accumulation adds observed voxels only, wit
     CHECK(bg.log_odds()[2] == 1000);
     CHECK(bg.observed_count() == 2U);
     CHECK(accumulate_background(bg, fr, BackgroundClamp{10, -10}).error() == ErrorCode::kInvalidArgument);
+    // A lower clamp at the never-foreground sentinel is refused even when it is not above the upper one.
+    CHECK(accumulate_background(bg, fr, BackgroundClamp{kNeverForeground, kNeverForeground}).error() ==
+          ErrorCode::kInvalidArgument);
+    CHECK(accumulate_background(bg, fr, BackgroundClamp{kNeverForeground, 0}).error() == ErrorCode::kInvalidArgument);
+    CHECK(bg.log_odds()[0] == -250);
 }
 
 // verifies: SR-GRID-003

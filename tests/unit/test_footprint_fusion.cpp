@@ -289,3 +289,112 @@ TEST_CASE("footprint fusion: the statistics are optional, the opinions the same 
     CHECK(a.value().rays_fused == b.value().rays_fused);
     CHECK(std::equal(with.opinions().begin(), with.opinions().end(), without.opinions().begin()));
 }
+
+namespace {
+
+/// A 16 x 16 camera of wide pixels (0.18 rad: each is wider than a 5 cm voxel
+/// beyond 0.3 m) looking up the z axis of a grid 8 x 8 x 32 voxels tall,
+/// principal point on pixel (8, 8), whose ray is parallel to the x and y faces.
+struct CoarseCamera {
+    GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.05, GridDims{8, 8, 32}).value();
+    std::vector<float> depth = std::vector<float>(256U);
+    SensorReading r;
+    CoarseCamera() {
+        r.kind = SensorDataKind::kDepthImage;
+        r.intrinsics = PinholeIntrinsics{8.0, 8.0, 8.0, 8.0, 16, 16};
+        r.pose.translation() = Eigen::Vector3d(0.21, 0.19, -0.4);
+        r.min_range = 0.3F;
+        r.max_range = 3.0F;
+        for (std::size_t i = 0; i < depth.size(); ++i) {
+            depth[i] = 0.9F + 0.05F * static_cast<float>(i % 7U);
+        }
+        r.depth = {depth.data(), depth.size()};
+    }
+};
+
+}  // namespace
+
+// verifies: SR-FUSE-009, SR-FUSE-010, SR-FUSE-003
+TEST_CASE("footprint fusion: wide pixels over a tall grid give the exact hits and skip readings as fuse_sensor does") {
+    // The camera inside a voxel column, on its face, and just before the face: the
+    // principal ray (parallel to the x faces) then lies inside, on or beside a voxel's slab.
+    struct Place {
+        double x;
+        bool on_face;
+    };
+    for (const Place place : {Place{0.21, false}, Place{0.2, true}, Place{0.2 - 1e-9, false}}) {
+        const double x = place.x;
+        CAPTURE(x);
+        CoarseCamera cam;
+        cam.r.pose.translation().x() = x;
+        const float ahead = 1.0F;                              // pixel (8, 8): range = depth
+        const float right = std::sqrt(1.0F + 1.0F / 64.0F);    // pixel (9, 8): range = depth x right
+        cam.depth[0] = 150.0F;                                 // beyond kMaxSensorRange
+        cam.depth[1] = 0.1F;                                   // nearer than min_range
+        cam.depth[2] = 5.0F;                                   // beyond max_range
+        cam.depth[3] = -1.0F;                                  // behind
+        cam.depth[136] = cam.r.min_range * ahead;              // exactly at min_range: valid
+        cam.depth[137] = cam.r.max_range / right * 1.000002F;  // just beyond max_range (within the exact band)
+        cam.depth[138] = cam.r.max_range / std::sqrt(1.0F + 4.0F / 64.0F) * 0.999998F;  // just within max_range
+        const SensorModelTable model;
+        const FootprintParams params;
+        OwnedWorkspace w(cam.g, 16, 16);
+        FootprintStats fs;
+        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, params, w.ws, &fs);
+        REQUIRE(s.ok());
+        OwnedGrid direct(cam.g);
+        std::vector<std::int16_t> scratch(cam.g.voxel_count());
+        const Result<FusionStats> e = fuse_sensor(direct.grid, cam.r, model, {scratch.data(), scratch.size()});
+        REQUIRE(e.ok());
+        CHECK(s.value().skipped_out_of_range == 4U);
+        CHECK(s.value().skipped_behind == 1U);
+        CHECK(s.value().skipped_out_of_range == e.value().skipped_out_of_range);
+        CHECK(s.value().rays_fused == e.value().rays_fused);
+        CHECK(s.value().readings_in_grid == e.value().readings_in_grid);
+        const Comparison c = compare(scratch, w.opinions(), model);
+        MESSAGE("coarse: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
+                                << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
+                                << "; exact " << fs.voxels_exact << ", safe side " << fs.voxels_safe_side << ", filled "
+                                << fs.voxels_filled);
+        CHECK(c.hits_lost == 0U);
+        CHECK(c.hits_added == 0U);
+        CHECK(c.free_stronger == 0U);
+        // With the camera on the face x = 0.2 the rays of pixel column 8 lie in that
+        // face: fuse_sensor's half-open rule puts them in voxel column x = 4, while the
+        // footprint's box test, rounded (0.05 * 3 - 0.2 + 0.05 > 0), lets them graze
+        // column x = 3 too. Free opinions where no ray passes occur there only.
+        std::size_t off_the_face = 0U;
+        for (std::size_t i = 0; i < scratch.size(); ++i) {
+            if (scratch[i] == kNoOpinion && w.opinions()[i] != kNoOpinion) {
+                off_the_face += (!place.on_face || cam.g.coord_of(i).x != 3) ? 1U : 0U;
+            }
+        }
+        CHECK(off_the_face == 0U);
+        CHECK((place.on_face || c.free_unobserved == 0U));
+        CHECK(fs.voxels_exact > 0U);
+    }
+}
+
+// verifies: SR-FUSE-009, SR-FUSE-003
+TEST_CASE("footprint fusion: a camera a billion voxels from the grid places its readings the exact way, outside it") {
+    for (const double x : {6.0e7, -6.0e7}) {  // 1.2e9 voxels along x, either side
+        CAPTURE(x);
+        CoarseCamera cam;
+        cam.r.pose.translation() = Eigen::Vector3d(x, 0.19, -0.4);
+        const SensorModelTable model;
+        const FootprintParams params;
+        OwnedWorkspace w(cam.g, 16, 16);
+        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, params, w.ws, nullptr);
+        REQUIRE(s.ok());
+        OwnedGrid direct(cam.g);
+        std::vector<std::int16_t> scratch(cam.g.voxel_count());
+        const Result<FusionStats> e = fuse_sensor(direct.grid, cam.r, model, {scratch.data(), scratch.size()});
+        REQUIRE(e.ok());
+        CHECK(s.value().rays_fused == 256U);
+        CHECK(e.value().rays_fused == 256U);
+        CHECK(s.value().readings_in_grid == 0U);
+        CHECK(e.value().readings_in_grid == 0U);
+        CHECK(std::count(w.opinions().begin(), w.opinions().end(), kNoOpinion) ==
+              static_cast<std::ptrdiff_t>(cam.g.voxel_count()));
+    }
+}

@@ -297,3 +297,95 @@ TEST_CASE("fusion: the exact traversal and the paper's Bresenham option both fus
     CHECK(bres.voxel_updates < exact.voxel_updates);       // Bresenham misses voxels
     CHECK(bres.voxel_updates > exact.voxel_updates / 3U);  // one voxel per dominant-axis step
 }
+
+// verifies: SR-FUSE-003
+TEST_CASE("fusion: a point with NaN or an infinity in any one coordinate is skipped and counted by kind") {
+    SmallGrid s;
+    const SensorModelTable model;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    const Eigen::Vector3f pts[] = {
+        {0.0F, nan, 1.0F}, {0.0F, 0.0F, nan}, {inf, 0.0F, 1.0F}, {0.0F, 0.0F, -inf}, {0.0F, 0.0F, inf},
+    };
+    const SensorReading r = looking_along_x(pts);
+    const FusionStats st = fuse_sensor(s.grid, r, model, s.scratch).value();
+    CHECK(st.skipped_nan == 2U);
+    CHECK(st.skipped_infinite == 3U);
+    CHECK(st.rays_fused == 0U);
+    CHECK(s.grid.observed_count() == 0U);
+}
+
+// verifies: SR-FUSE-001, SR-FUSE-003
+TEST_CASE("fusion: a traced ray to a non-finite reading writes nothing, and the reading-in-grid flag is optional") {
+    SmallGrid s;
+    const SensorModelTable model;
+    const GridGeometry& g = s.grid.geometry();
+    const Eigen::Vector3d origin(-0.5, 0.15, 0.15);
+    const Eigen::Vector3d reading(1.05, 0.15, 0.15);  // voxel x = 10
+    for (const Rasterization ras : {Rasterization::kExact, Rasterization::kBresenham3d}) {
+        CAPTURE(static_cast<int>(ras));
+        std::vector<std::int16_t> with(g.voxel_count(), kNoOpinion);
+        std::vector<std::int16_t> without(g.voxel_count(), kNoOpinion);
+        bool in_grid = false;
+        const std::uint32_t a = trace_ray_opinions({with.data(), with.size()}, g, origin, reading, model, ras,
+                                                   &in_grid);
+        const std::uint32_t b = trace_ray_opinions({without.data(), without.size()}, g, origin, reading, model, ras,
+                                                   nullptr);
+        CHECK(in_grid);
+        CHECK(a == 11U);
+        CHECK(b == a);
+        CHECK(with == without);
+        CHECK(with[g.index_of(VoxelCoord{10, 1, 1})] == model.reading_evidence());
+        // A NaN or infinite reading: nothing written.
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        for (const Eigen::Vector3d& bad :
+             {Eigen::Vector3d(nan, 0.15, 0.15), Eigen::Vector3d(std::numeric_limits<double>::infinity(), 0.15, 0.15)}) {
+            std::vector<std::int16_t> op(g.voxel_count(), kNoOpinion);
+            bool flag = false;
+            CHECK(trace_ray_opinions({op.data(), op.size()}, g, origin, bad, model, ras, &flag) == 0U);
+            CHECK(std::count(op.begin(), op.end(), kNoOpinion) == static_cast<std::ptrdiff_t>(op.size()));
+        }
+    }
+}
+
+// verifies: SR-FUSE-008
+TEST_CASE("fusion: a background frame whose fusion or accumulation fails is refused and the background untouched") {
+    SmallGrid background;
+    SmallGrid frame;
+    const SensorModelTable model;
+    const Eigen::Vector3f p(0.0F, 0.0F, 1.5625F);
+    const SensorReading good = looking_along_x(Span<const Eigen::Vector3f>(&p, 1));
+    SensorReading bad = good;
+    bad.max_range = -1.0F;  // fails validate_sensor_reading
+    CHECK(fuse_background_frame(background.grid, frame.grid, {&bad, 1U}, model, frame.scratch).error() ==
+          ErrorCode::kInvalidArgument);
+    CHECK(background.grid.observed_count() == 0U);
+    // A clamp whose lower end is the never-foreground sentinel is refused after the frame was fused.
+    const BackgroundClamp sentinel{kNeverForeground, 0};
+    CHECK(fuse_background_frame(background.grid, frame.grid, {&good, 1U}, model, frame.scratch, Rasterization::kExact,
+                                sentinel)
+              .error() == ErrorCode::kInvalidArgument);
+    CHECK(frame.grid.observed_count() > 0U);
+    CHECK(background.grid.observed_count() == 0U);
+    // The same frame with the default clamp is accumulated.
+    REQUIRE(fuse_background_frame(background.grid, frame.grid, {&good, 1U}, model, frame.scratch).ok());
+    CHECK(background.grid.observed_count() == frame.grid.observed_count());
+}
+
+// verifies: SR-FUSE-001
+TEST_CASE(
+    "fusion: a reading exactly on the grid's far face is outside it, and the last voxel gets the weakest free value") {
+    SmallGrid s;
+    const SensorModelTable model;
+    const GridGeometry& g = s.grid.geometry();
+    const Eigen::Vector3d origin(0.05, 0.15, 0.15);
+    const Eigen::Vector3d reading(2.0, 0.15, 0.15);  // x = 2.0: the maximum face (half-open: outside)
+    std::vector<std::int16_t> op(g.voxel_count(), kNoOpinion);
+    bool in_grid = true;
+    CHECK(trace_ray_opinions({op.data(), op.size()}, g, origin, reading, model, Rasterization::kExact, &in_grid) ==
+          20U);
+    CHECK_FALSE(in_grid);
+    CHECK(op[g.index_of(VoxelCoord{19, 1, 1})] == model.free_evidence(0.0));
+    CHECK(op[g.index_of(VoxelCoord{0, 1, 1})] == model.constant_free_evidence());
+    CHECK(std::count(op.begin(), op.end(), model.reading_evidence()) == 0);
+}

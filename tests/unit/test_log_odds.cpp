@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <vector>
 
 #include "cellguard/grid/log_odds.hpp"
 
@@ -87,4 +88,26 @@ TEST_CASE("log-odds: a threshold at or beyond 0 or 1, or NaN, or beyond the log-
     // (below -128 nats). Above +128 nats there is no double below 1.
     CHECK(threshold_log_odds(1e-60) == kLogOddsMin);
     CHECK(threshold_log_odds(1e-50) > kLogOddsMin);  // -115 nats: inside the range
+}
+
+// verifies: SR-GRID-002
+TEST_CASE("log-odds: sums computed at run time clamp at both ends as the compile-time ones do") {
+    // Operands the compiler cannot fold (read from a vector), each pair with its expected sum.
+    struct Sum {
+        std::int16_t a;
+        std::int16_t b;
+        std::int16_t want;
+    };
+    const std::vector<Sum> sums = {{30000, 30000, kLogOddsMax},
+                                   {-30000, -30000, kLogOddsMin},
+                                   {kLogOddsMin, kLogOddsMin, kLogOddsMin},
+                                   {kLogOddsMax, 1, kLogOddsMax},
+                                   {100, -40, 60}};
+    for (const Sum& s : sums) {
+        CAPTURE(s.a);
+        CAPTURE(s.b);
+        CHECK(add_finite_saturating(s.a, s.b) == s.want);
+        CHECK(add_saturating(s.a, s.b) == s.want);
+        CHECK(clamp_log_odds(static_cast<std::int32_t>(s.a) + static_cast<std::int32_t>(s.b)) == s.want);
+    }
 }

@@ -509,6 +509,15 @@ TEST_CASE("ray table: the compact exit step is the smallest power of two that re
     distant.pose.translation() += Eigen::Vector3d(0.0, 0.0, 90.0);
     CHECK(static_cast<double>(compact_exit_step(g, distant)) == std::ldexp(1.0, -9));
     CHECK_FALSE(ray_table_is_compact(g, distant));
+    // A range shorter than the far corner: the step reaches max_range instead.
+    SensorReading short_range = r;
+    short_range.max_range = 0.5F;
+    REQUIRE(farthest > 0.5);
+    const auto short_step = static_cast<double>(compact_exit_step(g, short_range));
+    CHECK(std::frexp(short_step, &exponent) == 0.5);
+    CHECK(65535.0 * short_step >= 0.5);
+    CHECK(65535.0 * short_step / 2.0 < 0.5 * 1.0001);
+    CHECK(short_step < step);
     // An invalid sensor has no step.
     SensorReading invalid = r;
     invalid.max_range = -1.0F;
@@ -538,4 +547,143 @@ TEST_CASE("ray table: an entry beyond the table or not of the pixel asked for is
     CHECK(test::violates_contract([&] { (void)table.entry_exit(pixel, first - 1U); }));
     CHECK(test::violates_contract([&] { (void)table.entry_exit(pixel, end); }));
     CHECK(test::violates_contract([&] { (void)table.entry_exit(table.pixel_count(), 0U); }));
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: readings nearer than the ramp to a sensor inside the grid give the exact opinions") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry paper = paper_grid_geometry();
+    const GridGeometry fine =
+        GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
+    const SensorModelTable model;
+    const auto ramp = static_cast<float>(model.ramp_length());
+    SensorReading sensor = frame.readings[0];
+    sensor.pose.translation() = Eigen::Vector3d(0.01, 0.02, 0.73);  // inside the grid, off every face
+    sensor.min_range = 0.01F;
+    REQUIRE(paper.contains(paper.world_to_voxel_unchecked(sensor.pose.translation())));
+    REQUIRE(ray_table_is_compact(paper, sensor));
+    REQUIRE_FALSE(ray_table_is_compact(fine, sensor));
+    for (const GridGeometry& g : {paper, fine}) {
+        CAPTURE(g.voxel_count());
+        host::OwnedRayTable t;
+        REQUIRE(t.build(g, sensor).ok());
+        const std::size_t px = sensor.depth.size();
+        // Every reading half a ramp from the sensor (the constant part is
+        // empty), and readings spread over the first two ramps.
+        std::vector<std::vector<float>> cases;
+        cases.push_back(depths_at(t, px, [&](std::size_t) { return 0.5F * ramp; }));
+        cases.push_back(
+            depths_at(t, px, [&](std::size_t i) { return 0.02F + 2.0F * ramp * static_cast<float>(i % 89U) / 89.0F; }));
+        for (std::size_t c = 0; c < cases.size(); ++c) {
+            CAPTURE(c);
+            SensorReading r = sensor;
+            r.depth = Span<const float>(cases[c].data(), cases[c].size());
+            OwnedGrid fused(g);
+            const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
+            CHECK(st.rays_fused == px);
+            CHECK(st.readings_in_grid == px);
+            CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g), model) == 0U);
+        }
+    }
+}
+
+// verifies: SR-FUSE-006, SR-FUSE-004
+TEST_CASE("ray table: a sensor that fails validation or is a point set is refused by build") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = paper_grid_geometry();
+    const SensorReading& r = frame.readings[0];
+    test::RayTableVectors v(g, r);
+    SensorReading invalid = r;
+    invalid.max_range = -1.0F;
+    CHECK(RayTable::build(g, invalid, v.storage()).error() == ErrorCode::kInvalidArgument);
+    CHECK(count_ray_steps(g, invalid).error() == ErrorCode::kInvalidArgument);
+    SensorReading points = r;
+    points.kind = SensorDataKind::kPointSet;
+    CHECK(RayTable::build(g, points, v.storage()).error() == ErrorCode::kInvalidArgument);
+    CHECK(RayTable::build(g, r, v.storage()).ok());
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: a wide table holds as many entries as its shorter entry span, and fuses like the per-ray walk") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry paper = paper_grid_geometry();
+    const GridGeometry g = GridGeometry::make(paper.origin(), paper.voxel_size() / 2.0, GridDims{68, 60, 60}).value();
+    const SensorReading& r = frame.readings[0];
+    REQUIRE_FALSE(ray_table_is_compact(g, r));
+    const std::size_t n = count_ray_steps(g, r).value();
+    const std::size_t px = r.depth.size();
+    const std::size_t nv = g.voxel_count();
+    std::vector<std::uint32_t> voxels(n + 5U);
+    std::vector<float> exits(n + 1U);
+    std::vector<std::uint32_t> begin(px + 1U), full_hits(nv), crossed(nv), walked(px), hits(nv);
+    std::vector<std::int16_t> opinions(nv);
+    std::vector<float> enter(px), exit(px), norm(px);
+    const auto storage = [&](std::size_t voxel_count, std::size_t exit_count) {
+        return RayTableStorage{{},
+                               {},
+                               {voxels.data(), voxel_count},
+                               {exits.data(), exit_count},
+                               {begin.data(), begin.size()},
+                               {enter.data(), enter.size()},
+                               {exit.data(), exit.size()},
+                               {norm.data(), norm.size()},
+                               {full_hits.data(), full_hits.size()},
+                               {crossed.data(), crossed.size()},
+                               {walked.data(), walked.size()},
+                               {hits.data(), hits.size()},
+                               {opinions.data(), opinions.size()}};
+    };
+    // One span short of the entries, the other longer: too small either way.
+    CHECK(RayTable::build(g, r, storage(n + 5U, n - 1U)).error() == ErrorCode::kStorageTooSmall);
+    CHECK(RayTable::build(g, r, storage(n - 1U, n + 1U)).error() == ErrorCode::kStorageTooSmall);
+    // Spans of different lengths, both long enough: built, and fused as the per-ray walk.
+    const Result<RayTable> built = RayTable::build(g, r, storage(n + 5U, n + 1U));
+    REQUIRE(built.ok());
+    const RayTable& table = built.value();
+    CHECK(table.step_count() == n);
+    const SensorModelTable model;
+    OwnedGrid direct(g);
+    OwnedGrid tabled(g);
+    const FusionStats a = fuse_sensor(direct.grid, r, model, direct.fusion_scratch()).value();
+    const FusionStats b = table.fuse(tabled.grid, r.depth, model).value();
+    CHECK(a.rays_fused == b.rays_fused);
+    CHECK(tabled.grid.observed_count() == direct.grid.observed_count());
+}
+
+// verifies: SR-FUSE-006
+TEST_CASE("ray table: a reading beyond the last exit step of a compact table still gives the exact opinions") {
+    // A 0.4 m cube seen along its diagonal from 0.9998 m off its far corner: the
+    // compact step is 2^-16 m (65535 steps reach 0.99998 m), and readings at
+    // 0.99999 m lie beyond the last step but within a ramp of where the
+    // central rays leave the grid.
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.05, GridDims{8, 8, 8}).value();
+    const double offset = 0.9998 / std::sqrt(3.0) - 0.4;
+    const Eigen::Vector3d axis = Eigen::Vector3d::Ones().normalized();
+    const Eigen::Vector3d right = Eigen::Vector3d(1.0, -1.0, 0.0).normalized();
+    SensorReading sensor;
+    sensor.kind = SensorDataKind::kDepthImage;
+    sensor.pose.linear().col(0) = right;
+    sensor.pose.linear().col(1) = axis.cross(right);
+    sensor.pose.linear().col(2) = axis;
+    sensor.pose.translation() = Eigen::Vector3d::Constant(-offset);
+    sensor.intrinsics = PinholeIntrinsics{20.0, 20.0, 4.0, 4.0, 9, 9};
+    sensor.min_range = 0.1F;
+    sensor.max_range = 5.0F;
+    std::vector<float> placeholder(81U, 1.0F);
+    sensor.depth = {placeholder.data(), placeholder.size()};
+    REQUIRE(validate_sensor_reading(sensor).ok());
+    REQUIRE(ray_table_is_compact(g, sensor));
+    REQUIRE(compact_exit_step(g, sensor) == std::ldexp(1.0F, -16));
+    host::OwnedRayTable t;
+    REQUIRE(t.build(g, sensor).ok());
+    const SensorModelTable model;
+    const std::vector<float> depth = depths_at(t, 81U, [](std::size_t) { return 0.99999F; });
+    SensorReading r = sensor;
+    r.depth = {depth.data(), depth.size()};
+    OwnedGrid fused(g);
+    const FusionStats st = t.table().fuse(fused.grid, r.depth, model).value();
+    CHECK(st.rays_fused == 81U);
+    CHECK(st.readings_in_grid == 0U);
+    CHECK(fused.grid.observed_count() > 0U);
+    CHECK(differs_from_exact(fused, walk_per_ray(t, r, model, g), model) == 0U);
 }

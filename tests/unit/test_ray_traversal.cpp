@@ -894,3 +894,33 @@ TEST_CASE("traversal: Bresenham misses voxels the exact traversal passes through
     CHECK(fewer == 0);
     CHECK(missing * 2 > segments);
 }
+
+// verifies: SR-TRAV-001
+TEST_CASE(
+    "traversal: the crossing bound below a distance is 0 before the segment, never beyond it, else a safe floor") {
+    const GridGeometry g = grid_a();
+    const V3 a = g.voxel_center(VoxelCoord{0, 1, 1});
+    const V3 b = g.voxel_center(VoxelCoord{5, 2, 3});
+    const detail::ExactTraversalPlan p = detail::plan_exact_traversal(g, a, b);
+    REQUIRE(p.visits);
+    REQUIRE(p.t_out > p.t_in);
+    // Before the segment's start in the grid, and at or below 0: no crossing is known to be below.
+    CHECK(detail::tau_bound_below(p, p.t_in - 1e-3) == 0U);
+    CHECK(detail::tau_bound_below(p, 0.0) == 0U);
+    CHECK(detail::tau_bound_below(p, -1.0) == 0U);
+    CHECK(detail::tau_bound_below(p, std::numeric_limits<double>::quiet_NaN()) == 0U);
+    // At or beyond where the last voxel is left: every crossing.
+    CHECK(detail::tau_bound_below(p, p.t_out) == detail::kTauNever);
+    CHECK(detail::tau_bound_below(p, p.t_out + 1.0) == detail::kTauNever);
+    // In between: a bound whose crossings all end at or before the distance.
+    const double mid = 0.5 * (p.t_in + p.t_out);
+    const std::uint64_t tau = detail::tau_bound_below(p, mid);
+    REQUIRE(tau > 0U);
+    REQUIRE(tau < detail::kTauNever);
+    CHECK(detail::exit_metres(p, tau - 1U) <= mid);
+    CHECK(detail::exit_metres(p, 2U * tau) > mid);
+    // A plan whose metres per tau are so small that the bound would pass 2^62: every crossing.
+    detail::ExactTraversalPlan fine = p;
+    fine.metres_per_tau = 1e-30;
+    CHECK(detail::tau_bound_below(fine, mid) == detail::kTauNever);
+}
