@@ -871,10 +871,43 @@ TEST_CASE("accessibility: no number of background frames suffices when the clamp
     p.method = PriorMethod::kThresholded;
     p.t_b = 1e-300;
     CHECK(min_background_frames(p, model, BackgroundClamp{kLogOddsMin, kLogOddsMax}) == 0U);
-    // A t_B of 1 (outside what validate_accessibility_params accepts): P(occ) < 1 for every log-odds up to where it
-    // rounds to 1 in binary64, so one frame of free evidence is below it.
-    p.t_b = 1.0;
-    CHECK(min_background_frames(p, model) == 1U);
+    // Thresholds that validate_accessibility_params refuses define no frame count: 0, the "never enough" answer
+    // (a t_B of 1.5 or NaN made the first log-odds guess NaN, cast to an integer: undefined behaviour).
+    for (const double t : {1.0, 1.5, 0.0, -0.5, std::numeric_limits<double>::quiet_NaN()}) {
+        CAPTURE(t);
+        p.method = PriorMethod::kThresholded;
+        p.t_b = t;
+        CHECK(min_background_frames(p, model) == 0U);
+        p.t_b = AccessibilityParams{}.t_b;
+        p.method = PriorMethod::kProbabilistic;
+        p.t_e = t;
+        CHECK(min_background_frames(p, model) == 0U);
+        p.t_e = AccessibilityParams{}.t_e;
+    }
+    CHECK(min_background_frames(p, model) == 3U);
+}
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: scratch sizes of a grid far beyond kMaxDimension saturate at SIZE_MAX instead of wrapping") {
+    // 2^21 voxels an axis: the padded box has about 2^63 voxels, and 7 of its words wrapped a uint64 before
+    // (any.bytes came out as 897,216,034,190,096); 2^22 wrapped the box itself.
+    for (const std::int32_t n :
+         {std::int32_t{1} << 21, std::int32_t{1} << 22, std::numeric_limits<std::int32_t>::max()}) {
+        CAPTURE(n);
+        const GridDims dims{n, n, n};
+        const std::uint64_t box = accessibility_detail::padded_count(dims, kMaxAccessibilityAnalysisRadius, kAllFaces);
+        const auto side = static_cast<std::uint64_t>(n) + 2U * 8U + 2U * 9U;
+        const bool box_fits = side * side <= std::numeric_limits<std::uint64_t>::max() / side;
+        CHECK(box == (box_fits ? side * side * side : std::numeric_limits<std::uint64_t>::max()));
+        const AccessibilityScratchSize any = accessibility_scratch_size_any(dims);
+        CHECK(any.words == std::numeric_limits<std::size_t>::max());
+        CHECK(any.bytes == std::numeric_limits<std::size_t>::max());
+    }
+    CHECK(accessibility_detail::saturating_mul(0U, std::numeric_limits<std::uint64_t>::max()) == 0U);
+    CHECK(accessibility_detail::saturating_add(std::numeric_limits<std::uint64_t>::max() - 1U, 1U) ==
+          std::numeric_limits<std::uint64_t>::max());
+    CHECK(accessibility_detail::saturating_add(std::numeric_limits<std::uint64_t>::max(), 1U) ==
+          std::numeric_limits<std::uint64_t>::max());
 }
 
 // verifies: SR-PRIOR-002, SR-PRIOR-004

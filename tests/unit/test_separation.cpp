@@ -181,6 +181,29 @@ TEST_CASE("check_separation_params refuses what cannot be commissioned") {
     CHECK(check_separation_params(p).ok());
 }
 
+// verifies: SR-SSM-002
+TEST_CASE("check_separation_params refuses an S_p or reduced-speed distance that the millimetre field cannot hold") {
+    // At 65.535 m a distance is capped to kDistanceFarMm, the value of "no voxel": a voxel inside S_p but that
+    // far away read as far as S_p and asked for full speed (found on 2026-11-26 with a human speed of 1000 m/s).
+    SeparationParams p = demo_params();
+    p.human_speed_mps = 1000.0;
+    CHECK(check_separation_params(p).error() == ErrorCode::kInvalidArgument);
+    p = demo_params();
+    p.slowdown_time_s = 0.0;  // the reduced-speed distance is S_p(0) here, the largest S_p
+    p.intrusion_distance_m += 65.534 - 1e-9 - protective_separation_distance(p, 0U);
+    REQUIRE(protective_separation_distance(p, 0U) <= 65.534);
+    CHECK(check_separation_params(p).ok());
+    p.intrusion_distance_m += 0.002;  // S_p(0) beyond 65.534 m
+    CHECK(check_separation_params(p).error() == ErrorCode::kInvalidArgument);
+    p = demo_params();
+    p.slowdown_time_s = 30.0;  // only the reduced-speed distance beyond: (1.6 + 1.0) * 30 = 78 m
+    CHECK(reduced_speed_distance(p) > 65.534);
+    CHECK(check_separation_params(p).error() == ErrorCode::kInvalidArgument);
+    p.human_speed_mps = std::numeric_limits<double>::max();  // finite values whose distance overflows to infinity
+    p.slowdown_time_s = 0.5;
+    CHECK(check_separation_params(p).error() == ErrorCode::kInvalidArgument);
+}
+
 // verifies: SR-SSM-003
 TEST_CASE("a foreground voxel at a known distance: centre to capsule surface less half a diagonal, in mm") {
     Cell cell(small_grid());
@@ -441,16 +464,18 @@ TEST_CASE("S_p of a speed class beyond the commissioned ones is a contract viola
     CHECK(test::violates_contract([&] { (void)protective_separation_distance(p, kSpeedClasses); }));
 }
 
-// verifies: SR-SSM-007
-TEST_CASE("an S_p beyond the millimetre range is required as kDistanceFarMm, and a near voxel still stops the robot") {
+// verifies: SR-SSM-002, SR-SSM-007
+TEST_CASE("an S_p beyond the millimetre range is refused by compute_separation, and its result requests a stop") {
     Cell cell(small_grid());
     SeparationParams p = demo_params();
-    p.human_speed_mps = 200.0;  // S_p(0) = 200 x 0.5 m + ... > 65.535 m
+    p.human_speed_mps = 200.0;  // S_p(0) = 200 x 0.5 m + ... > 65.535 m: capped, it would equal "no voxel"
     cell.foreground(15, 5, 5);
-    const SeparationResult r = run(cell, sphere_pose(), p);
-    CHECK(r.required_mm == kDistanceFarMm);
-    CHECK(r.distance_mm == 356U);
-    CHECK(r.request == SpeedRequest::kProtectiveStop);
+    SeparationResult out;
+    out.request = SpeedRequest::kFull;  // what the error must overwrite
+    out.required_mm = 7U;
+    CHECK(compute_separation(cell.g, cell.inputs(), sphere_pose(), p, 0U, out).error() == ErrorCode::kInvalidArgument);
+    CHECK(out.request == SpeedRequest::kProtectiveStop);
+    CHECK(out.required_mm == 0U);
 }
 
 // verifies: SR-SSM-009

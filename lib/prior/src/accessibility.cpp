@@ -805,6 +805,9 @@ double accessibility_cost_error_bound(double t_e) noexcept {
 
 std::uint32_t min_background_frames(const AccessibilityParams& params, const SensorModelTable& model,
                                     BackgroundClamp clamp) noexcept {
+    if (!validate_accessibility_params(params).ok()) {
+        return 0U;  // a threshold outside (0, 1) or NaN: no frame count is defined (and no NaN is cast)
+    }
     const bool probabilistic = params.method == PriorMethod::kProbabilistic ||
                                params.method == PriorMethod::kProbabilisticBaseline;
     const std::int32_t empty_below = first_log_odds_at_or_above(probabilistic ? params.t_e : params.t_b);

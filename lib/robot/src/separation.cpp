@@ -408,6 +408,17 @@ Status check_separation_params(const SeparationParams& p) noexcept {
             return ErrorCode::kInvalidArgument;
         }
     }
+    // Every distance compared must fit the millimetre field below kDistanceFarMm: at the cap, a
+    // voxel inside S_p but 65.535 m or more away would read as far as S_p, and not stop the robot.
+    constexpr double kLargestDistanceM = static_cast<double>(kDistanceFarMm - 1U) / 1000.0;
+    for (std::uint8_t c = 0U; c < p.class_count; ++c) {
+        if (!(protective_separation_distance(p, c) <= kLargestDistanceM)) {
+            return ErrorCode::kInvalidArgument;
+        }
+    }
+    if (!(reduced_speed_distance(p) <= kLargestDistanceM)) {
+        return ErrorCode::kInvalidArgument;
+    }
     return Status{};
 }
 

@@ -130,11 +130,22 @@ constexpr std::uint64_t padded_extent(std::int32_t n, std::int32_t r, std::uint8
     const std::uint64_t high = ((faces >> (2U * axis + 1U)) & 1U) != 0U ? ur : 0U;
     return n < 1 ? 0U : static_cast<std::uint64_t>(n) + low + high + 2U * (ur + 1U);
 }
-/// Voxels of the padded work box, for r clamped to [0, kMaxAccessibilityAnalysisRadius].
+/// @p a * @p b, saturating at UINT64_MAX instead of wrapping.
+constexpr std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) noexcept {
+    return a != 0U && b > std::numeric_limits<std::uint64_t>::max() / a ? std::numeric_limits<std::uint64_t>::max()
+                                                                        : a * b;
+}
+/// @p a + @p b, saturating at UINT64_MAX instead of wrapping.
+constexpr std::uint64_t saturating_add(std::uint64_t a, std::uint64_t b) noexcept {
+    return b > std::numeric_limits<std::uint64_t>::max() - a ? std::numeric_limits<std::uint64_t>::max() : a + b;
+}
+/// Voxels of the padded work box, for r clamped to [0, kMaxAccessibilityAnalysisRadius];
+/// saturates at UINT64_MAX (dims beyond kMaxDimension, as a raw GridDims may hold).
 constexpr std::uint64_t padded_count(GridDims dims, std::int32_t r, std::uint8_t open_faces) noexcept {
     const std::int32_t rc = r < 0 ? 0 : (r > kMaxAccessibilityAnalysisRadius ? kMaxAccessibilityAnalysisRadius : r);
-    return padded_extent(dims.nx, rc, open_faces, 0U) * padded_extent(dims.ny, rc, open_faces, 1U) *
-           padded_extent(dims.nz, rc, open_faces, 2U);
+    return saturating_mul(
+        saturating_mul(padded_extent(dims.nx, rc, open_faces, 0U), padded_extent(dims.ny, rc, open_faces, 1U)),
+        padded_extent(dims.nz, rc, open_faces, 2U));
 }
 /// @p v as size_t, saturating at SIZE_MAX.
 constexpr std::size_t saturate_size(std::uint64_t v) noexcept {
@@ -153,9 +164,10 @@ constexpr AccessibilityScratchSize accessibility_scratch_size(GridDims dims,
     AccessibilityScratchSize size{};
     if (params.method == PriorMethod::kThresholded) {
         size.words = accessibility_detail::saturate_size(n);
-        size.bytes = accessibility_detail::saturate_size(2U * n);
+        size.bytes = accessibility_detail::saturate_size(accessibility_detail::saturating_mul(2U, n));
     } else if (params.method == PriorMethod::kProbabilistic) {
-        size.words = accessibility_detail::saturate_size(7U * n + 2U * MonotoneBucketQueue::kListHeads);
+        size.words = accessibility_detail::saturate_size(accessibility_detail::saturating_add(
+            accessibility_detail::saturating_mul(7U, n), 2U * MonotoneBucketQueue::kListHeads));
     }
     return size;
 }
@@ -215,7 +227,9 @@ constexpr AccessibilityScratchSize accessibility_scratch_size_any(GridDims dims)
 /// Fewer frames leave seen-free space costly, and the probabilistic prior
 /// then marks most of the cell inaccessible (nothing there could be
 /// detected). 0 when no number of frames reaches it (clamp.min at or above
-/// the threshold). The commissioning tool and the monitor refuse fewer.
+/// the threshold), and for @p params that validate_accessibility_params
+/// refuses (a threshold outside (0, 1) has no such N). The commissioning
+/// tool and the monitor refuse fewer.
 [[nodiscard]] std::uint32_t min_background_frames(const AccessibilityParams& params, const SensorModelTable& model,
                                                   BackgroundClamp clamp = BackgroundClamp{}) noexcept;
 

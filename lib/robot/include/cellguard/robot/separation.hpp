@@ -89,8 +89,10 @@ struct SeparationParams {
 };
 
 /// Checks @p params: finite, non-negative values; 1..4 classes;
-/// reduced_class < class_count; counts 1..kMaxSeparationVoxelCount.
-/// kInvalidArgument if not (classes at and beyond class_count are not read).
+/// reduced_class < class_count; counts 1..kMaxSeparationVoxelCount; S_p of
+/// every class and the reduced-speed distance at most 65.534 m (below
+/// kDistanceFarMm, so no distance is capped to the far value it is compared
+/// with). kInvalidArgument if not (classes at and beyond class_count are not read).
 [[nodiscard]] Status check_separation_params(const SeparationParams& params) noexcept;
 
 /// S_p for speed class @p speed_class (< params.class_count, a contract), metres.
