@@ -1179,3 +1179,65 @@ TEST_CASE("controller: a check slice of 0 bytes or a CRC table check count outsi
         (void)c;
     }));
 }
+
+// verifies: SR-CTRL-001, SR-LOGIC-004
+TEST_CASE("controller: a commissioned background view of another size than the sensor's image refuses the frame") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c = w.controller(clock);
+    const sim::SimulatedFrame empty = sim::render_frame(w.sensors, sim::reference_scene());
+    BackgroundReference short_ref;
+    short_ref.depth = Span<const float>(empty.depth[2].data(), empty.depth[2].size() - 1U);
+    Frame f(w, sim::reference_scene(), clock.t);
+    f.inputs[2].background = &short_ref;
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kFrameInconsistent)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
+// verifies: SR-SSM-001, SR-SSM-022
+TEST_CASE("controller: a protective separation distance beyond the frame's range is reported as far, a NaN one as 0") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    ControllerConfig cfg = rc.config(w);
+    cfg.robot.separation.classes[0].stopping_distance_m = 100.0;  // 100 m: beyond 65,535 mm
+    SafetyController far = w.controller(cfg, clock);
+    const Frame f(w, rc.scene(), clock.t);
+    const CycleReport& a = far.run_cycle(f.span(), false);  // no command: no pose, the stop
+    CHECK(a.robot.configured);
+    CHECK(a.robot.required_mm == kDistanceFarMm);
+    CHECK(a.robot.speed_request == SpeedRequest::kProtectiveStop);
+    CHECK(a.safety.stop_requested);
+    cfg.robot.separation.classes[0].stopping_distance_m = std::numeric_limits<double>::quiet_NaN();
+    SafetyController nan = w.controller(cfg, clock);
+    const CycleReport& b = nan.run_cycle(f.span(), false);
+    CHECK(b.robot.required_mm == 0U);
+    CHECK(b.robot.speed_request == SpeedRequest::kProtectiveStop);
+    CHECK(b.safety.stop_requested);
+}
+
+// verifies: SR-CTRL-002
+TEST_CASE("controller: more sensor inputs than sensor slots are a missing-sensor fault, cycle after cycle") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig cfg = w.config();
+    cfg.max_repeated_frames = 100U;
+    SafetyController c = w.controller(cfg, clock);
+    Frame f(w, sim::reference_scene(), clock.t);
+    const std::vector<SensorInput> four = f.inputs;
+    while (f.inputs.size() <= kMaxSensors) {
+        f.inputs.push_back(four[f.inputs.size() % four.size()]);
+    }
+    REQUIRE(f.inputs.size() == kMaxSensors + 1U);
+    for (std::size_t cycle = 0U; cycle <= kMaxSensors + 1U; ++cycle) {  // the table check passes every slot
+        for (SensorInput& in : f.inputs) {
+            in.captured_us = clock.t;
+        }
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CAPTURE(cycle);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) == 0U);
+        CHECK(r.safety.stop_requested);
+    }
+}
