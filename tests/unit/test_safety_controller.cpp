@@ -1241,3 +1241,36 @@ TEST_CASE("controller: more sensor inputs than sensor slots are a missing-sensor
         CHECK(r.safety.stop_requested);
     }
 }
+
+// verifies: SR-CTRL-002
+TEST_CASE(
+    "controller: by footprint, a depth image beyond the sensor slots is fused by its rays, as the ray path does") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, kMaxSensors, 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock ray_clock;
+    TestClock fp_clock;
+    SafetyController ray = w.controller(ray_clock);
+    SafetyController fp = w.controller(fc, fp_clock);
+    const auto nine = [](Frame& f, std::uint64_t now) {
+        const std::vector<SensorInput> four = f.inputs;
+        while (f.inputs.size() <= kMaxSensors) {
+            f.inputs.push_back(four[f.inputs.size() % four.size()]);
+        }
+        for (SensorInput& in : f.inputs) {
+            in.captured_us = now;
+        }
+        return f.span();
+    };
+    Frame a(w, with_person(0.2, 0.4), ray_clock.t);
+    Frame b(w, with_person(0.2, 0.4), fp_clock.t);
+    const CycleReport r = ray.run_cycle(nine(a, ray_clock.t), false);
+    const CycleReport f = fp.run_cycle(nine(b, fp_clock.t), false);
+    CHECK(f.detected_faults == fault_bit(Fault::kSensorMissing));  // 9 inputs for 4 sensors, every one fused
+    CHECK(r.detected_faults == fault_bit(Fault::kSensorMissing));
+    CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
+    CHECK(f.fusion.readings_in_grid == r.fusion.readings_in_grid);
+    CHECK(f.safety.stop_requested);
+}
