@@ -1274,3 +1274,20 @@ TEST_CASE(
     CHECK(f.fusion.readings_in_grid == r.fusion.readings_in_grid);
     CHECK(f.safety.stop_requested);
 }
+
+// verifies: SR-CASE-002, SR-LOGIC-006
+TEST_CASE("controller: a monitoring case set without any case is refused at construction: internal-check fault, stop") {
+    Workcell w;
+    TestClock clock;
+    const MonitoringCases none;  // the placeholder: no case 0 either
+    ControllerConfig cfg = w.config();
+    cfg.cases = &none;
+    SafetyController c = w.controller(cfg, clock);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    for (int i = 0; i < 2; ++i) {
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CHECK((r.safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);  // no command can name a case
+        CHECK(r.safety.stop_requested);
+    }
+}
