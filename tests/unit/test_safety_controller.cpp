@@ -1291,3 +1291,41 @@ TEST_CASE("controller: a monitoring case set without any case is refused at cons
         CHECK(r.safety.stop_requested);
     }
 }
+
+namespace {
+/// Runs every task in order on the calling thread, counting the batches it was given.
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class CountingRunner final : public TaskRunner {
+public:
+    void run(std::size_t count, TaskFunction task, void* context) noexcept override {
+        ++batches;
+        sequential.run(count, task, context);
+    }
+    [[nodiscard]] std::size_t concurrency() const noexcept override { return sequential.concurrency(); }
+    SequentialRunner sequential;
+    int batches = 0;
+};
+}  // namespace
+
+// verifies: SR-CTRL-001
+TEST_CASE("controller: footprint fusion uses the port's task runner when one is given, with the built-in's result") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock own_clock;
+    SafetyController own = w.controller(fc, own_clock);
+    const CycleReport a = own.run_cycle(Frame(w, with_person(0.2, 0.4), own_clock.t).span(), false);
+    CountingRunner runner;
+    fc.footprint.runner = &runner;
+    TestClock port_clock;
+    SafetyController port = w.controller(fc, port_clock);
+    const CycleReport b = port.run_cycle(Frame(w, with_person(0.2, 0.4), port_clock.t).span(), false);
+    CHECK(runner.batches > 0);
+    CHECK(b.detected_faults == 0U);
+    CHECK(b.fusion.rays_fused == a.fusion.rays_fused);
+    CHECK(b.zones.zones[0].state == a.zones.zones[0].state);
+    CHECK(b.zones.zones[0].foreground == a.zones.zones[0].foreground);
+    CHECK(b.safety.stop_requested);
+}
