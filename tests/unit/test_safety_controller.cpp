@@ -19,6 +19,7 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/firmware/scenario.hpp"
+#include "cellguard/host/io/background_files.hpp"
 #include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
@@ -1328,4 +1329,36 @@ TEST_CASE("controller: footprint fusion uses the port's task runner when one is 
     CHECK(b.zones.zones[0].state == a.zones.zones[0].state);
     CHECK(b.zones.zones[0].foreground == a.zones.zones[0].foreground);
     CHECK(b.safety.stop_requested);
+}
+
+// verifies: SR-CTRL-001
+TEST_CASE(
+    "controller: by footprint, a point-set sensor among depth images is fused by its rays, as the ray path does") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock ray_clock;
+    TestClock fp_clock;
+    SafetyController ray = w.controller(ray_clock);
+    SafetyController fp = w.controller(fc, fp_clock);
+    Frame a(w, with_person(0.2, 0.4), ray_clock.t);
+    Frame b(w, with_person(0.2, 0.4), fp_clock.t);
+    const std::vector<Eigen::Vector3f> points = depth_image_points(a.inputs[3].reading);
+    REQUIRE_FALSE(points.empty());
+    for (Frame* f : {&a, &b}) {
+        SensorReading p = f->inputs[3].reading;
+        p.kind = SensorDataKind::kPointSet;
+        p.points = Span<const Eigen::Vector3f>(points.data(), points.size());
+        f->inputs[3].reading = p;
+    }
+    const CycleReport r = ray.run_cycle(a.span(), false);
+    const CycleReport f = fp.run_cycle(b.span(), false);
+    CHECK(r.detected_faults == 0U);
+    CHECK(f.detected_faults == 0U);
+    CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
+    CHECK(f.zones.zones[0].state == r.zones.zones[0].state);
+    CHECK(f.zones.zones[0].state == ZoneState::kIntruded);
+    CHECK(f.safety.stop_requested);
 }
