@@ -1362,3 +1362,17 @@ TEST_CASE(
     CHECK(f.zones.zones[0].state == ZoneState::kIntruded);
     CHECK(f.safety.stop_requested);
 }
+
+// verifies: SR-CTRL-002
+TEST_CASE("controller: a cycle without any sensor input is a missing-sensor fault and the stop") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c = w.controller(clock);
+    for (int i = 0; i < 2; ++i) {
+        const CycleReport& r = c.run_cycle(Span<const SensorInput>{}, false);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) == 0U);
+        CHECK(r.fusion.rays_fused == 0U);
+        CHECK(r.safety.stop_requested);
+    }
+}
