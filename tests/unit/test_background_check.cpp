@@ -142,3 +142,59 @@ TEST_CASE("background check: pixels deeper than the reference by more than the t
     CHECK(background_changed(m, 0U));
     CHECK_FALSE(background_changed(m, 1U));
 }
+
+// verifies: SR-CTRL-011
+TEST_CASE(
+    "background check: a point-set view whose depth or nearest ranges do not fill its direction grid is refused") {
+    const DirectionGrid g{-0.5F, -0.5F, 0.5F, 2U, 2U};  // 4 bins
+    const std::vector<float> four(4U, 2.0F);
+    const std::vector<float> three(3U, 2.0F);
+    BackgroundReference r;
+    r.grid = g;
+    r.depth = Span<const float>(three.data(), three.size());
+    r.nearest = Span<const float>(four.data(), four.size());
+    const Span<const Eigen::Vector3f> none{};
+    CHECK(match_points(none, r).error() == ErrorCode::kMalformedInput);
+    r.depth = Span<const float>(four.data(), four.size());
+    r.nearest = Span<const float>(three.data(), three.size());
+    CHECK(match_points(none, r).error() == ErrorCode::kMalformedInput);
+    r.nearest = Span<const float>(four.data(), four.size());
+    REQUIRE(match_points(none, r).ok());
+    CHECK(match_points(none, r).value().referenced == 0U);
+}
+
+// verifies: SR-CTRL-011
+TEST_CASE("background check: a depth image against a point-set view, or a reading of unknown kind, is refused") {
+    const std::vector<float> four(4U, 2.0F);
+    BackgroundReference r;
+    r.grid = DirectionGrid{-0.5F, -0.5F, 0.5F, 2U, 2U};
+    r.depth = Span<const float>(four.data(), four.size());
+    r.nearest = Span<const float>(four.data(), four.size());
+    SensorReading live;
+    live.kind = SensorDataKind::kDepthImage;
+    live.depth = Span<const float>(four.data(), four.size());
+    CHECK(match_background(live, r).error() == ErrorCode::kInvalidArgument);
+    r.nearest = Span<const float>{};  // a depth image's own reference
+    CHECK(match_background(live, r).ok());
+    live.kind = static_cast<SensorDataKind>(7);
+    CHECK(match_background(live, r).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-BKG-004
+TEST_CASE("background check: the change tracker ignores a slot beyond the sensor slots") {
+    BackgroundReference r;
+    r.changed_cycles = 1U;
+    BackgroundMatch changed;
+    changed.referenced = 100U;
+    changed.longer = r.max_longer_pixels + 1U;
+    REQUIRE(background_changed(changed, r.max_longer_pixels));
+    BackgroundChangeTracker t;
+    t.track(kMaxSensors, changed, r);
+    CHECK(t.latched == 0U);
+    for (std::size_t s = 0U; s < kMaxSensors; ++s) {
+        CHECK(t.streak[s] == 0U);
+        CHECK(t.last[s].referenced == 0U);
+    }
+    t.track(0U, changed, r);  // a slot in range latches at once with changed_cycles 1
+    CHECK(t.latched == 1U);
+}

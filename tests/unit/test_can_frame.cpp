@@ -131,3 +131,64 @@ TEST_CASE("can frame: a value wider than its signal, or a Motorola signal, is a 
     CHECK(test::violates_contract([&] { (void)get_signal(f, kMotorola[0]); }));
     CHECK_FALSE(test::violates_contract([&] { set_signal(f, make("n", 8U, 4U), 15U); }));
 }
+
+// verifies: SR-CAN-002
+TEST_CASE("can frame: the run-time layout check compares plain signals pairwise and pages only with pages") {
+    const SignalLayout plain_overlap[] = {make("a", 0U, 8U), make("b", 4U, 8U)};
+    CHECK_FALSE(layout_is_consistent(plain_overlap));
+    const SignalLayout plain_disjoint[] = {make("a", 0U, 8U), make("b", 8U, 8U)};
+    CHECK(layout_is_consistent(plain_disjoint));
+    const SignalLayout plain_then_mux[] = {make("p", 20U, 8U), make("m0", 16U, 8U, Multiplex::kMultiplexed, 1U)};
+    CHECK_FALSE(layout_is_consistent(plain_then_mux));
+    const SignalLayout pages_disjoint[] = {make("m0", 0U, 8U, Multiplex::kMultiplexed, 1U),
+                                           make("m1", 8U, 8U, Multiplex::kMultiplexed, 1U)};
+    CHECK(layout_is_consistent(pages_disjoint));
+    CHECK(signals_coexist(make("a", 0U, 8U), make("b", 0U, 8U)));
+    CHECK(signals_coexist(make("a", 0U, 8U), make("m", 0U, 8U, Multiplex::kMultiplexed, 3U)));
+    CHECK(signals_coexist(make("m", 0U, 8U, Multiplex::kMultiplexed, 3U), make("a", 0U, 8U)));
+    CHECK(signals_coexist(make("m", 0U, 8U, Multiplex::kMultiplexed, 3U),
+                          make("n", 0U, 8U, Multiplex::kMultiplexed, 3U)));
+    CHECK_FALSE(signals_coexist(make("m", 0U, 8U, Multiplex::kMultiplexed, 3U),
+                                make("n", 0U, 8U, Multiplex::kMultiplexed, 4U)));
+}
+
+// verifies: SR-CAN-002
+TEST_CASE("can frame: a 32-bit signal takes any raw value, and a signed signal round-trips its extremes") {
+    CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    const SignalLayout wide = make("w", 32U, 32U);
+    set_signal(f, wide, 0xFFFFFFFFU);
+    CHECK(get_signal(f, wide) == 0xFFFFFFFFU);
+    CHECK(frame_bits(f) == 0xFFFF'FFFF'0000'0000ULL);
+    SignalLayout s = make("s", 0U, 12U);
+    s.is_signed = true;
+    set_signed_signal(f, s, -2048);
+    CHECK(get_signed_signal(f, s) == -2048);
+    set_signed_signal(f, s, 2047);
+    CHECK(get_signed_signal(f, s) == 2047);
+    CHECK(get_signal(f, wide) == 0xFFFFFFFFU);  // untouched
+}
+
+// verifies: SR-CAN-002, SR-GEN-003
+TEST_CASE(
+    "can frame: reading or writing a signal of 0 or 33 bits or past bit 63, or a 1-bit signed one, is a contract violation") {
+    CanFrame f{0x100U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    SignalLayout zero = make("z", 8U, 8U);
+    zero.length = 0U;
+    SignalLayout wide = make("w", 0U, 8U);
+    wide.length = 33U;
+    const SignalLayout past = make("p", 60U, 8U);
+    std::uint32_t got = 7U;
+    CHECK(test::violates_contract([&] { got = get_signal(f, zero); }));
+    CHECK(test::violates_contract([&] { got = get_signal(f, wide); }));
+    CHECK(test::violates_contract([&] { got = get_signal(f, past); }));
+    CHECK(got == 7U);
+    CHECK(test::violates_contract([&] { set_signal(f, kMotorola[0], 1U); }));
+    CHECK(test::violates_contract([&] { set_signal(f, zero, 0U); }));
+    CHECK(test::violates_contract([&] { set_signal(f, wide, 0U); }));
+    CHECK(test::violates_contract([&] { set_signal(f, past, 0U); }));
+    const SignalLayout one_bit = make("b", 0U, 1U);
+    CHECK(test::violates_contract([&] { set_signed_signal(f, one_bit, 0); }));
+    CHECK(test::violates_contract([&] { set_signed_signal(f, wide, 0); }));
+    CHECK(test::violates_contract([&] { set_signed_signal(f, make("s", 0U, 8U), 128); }));
+    CHECK(frame_bits(f) == 0U);  // nothing was written
+}

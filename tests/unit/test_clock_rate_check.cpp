@@ -226,3 +226,20 @@ TEST_CASE("clock rate: the configuration's upper limits are accepted and one bey
     c.max_gap_periods = 1U;
     CHECK(ClockRateCheck::check_config(c).ok());
 }
+
+// verifies: SR-WDG-003
+TEST_CASE(
+    "clock rate: a restart with no window open counts nothing, and only a faulted check reports the clock fault") {
+    ClockRateCheck check(config());
+    check.restart();  // no sample yet
+    CHECK(check.counts().restarts == 0U);
+    CHECK(check.faults() == 0U);
+    CHECK(check.on_sample(0U, kT0) == ClockRateVerdict::kPending);
+    check.restart();
+    check.restart();  // the window is already closed
+    CHECK(check.counts().restarts == 1U);
+    const Plc fast{50000, 0};  // 5 percent fast
+    CHECK(feed(check, fast, 0U, 60U) == 50);
+    CHECK(check.faulted());
+    CHECK(check.faults() == fault_bit(Fault::kClockFault));
+}

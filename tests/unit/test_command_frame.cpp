@@ -277,3 +277,43 @@ TEST_CASE("command frame: signed signals are two's complement, sign-extended on 
     const SignalLayout ok[] = {{"S", 0U, 3U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kNone, 0U, true}};
     CHECK(layout_is_consistent(ok));
 }
+
+// verifies: SR-CMD-002
+TEST_CASE(
+    "command frame: channels are incompatible with an invalid output channel or a data ID confusable in the output's mode") {
+    SafetyChannelConfig out;
+    CommandChannelConfig cmd;
+    out.safety_can_id = kCanMaxStandardId;  // the inverted copy would need 0x800
+    CHECK(check_channels_compatible(out, cmd).error() == ErrorCode::kInvalidArgument);
+    out = SafetyChannelConfig{};
+    cmd.base_can_id = 0x200U;  // every output ID (0x101..0x104) lies below the command's IDs
+    CHECK(check_channels_compatible(out, cmd).ok());
+    // Part A's data ID shares only its low byte with the safety frame's: distinguishable in the
+    // command's BOTH mode, not in the output's LOW mode.
+    cmd = CommandChannelConfig{};
+    cmd.data_id[0] = static_cast<std::uint16_t>(0x1100U | (kDefaultSafetyDataId & 0xFFU));
+    REQUIRE(check_command_channel_config(cmd).ok());
+    CHECK(check_channels_compatible(out, cmd).ok());
+    out.data_id_mode = E2eP01DataIdMode::kLow;
+    CHECK(check_channels_compatible(out, cmd).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-CMD-001
+TEST_CASE("command frame: a sample whose command is not well formed encodes to no frames but an error") {
+    RobotCommand c = six_axis();
+    c.monitoring_case = kMaxMonitoringCases;
+    const Result<CommandFrames> r = encode_command_sample(c, 0U, channel());
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error() == ErrorCode::kInvalidArgument);
+    CHECK(encode_command_sample(six_axis(), 15U, channel()).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-CMD-003, SR-GEN-003
+TEST_CASE("command frame: checking a part that is not A, B or C, or under an invalid config, is a contract violation") {
+    const CanFrame f = encode_command_part(six_axis(), CommandPart::kA, 0U, channel()).value();
+    CHECK(test::violates_contract([&] { (void)check(f, static_cast<CommandPart>(3)); }));
+    CommandChannelConfig bad = channel();
+    bad.base_can_id = 0x800U;
+    CHECK(test::violates_contract([&] { (void)check(f, CommandPart::kA, bad); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)check(f, CommandPart::kA); }));
+}

@@ -479,3 +479,59 @@ TEST_CASE("command receiver: a part or copy of another length makes the command 
         }
     }
 }
+
+// verifies: SR-CMD-003
+TEST_CASE("command receiver: a part with counter 15 or with data ID nibble bits set outside NIBBLE mode is refused") {
+    SUBCASE("counter 15, CRC correct") {
+        Link link;
+        (void)link.bring_up();
+        CommandFrames s = link.next();
+        set_signal(s.frame[0], command_layout::kCounter, 15U);
+        s.frame[0].data[0] = e2e_p01_crc(Span<const std::uint8_t>(s.frame[0].data, 8U), 0U,
+                                         link.config.channel.data_id[0], link.config.channel.data_id_mode, 15U);
+        s.frame[1] = inverted_copy(s.frame[0]);
+        check_invalid(link.deliver_frames(s, 0U, 6U, link.now + kPeriodUs), CommandFault::kCounterOutOfRange);
+    }
+    SUBCASE("nibble bits in BOTH mode, CRC correct") {
+        Link link;
+        (void)link.bring_up();
+        CommandFrames s = link.next();
+        set_signal(s.frame[2], command_layout::kDataIdNibble, 0x8U);
+        const auto counter = static_cast<std::uint8_t>(get_signal(s.frame[2], command_layout::kCounter));
+        s.frame[2].data[0] = e2e_p01_crc(Span<const std::uint8_t>(s.frame[2].data, 8U), 0U,
+                                         link.config.channel.data_id[1], link.config.channel.data_id_mode, counter);
+        s.frame[3] = inverted_copy(s.frame[2]);
+        check_invalid(link.deliver_frames(s, 0U, 6U, link.now + kPeriodUs), CommandFault::kMalformedContent);
+    }
+}
+
+// verifies: SR-CMD-003
+TEST_CASE(
+    "command receiver: a frame with a CAN ID below the command's base ID is not the receiver's and changes nothing") {
+    Link link;
+    REQUIRE(link.bring_up() == 3);
+    const CanFrame below{link.config.channel.base_can_id - 1U, 8U, {0U, 0U, 0U, 0U, 0U, 0U, 0U, 0U}};
+    const CommandStatus s = link.deliver(below, link.now + 100U);
+    CHECK(s.valid);
+    CHECK(s.fault == CommandFault::kNone);
+    CHECK(s.fault_events == 0U);
+    CHECK(link.send_sample().valid);
+}
+
+// verifies: SR-CMD-006
+TEST_CASE(
+    "command receiver: the largest recovery count, 255 good samples, is reached and a long run then stays valid") {
+    CommandReceiverConfig c = receiver_config();
+    c.recovery_good_samples = 255U;
+    Link link(c);
+    for (int k = 0; k < 255; ++k) {  // the reference and 254 good samples
+        CHECK_FALSE(link.send_sample().valid);
+    }
+    CHECK(link.send_sample().valid);  // the 255th good sample
+    for (int k = 0; k < 20; ++k) {    // past the saturated count of good samples
+        CHECK(link.send_sample().valid);
+    }
+    const CommandStatus s = link.receiver.status();
+    CHECK(s.good_samples == 276U);
+    CHECK(s.fault_events == 0U);
+}

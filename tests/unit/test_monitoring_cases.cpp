@@ -128,3 +128,33 @@ TEST_CASE("monitoring cases: the zones of a case number that does not exist are 
     CHECK(test::violates_contract([&] { (void)c.zones_of(2U); }));
     CHECK(test::violates_contract([&] { (void)c.zones_of(kMaxMonitoringCases); }));
 }
+
+// verifies: SR-CASE-002
+TEST_CASE("monitoring cases: with 32 zones every bit names a zone, and case 0 monitors all 32") {
+    const Zones z(kMaxZones);
+    const MonitoringCases d = MonitoringCases::all_zones(z.zones);
+    CHECK(d.zones_of(0U) == 0xFFFFFFFFU);
+    CHECK(d.fits(z.zones));
+    const std::uint32_t masks[] = {0x80000000U, 0xFFFFFFFFU};
+    const Result<MonitoringCases, CaseError> c = MonitoringCases::make(z.zones, masks);
+    REQUIRE(c.ok());
+    CHECK(c.value().zones_of(0U) == 0x80000000U);
+    CHECK(c.value().zones_of(1U) == 0xFFFFFFFFU);
+    CHECK(c.value().fits(z.zones));
+}
+
+// verifies: SR-CASE-004
+TEST_CASE("monitoring cases: a stored case whose mask gained a zone beyond the configured ones no longer fits") {
+    const Zones z;
+    const std::uint32_t masks[] = {0b011U};
+    MonitoringCases c = MonitoringCases::make(z.zones, masks).value();
+    REQUIRE(c.fits(z.zones));
+    // A bit flip in memory: case 0's mask (the object's first word) now names zone 7 too.
+    std::uint32_t first = 0U;
+    std::memcpy(&first, &c, sizeof(first));
+    REQUIRE(first == 0b011U);
+    first |= 0x80U;
+    std::memcpy(static_cast<void*>(&c), &first, sizeof(first));  // trivially copyable: a plain byte write
+    CHECK(c.zones_of(0U) == 0x83U);
+    CHECK_FALSE(c.fits(z.zones));
+}

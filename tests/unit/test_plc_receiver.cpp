@@ -409,3 +409,20 @@ TEST_CASE(
     CHECK(s.stop_requested);
     CHECK(s.message == both);
 }
+
+// verifies: SR-CAN-009
+TEST_CASE("plc receiver: the largest recovery count, 255 good pairs, is reached and a long run then stays valid") {
+    PlcReceiverConfig c = receiver_config();
+    c.recovery_good_pairs = 255U;
+    Link link(c);
+    for (int k = 0; k < 255; ++k) {  // the reference pair and 254 good pairs
+        CHECK_FALSE(link.send_pair().communication_valid);
+    }
+    CHECK(link.send_pair().communication_valid);  // the 255th good pair
+    for (int k = 0; k < 20; ++k) {                // past the saturated count of good pairs
+        const ReceiverStatus s = link.send_pair();
+        CHECK(s.communication_valid);
+        CHECK_FALSE(s.stop_requested);
+    }
+    CHECK(link.receiver.poll(link.now).fault_events == 0U);
+}

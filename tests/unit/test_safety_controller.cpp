@@ -19,6 +19,7 @@
 
 #include "alloc_counter.hpp"
 #include "cellguard/firmware/scenario.hpp"
+#include "cellguard/host/io/background_files.hpp"
 #include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
@@ -1178,4 +1179,200 @@ TEST_CASE("controller: a check slice of 0 bytes or a CRC table check count outsi
         const SafetyController c = w.controller(edge, clock);
         (void)c;
     }));
+}
+
+// verifies: SR-CTRL-001, SR-LOGIC-004
+TEST_CASE("controller: a commissioned background view of another size than the sensor's image refuses the frame") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c = w.controller(clock);
+    const sim::SimulatedFrame empty = sim::render_frame(w.sensors, sim::reference_scene());
+    BackgroundReference short_ref;
+    short_ref.depth = Span<const float>(empty.depth[2].data(), empty.depth[2].size() - 1U);
+    Frame f(w, sim::reference_scene(), clock.t);
+    f.inputs[2].background = &short_ref;
+    const CycleReport& r = c.run_cycle(f.span(), false);
+    CHECK((r.detected_faults & fault_bit(Fault::kFrameInconsistent)) != 0U);
+    CHECK(r.safety.stop_requested);
+}
+
+// verifies: SR-SSM-001, SR-SSM-022
+TEST_CASE("controller: a protective separation distance beyond the frame's range is reported as far, a NaN one as 0") {
+    Workcell w;
+    TestClock clock;
+    RobotCell rc(w, -0.6, -0.5);
+    ControllerConfig cfg = rc.config(w);
+    cfg.robot.separation.classes[0].stopping_distance_m = 100.0;  // 100 m: beyond 65,535 mm
+    SafetyController far = w.controller(cfg, clock);
+    const Frame f(w, rc.scene(), clock.t);
+    const CycleReport& a = far.run_cycle(f.span(), false);  // no command: no pose, the stop
+    CHECK(a.robot.configured);
+    CHECK(a.robot.required_mm == kDistanceFarMm);
+    CHECK(a.robot.speed_request == SpeedRequest::kProtectiveStop);
+    CHECK(a.safety.stop_requested);
+    cfg.robot.separation.classes[0].stopping_distance_m = std::numeric_limits<double>::quiet_NaN();
+    SafetyController nan = w.controller(cfg, clock);
+    const CycleReport& b = nan.run_cycle(f.span(), false);
+    CHECK(b.robot.required_mm == 0U);
+    CHECK(b.robot.speed_request == SpeedRequest::kProtectiveStop);
+    CHECK(b.safety.stop_requested);
+}
+
+// verifies: SR-CTRL-002
+TEST_CASE("controller: more sensor inputs than sensor slots are a missing-sensor fault, cycle after cycle") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig cfg = w.config();
+    cfg.max_repeated_frames = 100U;
+    SafetyController c = w.controller(cfg, clock);
+    Frame f(w, sim::reference_scene(), clock.t);
+    const std::vector<SensorInput> four = f.inputs;
+    while (f.inputs.size() <= kMaxSensors) {
+        f.inputs.push_back(four[f.inputs.size() % four.size()]);
+    }
+    REQUIRE(f.inputs.size() == kMaxSensors + 1U);
+    for (std::size_t cycle = 0U; cycle <= kMaxSensors + 1U; ++cycle) {  // the table check passes every slot
+        for (SensorInput& in : f.inputs) {
+            in.captured_us = clock.t;
+        }
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CAPTURE(cycle);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) == 0U);
+        CHECK(r.safety.stop_requested);
+    }
+}
+
+// verifies: SR-CTRL-002
+TEST_CASE(
+    "controller: by footprint, a depth image beyond the sensor slots is fused by its rays, as the ray path does") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, kMaxSensors, 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock ray_clock;
+    TestClock fp_clock;
+    SafetyController ray = w.controller(ray_clock);
+    SafetyController fp = w.controller(fc, fp_clock);
+    const auto nine = [](Frame& f, std::uint64_t now) {
+        const std::vector<SensorInput> four = f.inputs;
+        while (f.inputs.size() <= kMaxSensors) {
+            f.inputs.push_back(four[f.inputs.size() % four.size()]);
+        }
+        for (SensorInput& in : f.inputs) {
+            in.captured_us = now;
+        }
+        return f.span();
+    };
+    Frame a(w, with_person(0.2, 0.4), ray_clock.t);
+    Frame b(w, with_person(0.2, 0.4), fp_clock.t);
+    const CycleReport r = ray.run_cycle(nine(a, ray_clock.t), false);
+    const CycleReport f = fp.run_cycle(nine(b, fp_clock.t), false);
+    CHECK(f.detected_faults == fault_bit(Fault::kSensorMissing));  // 9 inputs for 4 sensors, every one fused
+    CHECK(r.detected_faults == fault_bit(Fault::kSensorMissing));
+    CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
+    CHECK(f.fusion.readings_in_grid == r.fusion.readings_in_grid);
+    CHECK(f.safety.stop_requested);
+}
+
+// verifies: SR-CASE-002, SR-LOGIC-006
+TEST_CASE("controller: a monitoring case set without any case is refused at construction: internal-check fault, stop") {
+    Workcell w;
+    TestClock clock;
+    const MonitoringCases none;  // the placeholder: no case 0 either
+    ControllerConfig cfg = w.config();
+    cfg.cases = &none;
+    SafetyController c = w.controller(cfg, clock);
+    const Frame f(w, sim::reference_scene(), clock.t);
+    for (int i = 0; i < 2; ++i) {
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CHECK((r.safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kCommandInvalid)) != 0U);  // no command can name a case
+        CHECK(r.safety.stop_requested);
+    }
+}
+
+namespace {
+/// Runs every task in order on the calling thread, counting the batches it was given.
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class CountingRunner final : public TaskRunner {
+public:
+    void run(std::size_t count, TaskFunction task, void* context) noexcept override {
+        ++batches;
+        sequential.run(count, task, context);
+    }
+    [[nodiscard]] std::size_t concurrency() const noexcept override { return sequential.concurrency(); }
+    SequentialRunner sequential;
+    int batches = 0;
+};
+}  // namespace
+
+// verifies: SR-CTRL-001
+TEST_CASE("controller: footprint fusion uses the port's task runner when one is given, with the built-in's result") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock own_clock;
+    SafetyController own = w.controller(fc, own_clock);
+    const CycleReport a = own.run_cycle(Frame(w, with_person(0.2, 0.4), own_clock.t).span(), false);
+    CountingRunner runner;
+    fc.footprint.runner = &runner;
+    TestClock port_clock;
+    SafetyController port = w.controller(fc, port_clock);
+    const CycleReport b = port.run_cycle(Frame(w, with_person(0.2, 0.4), port_clock.t).span(), false);
+    CHECK(runner.batches > 0);
+    CHECK(b.detected_faults == 0U);
+    CHECK(b.fusion.rays_fused == a.fusion.rays_fused);
+    CHECK(b.zones.zones[0].state == a.zones.zones[0].state);
+    CHECK(b.zones.zones[0].foreground == a.zones.zones[0].foreground);
+    CHECK(b.safety.stop_requested);
+}
+
+// verifies: SR-CTRL-001
+TEST_CASE(
+    "controller: by footprint, a point-set sensor among depth images is fused by its rays, as the ray path does") {
+    Workcell w;
+    host::OwnedFootprintWorkspaces ws(w.g, w.sensors.size(), 320, 240);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock ray_clock;
+    TestClock fp_clock;
+    SafetyController ray = w.controller(ray_clock);
+    SafetyController fp = w.controller(fc, fp_clock);
+    Frame a(w, with_person(0.2, 0.4), ray_clock.t);
+    Frame b(w, with_person(0.2, 0.4), fp_clock.t);
+    const std::vector<Eigen::Vector3f> points = depth_image_points(a.inputs[3].reading);
+    REQUIRE_FALSE(points.empty());
+    for (Frame* f : {&a, &b}) {
+        SensorReading p = f->inputs[3].reading;
+        p.kind = SensorDataKind::kPointSet;
+        p.points = Span<const Eigen::Vector3f>(points.data(), points.size());
+        f->inputs[3].reading = p;
+    }
+    const CycleReport r = ray.run_cycle(a.span(), false);
+    const CycleReport f = fp.run_cycle(b.span(), false);
+    CHECK(r.detected_faults == 0U);
+    CHECK(f.detected_faults == 0U);
+    CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
+    CHECK(f.zones.zones[0].state == r.zones.zones[0].state);
+    CHECK(f.zones.zones[0].state == ZoneState::kIntruded);
+    CHECK(f.safety.stop_requested);
+}
+
+// verifies: SR-CTRL-002
+TEST_CASE("controller: a cycle without any sensor input is a missing-sensor fault and the stop") {
+    Workcell w;
+    TestClock clock;
+    SafetyController c = w.controller(clock);
+    for (int i = 0; i < 2; ++i) {
+        const CycleReport& r = c.run_cycle(Span<const SensorInput>{}, false);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+        CHECK((r.detected_faults & fault_bit(Fault::kInternalCheck)) == 0U);
+        CHECK(r.fusion.rays_fused == 0U);
+        CHECK(r.safety.stop_requested);
+    }
 }

@@ -528,3 +528,84 @@ TEST_CASE("safety frame: checking a diagnostics frame under an invalid channel c
     CHECK(test::violates_contract([&] { (void)check_diagnostics_frame(f, c, out); }));
     CHECK_FALSE(test::violates_contract([&] { (void)check_diagnostics_frame(f, SafetyChannelConfig{}, out); }));
 }
+
+// verifies: SR-CAN-005
+TEST_CASE(
+    "safety frame: the diagnostics encoder refuses a bad config, counter 15, a cycle time above 2047 and page 4") {
+    const DiagnosticsMessage good;
+    REQUIRE(encode_diagnostics_frame(good, 14U, channel()).ok());
+    SafetyChannelConfig bad = channel();
+    bad.diagnostics_can_id = 0x800U;
+    CHECK(encode_diagnostics_frame(good, 0U, bad).error() == ErrorCode::kInvalidArgument);
+    CHECK(encode_diagnostics_frame(good, 15U, channel()).error() == ErrorCode::kInvalidArgument);
+    DiagnosticsMessage m = good;
+    m.cycle_time = kDiagnosticsTimeSaturated + 1U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = good;
+    m.max_cycle_time = kDiagnosticsTimeSaturated + 1U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = good;
+    m.prior_crc_page = 4U;
+    CHECK(encode_diagnostics_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-CMD-008
+TEST_CASE("separation frame: the encoder refuses a bad config, counter 15, case 16, request 3 and command counter 15") {
+    const SeparationMessage good = separation_sample();
+    REQUIRE(encode_separation_frame(good, 14U, channel()).ok());
+    SafetyChannelConfig bad = channel();
+    bad.separation_can_id = bad.diagnostics_can_id;
+    CHECK(encode_separation_frame(good, 0U, bad).error() == ErrorCode::kInvalidArgument);
+    CHECK(encode_separation_frame(good, 15U, channel()).error() == ErrorCode::kInvalidArgument);
+    SeparationMessage m = good;
+    m.active_case = kMaxActiveCase + 1U;
+    CHECK(encode_separation_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = good;
+    m.speed_request = static_cast<SpeedRequest>(3);
+    CHECK(encode_separation_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+    m = good;
+    m.command_counter = 15U;
+    CHECK(encode_separation_frame(m, 0U, channel()).error() == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-CMD-008, SR-GEN-003
+TEST_CASE("separation frame: checking a frame under an invalid channel configuration is a contract violation") {
+    SafetyChannelConfig c;
+    c.separation_can_id = c.safety_can_id;
+    SeparationFrameContent out;
+    const CanFrame f = encode_separation_frame(separation_sample(), 0U, channel()).value();
+    CHECK(test::violates_contract([&] { (void)check_separation_frame(f, c, out); }));
+    CHECK_FALSE(test::violates_contract([&] { (void)check_separation_frame(f, channel(), out); }));
+    CHECK(out.message == separation_sample());
+}
+
+// verifies: SR-CAN-010
+TEST_CASE("safety frame: in NIBBLE mode a channel config with a data ID above 12 bits is refused") {
+    SafetyChannelConfig c = channel(E2eP01DataIdMode::kNibble);
+    REQUIRE(check_channel_config(c).ok());
+    c.diagnostics_data_id = 0x1D52U;
+    CHECK(check_channel_config(c).error() == ErrorCode::kInvalidArgument);
+    c.data_id_mode = E2eP01DataIdMode::kBoth;
+    CHECK(check_channel_config(c).ok());
+}
+
+// verifies: SR-CAN-004
+TEST_CASE("safety frame: each frame check maps to its error code, and a value outside the enumeration is malformed") {
+    CHECK(to_error_code(FrameCheck::kOk) == ErrorCode::kOk);
+    CHECK(to_error_code(FrameCheck::kWrongCanId) == ErrorCode::kMalformedInput);
+    CHECK(to_error_code(FrameCheck::kWrongLength) == ErrorCode::kTruncatedInput);
+    CHECK(to_error_code(FrameCheck::kWrongDataIdNibble) == ErrorCode::kCrcMismatch);
+    CHECK(to_error_code(FrameCheck::kWrongCrc) == ErrorCode::kCrcMismatch);
+    CHECK(to_error_code(FrameCheck::kCounterOutOfRange) == ErrorCode::kMalformedInput);
+    CHECK(to_error_code(FrameCheck::kMalformedContent) == ErrorCode::kMalformedInput);
+    CHECK(to_error_code(static_cast<FrameCheck>(42)) == ErrorCode::kMalformedInput);
+}
+
+// verifies: SR-CAN-005, SR-GEN-003
+TEST_CASE("safety frame: the prior CRC has four pages, byte by byte, and a fifth page is a contract violation") {
+    CHECK(prior_crc_part(0xDEADBEEFU, 0U) == 0xEFU);
+    CHECK(prior_crc_part(0xDEADBEEFU, 3U) == 0xDEU);
+    std::uint8_t part = 0U;
+    CHECK(test::violates_contract([&] { part = prior_crc_part(0xDEADBEEFU, 4U); }));
+    CHECK(part == 0U);
+}

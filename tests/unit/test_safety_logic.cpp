@@ -345,3 +345,26 @@ TEST_CASE("safety logic: a fault recovery of 0 cycles is a contract violation") 
     zero.fault_recovery_cycles = 0U;
     CHECK(test::violates_contract([&] { const SafetyLogic refused(zero, c.zones); }));
 }
+
+// verifies: SR-LOGIC-001, SR-CASE-005
+TEST_CASE("safety logic: with 32 zones an intrusion of the last protective zone stops, unless its case is inactive") {
+    Cell c;
+    std::vector<ZoneConfig> zs(kMaxZones);
+    for (ZoneConfig& z : zs) {
+        z.box_max = Eigen::Vector3d(0.2, 0.2, 0.2);
+    }
+    c.zones = CompiledZones::compile(c.g, {zs.data(), zs.size()}, {c.mask.data(), c.mask.size()}).value();
+    c.set(ZoneState::kClear, ZoneState::kClear);  // every zone clear
+    c.eval.count = kMaxZones;
+    SafetyLogic logic(config(0U, false), c.zones);
+    CHECK_FALSE(c.step(logic).stop_requested);
+    c.eval.zones[kMaxZones - 1U].state = ZoneState::kIntruded;
+    c.eval.intruded_mask = 0x80000000U;
+    c.eval.not_clear_mask = 0x80000000U;
+    const SafetyOutputs o = c.step(logic);
+    CHECK(o.stop_requested);
+    CHECK(o.intruded_mask == 0x80000000U);
+    c.active = 0x7FFFFFFFU;  // a case without zone 31
+    const SafetyOutputs off = c.step(logic);
+    CHECK(off.intruded_mask == 0U);
+}

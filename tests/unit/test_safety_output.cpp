@@ -310,3 +310,16 @@ TEST_CASE("safety output: more than 16 zones, case 16, counter 15 or an unchecke
     CHECK_FALSE(test::violates_contract([&] { const CycleFrameEncoder ok_encoder(output_config(16U)); }));
     CHECK(test::violates_contract([&] { const CycleFrameEncoder too_many(output_config(17U)); }));
 }
+
+// verifies: SR-CAN-001
+TEST_CASE(
+    "safety output: a failing send of the safety frame stops the cycle before its copy and the diagnostics frame") {
+    RecordingSender sender;
+    CanSafetyOutput out(output_config(), sender);
+    REQUIRE(out.status().ok());
+    sender.fail_at = 0;  // the first frame of the first cycle
+    CHECK_FALSE(out.publish(report_with(false, 0U, 0U)));
+    REQUIRE(sender.frames.size() == 1U);
+    CHECK(sender.frames[0].id == kDefaultSafetyCanId);
+    CHECK(out.encoder().safety_counter() == 1U);
+}

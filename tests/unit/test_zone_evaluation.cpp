@@ -274,3 +274,28 @@ TEST_CASE("zone evaluation: zones outside the active case are not evaluated: CLE
 TEST_CASE("zone evaluation: every zone state has its own name, and a value outside the enumeration is named INVALID") {
     test::check_enum_names<ZoneState>(4U, "INVALID");
 }
+
+// verifies: SR-ZONE-003, SR-CASE-005
+TEST_CASE("zone evaluation: with 32 zones the last zone's bit is evaluated and reported like any other") {
+    Fixture f;
+    std::vector<ZoneConfig> zs(kMaxZones);
+    for (std::size_t z = 0U; z < kMaxZones; ++z) {  // zones 0..30 at x 0..0.3, zone 31 at x 0.5..0.8
+        zs[z].box_min = Eigen::Vector3d(z == kMaxZones - 1U ? 0.5 : 0.0, 0.0, 0.0);
+        zs[z].box_max = zs[z].box_min + Eigen::Vector3d(0.3, 0.3, 0.3);
+    }
+    f.zones = CompiledZones::compile(f.g, {zs.data(), zs.size()}, {f.mask.data(), f.mask.size()}).value();
+    f.lo[f.at(6, 1, 1)] = 400;  // foreground in zone 31 only
+    const ZoneEvaluation e = f.run();
+    CHECK(e.count == kMaxZones);
+    CHECK(e.zones[kMaxZones - 1U].state == ZoneState::kIntruded);
+    CHECK(e.zones[0].state == ZoneState::kClear);
+    CHECK(e.intruded_mask == 0x80000000U);
+    ZoneEvaluation only_zone_0;
+    ZoneEvaluationScope scope;
+    scope.active_zones = 1U;
+    REQUIRE(
+        evaluate_zones(f.frame, {f.prior.data(), f.prior.size()}, f.zones, ZoneEvaluationParams{}, scope, only_zone_0)
+            .ok());
+    CHECK(only_zone_0.intruded_mask == 0U);
+    CHECK(only_zone_0.zones[kMaxZones - 1U].state == ZoneState::kClear);
+}

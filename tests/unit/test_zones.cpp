@@ -202,3 +202,15 @@ TEST_CASE("zones: the configuration or voxel count of a zone beyond the compiled
     CHECK(test::violates_contract([&] { (void)c.config(1U); }));
     CHECK(test::violates_contract([&] { (void)c.voxel_count(1U); }));
 }
+
+// verifies: SR-ZONE-001
+TEST_CASE("zones: a grid without voxels is refused, whatever the storage") {
+    std::vector<std::uint32_t> mask(1000);
+    const ZoneConfig z = box(0, 0, 0, 0.5, 0.5, 0.5);
+    const GridGeometry empty;  // not made: no voxels
+    REQUIRE(empty.voxel_count() == 0U);
+    const auto r = CompiledZones::compile(empty, {&z, 1U}, {mask.data(), mask.size()});
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::kStorageTooSmall);
+    CHECK(CompiledZones::compile(grid10(), {&z, 1U}, {mask.data(), mask.size()}).ok());
+}
