@@ -1197,7 +1197,8 @@ TEST_CASE("controller: a commissioned background view of another size than the s
 }
 
 // verifies: SR-SSM-001, SR-SSM-022
-TEST_CASE("controller: a protective separation distance beyond the frame's range is reported as far, a NaN one as 0") {
+TEST_CASE(
+    "controller: a protective separation distance beyond the frame's range is refused and reported as far, a NaN one as 0") {
     Workcell w;
     TestClock clock;
     RobotCell rc(w, -0.6, -0.5);
@@ -1205,7 +1206,8 @@ TEST_CASE("controller: a protective separation distance beyond the frame's range
     cfg.robot.separation.classes[0].stopping_distance_m = 100.0;  // 100 m: beyond 65,535 mm
     SafetyController far = w.controller(cfg, clock);
     const Frame f(w, rc.scene(), clock.t);
-    const CycleReport& a = far.run_cycle(f.span(), false);  // no command: no pose, the stop
+    const CycleReport& a = far.run_cycle(f.span(), false);                      // no command: no pose, the stop
+    CHECK((a.safety.latched_faults & fault_bit(Fault::kInternalCheck)) != 0U);  // refused at construction (SR-SSM-002)
     CHECK(a.robot.configured);
     CHECK(a.robot.required_mm == kDistanceFarMm);
     CHECK(a.robot.speed_request == SpeedRequest::kProtectiveStop);

@@ -53,12 +53,13 @@ namespace result_detail {
 /// destruction: then its copy, move and destructor are the compiler's
 /// trivial ones, which neither branch on the active member nor call anything.
 template <typename T, typename E>
-inline constexpr bool kTriviallyCopyable = std::is_trivially_copyable_v<T>&& std::is_trivially_copyable_v<E>;
+struct TriviallyCopyable
+    : std::bool_constant<std::is_trivially_copyable<T>::value && std::is_trivially_copyable<E>::value> {};
 
 /// The value or the error, constructed in place: no default T is needed.
 /// `none` is active until a Result constructs one of the two. Its copy and
 /// destructor are trivial when T and E are trivially copyable.
-template <typename T, typename E, bool = kTriviallyCopyable<T, E>>
+template <typename T, typename E, bool = TriviallyCopyable<T, E>::value>
 union Storage {
     Storage() noexcept : none() {}
     char none;  ///< active only until the value or the error is constructed
@@ -103,7 +104,7 @@ protected:
 
 /// Copy, move and destruction of the active member, for a T or E that is
 /// not trivially copyable (the branch on ok_ is needed only here).
-template <typename T, typename E, bool = kTriviallyCopyable<T, E>>
+template <typename T, typename E, bool = TriviallyCopyable<T, E>::value>
 class Base : public Core<T, E> {};
 
 /// See the primary template.
@@ -154,7 +155,7 @@ private:
 /// T needs no default constructor: the value is constructed only on success
 /// (iceoryx's `expected` is the model). Constructed from a T (success) or
 /// from an E that is not "no error" (is_no_error(E) false; a contract).
-/// Trivially copyable when T and E are (result_detail::kTriviallyCopyable).
+/// Trivially copyable when T and E are (result_detail::TriviallyCopyable).
 template <typename T, typename E = ErrorCode>
 class [[nodiscard]] Result : private result_detail::Base<T, E> {
 public:
