@@ -495,7 +495,8 @@ TEST_CASE("background image: record fields that are wrong under a valid record C
 }
 
 // verifies: SR-BKG-001, SR-BKG-009
-TEST_CASE("background image: a direction grid view loads back, and the writer refuses a grid that is not exact binary32") {
+TEST_CASE(
+    "background image: a direction grid view loads back, and the writer refuses a grid that is not exact binary32") {
     const std::vector<float> ranges = {4.0F, 0.0F, 1.5F, 0.0F};  // farthest per bin, then nearest
     BackgroundViewRecord r;
     r.identity.name_crc = 33U;
