@@ -107,6 +107,10 @@ public:
                 axis_[static_cast<std::size_t>(e)][static_cast<std::size_t>(a)] = rt(a, e) * s;
             }
         }
+        const Eigen::Vector3d u = (r.pose.translation() - g.origin()) / s;  // as ray_traversal's to_voxel_units
+        for (Eigen::Index a = 0; a < 3; ++a) {
+            camera_voxel_[static_cast<std::size_t>(a)] = std::floor(u[a]);
+        }
         const PinholeIntrinsics& k = r.intrinsics;
         fx_ = k.fx;
         fy_ = k.fy;
@@ -155,6 +159,9 @@ private:
     Span<std::int16_t> opinions_;
     std::array<double, 3> base_{};                 ///< lattice point (0, 0, 0) in the camera frame
     std::array<std::array<double, 3>, 3> axis_{};  ///< one voxel along each grid axis, in the camera frame
+    /// The camera's voxel coordinate per axis, floor((position - origin) / size) as
+    /// ray traversal takes it (a double: the camera may lie any distance outside the grid).
+    std::array<double, 3> camera_voxel_{};
     double fx_ = 0.0;
     double fy_ = 0.0;
     double cx_ = 0.0;
@@ -342,13 +349,18 @@ bool SensorPass::decide_box(const Box& b, const Footprint& f, const DepthRange& 
 
 /// Where the ray o + t w (t: depth along the optical axis) leaves the box
 /// [lo, hi] (given relative to o), or a negative value when it misses it or
-/// leaves it before t = 0. Slab test without a library call.
-double ray_exit_depth(const Eigen::Vector3d& w, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) noexcept {
+/// leaves it before t = 0. Slab test without a library call. A ray parallel
+/// to axis a's faces (w[a] == 0) is in the box's slab iff @p in_slab[a]: the
+/// caller decides that from the camera's voxel index as ray traversal does,
+/// not from lo and hi, whose rounding would put a ray that lies in a face
+/// into both voxel columns beside it.
+double ray_exit_depth(const Eigen::Vector3d& w, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const std::array<bool, 3>& in_slab) noexcept {
     double t_in = -std::numeric_limits<double>::infinity();
     double t_out = std::numeric_limits<double>::infinity();
     for (Eigen::Index a = 0; a < 3; ++a) {
         if (w[a] == 0.0) {
-            if (lo[a] > 0.0 || hi[a] <= 0.0) {
+            if (!in_slab[static_cast<std::size_t>(a)]) {
                 return -1.0;  // parallel to the slab and outside it
             }
             continue;
@@ -371,6 +383,10 @@ std::int16_t SensorPass::exact_opinion(const Box& b, const Footprint& f) noexcep
     const Eigen::Vector3d lo = grid_.origin() + s * Eigen::Vector3d(b.lo[0], b.lo[1], b.lo[2]) -
                                reading_.pose.translation();
     const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(s);
+    std::array<bool, 3> in_slab{};  // for rays parallel to an axis's faces: traversal's column
+    for (std::size_t a = 0U; a < 3U; ++a) {
+        in_slab[a] = camera_voxel_[a] == static_cast<double>(b.lo[a]);
+    }
     const double inv_fx = 1.0 / k.fx;
     const double inv_fy = 1.0 / k.fy;
     std::int16_t best = kNoOpinion;
@@ -383,7 +399,8 @@ std::int16_t SensorPass::exact_opinion(const Box& b, const Footprint& f) noexcep
                 continue;  // no valid reading
             }
             const double xn = (static_cast<double>(u) - k.cx) * inv_fx;
-            const double t_out = ray_exit_depth(row + r.col(0) * xn, lo, hi);  // cell frame, per metre of depth
+            const double t_out = ray_exit_depth(row + r.col(0) * xn, lo, hi,
+                                                in_slab);  // cell frame, per metre of depth
             if (t_out < 0.0 || static_cast<double>(d) < t_out) {
                 continue;  // misses the voxel, or ends in front of or inside it (a hit is step 1's)
             }
