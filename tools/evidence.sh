@@ -178,18 +178,9 @@ grep -q -e '--coverage' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.t
 cmake --build "$cov_build" -j "$jobs" --target cellguard_unit_tests >/dev/null
 find "$cov_build" -name '*.gcda' -delete
 unit=$(find "$cov_build/tests" -maxdepth 1 -name cellguard_unit_tests -type f | head -n 1)
-# Two shards in parallel (libgcov merges the .gcda files under a file lock).
-count=$("$unit" --count --no-version 2>/dev/null | grep -o '[0-9][0-9]*' | tail -n 1)
-half=$(( (count + 1) / 2 ))
-shard_ok=1
-"$unit" --no-intro --no-version --minimal --order-by=rand --rand-seed=1 --first=1 --last="$half" >"$out/.unit1.log" 2>&1 &
-p1=$!
-"$unit" --no-intro --no-version --minimal --order-by=rand --rand-seed=1 --first=$((half + 1)) --last="$count" >"$out/.unit2.log" 2>&1 &
-p2=$!
-wait "$p1" || shard_ok=0
-wait "$p2" || shard_ok=0
-[ "$shard_ok" -eq 1 ] || { cat "$out/.unit1.log" "$out/.unit2.log" >&2; fail "unit tests failed in the coverage build"; }
-rm -f "$out/.unit1.log" "$out/.unit2.log"
+# Two shards in parallel (tools/run-unit-tests.sh; libgcov merges the .gcda files under a file lock).
+tools/run-unit-tests.sh "$unit" 2 >"$out/.unit.log" 2>&1 || { cat "$out/.unit.log" >&2; fail "unit tests failed in the coverage build"; }
+rm -f "$out/.unit.log"
 # --exclude-unreachable-branches: drops branches gcc attributes to lines without
 # code (closing braces, compiler-generated cleanup); no branch a test could take.
 # --exclude-throw-branches: lib/ is built with -fno-exceptions and has no throw branches of its
