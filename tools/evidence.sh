@@ -147,7 +147,8 @@ sa_tmp=$(mktemp)
     clang-tidy --list-checks lib/base/src/crc32.cpp -- -std=c++17 -Ilib/base/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
         | grep -v '^$' | sed -E 's/^(clang-analyzer|[a-z0-9]+)-.*/\1/' | sort | uniq -c | awk '{printf "| %s | %s |\n", $2, $1}'
     echo
-    echo "CERT checks enabled (all of clang-tidy's cert-* aliases and checks):"
+    echo "CERT checks enabled under their CERT names (.clang-tidy turns off the cert-* aliases of checks"
+    echo "that run under their own names: see static-analysis.md, SEI CERT):"
     echo
     clang-tidy --list-checks lib/base/src/crc32.cpp -- -std=c++17 -Ilib/base/include 2>/dev/null | tail -n +2 | sed 's/^ *//' \
         | grep '^cert-' | tr '\n' ' ' | sed 's/ $//; s/\([^ ]*\)/`\1`/g; s/` `/`, `/g'
