@@ -12,7 +12,13 @@
 # Debian's kernel with its CAN modules, busybox-static, can-utils (candump).
 # --lint also installs what tools/lint.sh needs beyond the default set:
 # reuse (the licence check of every file) and clang-format (the style check).
+# --demo installs only what tools/demo.sh needs to build and run the programs
+# (the demo preset: no tests, benchmarks, browser or camera libraries), instead
+# of the default set: the compiler, CMake and Ninja, Eigen, toml++, CLI11,
+# libpng and liburdfdom (the robot demo commissions its arm from a URDF).
 set -euo pipefail
+demo_pkgs=(build-essential cmake ninja-build pkg-config libeigen3-dev libtomlplusplus-dev libcli11-dev
+           libpng-dev liburdfdom-dev)
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
 # libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
 # python3-canmatrix: the third-party DBC decoder of tools/dbc_decode_check.py (ctest dbc_decoded_by_canmatrix).
@@ -29,16 +35,21 @@ pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14
       libaravis-dev libusb-1.0-0-dev aravis-tools aravis-tools-cli libsystemd-dev pkg-config iproute2
       systemd python3-numpy libcivetweb-dev libjs-three chromium python3-websocket)
 arm64=0
+demo=0
+extra=()
 for arg in "$@"; do
   case "$arg" in
-    --cross) pkgs+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
+    --demo) demo=1 ;;
+    --cross) extra+=(g++-aarch64-linux-gnu qemu-user gcc-arm-none-eabi binutils-arm-none-eabi
                     libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm libpng-dev:arm64)
              arm64=1 ;;
-    --vcan) pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static can-utils cpio iproute2) ;;
-    --lint) pkgs+=(reuse clang-format) ;;
-    *) echo "usage: $0 [--cross] [--vcan] [--lint]" >&2; exit 2 ;;
+    --vcan) extra+=(qemu-system-x86 linux-image-amd64 busybox-static can-utils cpio iproute2) ;;
+    --lint) extra+=(reuse clang-format) ;;
+    *) echo "usage: $0 [--demo] [--cross] [--vcan] [--lint]" >&2; exit 2 ;;
   esac
 done
+[ "$demo" -eq 0 ] || pkgs=("${demo_pkgs[@]}")
+pkgs+=("${extra[@]}")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
