@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # SPDX-FileCopyrightText: 2026 The cellguard authors
 # SPDX-License-Identifier: Apache-2.0
-# README's two commands on a bare Debian 12 root: `tools/test.sh`, then
-# `tools/demo.sh`, run exactly as README.md writes them from the top of a
-# clone of the commit under test, in a chroot of a `debootstrap
-# --variant=minbase bookworm` root that has nothing else in it (no compiler,
-# no git, no build directory, nothing from beside the checkout).
+# README's two commands on a bare Debian 12 root: `tools/demo.sh` on the fresh
+# root (it installs only what the demo needs), then `tools/test.sh`, run
+# exactly as README.md writes them from the top of a clone of the commit under
+# test, in a chroot of a `debootstrap --variant=minbase bookworm` root that has
+# nothing else in it (no compiler, no git, no build directory, nothing from
+# beside the checkout) and, as debootstrap writes it, only the main archive in
+# its apt sources (no security or point-release updates: chromium 150 where an
+# updated machine has 156).
 #
 # Why: README.md promises that these two commands work on a fresh Debian 12
 # machine. A developer's machine or the CI host already has every package and
@@ -21,9 +24,13 @@
 #      host's apt sources already use (/etc/apt/sources.list,
 #      /etc/apt/sources.list.d/*.list and *.sources).
 #   3. Unpacks it into a fresh temporary directory, points its apt at the
-#      host's bookworm sources, copies /etc/resolv.conf in, and clones the
-#      commit under test (HEAD of the checkout this script lives in; not the
-#      uncommitted changes) to <root>/root/cellguard with git on the host.
+#      host's bookworm mirror, main archive only (--updated: all of the host's
+#      bookworm sources), copies /etc/resolv.conf in, and clones the commit
+#      under test (HEAD of the checkout this script lives in; not the
+#      uncommitted changes) to <root>/root/cellguard with git on the host
+#      (--clone-at DIR: to DIR on the host, bind-mounted at the same path in
+#      the root, so that the build stays usable on the host afterwards: .ci/run
+#      runs its later steps on it).
 #   4. Mounts /proc, /dev (with /dev/pts and /dev/shm) and /sys into the root,
 #      runs the two commands in a chroot, each under a time bound, and prints
 #      how long each took.
@@ -33,7 +40,7 @@
 # Exits non-zero if any step or either command fails or times out.
 #
 # Needs root (debootstrap, mount, chroot) and Debian's package mirror.
-# Usage: tools/bare-root-test.sh [--rebuild] [--apt-cache] [--keep-root]
+# Usage: tools/bare-root-test.sh [--rebuild] [--apt-cache] [--keep-root] [--updated] [--clone-at DIR]
 #   --rebuild    build the base root with debootstrap even if the cached tarball
 #                is fine (env CELLGUARD_BARE_ROOT_REBUILD=1)
 #   --apt-cache  when developing: keep the .deb files tools/install-deps.sh
@@ -43,6 +50,11 @@
 #                (env CELLGUARD_BARE_ROOT_APT_CACHE=1)
 #   --keep-root  unmount but do not delete the root at the end, to look at it
 #                (env CELLGUARD_BARE_ROOT_KEEP=1)
+#   --updated    the host's bookworm sources (security and point-release
+#                updates too) instead of the main archive alone
+#   --clone-at DIR  clone to DIR on the host (absent or empty; an absolute
+#                path outside the checkout) and bind-mount it at DIR inside the
+#                root; DIR and its build/ stay when the root is deleted
 # Environment: CELLGUARD_BARE_ROOT_CACHE (cache directory, default
 # /var/cache/cellguard-ci), CELLGUARD_BARE_ROOT_TMPDIR (where the temporary
 # root goes, default $TMPDIR or /var/tmp), CELLGUARD_BARE_ROOT_TEST_TIMEOUT
@@ -52,13 +64,20 @@ set -euo pipefail
 rebuild=${CELLGUARD_BARE_ROOT_REBUILD:-0}
 apt_cache=${CELLGUARD_BARE_ROOT_APT_CACHE:-0}
 keep_root=${CELLGUARD_BARE_ROOT_KEEP:-0}
-for arg in "$@"; do
+updated=0
+clone_at=""
+while [ "$#" -gt 0 ]; do
+  arg=$1
+  shift
   case "$arg" in
+    --updated) updated=1 ;;
+    --clone-at) [ "$#" -gt 0 ] || { echo "$0: --clone-at needs a directory" >&2; exit 2; }
+                clone_at=$1; shift ;;
     --rebuild) rebuild=1 ;;
     --apt-cache) apt_cache=1 ;;
     --keep-root) keep_root=1 ;;
     -h|--help) sed -n '2,/^set -euo/{/^set -euo/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
-    *) echo "usage: $0 [--rebuild] [--apt-cache] [--keep-root]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--rebuild] [--apt-cache] [--keep-root] [--updated] [--clone-at DIR]" >&2; exit 2 ;;
   esac
 done
 
@@ -218,22 +237,38 @@ exec 9>&-
 say "unpacked the cached base root into $root (warm): $(( $(date +%s) - t0 )) s"
 
 # --- Inside the root: apt sources, DNS, no services, the clone. --------------
-{
-  echo "# Written by tools/bare-root-test.sh from the host's apt sources."
-  printf '%s\n' "${sources[@]}" | awk '{ printf "deb %s %s", $1, $2; for (i = 3; i <= NF; i++) printf " %s", $i; print "" }'
-} >"$root/etc/apt/sources.list"
+if [ "$updated" = 1 ]; then
+  {
+    echo "# Written by tools/bare-root-test.sh --updated from the host's apt sources."
+    printf '%s\n' "${sources[@]}" | awk '{ printf "deb %s %s", $1, $2; for (i = 3; i <= NF; i++) printf " %s", $i; print "" }'
+  } >"$root/etc/apt/sources.list"
+else
+  # What debootstrap itself writes: the main archive of the release, nothing else.
+  printf '# Written by tools/bare-root-test.sh as debootstrap writes it.\ndeb %s bookworm main\n' "$mirror" \
+    >"$root/etc/apt/sources.list"
+fi
+say "apt sources in the root: $(grep -v '^#' "$root/etc/apt/sources.list" | tr '\n' ';')"
 rm -f "$root/etc/resolv.conf"
 cp -L /etc/resolv.conf "$root/etc/resolv.conf"
 # Nothing runs an init system here: packages must not start services.
 printf '#!/bin/sh\nexit 101\n' >"$root/usr/sbin/policy-rc.d"
 chmod 755 "$root/usr/sbin/policy-rc.d"
 
-clone=$root/root/cellguard
+if [ -n "$clone_at" ]; then
+  case "$clone_at" in /*) ;; *) die "--clone-at needs an absolute path" ;; esac
+  [ ! -e "$clone_at" ] || [ -z "$(ls -A "$clone_at")" ] || die "--clone-at $clone_at exists and is not empty"
+  mkdir -p "$clone_at" "$root$clone_at"
+  clone=$clone_at
+  in_root=$clone_at
+else
+  clone=$root/root/cellguard
+  in_root=/root/cellguard
+fi
 git clone --quiet --no-hardlinks --no-checkout "$repo" "$clone"
 git -C "$clone" checkout --quiet --detach "$commit"
 git -C "$clone" remote remove origin   # it names a host path
 [ "$(git -C "$clone" rev-parse HEAD)" = "$commit" ] || die "the clone is not at $commit"
-say "cloned $commit into /root/cellguard (the root has no git)"
+say "cloned $commit into $in_root (the root has no git)"
 
 # --- Mounts. -------------------------------------------------------------------
 mount -t proc proc "$root/proc"
@@ -241,6 +276,9 @@ mount --rbind /dev "$root/dev"
 mount --make-rslave "$root/dev"
 mount --rbind /sys "$root/sys"
 mount --make-rslave "$root/sys"
+if [ -n "$clone_at" ]; then
+  mount --bind "$clone_at" "$root$clone_at"
+fi
 if [ "$apt_cache" = 1 ]; then
   mkdir -p "$cache/apt-archives/partial"
   mount --bind "$cache/apt-archives" "$root/var/cache/apt/archives"
@@ -256,12 +294,12 @@ done
 declare -A took
 run_in_root() {  # name, time bound in seconds, command as README writes it
   local name=$1 limit=$2 cmd=$3 rc=0 t0 dt
-  say "running '$cmd' in /root/cellguard (chroot, at most $limit s)"
+  say "running '$cmd' in $in_root (chroot, at most $limit s)"
   t0=$(date +%s)
   # In the background and waited for, so that an interruption reaches the
   # trap at once; timeout signals the command's whole process group.
   timeout --kill-after=30 "$limit" chroot "$root" /usr/bin/env -i "${env_in[@]}" \
-    /bin/bash -c 'cd /root/cellguard && exec '"$cmd" </dev/null &
+    /bin/bash -c 'cd "$0" && exec '"$cmd" "$in_root" </dev/null &
   child=$!
   wait "$child" || rc=$?
   child=""
@@ -273,11 +311,13 @@ run_in_root() {  # name, time bound in seconds, command as README writes it
   say "'$cmd': ${dt} s, exit status $rc"
   return "$rc"
 }
-run_in_root test "$test_timeout" tools/test.sh
+# The demo first: on the fresh root it shows what it installs and builds alone.
 run_in_root demo "$demo_timeout" tools/demo.sh
 # README: the demo's CAN frames go to monitor-demo.log (candump -L format).
 log=$clone/monitor-demo.log
 [ -s "$log" ] || die "tools/demo.sh exited 0 but wrote no monitor-demo.log"
 say "monitor-demo.log: $(wc -l <"$log") CAN frames"
+run_in_root test "$test_timeout" tools/test.sh
+say "chromium in the root: $(chroot "$root" /usr/bin/chromium --version 2>/dev/null || echo none)"
 
-say "passed on a bare Debian 12 root: tools/test.sh ${took[test]} s, tools/demo.sh ${took[demo]} s"
+say "passed on a bare Debian 12 root: tools/demo.sh ${took[demo]} s, then tools/test.sh ${took[test]} s"
