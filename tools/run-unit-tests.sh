@@ -11,6 +11,8 @@
 # cases that need a loopback namespace) stay skipped, as in a plain run.
 # Usage: tools/run-unit-tests.sh <cellguard_unit_tests> [shards] [doctest arguments...]
 #   shards: default 2 (this project's CI machine has 2 cores)
+# Environment: CELLGUARD_UNIT_EMULATOR, words put before the binary (a cross
+# build's emulator, e.g. "qemu-aarch64 -L /usr/aarch64-linux-gnu": tools/cross.sh).
 # Exit status: 0 when every shard passed; 1 otherwise, after printing the
 # failing shards' output.
 set -euo pipefail
@@ -18,8 +20,9 @@ unit=${1:?usage: tools/run-unit-tests.sh <cellguard_unit_tests> [shards] [doctes
 shards=${2:-2}
 shift $(( $# >= 2 ? 2 : 1 ))
 [ -x "$unit" ] || { echo "run-unit-tests: $unit is not an executable" >&2; exit 2; }
+read -r -a emulator <<<"${CELLGUARD_UNIT_EMULATOR:-}"
 case "$shards" in ''|*[!0-9]*|0) echo "run-unit-tests: shards must be a positive number, not '$shards'" >&2; exit 2 ;; esac
-count=$("$unit" --count --no-version "$@" 2>/dev/null | grep -o '[0-9][0-9]*' | tail -n 1)
+count=$("${emulator[@]}" "$unit" --count --no-version "$@" 2>/dev/null | grep -o '[0-9][0-9]*' | tail -n 1)
 [ -n "$count" ] && [ "$count" -gt 0 ] || { echo "run-unit-tests: $unit selects no test case" >&2; exit 1; }
 per=$(( (count + shards - 1) / shards ))
 logs=$(mktemp -d)
@@ -30,7 +33,7 @@ for (( s = 0; s < shards; s++ )); do
   first=$(( s * per + 1 ))
   last=$(( first + per - 1 ))
   [ "$first" -le "$count" ] || break
-  "$unit" --no-intro --no-version --order-by=rand --rand-seed=1 --first="$first" --last="$last" "$@" \
+  "${emulator[@]}" "$unit" --no-intro --no-version --order-by=rand --rand-seed=1 --first="$first" --last="$last" "$@" \
     >"$logs/$s.log" 2>&1 &
   pids+=($!)
   ranges+=("cases $first to $(( last < count ? last : count ))")
