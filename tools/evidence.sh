@@ -190,7 +190,7 @@ rm -f "$out/.unit.log"
 # branches on 2026-11-26), which the shipped lib/ does not have and no test can take.
 # The coverage build is also the search path: by default gcovr searches the
 # whole --root for .gcda files and merged other coverage builds' data into this one.
-gcovr_args=(--root . --object-directory "$cov_build" --filter 'lib/' --exclude-unreachable-branches
+gcovr_args=(-j "$jobs" --root . --object-directory "$cov_build" --filter 'lib/' --exclude-unreachable-branches
             --exclude-throw-branches
             --exclude-directories '.*/CMakeFiles/[0-9.]+'  # CMake's compiler-identification objects
             "$cov_build")
