@@ -31,7 +31,7 @@ cell::MonitorConfig without_watchdog_opt_out() {
 }  // namespace
 
 // verifies: SR-WDG-006
-TEST_CASE("monitor: without a watchdog device the monitor says so and runs; the opt-out turns the device off") {
+TEST_CASE("monitor: without a watchdog device the monitor says so and runs, and the opt-out turns the device off") {
     const cell::MonitorConfig on = without_watchdog_opt_out();
     const cell::MonitorConfig off = cell::demo_config();  // paper-cell.toml opts out (a demonstration)
     REQUIRE(cell::opted_out(off, "watchdog_device"));

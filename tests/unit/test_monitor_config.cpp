@@ -243,7 +243,7 @@ std::string without_line(std::string text, const std::string& key) {
 }  // namespace
 
 // verifies: SR-CFG-018
-TEST_CASE("monitor config: every protection is on by default; the shipped configurations state why they turn any off") {
+TEST_CASE("monitor config: every protection is on by default, and the shipped configurations state why they turn any off") {
     std::size_t count = 0U;
     const Protection* list = protections(count);
     REQUIRE(count == 8U);

@@ -354,7 +354,7 @@ TEST_CASE(
 
 // verifies: SR-CTRL-008
 TEST_CASE(
-    "controller: a frame delivered again with its old time stamp is not a frozen sensor; the check is on by default") {
+    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is on by default") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
