@@ -243,7 +243,8 @@ std::string without_line(std::string text, const std::string& key) {
 }  // namespace
 
 // verifies: SR-CFG-018
-TEST_CASE("monitor config: every protection is on by default, and the shipped configurations state why they turn any off") {
+TEST_CASE(
+    "monitor config: every protection is on by default, and the shipped configurations state why they turn any off") {
     std::size_t count = 0U;
     const Protection* list = protections(count);
     REQUIRE(count == 8U);
@@ -327,9 +328,11 @@ TEST_CASE("monitor config: a protection turned off without its [opt_out] entry i
 }
 
 // verifies: SR-CFG-018
-TEST_CASE("monitor config: an [opt_out] entry naming no protection, one that is on, or one without a reason is refused") {
+TEST_CASE(
+    "monitor config: an [opt_out] entry naming no protection, one that is on, or one without a reason is refused") {
     std::string t = with_opt_out(demo_config_text(), "frozen_sensors = \"typo\"");
-    check_refused(t, line_of(t, "frozen_sensors"), "opt_out.frozen_sensors: names no protection (known: reset_required,");
+    check_refused(t, line_of(t, "frozen_sensors"),
+                  "opt_out.frozen_sensors: names no protection (known: reset_required,");
     t = with_opt_out(demo_config_text(), "frozen_sensor_check = \"the check is on\"");
     check_refused(t, line_of(t, "frozen_sensor_check"), "opt_out.frozen_sensor_check: the protection is not off");
     t = with_opt_out(demo_config_text(), "clock_rate_check = \"no PLC command in this cell\"");

@@ -57,13 +57,14 @@ SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
         return {};
     }
     struct stat st {};
-    if (opt_.watchdog_if_present && stat(opt_.watchdog_path.c_str(), &st) != 0 && (errno == ENOENT || errno == ENOTDIR)) {
+    if (opt_.watchdog_if_present && stat(opt_.watchdog_path.c_str(), &st) != 0 &&
+        (errno == ENOENT || errno == ENOTDIR)) {
         std::printf(
             "watchdog: no device at %s (a chroot, a container or a machine without one): running without a "
             "hardware watchdog\n",
             opt_.watchdog_path.c_str());
-        queue_.push(linux_port::LogPriority::kWarning,
-                    "watchdog: no device at %s: running without a hardware watchdog", opt_.watchdog_path.c_str());
+        queue_.push(linux_port::LogPriority::kWarning, "watchdog: no device at %s: running without a hardware watchdog",
+                    opt_.watchdog_path.c_str());
         opt_.watchdog_path.clear();
         return {};
     }
@@ -73,11 +74,11 @@ SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
                                  " is shorter than two cycle periods: the watchdog would reset a working monitor"};
     }
     if (!watchdog_.open(opt_.watchdog_path.c_str(), opt_.watchdog_timeout_s)) {
-        return SetupError{2, std::string("watchdog: ") + watchdog_.message() +
-                                 (opt_.watchdog_if_present
-                                      ? " (the default device; to run without it, state why in [opt_out] "
-                                        "watchdog_device = \"<reason>\")"
-                                      : "")};
+        return SetupError{
+            2, std::string("watchdog: ") + watchdog_.message() +
+                   (opt_.watchdog_if_present ? " (the default device; to run without it, state why in [opt_out] "
+                                               "watchdog_device = \"<reason>\")"
+                                             : "")};
     }
     std::printf("watchdog: %s armed, timeout %d s (asked for %d s), fed after healthy cycles\n",
                 opt_.watchdog_path.c_str(), watchdog_.timeout_s(), opt_.watchdog_timeout_s);

@@ -156,8 +156,7 @@ void load_opt_out(const Loader& L, const toml::table& root, MonitorConfig& c) {
         }
         if (!off) {
             L.fail(entry->source(), std::string("opt_out.") + p.name,
-                   std::string("the protection is not off (it is off only with ") + p.setting +
-                       "): remove this entry");
+                   std::string("the protection is not off (it is off only with ") + p.setting + "): remove this entry");
         }
         c.opt_outs.push_back(OptOut{p.name, entry->as_string()->get(), p.setting, p.loses});
     }
