@@ -76,8 +76,8 @@ SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
     if (!watchdog_.open(opt_.watchdog_path.c_str(), opt_.watchdog_timeout_s)) {
         return SetupError{
             2, std::string("watchdog: ") + watchdog_.message() +
-                   (opt_.watchdog_if_present ? " (the default device; to run without it, state why in [opt_out] "
-                                               "watchdog_device = \"<reason>\")"
+                   (opt_.watchdog_if_present ? " (the default device; to run without it, add opt_out.watchdog_device: "
+                                               "[opt_out] watchdog_device = \"<reason>\")"
                                              : "")};
     }
     std::printf("watchdog: %s armed, timeout %d s (asked for %d s), fed after healthy cycles\n",
