@@ -236,7 +236,8 @@ int fail(const SetupError& e) {
     return e.exit_status;
 }
 
-/// The configuration: the demo's or the file's, with the command line's overrides.
+/// The configuration: the demo's or the file's, with the command line's
+/// overrides, checked for what this monitor cannot honour; its opt-outs printed.
 SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (opt.demo) {
         cfg = opt.demo_name == "robot-cell" ? robot_cell_demo_config() : demo_config();
@@ -265,6 +266,13 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (!opt.can_interface.empty()) {
         cfg.can.interface_name = opt.can_interface;
     }
+    if (SetupError e = check_start_settings(cfg); e.failed()) {
+        return e;
+    }
+    if (const WatchdogChoice w = choose_watchdog(opt.watchdog, cfg); !w.error.empty()) {
+        return SetupError{2, w.error};
+    }
+    print_opt_outs(cfg, stdout);  // each protection the configuration turns off, with its reason
     return {};
 }
 
@@ -536,13 +544,9 @@ int run_monitor(int argc, char** argv) {
     }
     MonitorConfig cfg;
     SetupError e = load_config(opt, cfg);
-    if (e.failed() || (e = check_start_settings(cfg)).failed()) {
+    if (e.failed()) {
         return fail(e);
     }
-    if (const WatchdogChoice w = choose_watchdog(opt.watchdog, cfg); !w.error.empty()) {
-        return fail(SetupError{2, w.error});
-    }
-    print_opt_outs(cfg, stdout);
     static_cast<void>(std::signal(SIGINT, on_stop_signal));
     static_cast<void>(std::signal(SIGTERM, on_stop_signal));
     if (opt.realtime) {

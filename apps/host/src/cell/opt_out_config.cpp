@@ -6,6 +6,7 @@
 // protection, and an entry for a protection that is not off are refused.
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <string>
 
 #include "config_loader.hpp"
@@ -103,12 +104,7 @@ const Protection* protections(std::size_t& count) {
 }
 
 bool opted_out(const MonitorConfig& cfg, const char* name) {
-    for (const OptOut& o : cfg.opt_outs) {
-        if (o.name == name) {
-            return true;
-        }
-    }
-    return false;
+    return std::any_of(cfg.opt_outs.begin(), cfg.opt_outs.end(), [name](const OptOut& o) { return o.name == name; });
 }
 
 namespace config_detail {
