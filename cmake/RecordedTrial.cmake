@@ -68,6 +68,10 @@ background_match = 0
 [restart_interlock]
 delay_ms = 500
 reset_required = false
+[opt_out]
+reset_required = \"a recorded trial of one cycle: no restart to interlock\"
+background_view_check = \"the recorded frame has no commissioned view of the empty cell\"
+watchdog_device = \"a test run on a build host: it must not arm the host's watchdog\"
 ")
 set(frame "kinect=${FRAME}")
 execute_process(COMMAND ${emulator} ${PRIOR} --config cell.toml --frame ${frame} --frame ${frame} --frame ${frame}

@@ -62,7 +62,9 @@ struct SmallCell {
         ControllerConfig c;
         c.sensor_count = 1U;
         c.logic.restart_delay_us = 0U;
+        c.logic.reset_required = false;  // no reset input here: a release follows the clear zones alone
         c.logic.fault_recovery_cycles = 2U;
+        c.max_repeated_frames = 0U;  // the same simulated frame every cycle, by design
         c.cycle_budget_us = 10000000U;
         return c;
     }
@@ -159,6 +161,7 @@ TEST_CASE("safety logic: one bit flipped in any sealed field stops in the next s
     eval.zones[0].state = ZoneState::kClear;
     SafetyLogicConfig config;
     config.restart_delay_us = 0U;
+    config.reset_required = false;  // no reset input here: a release follows the clear zones alone
     config.fault_recovery_cycles = 3U;
     SafetyLogic probe(config, zones);
     const std::size_t n = SafetyLogicTestAccess::fields(probe).size();

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <string>
+#include <vector>
 
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/scenario.hpp"
@@ -224,4 +225,130 @@ TEST_CASE("monitor scenario: the scripted person enters the protective zone in o
     CHECK(person_overlaps(c.zones[1].zone, demo_person(14)));
     CHECK(demo_person(100).x == doctest::Approx(-1.4));  // stays outside after the path
     CHECK(std::string(demo_phase(15)) == "protective zone");
+}
+
+namespace {
+
+/// The demo text (which ends with its [opt_out] table) with the entry @p line added.
+std::string with_opt_out(const std::string& text, const std::string& line) { return text + line + "\n"; }
+
+/// The demo text without the first line that starts with @p key (the line must exist).
+std::string without_line(std::string text, const std::string& key) {
+    const std::size_t at = text.find("\n" + key);
+    REQUIRE(at != std::string::npos);
+    text.erase(at + 1U, text.find('\n', at + 1U) - at);
+    return text;
+}
+
+}  // namespace
+
+// verifies: SR-CFG-018
+TEST_CASE(
+    "monitor config: every protection is on by default, and the shipped configurations state why they turn any off") {
+    std::size_t count = 0U;
+    const Protection* list = protections(count);
+    REQUIRE(count == 8U);
+    for (std::size_t i = 0U; i < count; ++i) {
+        CAPTURE(list[i].name);
+        CHECK(std::string(list[i].setting).size() > 10U);
+        CHECK(std::string(list[i].loses).size() > 40U);
+        for (std::size_t j = 0U; j < i; ++j) {
+            CHECK(std::string(list[i].name) != list[j].name);
+        }
+    }
+    // Without the lines that turn protections off and their opt-outs: every check on.
+    std::string plain = without_line(demo_config_text(), "reset_required = false");
+    plain = without_line(without_line(plain, "reset_required = \""), "watchdog_device = \"");
+    plain = without_line(without_line(plain, "max_repeated_frames = "), "background_match = ");
+    plain = without_line(plain, "background_changed_cycles = ");
+    const ConfigLoad l = parse_monitor_config(plain, "cell.toml");
+    REQUIRE_MESSAGE(l.ok, l.error);
+    CHECK(l.config.reset_required);
+    CHECK(l.config.max_repeated_frames == 3U);
+    CHECK(l.config.background_match == 0.5F);
+    CHECK(l.config.background_changed_cycles == 3U);
+    CHECK(l.config.opt_outs.empty());
+    CHECK_FALSE(opted_out(l.config, "watchdog_device"));
+    // The shipped configurations: each opt-out with its reason, nothing else off.
+    struct Shipped {
+        const char* file;
+        std::vector<std::string> off;
+    };
+    const std::vector<Shipped> shipped = {
+        {"paper-cell.toml", {"reset_required", "watchdog_device"}},
+        {"robot-cell.toml", {"reset_required", "watchdog_device"}},
+        {"paper-cell-cameras.toml",
+         {"reset_required", "frozen_sensor_check", "camera_stamp_tolerance", "watchdog_device"}},
+        {"real-cell.toml", {"reset_required"}},
+    };
+    for (const Shipped& s : shipped) {
+        CAPTURE(s.file);
+        const ConfigLoad f = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) + "/apps/monitor/config/" + s.file);
+        REQUIRE_MESSAGE(f.ok, f.error);
+        REQUIRE(f.config.opt_outs.size() == s.off.size());
+        for (std::size_t i = 0U; i < s.off.size(); ++i) {
+            CHECK(f.config.opt_outs[i].name == s.off[i]);
+            CHECK(f.config.opt_outs[i].reason.size() > 30U);
+            CHECK_FALSE(f.config.opt_outs[i].loses.empty());
+        }
+        CHECK(f.config.max_repeated_frames == (opted_out(f.config, "frozen_sensor_check") ? 0U : 3U));
+    }
+    const MonitorConfig robot = robot_cell_demo_config();
+    CHECK(robot.can.clock_rate.nominal_period_us == 100000U);  // on: the PLC's period given
+    CHECK(demo_config().opt_outs.size() == 2U);
+}
+
+// verifies: SR-CFG-018
+TEST_CASE("monitor config: a protection turned off without its [opt_out] entry is refused, naming the entry to add") {
+    // Each setting that turns one off, without the entry: refused at that setting's line.
+    std::string t = without_line(demo_config_text(), "reset_required = \"");
+    check_refused(t, line_of(t, "reset_required = false"), "opt_out.reset_required: missing: ");
+    CHECK(parse_monitor_config(t, "cell.toml").error.find("reset_required = \"<reason>\"") != std::string::npos);
+    t = edited("max_repeated_frames = 3", "max_repeated_frames = 0");
+    check_refused(t, line_of(t, "max_repeated_frames = 0"), "opt_out.frozen_sensor_check: missing");
+    const ConfigLoad frozen = parse_monitor_config(with_opt_out(t, "frozen_sensor_check = \"ideal frames\""), "c");
+    REQUIRE_MESSAGE(frozen.ok, frozen.error);
+    CHECK(opted_out(frozen.config, "frozen_sensor_check"));
+    REQUIRE(frozen.config.opt_outs.size() == 3U);  // in the order of protections(): reset, frozen, watchdog
+    CHECK(frozen.config.opt_outs[1].name == "frozen_sensor_check");
+    CHECK(frozen.config.opt_outs[1].reason == "ideal frames");
+    t = edited("background_match = 0.5 ", "background_match = 0   ");
+    check_refused(t, line_of(t, "background_match = 0 "), "opt_out.background_view_check: missing");
+    CHECK(parse_monitor_config(with_opt_out(t, "background_view_check = \"x\""), "c").ok);
+    t = edited("background_changed_cycles = 3", "background_changed_cycles = 0");
+    check_refused(t, line_of(t, "background_changed_cycles = 0"), "opt_out.background_change_check: missing");
+    CHECK(parse_monitor_config(with_opt_out(t, "background_change_check = \"x\""), "c").ok);
+    // The clock-rate check in a cell with a PLC command: command_period_ms absent.
+    std::string robot = builtin_text("robot-cell.toml");
+    robot = without_line(robot, "command_period_ms = ");
+    const ConfigLoad no_rate = parse_monitor_config(robot, "robot.toml");
+    CHECK_FALSE(no_rate.ok);
+    CHECK(no_rate.error.find("opt_out.clock_rate_check: missing") != std::string::npos);
+    CHECK(no_rate.error.find("robot.toml:" + std::to_string(line_of(robot, "[can]")) + ":") == 0U);
+}
+
+// verifies: SR-CFG-018
+TEST_CASE(
+    "monitor config: an [opt_out] entry naming no protection, one that is on, or one without a reason is refused") {
+    std::string t = with_opt_out(demo_config_text(), "frozen_sensors = \"typo\"");
+    check_refused(t, line_of(t, "frozen_sensors"),
+                  "opt_out.frozen_sensors: names no protection (known: reset_required,");
+    t = with_opt_out(demo_config_text(), "frozen_sensor_check = \"the check is on\"");
+    check_refused(t, line_of(t, "frozen_sensor_check"), "opt_out.frozen_sensor_check: the protection is not off");
+    t = with_opt_out(demo_config_text(), "clock_rate_check = \"no PLC command in this cell\"");
+    check_refused(t, line_of(t, "clock_rate_check"), "opt_out.clock_rate_check: the protection is not off");
+    t = with_opt_out(demo_config_text(), "camera_stamp_tolerance = \"no camera\"");
+    check_refused(t, line_of(t, "camera_stamp_tolerance"), "the protection is not off");
+    t = without_line(demo_config_text(), "reset_required = false");
+    check_refused(t, line_of(t, "reset_required = \""), "opt_out.reset_required: the protection is not off");
+    for (const char* reason : {"\"\"", "\"   \"", "true", "3", "[\"a\"]"}) {
+        CAPTURE(reason);
+        t = edited("max_repeated_frames = 3", "max_repeated_frames = 0");
+        t = with_opt_out(t, std::string("frozen_sensor_check = ") + reason);
+        check_refused(t, line_of(t, "frozen_sensor_check"),
+                      "opt_out.frozen_sensor_check: expected the reason for turning the protection off");
+    }
+    t = demo_config_text();
+    t = "opt_out = 3\n" + t.substr(0U, t.find("\n[opt_out]") + 1U);
+    check_refused(t, 1, "opt_out: expected a table");
 }

@@ -279,3 +279,16 @@ TEST_CASE("simulator: rendering into caller buffers gives render_frame's images 
     CHECK_FALSE(prepared.assign(crowded));
     CHECK(prepared.scene().boxes.size() == 3U);
 }
+
+// verifies: SR-CFG-018
+TEST_CASE("monitor: reset_required on is refused at start, since the monitor has no reset input") {
+    cell::MonitorConfig cfg = cell::demo_config();
+    CHECK_FALSE(cfg.reset_required);  // paper-cell.toml turns it off, with opt_out.reset_required
+    CHECK_FALSE(monitor::check_start_settings(cfg).failed());
+    cfg.reset_required = true;  // the loader's default
+    const monitor::SetupError e = monitor::check_start_settings(cfg);
+    CHECK(e.exit_status == 2);
+    CHECK(e.message.find("no reset input") != std::string::npos);
+    CHECK(e.message.find("reset_required = \"<reason>\"") != std::string::npos);
+    CHECK(cell::MonitorConfig{}.reset_required);
+}

@@ -194,6 +194,7 @@ TEST_CASE("pcd input: pcd_files is checked when the configuration loads") {
     };
     std::string off = with("pcd_files = [\"pcd/recorded-ascii.pcd\"]");
     off.replace(off.find("background_match = 0.5 "), 23, "background_match = 0   ");
+    off += "background_view_check = \"a recorded frame without a view of the empty cell\"\n";  // in [opt_out]
     const ConfigLoad good = parse_monitor_config(off, "cell.toml", CELLGUARD_SOURCE_DIR "/apps/monitor/test");
     CAPTURE(good.error);
     REQUIRE(good.ok);

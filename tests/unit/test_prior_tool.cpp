@@ -578,6 +578,7 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
             text += "pcd_files = [\"frames/" + name + "/0.pcd\"]\n";
         }
     }
+    text += "background_view_check = \"recorded sensors without a view of the empty cell\"\n";  // ends [opt_out]
     REQUIRE(write_bytes(dir / "cell.toml", std::vector<std::uint8_t>(text.begin(), text.end())));
     // One recorded frame is too few for the probabilistic method (3), enough for the thresholded one.
     const Run few = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "few"});

@@ -354,7 +354,7 @@ TEST_CASE(
 
 // verifies: SR-CTRL-008
 TEST_CASE(
-    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is off by default") {
+    "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is on by default") {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();
@@ -369,7 +369,10 @@ TEST_CASE(
     const Frame restamped(w, sim::reference_scene(), clock.t);
     CHECK((c.run_cycle(restamped.span(), false).detected_faults & fault_bit(Fault::kSensorStale)) != 0U);
 
-    // Default configuration: identical images with fresh stamps are fused, no fault.
+    // The library's default is on (3 new frames with the same data: frozen).
+    CHECK(ControllerConfig{}.max_repeated_frames == 3U);
+    // The check off (the scenario's configuration, whose simulated frames
+    // repeat by design): identical images with fresh stamps are fused, no fault.
     REQUIRE(w.config().max_repeated_frames == 0U);
     SafetyController off = w.controller(clock);
     for (int k = 0; k < 5; ++k) {

@@ -137,6 +137,19 @@ TEST_CASE("safety logic: with reset required, only a rising edge after the delay
     CHECK_FALSE(c.step(logic, 0U, true).stop_requested);  // rising edge after the delay
 }
 
+// verifies: SR-LOGIC-004
+TEST_CASE("safety logic: by default the restart needs the reset edge, the clear zones and the delay are not enough") {
+    Cell c;
+    SafetyLogicConfig defaults;
+    CHECK(defaults.reset_required);
+    defaults.restart_delay_us = 0U;
+    SafetyLogic logic(defaults, c.zones);
+    for (int k = 0; k < 5; ++k) {
+        CHECK(c.step(logic, 0U, false).stop_requested);  // clear, delay over, no reset: the stop holds
+    }
+    CHECK_FALSE(c.step(logic, 0U, true).stop_requested);  // the rising edge releases it
+}
+
 // verifies: SR-LOGIC-005
 TEST_CASE("safety logic: a recoverable fault latches the safe state and clears after fault-free cycles") {
     Cell c;

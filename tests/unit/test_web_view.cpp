@@ -160,6 +160,36 @@ TEST_CASE("web view: requests are checked for method, body, path characters, len
     }
 }
 
+// verifies: SR-WEB-010
+TEST_CASE("web view: ambiguous message framing is 400: two Content-Length lines, any Transfer-Encoding") {
+    const HeaderLine one[] = {{"Host", "x"}, {"Content-Length", "0"}};
+    CHECK(check_framing(one, 2) == 200);
+    CHECK(check_framing(one, 0) == 200);
+    CHECK(check_framing(nullptr, 3) == 200);  // no headers at all
+    const HeaderLine differ[] = {{"Content-Length", "0"}, {"Content-Length", "41"}};
+    CHECK(check_framing(differ, 2) == 400);
+    CHECK(check_framing(differ, 1) == 200);  // the count bounds what is read
+    const HeaderLine equal[] = {{"content-length", "5"}, {"CONTENT-LENGTH", "5"}};
+    CHECK(check_framing(equal, 2) == 400);  // equal values are not merged either
+    const HeaderLine chunked[] = {{"Transfer-Encoding", "chunked"}};
+    CHECK(check_framing(chunked, 1) == 400);
+    const HeaderLine identity[] = {{"transfer-encoding", "identity"}};
+    CHECK(check_framing(identity, 1) == 400);
+    const HeaderLine both[] = {{"Content-Length", "0"}, {"Transfer-Encoding", "chunked"}};
+    CHECK(check_framing(both, 2) == 400);
+    for (const char* v : {"", "0, 0", "+1", "-1", " 1", "1 ", "0x10", "1234567890123456789", "1e3"}) {
+        const HeaderLine bad[] = {{"Content-Length", v}};
+        CHECK_MESSAGE(check_framing(bad, 1) == 400, v);
+    }
+    const HeaderLine longest[] = {{"Content-Length", "123456789012345678"}};
+    CHECK(check_framing(longest, 1) == 200);  // 18 digits: a number (check_request then refuses the body)
+    const HeaderLine nulls[] = {{nullptr, nullptr}, {"Content-Length", nullptr}};
+    CHECK(check_framing(nulls, 1) == 200);
+    CHECK(check_framing(nulls, 2) == 400);
+    const HeaderLine near[] = {{"Content-Length2", "1"}, {"Transfer-Encodin", "chunked"}, {"X-Content-Length", "9"}};
+    CHECK(check_framing(near, 3) == 200);  // other names
+}
+
 // verifies: SR-WEB-004
 TEST_CASE("web view: the JSON writer stays inside its buffer and says when the text did not fit") {
     char buffer[64];

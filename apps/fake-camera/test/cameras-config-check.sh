@@ -7,13 +7,14 @@
 # end-to-end test compares the two cells' runs. Compares both files without
 # comments, blank lines, the camera tables, can.log_file, grid.origin and
 # cycle.max_repeated_frames (0 with the fakes: without --dither they serve
-# the same bytes while nothing moves; the simulated sensors vary).
+# the same bytes while nothing moves; the simulated sensors vary) and the
+# fakes' two opt-outs (opt_out.frozen_sensor_check, camera_stamp_tolerance).
 # usage: cameras-config-check.sh PAPER_CELL_TOML PAPER_CELL_CAMERAS_TOML
 set -euo pipefail
 strip() {
     awk '/^\[sensors\.camera\]/ { skip = 1; next } /^\[/ { skip = 0 } !skip' "$1" |
         sed -e 's/[[:space:]]*#.*$//' -e '/^[[:space:]]*$/d' -e '/^log_file = /d' -e '/^origin = /d' \
-            -e '/^max_repeated_frames = /d'
+            -e '/^max_repeated_frames = /d' -e '/^frozen_sensor_check = /d' -e '/^camera_stamp_tolerance = /d'
 }
 if diff <(strip "$1") <(strip "$2"); then
     echo "$2 is $1 with camera tables"

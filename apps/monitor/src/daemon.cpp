@@ -4,7 +4,10 @@
 #include "cellguard/monitor/daemon.hpp"
 #include "cellguard/port/clock.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <algorithm>
 #include <utility>
@@ -30,8 +33,39 @@ Daemon::Daemon(const cell::MonitorConfig& cfg, const DaemonOptions& opt)
       feed_(&notifier_, &watchdog_, cfg.budget_us, &queue_),
       opt_(opt) {}
 
+WatchdogChoice choose_watchdog(const std::string& option, const cell::MonitorConfig& cfg) {
+    WatchdogChoice c;
+    const bool opted_out = cell::opted_out(cfg, "watchdog_device");
+    if (!option.empty()) {
+        c.path = option;
+        if (opted_out) {
+            c.error = "--watchdog " + option + " and the configuration's opt_out.watchdog_device contradict each other";
+        }
+    } else if (!opted_out) {
+        c.path = kDefaultWatchdogDevice;  // on by default; absent: said, not an error
+        c.if_present = true;
+    }
+    return c;
+}
+
 SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
     if (opt_.watchdog_path.empty()) {
+        if (cell::opted_out(cfg, "watchdog_device")) {
+            std::printf("watchdog: no device (opt_out.watchdog_device)\n");
+            queue_.push(linux_port::LogPriority::kWarning, "watchdog: no device (opt_out.watchdog_device)");
+        }
+        return {};
+    }
+    struct stat st {};
+    if (opt_.watchdog_if_present && stat(opt_.watchdog_path.c_str(), &st) != 0 &&
+        (errno == ENOENT || errno == ENOTDIR)) {
+        std::printf(
+            "watchdog: no device at %s (a chroot, a container or a machine without one): running without a "
+            "hardware watchdog\n",
+            opt_.watchdog_path.c_str());
+        queue_.push(linux_port::LogPriority::kWarning, "watchdog: no device at %s: running without a hardware watchdog",
+                    opt_.watchdog_path.c_str());
+        opt_.watchdog_path.clear();
         return {};
     }
     const std::uint64_t timeout_us = static_cast<std::uint64_t>(opt_.watchdog_timeout_s) * 1000000U;
@@ -40,7 +74,11 @@ SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
                                  " is shorter than two cycle periods: the watchdog would reset a working monitor"};
     }
     if (!watchdog_.open(opt_.watchdog_path.c_str(), opt_.watchdog_timeout_s)) {
-        return SetupError{2, std::string("watchdog: ") + watchdog_.message()};
+        return SetupError{
+            2, std::string("watchdog: ") + watchdog_.message() +
+                   (opt_.watchdog_if_present ? " (the default device; to run without it, add opt_out.watchdog_device: "
+                                               "[opt_out] watchdog_device = \"<reason>\")"
+                                             : "")};
     }
     std::printf("watchdog: %s armed, timeout %d s (asked for %d s), fed after healthy cycles\n",
                 opt_.watchdog_path.c_str(), watchdog_.timeout_s(), opt_.watchdog_timeout_s);
@@ -50,6 +88,9 @@ SetupError Daemon::open_watchdog(const cell::MonitorConfig& cfg) {
 SetupError Daemon::attach(const cell::MonitorConfig& cfg, const MonitorCell& cell, CanPort& can, MonitorLoop& loop) {
     if (!writer_.start()) {
         return SetupError{1, "the event log's writer thread did not start"};
+    }
+    for (const cell::OptOut& o : cfg.opt_outs) {  // printed at start too (print_opt_outs)
+        queue_.push(linux_port::LogPriority::kWarning, "opt-out: %s off: %s", o.name.c_str(), o.reason.c_str());
     }
     if (!opt_.snapshot_dir.empty()) {
         if (SetupError e = make_recorder(cfg, cell); e.failed()) {

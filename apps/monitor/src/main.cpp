@@ -76,7 +76,7 @@ struct Options {
     std::string snapshot_dir;    ///< --snapshot-dir: "" (no snapshots)
     int snapshot_keep = 10;      ///< --snapshot-keep
     int heartbeat_s = 10;        ///< --heartbeat-s (0: none)
-    std::string watchdog;        ///< --watchdog: "" (no watchdog device)
+    std::string watchdog;        ///< --watchdog: "" (the default device, kDefaultWatchdogDevice)
     int watchdog_timeout_s = 5;  ///< --watchdog-timeout-s
     bool forever = false;        ///< --forever: until SIGINT or SIGTERM
     std::string http;            ///< --http: "" (no browser view)
@@ -113,9 +113,11 @@ void add_output_options(host::CommandLine& cli, Options& o) {
     cli.integer("--heartbeat-s", o.heartbeat_s, 0, 86400, "S",
                 "seconds between the event log's heartbeat lines on stderr (default 10, 0: none)");
     cli.text("--watchdog", o.watchdog, "DEV",
-             "open the watchdog device DEV (e.g. /dev/watchdog) and feed it after each healthy\n"
-             "cycle (within budget, no internal, clock or prior fault latched); the orderly\n"
-             "end disarms it (default: none)");
+             "open the watchdog device DEV and feed it after each healthy cycle (within\n"
+             "budget, no internal, clock or prior fault latched); the orderly end disarms it\n"
+             "(default: /dev/watchdog where it exists; where none does the monitor says so\n"
+             "and runs without; [opt_out] watchdog_device = \"<reason>\" in the configuration\n"
+             "turns it off)");
     cli.integer("--watchdog-timeout-s", o.watchdog_timeout_s, 1, 3600, "S",
                 "the watchdog device's timeout (default 5; at least two cycle periods)");
     cli.text("--write-background", o.write_background, "FILE",
@@ -234,7 +236,8 @@ int fail(const SetupError& e) {
     return e.exit_status;
 }
 
-/// The configuration: the demo's or the file's, with the command line's overrides.
+/// The configuration: the demo's or the file's, with the command line's
+/// overrides, checked for what this monitor cannot honour; its opt-outs printed.
 SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (opt.demo) {
         cfg = opt.demo_name == "robot-cell" ? robot_cell_demo_config() : demo_config();
@@ -263,6 +266,13 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (!opt.can_interface.empty()) {
         cfg.can.interface_name = opt.can_interface;
     }
+    if (SetupError e = check_start_settings(cfg); e.failed()) {
+        return e;
+    }
+    if (const WatchdogChoice w = choose_watchdog(opt.watchdog, cfg); !w.error.empty()) {
+        return SetupError{2, w.error};
+    }
+    print_opt_outs(cfg, stdout);  // each protection the configuration turns off, with its reason
     return {};
 }
 
@@ -486,7 +496,9 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
     dopt.heartbeat_us = static_cast<std::uint64_t>(opt.heartbeat_s) * 1000000U;
     dopt.snapshot_dir = opt.snapshot_dir;
     dopt.snapshot_keep = static_cast<std::size_t>(opt.snapshot_keep);
-    dopt.watchdog_path = opt.watchdog;
+    const WatchdogChoice watchdog = choose_watchdog(opt.watchdog, cfg);  // checked at start (run_monitor)
+    dopt.watchdog_path = watchdog.path;
+    dopt.watchdog_if_present = watchdog.if_present;
     dopt.watchdog_timeout_s = opt.watchdog_timeout_s;
     Daemon daemon(cfg, dopt);
     std::unique_ptr<LiveView> live;

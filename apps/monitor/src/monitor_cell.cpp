@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
+#include <cstdio>
 
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/grid/depth_pyramid.hpp"
@@ -166,6 +167,26 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
         }
     }
     return spec;
+}
+
+SetupError check_start_settings(const cell::MonitorConfig& cfg) {
+    if (cfg.reset_required) {
+        return SetupError{
+            2,
+            "configuration error: restart_interlock.reset_required is true (the default), but cellguard-monitor "
+            "has no reset input (the PLC's command carries no reset request): its restart interlock would hold "
+            "the stop for good after the first one. Let the PLC hold the restart until its reset button is "
+            "pressed (safety manual, section 4.4), and set reset_required = false with [opt_out] "
+            "reset_required = \"<reason>\""};
+    }
+    return {};
+}
+
+void print_opt_outs(const cell::MonitorConfig& cfg, std::FILE* out) {
+    for (const cell::OptOut& o : cfg.opt_outs) {
+        static_cast<void>(std::fprintf(out, "opt-out: %s off (%s): %s; lost: %s\n", o.name.c_str(), o.setting.c_str(),
+                                       o.reason.c_str(), o.loses.c_str()));
+    }
 }
 
 ControllerConfig controller_config(const cell::MonitorConfig& cfg) {

@@ -70,6 +70,55 @@ const WebFile* web_files(std::size_t& count) noexcept {
     return kFiles;
 }
 
+namespace {
+
+/// ASCII case-insensitive equality of @p a (may be nullptr) and the lower-case @p lower.
+bool same_name(const char* a, const char* lower) noexcept {
+    if (a == nullptr) {
+        return false;
+    }
+    std::size_t i = 0U;
+    for (; lower[i] != '\0'; ++i) {
+        const char c = (a[i] >= 'A' && a[i] <= 'Z') ? static_cast<char>(a[i] - 'A' + 'a') : a[i];
+        if (c != lower[i]) {
+            return false;
+        }
+    }
+    return a[i] == '\0';
+}
+
+/// 1 to 18 decimal digits and nothing else (no sign, no blank, no list).
+bool plain_length(const char* v) noexcept {
+    if (v == nullptr) {
+        return false;
+    }
+    std::size_t n = 0U;
+    for (; v[n] != '\0'; ++n) {
+        if (v[n] < '0' || v[n] > '9' || n >= 18U) {
+            return false;
+        }
+    }
+    return n > 0U;
+}
+
+}  // namespace
+
+int check_framing(const HeaderLine* headers, int count) noexcept {
+    int lengths = 0;
+    for (int i = 0; headers != nullptr && i < count; ++i) {
+        const HeaderLine& h = headers[i];
+        if (same_name(h.name, "transfer-encoding")) {
+            return 400;  // no request here has a body: chunked or not, it is not read (RFC 9112, 6.1)
+        }
+        if (same_name(h.name, "content-length")) {
+            if (++lengths > 1 || !plain_length(h.value)) {
+                return 400;  // two lengths, equal or not, or one that is no single number (RFC 9112, 6.3)
+            }
+        }
+    }
+    return 200;
+}
+
 RequestVerdict check_request(const char* method, const char* uri, long long content_length, int header_lines) noexcept {
     RequestVerdict v;
     const char* m = method == nullptr ? "" : method;

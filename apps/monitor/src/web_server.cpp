@@ -7,6 +7,7 @@
 #include <dirent.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -230,8 +231,18 @@ int WebServer::handle(mg_connection* conn) noexcept {
     requests_.fetch_add(1U, std::memory_order_relaxed);
     try {
         const mg_request_info* ri = mg_get_request_info(conn);
-        const RequestVerdict v = check_request(ri->request_method, ri->local_uri_raw, ri->content_length,
-                                               ri->num_headers);
+        // Ambiguous framing first, whatever the method: 400, and the connection closes (Connection: close,
+        // keep-alive off), so no bytes of a smuggled body are read as another request.
+        std::array<HeaderLine, MG_MAX_HEADERS> lines{};
+        const int n_lines = std::min(ri->num_headers, static_cast<int>(lines.size()));
+        for (int i = 0; i < n_lines; ++i) {
+            lines[static_cast<std::size_t>(i)] = HeaderLine{ri->http_headers[i].name, ri->http_headers[i].value};
+        }
+        RequestVerdict v;
+        v.status = check_framing(lines.data(), n_lines);
+        if (v.status == 200) {
+            v = check_request(ri->request_method, ri->local_uri_raw, ri->content_length, ri->num_headers);
+        }
         const bool head = std::strcmp(ri->request_method, "HEAD") == 0;
         if (v.status != 200) {
             refused_.fetch_add(1U, std::memory_order_relaxed);

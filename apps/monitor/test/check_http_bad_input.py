@@ -6,8 +6,9 @@
 Starts the paced demo monitor with --http 127.0.0.1:0 and a CAN log, sends
 bad requests with a raw socket (a malformed request line, an oversized head,
 100 header lines, path traversal, %00, a backslash, a long URI, POST, PUT,
-DELETE, PROPFIND, a body, a slow client, a flood of connections, six event
-streams), and expects each answered with a 4xx (or the connection closed
+DELETE, PROPFIND, a body, ambiguous framing: two Content-Length lines, a
+Transfer-Encoding on GET or HEAD, a chunked body of non-hex size; a slow
+client, a flood of connections, six event streams), and expects each answered with a 4xx (or the connection closed
 without an answer where HTTP has none to give) while the monitor keeps
 cycling: its CAN log carries one safety frame per cycle, /api/state's cycle
 advances, and the run ends with exit status 0 and every cycle.
@@ -55,6 +56,31 @@ def raw(port, data, timeout=5.0, read=True):
             s.close()
     m = re.match(rb"HTTP/1\.[01] (\d{3})", reply)
     return int(m.group(1)) if m else 0
+
+
+def answer_and_close(port, data, timeout=5.0):
+    """Sends @p data on a new connection and reads until the server closes it; returns
+    (status code or 0, closed: the server closed the connection within @p timeout)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    reply = b""
+    closed = False
+    try:
+        s.sendall(data)
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            chunk = s.recv(4096)
+            if not chunk:
+                closed = True
+                break
+            reply += chunk
+    except ConnectionResetError:
+        closed = True
+    except socket.timeout:
+        pass
+    finally:
+        s.close()
+    m = re.match(rb"HTTP/1\.[01] (\d{3})", reply)
+    return (int(m.group(1)) if m else 0), closed
 
 
 def get(port, path, method="GET", extra=b""):
@@ -110,6 +136,32 @@ def main():
         check(400 <= code < 500, f"{method} / is 4xx (got {code})")
     code = raw(port, b"GET /api/state HTTP/1.1\r\nHost: x\r\nContent-Length: 5\r\n\r\nhello")
     check(400 <= code < 500, f"a GET with a body is 4xx (got {code})")
+    # Ambiguous message framing (issue 33): 400 and the connection closed, so that nothing after the
+    # head is read as a second request. Two Content-Length values, equal ones too (not merged); a
+    # chunked body of non-hex size on a GET; any Transfer-Encoding on GET or HEAD; Transfer-Encoding
+    # beside Content-Length; a Content-Length that is a list or has a sign.
+    smuggled = b"GET /api/state HTTP/1.1\r\nHost: x\r\n\r\n"
+    for what, request in [
+            ("two different Content-Length values",
+             b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nContent-Length: 41\r\n\r\n" + smuggled),
+            ("two equal Content-Length values",
+             b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\ncontent-length: 0\r\n\r\n"),
+            ("a GET with a chunked body of non-hex size",
+             b"GET / HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\nzz\r\nhello\r\n0\r\n\r\n"),
+            ("a GET with a well-formed chunked body",
+             b"GET / HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n"),
+            ("a HEAD with Transfer-Encoding: identity",
+             b"HEAD / HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: identity\r\n\r\n"),
+            ("Transfer-Encoding beside Content-Length",
+             b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n"),
+            ("a Content-Length list",
+             b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 0, 0\r\n\r\n"),
+            ("a signed Content-Length",
+             b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: +0\r\n\r\n")]:
+        code, closed = answer_and_close(port, request)
+        check(code == 400 and closed, f"{what} is 400 and the connection closed (got {code}, closed {closed})")
+    code, closed = answer_and_close(port, b"GET / HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n\r\n")
+    check(code == 200 and closed, f"one Content-Length: 0 is still 200 (got {code}, closed {closed})")
     for bad in [b"GARBAGE\r\n\r\n", b"GET\r\n\r\n", b"GET / HTTP/9.9\r\n\r\n", b"\x00\x01\x02\x03\r\n\r\n",
                 b"GET / HTTP/1.1\r\nBad Header Without Colon\r\n\r\n"]:
         code = raw(port, bad)

@@ -199,8 +199,10 @@ if [[ $probe -eq 0 ]] && [[ "$(faults_latched probe.txt)" == "-" ]]; then
     exit 77
 fi
 
-# The simulator's twin: the same configuration without its [sensors.camera] tables.
-awk '/^\[sensors\.camera\]/ { skip = 1; next } skip && (/^$/ || /^\[/) { skip = 0 } !skip' "$config" >sim-twin.toml
+# The simulator's twin: the same configuration without its [sensors.camera] tables
+# (and without the opt-out of the cameras' stamp tolerance: no camera, nothing to opt out of).
+awk '/^\[sensors\.camera\]/ { skip = 1; next } skip && (/^$/ || /^\[/) { skip = 0 } !skip' "$config" |
+    grep -v '^camera_stamp_tolerance = ' >sim-twin.toml
 timeout 120 "$monitor" --config sim-twin.toml --cycles 60 --budget-ms 60000 --log "$out/sim.log" >sim.txt 2>&1 ||
     fail "the simulator run failed"
 sim_stop=$(first_stop sim.txt)
@@ -258,7 +260,9 @@ run_case() {
         grep -q "lidar-a\|127\.0\.0\.2\|CG-lidar-a" "$case.txt" || fail "the error does not name the camera"
         ;;
     frozen)
-        sed 's/^max_repeated_frames = 0 /max_repeated_frames = 3 /' "$config" >frozen.toml
+        # The check on: its opt-out goes too (an opt-out of a protection that is on is refused).
+        sed -e 's/^max_repeated_frames = 0 /max_repeated_frames = 3 /' -e '/^frozen_sensor_check = /d' "$config" \
+            >frozen.toml
         grep -q '^max_repeated_frames = 3 ' frozen.toml || { fail "cannot set max_repeated_frames"; return; }
         start_fakes dither --dither || return
         run_monitor dither frozen.toml --cycles 50

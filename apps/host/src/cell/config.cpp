@@ -383,7 +383,7 @@ void load_restart_interlock(const Loader& L, const toml::table& root, MonitorCon
         L.fail(t.get("delay_ms")->source(), p + ".delay_ms", "expected 0..600000 ms");
     }
     c.restart_delay_us = ms_to_us(delay);
-    c.reset_required = L.boolean_or(t, p, "reset_required", false);
+    c.reset_required = L.boolean_or(t, p, "reset_required", true);  // off only with opt_out.reset_required
     c.fault_recovery_cycles = static_cast<std::uint32_t>(L.integer_or(t, p, "fault_recovery_cycles", 1, 100000, 10));
 }
 
@@ -411,6 +411,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     load_demo(L, root, c, base_dir);
     config_detail::load_cases(L, root, c);
     config_detail::load_robot(L, root, c, base_dir);
+    config_detail::load_opt_out(L, root, c);
 }
 
 }  // namespace
@@ -422,7 +423,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         const Loader L(source_name);
         L.check_keys(root, "",
                      {"grid", "sensors", "zones", "thresholds", "prior", "fusion", "can", "cycle", "restart_interlock",
-                      "demo", "cases", "robot", "separation", "speed_classes"});
+                      "demo", "cases", "robot", "separation", "speed_classes", "opt_out"});
         MonitorConfig c;
         load_grid(L, root, c);
         config_detail::load_sensors(L, root, c, base_dir);

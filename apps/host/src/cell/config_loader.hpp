@@ -38,6 +38,8 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, co
 void load_cases(const Loader& L, const toml::table& root, MonitorConfig& c);
 /// The [robot], [separation] and [[speed_classes]] tables (optional; after [cycle]).
 void load_robot(const Loader& L, const toml::table& root, MonitorConfig& c, const std::string& base_dir);
+/// The [opt_out] table (optional; last: it checks every other setting, opt_out_config.cpp).
+void load_opt_out(const Loader& L, const toml::table& root, MonitorConfig& c);
 
 }  // namespace cellguard::cell::config_detail
 

@@ -36,12 +36,19 @@ namespace cellguard::monitor {
 constexpr std::size_t kLogQueueLines = 256U;
 
 /// The daemon's command-line settings.
+/// The watchdog device the monitor opens unless --watchdog names another
+/// or the configuration opts out (opt_out.watchdog_device).
+constexpr const char* kDefaultWatchdogDevice = "/dev/watchdog";
+
 struct DaemonOptions {
     std::uint64_t heartbeat_us = kDefaultHeartbeatUs;  ///< --heartbeat-s in microseconds (0: none)
     std::string snapshot_dir;                          ///< --snapshot-dir ("": no snapshots)
     std::size_t snapshot_keep = 10U;                   ///< --snapshot-keep
     std::string watchdog_path;                         ///< --watchdog ("": no watchdog device)
-    int watchdog_timeout_s = 5;                        ///< --watchdog-timeout-s
+    /// The device is the default one (kDefaultWatchdogDevice, not named by
+    /// --watchdog): where none exists the monitor says so and runs without.
+    bool watchdog_if_present = false;
+    int watchdog_timeout_s = 5;  ///< --watchdog-timeout-s
 };
 
 /// The observers behind one, with the time their calls take.
@@ -55,6 +62,20 @@ public:
     std::uint64_t total_us = 0U;  ///< all calls
     std::uint64_t calls = 0U;     ///< calls
 };
+
+/// The watchdog device the monitor opens (DaemonOptions' watchdog_path and
+/// watchdog_if_present), or why the command line and the configuration
+/// contradict each other (error non-empty).
+struct WatchdogChoice {
+    std::string path;         ///< "" : no device
+    bool if_present = false;  ///< the default device: absent is said, not an error
+    std::string error;        ///< --watchdog given and the configuration's opt_out.watchdog_device
+};
+
+/// @p option (--watchdog) when given (it must open); else
+/// kDefaultWatchdogDevice, if present, unless @p cfg opts out
+/// (opt_out.watchdog_device): then none. Both given: an error.
+[[nodiscard]] WatchdogChoice choose_watchdog(const std::string& option, const cell::MonitorConfig& cfg);
 
 /// See the file comment. Not copyable or movable: the loop keeps pointers into it.
 class Daemon {
@@ -82,9 +103,18 @@ public:
     /// The daemon's summary lines (event log, observers, service, snapshots) to @p out.
     void write_summary(std::FILE* out) const;
 
+    /// Opens the watchdog device (attach() calls it): none without a path
+    /// (said when the configuration opts out); the default device absent
+    /// (watchdog_if_present): said at start and in the event log, the path
+    /// cleared, no error; any other failure, or a timeout under two
+    /// periods: an error (exit status 2) that names opt_out.watchdog_device
+    /// for the default device.
+    SetupError open_watchdog(const cell::MonitorConfig& cfg);
+    /// The watchdog device in use ("" : none).
+    [[nodiscard]] const std::string& watchdog_path() const noexcept { return opt_.watchdog_path; }
+
 private:
     SetupError make_recorder(const cell::MonitorConfig& cfg, const MonitorCell& cell);
-    SetupError open_watchdog(const cell::MonitorConfig& cfg);
 
     linux_port::LogQueue queue_;
     linux_port::LogWriter writer_;

@@ -42,6 +42,18 @@ struct SetupError {
     [[nodiscard]] bool failed() const noexcept { return exit_status != 0; }
 };
 
+/// The settings this monitor cannot honour, refused before anything starts
+/// (exit status 2): restart_interlock.reset_required = true, since the
+/// monitor has no reset input (the PLC's command carries none, and the
+/// cycle passes the controller a reset level that never rises), so its
+/// restart interlock would hold the stop for good after the first one; the
+/// message names opt_out.reset_required and the PLC's restart interlock.
+SetupError check_start_settings(const cell::MonitorConfig& cfg);
+
+/// Prints each protection @p cfg turns off ([opt_out]) to @p out: its
+/// name, the configuration's reason and what is lost; nothing without one.
+void print_opt_outs(const cell::MonitorConfig& cfg, std::FILE* out);
+
 /// The simulator's view of configured sensor @p s (the recorded ones too:
 /// their layout, rays and work bound); @p error is set when the simulator
 /// cannot take its pose (@p simulated_background: it must also render a

@@ -3,6 +3,8 @@
 /// @file web_content.hpp
 /// What the browser view's server (web_server.hpp) answers, without the
 /// HTTP library, so that it is tested on its own:
+/// - check_framing(): no ambiguous message framing (two Content-Length
+///   lines, a Transfer-Encoding: 400, the connection closed);
 /// - check_request(): the rules every request passes before anything is
 ///   read or served: only GET and HEAD (405 otherwise), no body (413), a
 ///   raw (not URL-decoded) path of at most kMaxUriLength characters without
@@ -61,6 +63,23 @@ struct WebFile {
 
 /// The whitelist (fixed, compiled in).
 const WebFile* web_files(std::size_t& count) noexcept;
+
+/// One request header line as received (name and value without the colon
+/// and the blanks around the value).
+struct HeaderLine {
+    const char* name;   ///< e.g. "Content-Length" (nullptr counts as empty)
+    const char* value;  ///< e.g. "0" (nullptr counts as empty)
+};
+
+/// The message-framing rules (RFC 9112, section 6), checked before
+/// check_request(): 400 for any request whose body length a proxy in front
+/// of the server could read differently from the server, else 200. Refused:
+/// two or more Content-Length lines (also with equal values: a list is not
+/// merged), a Content-Length that is not 1 to 18 decimal digits, and any
+/// Transfer-Encoding (no request this server takes has a body; also a
+/// Transfer-Encoding beside a Content-Length). Header names compare without
+/// case. @p count is the number of entries of @p headers (negative: none).
+[[nodiscard]] int check_framing(const HeaderLine* headers, int count) noexcept;
 
 /// See the file comment. @p method and @p uri as received (uri raw, without
 /// the query string; nullptr counts as empty); @p content_length -1 when

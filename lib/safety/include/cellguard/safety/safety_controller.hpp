@@ -152,10 +152,11 @@ struct ControllerConfig {
     std::uint64_t max_frame_age_us = 200000U;  ///< a frame older than this is stale
     /// A sensor whose data are bit-identical (reading_fingerprint) in this
     /// many new frames in a row (new: a time stamp other than the previous
-    /// frame's) is frozen: kSensorStale, and its frame is not fused. 0 turns
-    /// the check off: for noise-free sources (the simulator's ideal frames,
+    /// frame's) is frozen: kSensorStale, and its frame is not fused. On by
+    /// default (3, as the monitor's cycle.max_repeated_frames); 0 turns the
+    /// check off: only for noise-free sources (the simulator's ideal frames,
     /// a recording replayed frame by frame) whose frames repeat by design.
-    std::uint32_t max_repeated_frames = 0U;
+    std::uint32_t max_repeated_frames = 3U;
     std::uint64_t cycle_budget_us = 5000U;           ///< deadline of one cycle
     std::size_t prior_check_slice_bytes = 4096U;     ///< bytes of the prior re-checked per cycle (> 0)
     std::size_t table_check_slice_bytes = 1048576U;  ///< bytes of one sensor's ray table re-checked per cycle (> 0)

@@ -60,7 +60,10 @@ namespace cellguard {
 /// Configuration of the safety logic.
 struct SafetyLogicConfig {
     std::uint64_t restart_delay_us = 1000000U;  ///< protective zones CLEAR this long before the stop is released
-    bool reset_required = false;                ///< also wait for a rising edge of the reset input
+    /// Also wait for a rising edge of the reset input (default: on; a caller
+    /// without a reset input turns it off only where the PLC holds the
+    /// restart interlock, safety manual section 3).
+    bool reset_required = true;
     std::uint32_t fault_recovery_cycles = 10U;  ///< fault-free cycles before a recoverable fault clears (>= 1)
 };
 

@@ -47,6 +47,10 @@ enum class IntrinsicsSource : std::uint8_t {
     kDevice = 2,       ///< sensors.intrinsics = "device": a live camera's Scan3d features, read at start
 };
 
+/// camera.max_stamp_error_ms when absent, microseconds: the widest device
+/// time stamp error accepted without opt_out.camera_stamp_tolerance.
+constexpr std::uint64_t kDefaultMaxStampErrorUs = 20000U;
+
 /// A live GigE Vision camera ([sensors.camera], optional; absent: the
 /// simulator or recorded frames). Exactly one of address, serial and id opens it.
 struct CameraSettings {
@@ -71,8 +75,10 @@ struct CameraSettings {
     int socket_buffer_bytes = 1048576;               ///< camera.socket_buffer_kib * 1024
     std::uint64_t reconnect_interval_us = 1000000U;  ///< camera.reconnect_interval_ms: between reopen attempts
     /// camera.max_stamp_error_ms: most a frame's mapped device time stamp may
-    /// differ from the offset estimate (device clock jump or skew beyond it: the frame is refused).
-    std::uint64_t max_stamp_error_us = 20000U;
+    /// differ from the offset estimate (device clock jump or skew beyond it:
+    /// the frame is refused). Above kDefaultMaxStampErrorUs only with
+    /// opt_out.camera_stamp_tolerance.
+    std::uint64_t max_stamp_error_us = kDefaultMaxStampErrorUs;
     int line = 0;  ///< line of the [sensors.camera] table
 };
 
@@ -198,6 +204,27 @@ struct FusionSettings {
 /// Most fusion.threads (a worker per core of an industrial PC).
 constexpr int kMaxFusionThreads = 16;  // port/linux WorkerPool's kMaxWorkers
 
+/// A protection the configuration can turn off, by its [opt_out] key.
+struct Protection {
+    const char* name;     ///< the key in [opt_out], e.g. "frozen_sensor_check"
+    const char* setting;  ///< the setting that turns it off, e.g. "cycle.max_repeated_frames = 0"
+    const char* loses;    ///< what the user loses with it off (printed at start, the safety manual's table)
+};
+
+/// Every protection the configuration can turn off (fixed, compiled in):
+/// reset_required, clock_rate_check, frozen_sensor_check,
+/// background_view_check, background_change_check, camera_stamp_tolerance,
+/// camera_identity_check, watchdog_device. @p count receives their number.
+const Protection* protections(std::size_t& count);
+
+/// One protection turned off by the configuration: [opt_out] NAME = "REASON".
+struct OptOut {
+    std::string name;     ///< Protection::name
+    std::string reason;   ///< the configuration's stated reason (non-empty)
+    std::string setting;  ///< Protection::setting
+    std::string loses;    ///< Protection::loses
+};
+
 /// Everything the monitor needs.
 struct MonitorConfig {
     GridSettings grid;                         ///< the grid
@@ -222,8 +249,10 @@ struct MonitorConfig {
     std::uint32_t background_changed_pixels = kDefaultBackgroundChangedPixels;
     /// ... in this many frames in a row latch the prior fault, 0 = off (cycle.background_changed_cycles)
     std::uint32_t background_changed_cycles = kDefaultBackgroundChangedCycles;
-    std::uint64_t restart_delay_us = 500000U;   ///< restart interlock delay
-    bool reset_required = false;                ///< restart also needs a reset edge
+    std::uint64_t restart_delay_us = 500000U;  ///< restart interlock delay
+    /// restart_interlock.reset_required: the restart also needs a reset edge
+    /// (default true; false only with opt_out.reset_required).
+    bool reset_required = true;
     std::uint32_t fault_recovery_cycles = 10U;  ///< clean cycles before a recoverable fault clears
     std::int16_t foreground_threshold = 255;    ///< t_f, log-odds (from thresholds.foreground_probability)
     /// unseen counts voxels whose prior is at least this (log-odds of thresholds.accessible_min_p_fore)
@@ -235,7 +264,13 @@ struct MonitorConfig {
     /// PLC sends (demo.scene; relative: to the config file's directory;
     /// "builtin:NAME": a text built into the program). Empty: the paper's demo.
     std::string demo_scene;
+    /// The protections this configuration turns off, each with its stated
+    /// reason ([opt_out]; every one is checked against the settings).
+    std::vector<OptOut> opt_outs;
 };
+
+/// True when @p cfg's [opt_out] names the protection @p name.
+[[nodiscard]] bool opted_out(const MonitorConfig& cfg, const char* name);
 
 /// Outcome of loading: the config, or a message naming file, line and key.
 struct ConfigLoad {
