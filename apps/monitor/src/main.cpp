@@ -173,7 +173,9 @@ int parse_args(int argc, char** argv, Options& o) {
                     "how depth images are fused, overriding the config's fusion.method: ray (per\n"
                     "ray, the reference) or footprint (footprint fusion, for dense cameras)")
         ->check(CLI::IsMember({"ray", "footprint"}));
-    cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
+    cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible, on\n"
+              "simulated time: the decisions, the budget and the CAN log's times do not\n"
+              "depend on the host's speed; the cycle times shown are real)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
                 "emulators or loaded hosts, where the real budget is not the point");

@@ -215,7 +215,7 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
         hook_->after_cycle(r);
     }
     if (observer_ != nullptr) {
-        observer_->after_cycle(CycleView{k, &r, controller_.monitor().last().total_us, linux_port::monotonic_now_us()});
+        observer_->after_cycle(CycleView{k, &r, cycle_real_us_, linux_port::monotonic_now_us()});
     }
     format_status(k, r);
     if (out_ != nullptr) {
@@ -226,11 +226,16 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
 }
 
 void MonitorLoop::count(int k, const CycleReport& r) noexcept {
+    // The figures are real time: unpaced, the controller's clock is simulated (cycle_clock.hpp).
     const CycleTiming& timing = controller_.monitor().last();
-    stats_.max_cycle_us = std::max(stats_.max_cycle_us, timing.total_us);
+    const std::uint64_t begin = r.started_us;
+    cycle_real_us_ = clock_->real_span_us(begin, begin + timing.total_us);
+    const std::uint64_t fuse_us =
+        clock_->real_span_us(begin, begin + timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)]);
+    stats_.max_cycle_us = std::max(stats_.max_cycle_us, cycle_real_us_);
     if (k >= 0 && static_cast<std::size_t>(k) < stats_.cycle_us.size()) {
-        stats_.cycle_us[static_cast<std::size_t>(k)] = timing.total_us;
-        stats_.fuse_us[static_cast<std::size_t>(k)] = timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)];
+        stats_.cycle_us[static_cast<std::size_t>(k)] = cycle_real_us_;
+        stats_.fuse_us[static_cast<std::size_t>(k)] = fuse_us;
     }
     ++stats_.cycles_run;
     stats_.faults_seen |= r.safety.latched_faults;
@@ -301,7 +306,7 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     char faults[256];
     append(" | %-4s %-4s | faults %s | cycle %.2f ms\n", r.safety.stop_requested ? "STOP" : "run",
            r.safety.warning ? "WARN" : "-", format_fault_names(r.safety.latched_faults, faults, sizeof faults),
-           static_cast<double>(controller_.monitor().last().total_us) / 1000.0);
+           static_cast<double>(cycle_real_us_) / 1000.0);
 }
 
 void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_ok) const noexcept {
@@ -322,6 +327,9 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         static_cast<void>(std::fprintf(out,
                                        "summary: paced: %llu periods skipped after cycles that ran past their period\n",
                                        static_cast<unsigned long long>(run.skipped_periods)));
+    } else {
+        static_cast<void>(std::fprintf(out, "summary: unpaced: the decisions, the budget check and the CAN log ran "
+                                            "on simulated time; the cycle times above are real (--paced: real time)\n"));
     }
     for (const cell::FrameSource* s : sources_) {
         if (s != nullptr) {
