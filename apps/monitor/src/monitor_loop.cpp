@@ -127,8 +127,9 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       commands_(commands),
       hook_(hook),
       robot_cell_(cell.has_cases || !cell.robot_image.empty()),
+      // The scripted person is in the simulated sensors' frames only: not in recorded or live camera frames.
       show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
-                               [](const cell::SensorSettings& s) { return s.pcd_files.empty(); })),
+                               [](const cell::SensorSettings& s) { return s.pcd_files.empty() && !s.camera.enabled; })),
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
@@ -276,7 +277,7 @@ void MonitorLoop::append(const char* format, ...) noexcept {
 void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     line_length_ = 0U;
     line_[0] = '\0';
-    // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
+    // The scripted person exists only for simulated sensors: with recorded or live frames alone, say so instead.
     char scene_text[64];
     if (hook_ != nullptr) {
         hook_->describe(scene_text, sizeof scene_text);
@@ -284,12 +285,18 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
         const cell::PersonPosition person = cell::demo_person(k);
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
                                         cell::demo_phase(k)));
+    } else if (std::any_of(cfg_->sensors.begin(), cfg_->sensors.end(),
+                           [](const cell::SensorSettings& s) { return s.camera.enabled; })) {
+        static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "live cameras %-21s", ""));
     } else {
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", ""));
     }
     append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
+    // As the CAN frame and the browser view show them: with a fault latched its Fault bit makes every
+    // zone FAULT (a zone's own CLEAR would hide why the stop holds).
     for (std::size_t z = 0U; z < zone_count_; ++z) {
-        append(" %s:%s", cfg_->zones[z].name.c_str(), to_string(r.zones.zones[z].state));
+        append(" %s:%s", cfg_->zones[z].name.c_str(),
+               r.safety.latched_faults != 0U ? to_string(ZoneState::kFault) : to_string(r.zones.zones[z].state));
     }
     if (robot_cell_) {
         char distance[16] = "-";
