@@ -408,6 +408,24 @@ std::unique_ptr<linux_port::WorkerPool> fusion_pool(const MonitorConfig& cfg) {
     return pool;
 }
 
+/// --http's value: well formed, and an address this host can listen on now (exit status 2 otherwise).
+SetupError check_http_argument(const Options& opt) {
+    if (opt.http.empty()) {
+        return {};
+    }
+#ifdef CELLGUARD_MONITOR_HTTP
+    std::string address;
+    int port = 0;
+    std::string error;
+    if (!parse_http_address(opt.http, address, port, error) || !can_listen_on(opt.http, address, port, error)) {
+        return SetupError{2, error};
+    }
+    return {};
+#else
+    return SetupError{2, "--http: this build has no HTTP server (CivetWeb, libcivetweb-dev, was not found)"};
+#endif
+}
+
 /// The browser view (--http): the live view observer and the server started;
 /// @p live and @p web stay empty without --http.
 SetupError start_http(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell, Daemon& daemon,
@@ -535,6 +553,11 @@ int run_monitor(int argc, char** argv) {
     MonitorConfig cfg;
     SetupError e = load_config(opt, cfg);
     if (e.failed()) {
+        return fail(e);
+    }
+    // Every argument is checked before any output is opened (issue 32: an --http address that
+    // could not be bound ended the run after the CAN log had been opened).
+    if ((e = check_http_argument(opt)).failed()) {
         return fail(e);
     }
     static_cast<void>(std::signal(SIGINT, on_stop_signal));

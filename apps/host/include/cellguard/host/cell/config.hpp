@@ -235,6 +235,9 @@ struct MonitorConfig {
     /// PLC sends (demo.scene; relative: to the config file's directory;
     /// "builtin:NAME": a text built into the program). Empty: the paper's demo.
     std::string demo_scene;
+    /// Where the configuration came from, for messages: the file's path, or
+    /// "<built-in ...>" for a built-in text (parse_monitor_config's source_name).
+    std::string source;
 };
 
 /// Outcome of loading: the config, or a message naming file, line and key.
