@@ -84,7 +84,10 @@ class DevTools:
 
     def __init__(self, ws_url):
         import websocket  # python3-websocket
-        self.ws = websocket.create_connection(ws_url, timeout=30)
+        # No Origin header: chromium 150 (Debian 12 without its security
+        # updates) refuses a DevTools websocket that sends one (403 Forbidden),
+        # and python3-websocket sends one unless told not to.
+        self.ws = websocket.create_connection(ws_url, timeout=30, suppress_origin=True)
         self.next_id = 0
         self.events = []
 
@@ -112,8 +115,16 @@ class DevTools:
 
 
 def start_chromium(chromium, profile):
+    # --remote-allow-origins=*: chromium 150 (a Debian 12 root without the
+    # security updates; 156 has them) answers 403 Forbidden to a DevTools
+    # websocket that sends an Origin header. The client sends none
+    # (suppress_origin); this covers a client that cannot leave it out. Safe here: the origin check keeps web pages from driving the
+    # browser, and this browser loads no page but the monitor's (every other
+    # load goes to a proxy at a closed loopback port and fails); its DevTools
+    # port is a random one on 127.0.0.1 only, in a throw-away profile, for the
+    # test's few minutes.
     args = [chromium, "--headless", "--no-sandbox", "--enable-unsafe-swiftshader", "--disable-gpu-sandbox",
-            "--remote-debugging-port=0", "--remote-debugging-address=127.0.0.1",
+            "--remote-debugging-port=0", "--remote-debugging-address=127.0.0.1", "--remote-allow-origins=*",
             f"--proxy-server=http://127.0.0.1:{closed_port()}", f"--user-data-dir={profile}",
             "--no-first-run", "--no-default-browser-check", "--disable-background-networking",
             "--disable-component-update", "--disable-sync", "--metrics-recording-only",
