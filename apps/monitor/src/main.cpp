@@ -447,7 +447,8 @@ SetupError start_http(const Options& opt, const MonitorConfig& cfg, const Monito
     live->set_controller(&loop.controller());
     live->set_robot_mask(cell.robot_mask.data(), cell.robot_mask.size());
     auto server = std::make_shared<WebServer>(live->channel(),
-                                              make_static_json(cfg, cell.grid, cell.prior.data(), cell.prior.size()));
+                                              make_static_json(cfg, cell.grid, cell.prior.data(), cell.prior.size(),
+                                                               !opt.snapshot_dir.empty()));
     if (!server->start(settings, error)) {
         return SetupError{1, "--http: " + error};
     }
