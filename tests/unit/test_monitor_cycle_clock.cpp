@@ -35,7 +35,7 @@ TEST_CASE("monitor clock: unpaced, a cycle's readings are its simulated start pl
     CHECK(clock.base() == 100000U);
     source.t += 40U;  // the host is slow to start the cycle: it does not count
     CHECK(clock.now_us() == 100000U);
-    source.t += 250000U;  // a loaded host: a quarter second passes within the cycle
+    source.t += 250000U;               // a loaded host: a quarter second passes within the cycle
     CHECK(clock.now_us() == 100001U);  // simulated time only: the decisions do not see it
     CHECK(clock.now_us() == 100002U);  // the source stood still: the simulated clock still moves
     // The real time between readings is kept for the cycle-time figures.
@@ -68,7 +68,7 @@ TEST_CASE("monitor clock: unpaced, a cycle with more readings than are kept stil
     }
     CHECK(clock.real_span_us(b, b + 63U) == 63U * 7U);  // the first 64 readings keep their real time
     CHECK(clock.real_span_us(b, b + 64U) == 0U);        // later ones do not
-    clock.start_cycle(100U);  // within the last cycle's readings: moved after them
+    clock.start_cycle(100U);                            // within the last cycle's readings: moved after them
     CHECK(clock.base() == last + 1U);
 }
 

@@ -224,13 +224,13 @@ SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
         const ZoneError zone_error = compiled.error();
         const cell::ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
         const Eigen::Vector3d lo = cfg.grid.origin;
-        const Eigen::Vector3d hi =
-            lo + cfg.grid.voxel_size * Eigen::Vector3d(cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]);
+        const Eigen::Vector3d hi = lo + cfg.grid.voxel_size *
+                                            Eigen::Vector3d(cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]);
         return failure(2,
                        "configuration error: %sline %d: zone '%s': %s (%s); the grid spans x %.3f..%.3f, "
                        "y %.3f..%.3f, z %.3f..%.3f m",
-                       where(cfg).c_str(), z.line, z.name.c_str(), zone_error.reason, to_string(zone_error.code), lo.x(),
-                       hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
+                       where(cfg).c_str(), z.line, z.name.c_str(), zone_error.reason, to_string(zone_error.code),
+                       lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
     }
     zones = compiled.value();
     frame_log_odds.assign(grid.voxel_count(), 0);

@@ -231,8 +231,8 @@ void MonitorLoop::count(int k, const CycleReport& r) noexcept {
     const CycleTiming& timing = controller_.monitor().last();
     const std::uint64_t begin = r.started_us;
     cycle_real_us_ = clock_->real_span_us(begin, begin + timing.total_us);
-    const std::uint64_t fuse_us =
-        clock_->real_span_us(begin, begin + timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)]);
+    const std::uint64_t fuse_us = clock_->real_span_us(
+        begin, begin + timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)]);
     stats_.max_cycle_us = std::max(stats_.max_cycle_us, cycle_real_us_);
     if (k >= 0 && static_cast<std::size_t>(k) < stats_.cycle_us.size()) {
         stats_.cycle_us[static_cast<std::size_t>(k)] = cycle_real_us_;
@@ -335,8 +335,9 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
                                        "summary: paced: %llu periods skipped after cycles that ran past their period\n",
                                        static_cast<unsigned long long>(run.skipped_periods)));
     } else {
-        static_cast<void>(std::fprintf(out, "summary: unpaced: the decisions, the budget check and the CAN log ran "
-                                            "on simulated time; the cycle times above are real (--paced: real time)\n"));
+        static_cast<void>(std::fprintf(out,
+                                       "summary: unpaced: the decisions, the budget check and the CAN log ran "
+                                       "on simulated time; the cycle times above are real (--paced: real time)\n"));
     }
     for (const cell::FrameSource* s : sources_) {
         if (s != nullptr) {

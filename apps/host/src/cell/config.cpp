@@ -453,7 +453,8 @@ ConfigLoad load_monitor_config(const std::string& path) {
     }
     if (!S_ISREG(st.st_mode)) {  // a directory opens as an empty stream: say so, not "grid: missing table"
         ConfigLoad out;
-        out.error = path + ": not a configuration file (" + (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file") +
+        out.error = path + ": not a configuration file (" +
+                    (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file") +
                     "); give a TOML file, e.g. apps/monitor/config/paper-cell.toml";
         return out;
     }
