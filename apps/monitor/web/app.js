@@ -263,6 +263,8 @@ async function loadStops() {
   } catch (e) { view.error = String(e); }
 }
 
+view.loadStops = loadStops;  // the headless-browser test asks for the list once a snapshot is on disk
+
 async function main() {
   try {
     grid = await (await fetch('/api/static')).json();
