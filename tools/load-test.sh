@@ -71,7 +71,7 @@ beside() {
       round=$((round + 1))
       start=$(date +%s)
       if ctest --test-dir "$1" -j "$3" >"$2/round.log" 2>&1; then r=pass; else r=fail; fi
-      echo "$round $r $(($(date +%s) - start)) s" >>"$2/rounds"
+      echo "$round $r $(($(date +%s) - start)) s: $(sed -n "s/^[[:space:]]*[0-9]* - \([^ ]*\) .*/\1/p" "$2/round.log" | tr "\n" " ")" >>"$2/rounds"
       [ $(($(date +%s) - start)) -ge 10 ] || sleep 10  # a ctest that cannot run does not spin
     done' beside "$build" "$d" "$jobs" "$scratch/tree" >"$d/out" 2>&1 &
   pids+=("$!")
@@ -125,7 +125,8 @@ done
 for n in 1 2; do
   rounds=$scratch/beside$n/rounds
   if [[ -f $rounds ]]; then
-    say "ctest beside #$n: $(wc -l <"$rounds") complete rounds, $(grep -c ' fail ' "$rounds" || true) of them failed (the load, not judged)"
+    say "ctest beside #$n: $(wc -l <"$rounds") complete rounds, $(grep -c ' fail ' "$rounds" || true) of them failed (the load, not judged):"
+    sed 's/^/load-test:   round /' "$rounds"
   else
     say "ctest beside #$n: no complete round"
   fi
