@@ -13,11 +13,12 @@
 
 namespace cellguard::test {
 
-/// A clock that advances 10 us per reading, from 5 s.
+/// A clock that advances 10 us (or @ref step) per reading, from 5 s.
 class SteppingClock final : public MonotonicClock {
 public:
-    std::uint64_t now_us() noexcept override { return now += 10U; }
+    std::uint64_t now_us() noexcept override { return now += step; }
     std::uint64_t now = 5000000U;  ///< the last reading, microseconds
+    std::uint64_t step = 10U;      ///< microseconds per reading (a large one: a slow, loaded host)
 };
 
 /// Accepts every frame and counts them.

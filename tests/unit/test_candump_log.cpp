@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,37 @@ TEST_CASE("candump log: the writer is a CanSender that appends one timestamped l
     const IoStatus s = bad.open("/nonexistent-dir/x.log", "vcan0", clock);
     CHECK(s.error() == ErrorCode::kInvalidArgument);
     CHECK(std::string(s.message()).find("/nonexistent-dir/x.log") == 0U);
+}
+
+// Issue 32: a monitor refused after opening its log (an --http address it cannot bind, a missing prior)
+// had already truncated the previous run's log to 0 bytes.
+// verifies: SR-CAN-012
+TEST_CASE("candump log: opening keeps an earlier log until the first frame, which replaces it") {
+    const std::string path = (std::filesystem::temp_directory_path() / "cellguard-candump-keep-test.log").string();
+    {
+        std::ofstream old(path);
+        old << "(1.000000) vcan0 101#00\n";
+    }
+    const auto text = [&path] {
+        std::ifstream in(path);
+        std::ostringstream all;
+        all << in.rdbuf();
+        return all.str();
+    };
+    StepClock clock;
+    {
+        CandumpLogWriter w;
+        REQUIRE(w.open(path.c_str(), "vcan0", clock).ok());
+        CHECK(w.close());  // refused before the first cycle: nothing sent
+    }
+    CHECK(text() == "(1.000000) vcan0 101#00\n");
+    CandumpLogWriter w;
+    REQUIRE(w.open(path.c_str(), "vcan0", clock).ok());
+    CHECK(w.send(CanFrame{0x102U, 1U, {0x55U}}));
+    CHECK(w.send(CanFrame{0x101U, 1U, {0xAAU}}));
+    CHECK(w.close());
+    CHECK(text() == "(1700000000.000250) vcan0 102#55\n(1700000000.000500) vcan0 101#AA\n");
+    std::remove(path.c_str());
 }
 
 // verifies: SR-SYS-003

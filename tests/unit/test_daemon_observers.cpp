@@ -82,11 +82,11 @@ TEST_CASE("event log: one line per change with its priority, none for unchanged 
         texts.push_back(l.text);
     }
     const std::vector<std::string> expected = {
-        "stop requested at start-up: intruded -, unseen -, faults - (cycle 0)",
+        "stop requested at start-up (restart interlock: not yet released): intruded -, unseen -, faults - (cycle 0)",
         "stop released: the robot may run (cycle 1)",
         "zone 'warning' (warning): CLEAR -> INTRUDED (cycle 3)",
         "zone 'protective' (protective): CLEAR -> INTRUDED (cycle 4)",
-        "protective stop: intruded protective,warning, unseen -, faults - (cycle 4)",
+        "protective stop (a protective zone intruded): intruded protective,warning, unseen -, faults - (cycle 4)",
         "zone 'protective' (protective): INTRUDED -> FAULT (cycle 6)",
         "zone 'warning' (warning): INTRUDED -> FAULT (cycle 6)",
         "fault latched: sensor missing (cycle 6)",
@@ -107,6 +107,42 @@ TEST_CASE("event log: one line per change with its priority, none for unchanged 
     CHECK(log.counts().stops == 1U);
     CHECK(log.counts().cycles == reports.size());
     CHECK(log.counts().heartbeats == 0U);
+}
+
+// Issue 32: a separation stop was logged as "intruded -, unseen -, faults -", with no reason.
+// verifies: SR-SYS-008
+TEST_CASE("event log: every stop line says why: separation, a fault, an unseen zone, the restart interlock") {
+    const cell::MonitorConfig cfg = cell::demo_config();
+    LogQueue q(64U);
+    EventLog log(cfg, q, 0U);
+    CycleReport separation = report(true, ZoneState::kClear, ZoneState::kClear, 0U);
+    separation.robot.configured = true;
+    separation.robot.speed_request = SpeedRequest::kProtectiveStop;
+    separation.robot.distance_mm = 1600U;
+    separation.robot.required_mm = 1648U;
+    const std::vector<CycleReport> reports = {
+        report(false, ZoneState::kClear, ZoneState::kClear, 0U),
+        separation,
+        report(false, ZoneState::kClear, ZoneState::kClear, 0U),
+        report(true, ZoneState::kClear, ZoneState::kClear, fault_bit(Fault::kCommandInvalid)),
+        report(false, ZoneState::kClear, ZoneState::kClear, 0U),
+        report(true, ZoneState::kUnseen, ZoneState::kClear, 0U),
+    };
+    for (std::size_t k = 0U; k < reports.size(); ++k) {
+        log.after_cycle(CycleView{static_cast<int>(k), &reports[k], 1000U, 1000000U + k * 1000U});
+    }
+    std::vector<std::string> stops;
+    for (const Logged& l : take(q)) {
+        if (l.text.find("stop (") != std::string::npos) {
+            stops.push_back(l.text);
+        }
+    }
+    const std::vector<std::string> expected = {
+        "protective stop (separation: d 1.60 m < S_p 1.65 m): intruded -, unseen -, faults - (cycle 1)",
+        "protective stop (a fault latched): intruded -, unseen -, faults command invalid (cycle 3)",
+        "protective stop (a protective zone unseen): intruded -, unseen protective, faults - (cycle 5)",
+    };
+    CHECK(stops == expected);
 }
 
 // verifies: SR-SYS-008, SR-GEN-002

@@ -208,7 +208,24 @@ TEST_CASE("monitor config: more than 16 zones is refused, since one safety frame
 TEST_CASE("monitor config: a missing file is a clear error") {
     const ConfigLoad l = load_monitor_config("/nonexistent/cell.toml");
     CHECK_FALSE(l.ok);
-    CHECK(l.error == "/nonexistent/cell.toml: cannot open the configuration file");
+    CHECK(l.error == "/nonexistent/cell.toml: cannot open the configuration file: No such file or directory");
+}
+
+// Issue 32: `--config /tmp` said "grid: missing table" (a directory reads as an empty text).
+// verifies: SR-CFG-001
+TEST_CASE("monitor config: a directory is refused as such, not parsed as an empty file") {
+    const ConfigLoad l = load_monitor_config("/tmp");
+    CHECK_FALSE(l.ok);
+    CHECK(l.error.find("/tmp: not a configuration file (a directory)") == 0U);
+    CHECK(l.error.find("missing table") == std::string::npos);
+}
+
+// verifies: SR-CFG-001
+TEST_CASE("monitor config: a loaded configuration names its file, a built-in one says so") {
+    CHECK(demo_config().source.rfind("<built-in", 0) == 0U);
+    const ConfigLoad l = parse_monitor_config(demo_config_text(), "cell.toml");
+    REQUIRE(l.ok);
+    CHECK(l.config.source == "cell.toml");
 }
 
 // verifies: SR-SYS-001

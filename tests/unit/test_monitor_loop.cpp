@@ -160,6 +160,23 @@ TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and
     CHECK(line.back() == '\n');
 }
 
+// Issue 32: live-camera runs printed the demo's scripted person on the status line.
+// verifies: SR-SYS-001
+TEST_CASE("monitor loop: the status line shows the scripted person for simulated sensors only") {
+    Monitor m(demo_config());
+    static_cast<void>(m.loop->run_cycle(0));
+    CHECK(std::string(m.loop->status_line()).find(" person (") != std::string::npos);
+    for (SensorSettings& s : m.cfg.sensors) {
+        s.camera.enabled = true;  // as a configuration of live cameras says (the frames here stay simulated)
+    }
+    m.loop = std::make_unique<MonitorLoop>(m.cfg, m.cell, m.sources, m.can, m.clock, m.out.file);
+    static_cast<void>(m.loop->run_cycle(1));
+    const std::string line = m.loop->status_line();
+    INFO(line);
+    CHECK(line.find(" person (") == std::string::npos);
+    CHECK(line.find(" live cameras ") != std::string::npos);
+}
+
 // verifies: SR-GEN-002, SR-SYS-001
 TEST_CASE("monitor loop: with footprint fusion the demo's and the real cell's cycles allocate nothing") {
     MonitorConfig paper = demo_config();

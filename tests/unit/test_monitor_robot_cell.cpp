@@ -7,9 +7,15 @@
 // S_p; the cases switch with the robot's program and are echoed; no cycle allocates.
 #include <doctest/doctest.h>
 
+#include <stdlib.h>  // mkdtemp
+
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -18,6 +24,7 @@
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/demo_log_check.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
@@ -58,9 +65,13 @@ struct CycleRecord {
     std::uint32_t faults = 0U;
 };
 
-/// The robot-cell demo as main wires it, with a counting sender.
+/// The robot-cell demo as main wires it, with a counting sender, or with
+/// @p log_path: into that candump log as `--log` does. @p step_us: the real
+/// clock's advance per reading (a large one: a slow, loaded host).
 struct RobotCell {
-    RobotCell() : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(command_receiver_config(cfg), &can) {
+    explicit RobotCell(const std::string& log_path = "", std::uint64_t step_us = 10U)
+        : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(command_receiver_config(cfg), &can) {
+        source_clock.step = step_us;
         cfg.budget_us = 60000000U;  // the decisions, not this host's speed
         REQUIRE_FALSE(cell.configure(cfg).failed());
         REQUIRE_FALSE(cell.configure_robot(cfg, nullptr).failed());
@@ -70,7 +81,11 @@ struct RobotCell {
             owned.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
             sources.push_back(owned.back().get());
         }
-        can.use_sender(sender);
+        if (log_path.empty()) {
+            can.use_sender(sender);
+        } else {
+            REQUIRE(can.open_log(log_path, cfg.can.log_interface_name, clock).ok());
+        }
         demo = std::make_unique<RobotCellDemo>(cfg, cell, plc);
         out = std::fopen("/dev/null", "w");
         REQUIRE(out != nullptr);
@@ -155,6 +170,17 @@ TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced
             CHECK(r.request == SpeedRequest::kFull);
         }
     }
+    // Before the first valid command the arm cannot be masked (its pose is unknown): the start-up
+    // cycles 0-1 alone find it in a station's zone, while the command fault holds the stop (README).
+    for (std::size_t k = 0U; k < c.cycles.size(); ++k) {
+        INFO("cycle " << k);
+        if (c.cycles[k].protective_intruded) {
+            CHECK(k < 2U);
+            CHECK_FALSE(c.cycles[k].command_valid);
+            CHECK(c.cycles[k].stop);
+            CHECK(c.cycles[k].faults != 0U);
+        }
+    }
     MESSAGE("first reduced cycle " << first_reduced << ", first stop cycle " << first_stop);
     CHECK(first_reduced > 20);
     CHECK(first_stop > first_reduced);
@@ -185,5 +211,63 @@ TEST_CASE("robot cell demo: a PLC that falls silent stops the robot within the c
     // max_command_age_ms = 200 at a 100 ms period: the third silent cycle at the latest.
     CHECK(stop_at >= 30);
     CHECK(stop_at <= 32);
+}
+
+// Issue 32: the status line said CLEAR (or INTRUDED) for zones while a fault held the stop; the CAN
+// frame's Fault bit and the browser view say FAULT then, and so does the status line now.
+// verifies: SR-SYS-001
+TEST_CASE("robot cell demo: while a fault is latched the status line shows every zone as FAULT, as CAN does") {
+    RobotCell c;
+    const CycleReport& r = c.loop->run_cycle(0);  // no valid command yet: the command fault is latched
+    REQUIRE(r.safety.latched_faults != 0U);
+    CHECK(r.zones.zones[0].state != ZoneState::kFault);  // the zone's own evaluation is not FAULT
+    const std::string line = c.loop->status_line();
+    INFO(line);
+    CHECK(line.find("station-a:FAULT station-b:FAULT approach:FAULT") != std::string::npos);
+    CHECK(line.find(":CLEAR") == std::string::npos);
+    CHECK(line.find(":INTRUDED") == std::string::npos);
+}
+
+/// The whole text of the file at @p path.
+std::string file_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream all;
+    all << in.rdbuf();
+    return all.str();
+}
+
+// Issue 32: the unpaced monitor added the host's real time within a cycle to
+// its simulated clock, so on a loaded host the command frames' inverted
+// copies came late and the safety frames' gaps passed the safeguard cycle
+// time in the CAN log. Unpaced time is simulated only: a host that takes
+// 40 ms per clock reading (cycles of several periods) writes the same log.
+// verifies: SR-SYS-001, SR-SYS-006, SR-CMD-008
+TEST_CASE("robot cell demo: unpaced, a slow host writes the same CAN log as a fast one, and the log check passes") {
+    char dir[] = "/tmp/cellguard-robot-log-test-XXXXXX";
+    REQUIRE(::mkdtemp(dir) != nullptr);
+    const std::string fast = std::string(dir) + "/fast.log";
+    const std::string slow = std::string(dir) + "/slow.log";
+    int slow_reads_per_cycle = 0;
+    const std::pair<std::string, std::uint64_t> runs[] = {{fast, 10U}, {slow, 40000U}};
+    for (const auto& [path, step] : runs) {
+        RobotCell c(path, step);
+        const std::uint64_t before = c.source_clock.now;
+        c.run();
+        REQUIRE(c.can.close());
+        slow_reads_per_cycle = static_cast<int>((c.source_clock.now - before) / step / 170U);
+    }
+    // 40 ms per reading, several readings per cycle: each cycle took longer than its 100 ms period.
+    CHECK(slow_reads_per_cycle * 40 > 100);
+    const std::string fast_text = file_text(fast);
+    CHECK(fast_text.size() > 1000U);
+    CHECK(fast_text == file_text(slow));
+    const DemoLogCheck r = check_demo_log_file(slow, 170, robot_cell_demo_config());
+    INFO(r.summary);
+    for (const std::string& f : r.failures) {
+        INFO(f);
+    }
+    CHECK(r.failures.empty());
+    CHECK(r.passed());
+    static_cast<void>(std::system(("rm -rf '" + std::string(dir) + "'").c_str()));
 }
 #endif

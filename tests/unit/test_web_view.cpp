@@ -7,6 +7,9 @@
 // bounded JSON writer, the zone states as the CAN frame carries them, the
 // --http address, and the live view on the demo's cycles (no allocation).
 #include <doctest/doctest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstring>
@@ -271,6 +274,35 @@ TEST_CASE("web view: --http binds loopback unless an address is named") {
         CHECK_FALSE_MESSAGE(parse_http_address(bad, address, port, error), bad);
         CHECK(!error.empty());
     }
+}
+
+// Issue 32: `--http 1.2.3.4:8080` is well formed but no address of this host; the monitor
+// found out only after opening its CAN log. It asks first.
+// verifies: SR-WEB-002
+TEST_CASE("web view: whether the monitor can listen on --http's address is known before it starts") {
+    std::string error;
+    CHECK(can_listen_on(":0", "127.0.0.1", 0, error));
+    CHECK(error.empty());
+    // 192.0.2.1 (TEST-NET-1, RFC 5737) is no address of this host.
+    CHECK_FALSE(can_listen_on("192.0.2.1:8080", "192.0.2.1", 8080, error));
+    CHECK(error.rfind("--http 192.0.2.1:8080: cannot listen there: ", 0) == 0U);
+    // A port another socket listens on.
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof a;
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes a sockaddr*
+    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+    REQUIRE(::listen(fd, 1) == 0);
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes a sockaddr*
+    REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length) == 0);
+    const int busy = ntohs(a.sin_port);
+    error.clear();
+    CHECK_FALSE(can_listen_on("busy", "127.0.0.1", busy, error));
+    CHECK(error.find("cannot listen there") != std::string::npos);
+    static_cast<void>(::close(fd));
 }
 
 // verifies: SR-WEB-001, SR-GEN-002

@@ -33,6 +33,34 @@ void zones_in(const CycleReport& r, const cell::MonitorConfig& cfg, std::size_t 
     }
 }
 
+// Why @p r requests the stop, the first that applies: a protective zone intruded or unseen, the robot
+// closer than its separation distance, a fault latched, else the restart interlock (not yet released).
+void stop_reason(const CycleReport& r, const cell::MonitorConfig& cfg, std::size_t count, char* out,
+                 std::size_t capacity) noexcept {
+    bool intruded = false;
+    bool unseen = false;
+    for (std::size_t z = 0U; z < count; ++z) {
+        if (cfg.zones[z].zone.kind == ZoneKind::kProtective) {
+            intruded = intruded || r.zones.zones[z].state == ZoneState::kIntruded;
+            unseen = unseen || r.zones.zones[z].state == ZoneState::kUnseen;
+        }
+    }
+    if (intruded) {
+        static_cast<void>(std::snprintf(out, capacity, "a protective zone intruded"));
+    } else if (unseen) {
+        static_cast<void>(std::snprintf(out, capacity, "a protective zone unseen"));
+    } else if (r.robot.configured && r.robot.speed_request == SpeedRequest::kProtectiveStop &&
+               r.robot.distance_mm < r.robot.required_mm) {
+        static_cast<void>(std::snprintf(out, capacity, "separation: d %.2f m < S_p %.2f m",
+                                        static_cast<double>(r.robot.distance_mm) / 1000.0,
+                                        static_cast<double>(r.robot.required_mm) / 1000.0));
+    } else if (r.safety.latched_faults != 0U) {
+        static_cast<void>(std::snprintf(out, capacity, "a fault latched"));
+    } else {
+        static_cast<void>(std::snprintf(out, capacity, "restart interlock: not yet released"));
+    }
+}
+
 }  // namespace
 
 EventLog::EventLog(const cell::MonitorConfig& cfg, linux_port::LogQueue& queue, std::uint64_t heartbeat_us) noexcept
@@ -113,8 +141,10 @@ void EventLog::log_stop(const CycleView& cycle) noexcept {
         if (!first_) {
             ++counts_.stops;
         }
-        line(LogPriority::kWarning, "%s: intruded %s, unseen %s, faults %s (cycle %d)",
-             first_ ? "stop requested at start-up" : "protective stop", intruded, unseen, faults, cycle.k);
+        char reason[96];
+        stop_reason(r, *cfg_, count, reason, sizeof reason);
+        line(LogPriority::kWarning, "%s (%s): intruded %s, unseen %s, faults %s (cycle %d)",
+             first_ ? "stop requested at start-up" : "protective stop", reason, intruded, unseen, faults, cycle.k);
     } else if (!stop && (first_ || stopped_)) {
         line(LogPriority::kNotice, "stop released: the robot may run (cycle %d)", cycle.k);
     }

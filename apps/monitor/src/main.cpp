@@ -175,7 +175,10 @@ int parse_args(int argc, char** argv, Options& o) {
                     "how depth images are fused, overriding the config's fusion.method: ray (per\n"
                     "ray, the reference) or footprint (footprint fusion, for dense cameras)")
         ->check(CLI::IsMember({"ray", "footprint"}));
-    cli.flag("--paced", o.paced, "one cycle per period on the real clock (default: as fast as possible)");
+    cli.flag("--paced", o.paced,
+             "one cycle per period on the real clock (default: as fast as possible, on\n"
+             "simulated time: the decisions, the budget and the CAN log's times do not\n"
+             "depend on the host's speed; the cycle times shown are real)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
                 "emulators or loaded hosts, where the real budget is not the point");
@@ -236,8 +239,27 @@ int fail(const SetupError& e) {
     return e.exit_status;
 }
 
+/// --http's value: well formed, and an address this host can listen on now (exit status 2 otherwise).
+SetupError check_http_argument(const Options& opt) {
+    if (opt.http.empty()) {
+        return {};
+    }
+#ifdef CELLGUARD_MONITOR_HTTP
+    std::string address;
+    int port = 0;
+    std::string error;
+    if (!parse_http_address(opt.http, address, port, error) || !can_listen_on(opt.http, address, port, error)) {
+        return SetupError{2, error};
+    }
+    return {};
+#else
+    return SetupError{2, "--http: this build has no HTTP server (CivetWeb, libcivetweb-dev, was not found)"};
+#endif
+}
+
 /// The configuration: the demo's or the file's, with the command line's
-/// overrides, checked for what this monitor cannot honour; its opt-outs printed.
+/// overrides, checked for what this monitor cannot honour; its opt-outs printed;
+/// --http checked.
 SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     if (opt.demo) {
         cfg = opt.demo_name == "robot-cell" ? robot_cell_demo_config() : demo_config();
@@ -271,6 +293,11 @@ SetupError load_config(const Options& opt, MonitorConfig& cfg) {
     }
     if (const WatchdogChoice w = choose_watchdog(opt.watchdog, cfg); !w.error.empty()) {
         return SetupError{2, w.error};
+    }
+    // Every argument is checked before any output is opened (issue 32: an --http address that
+    // could not be bound ended the run after the CAN log had been opened).
+    if (SetupError e = check_http_argument(opt); e.failed()) {
+        return e;
     }
     print_opt_outs(cfg, stdout);  // each protection the configuration turns off, with its reason
     return {};
@@ -436,8 +463,9 @@ SetupError start_http(const Options& opt, const MonitorConfig& cfg, const Monito
     live = std::make_unique<LiveView>(cfg, cell.frame_grid, cell.prior.data(), cell.prior.size(), cell.zones);
     live->set_controller(&loop.controller());
     live->set_robot_mask(cell.robot_mask.data(), cell.robot_mask.size());
-    auto server = std::make_shared<WebServer>(live->channel(),
-                                              make_static_json(cfg, cell.grid, cell.prior.data(), cell.prior.size()));
+    auto server = std::make_shared<WebServer>(
+        live->channel(),
+        make_static_json(cfg, cell.grid, cell.prior.data(), cell.prior.size(), !opt.snapshot_dir.empty()));
     if (!server->start(settings, error)) {
         return SetupError{1, "--http: " + error};
     }

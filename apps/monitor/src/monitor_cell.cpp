@@ -47,17 +47,24 @@ __attribute__((format(printf, 2, 3))) SetupError failure(int status, const char*
     return SetupError{status, text};
 }
 
+// "FILE: " for a configuration loaded from a file ("" for a built-in one).
+std::string where(const cell::MonitorConfig& cfg) {
+    return cfg.source.empty() || cfg.source[0] == '<' ? std::string() : cfg.source + ": ";
+}
+
 // The prior image file of @p cfg, copied into @p prior.
 SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std::vector<std::int16_t>& prior,
                       std::uint32_t& payload_crc, std::FILE* out) {
     std::vector<std::uint8_t> bytes;
     PriorImageView view;
     const IoStatus st = read_prior_image_file(cfg.prior.file.c_str(), g, bytes, view);
+    // The configuration names a prior file that cannot be used: a configuration error (exit status 2).
     if (!st.ok()) {
-        return failure(1, "prior: %s", st.message());
+        return failure(2, "configuration error: %sprior.file: %s", where(cfg).c_str(), st.message());
     }
     if (!view.copy_to({prior.data(), prior.size()}).ok()) {
-        return failure(1, "prior: %s does not fit the grid", cfg.prior.file.c_str());
+        return failure(2, "configuration error: %sprior.file: %s does not fit the grid", where(cfg).c_str(),
+                       cfg.prior.file.c_str());
     }
     payload_crc = view.header().payload_crc;
     say(out, "prior: %s\n", cfg.prior.file.c_str());
@@ -237,8 +244,14 @@ SetupError MonitorCell::configure(const cell::MonitorConfig& cfg) {
     if (!compiled.ok()) {
         const ZoneError zone_error = compiled.error();
         const cell::ZoneSettings& z = cfg.zones[std::min(zone_error.zone, cfg.zones.size() - 1U)];
-        return failure(2, "configuration error: line %d: zone '%s': %s (%s)", z.line, z.name.c_str(), zone_error.reason,
-                       to_string(zone_error.code));
+        const Eigen::Vector3d lo = cfg.grid.origin;
+        const Eigen::Vector3d hi = lo + cfg.grid.voxel_size *
+                                            Eigen::Vector3d(cfg.grid.dims[0], cfg.grid.dims[1], cfg.grid.dims[2]);
+        return failure(2,
+                       "configuration error: %sline %d: zone '%s': %s (%s); the grid spans x %.3f..%.3f, "
+                       "y %.3f..%.3f, z %.3f..%.3f m",
+                       where(cfg).c_str(), z.line, z.name.c_str(), zone_error.reason, to_string(zone_error.code),
+                       lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z());
     }
     zones = compiled.value();
     frame_log_odds.assign(grid.voxel_count(), 0);

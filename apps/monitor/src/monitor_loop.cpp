@@ -127,8 +127,9 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       commands_(commands),
       hook_(hook),
       robot_cell_(cell.has_cases || !cell.robot_image.empty()),
+      // The scripted person is in the simulated sensors' frames only: not in recorded or live camera frames.
       show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
-                               [](const cell::SensorSettings& s) { return s.pcd_files.empty(); })),
+                               [](const cell::SensorSettings& s) { return s.pcd_files.empty() && !s.camera.enabled; })),
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
@@ -215,7 +216,7 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
         hook_->after_cycle(r);
     }
     if (observer_ != nullptr) {
-        observer_->after_cycle(CycleView{k, &r, controller_.monitor().last().total_us, linux_port::monotonic_now_us()});
+        observer_->after_cycle(CycleView{k, &r, cycle_real_us_, linux_port::monotonic_now_us()});
     }
     format_status(k, r);
     if (out_ != nullptr) {
@@ -226,11 +227,16 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
 }
 
 void MonitorLoop::count(int k, const CycleReport& r) noexcept {
+    // The figures are real time: unpaced, the controller's clock is simulated (cycle_clock.hpp).
     const CycleTiming& timing = controller_.monitor().last();
-    stats_.max_cycle_us = std::max(stats_.max_cycle_us, timing.total_us);
+    const std::uint64_t begin = r.started_us;
+    cycle_real_us_ = clock_->real_span_us(begin, begin + timing.total_us);
+    const std::uint64_t fuse_us = clock_->real_span_us(
+        begin, begin + timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)]);
+    stats_.max_cycle_us = std::max(stats_.max_cycle_us, cycle_real_us_);
     if (k >= 0 && static_cast<std::size_t>(k) < stats_.cycle_us.size()) {
-        stats_.cycle_us[static_cast<std::size_t>(k)] = timing.total_us;
-        stats_.fuse_us[static_cast<std::size_t>(k)] = timing.stage_us[static_cast<std::size_t>(CycleStage::kFuse)];
+        stats_.cycle_us[static_cast<std::size_t>(k)] = cycle_real_us_;
+        stats_.fuse_us[static_cast<std::size_t>(k)] = fuse_us;
     }
     ++stats_.cycles_run;
     stats_.faults_seen |= r.safety.latched_faults;
@@ -271,7 +277,7 @@ void MonitorLoop::append(const char* format, ...) noexcept {
 void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     line_length_ = 0U;
     line_[0] = '\0';
-    // The scripted person exists only for simulated sensors: with recorded frames alone, say so instead.
+    // The scripted person exists only for simulated sensors: with recorded or live frames alone, say so instead.
     char scene_text[64];
     if (hook_ != nullptr) {
         hook_->describe(scene_text, sizeof scene_text);
@@ -279,12 +285,18 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
         const cell::PersonPosition person = cell::demo_person(k);
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
                                         cell::demo_phase(k)));
+    } else if (std::any_of(cfg_->sensors.begin(), cfg_->sensors.end(),
+                           [](const cell::SensorSettings& s) { return s.camera.enabled; })) {
+        static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "live cameras %-21s", ""));
     } else {
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", ""));
     }
     append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
+    // As the CAN frame and the browser view show them: with a fault latched its Fault bit makes every
+    // zone FAULT (a zone's own CLEAR would hide why the stop holds).
     for (std::size_t z = 0U; z < zone_count_; ++z) {
-        append(" %s:%s", cfg_->zones[z].name.c_str(), to_string(r.zones.zones[z].state));
+        append(" %s:%s", cfg_->zones[z].name.c_str(),
+               r.safety.latched_faults != 0U ? to_string(ZoneState::kFault) : to_string(r.zones.zones[z].state));
     }
     if (robot_cell_) {
         char distance[16] = "-";
@@ -301,7 +313,7 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     char faults[256];
     append(" | %-4s %-4s | faults %s | cycle %.2f ms\n", r.safety.stop_requested ? "STOP" : "run",
            r.safety.warning ? "WARN" : "-", format_fault_names(r.safety.latched_faults, faults, sizeof faults),
-           static_cast<double>(controller_.monitor().last().total_us) / 1000.0);
+           static_cast<double>(cycle_real_us_) / 1000.0);
 }
 
 void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_ok) const noexcept {
@@ -322,6 +334,10 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         static_cast<void>(std::fprintf(out,
                                        "summary: paced: %llu periods skipped after cycles that ran past their period\n",
                                        static_cast<unsigned long long>(run.skipped_periods)));
+    } else {
+        static_cast<void>(std::fprintf(out,
+                                       "summary: unpaced: the decisions, the budget check and the CAN log ran "
+                                       "on simulated time; the cycle times above are real (--paced: real time)\n"));
     }
     for (const cell::FrameSource* s : sources_) {
         if (s != nullptr) {

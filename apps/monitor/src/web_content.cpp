@@ -3,6 +3,12 @@
 // What the browser view's server answers (web_content.hpp).
 #include "cellguard/monitor/web_content.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +26,7 @@ constexpr WebFile kFiles[] = {
     {"/index.html", 0, "index.html", "text/html; charset=utf-8"},
     {"/app.js", 0, "app.js", "text/javascript; charset=utf-8"},
     {"/style.css", 0, "style.css", "text/css; charset=utf-8"},
+    {"/favicon.svg", 0, "favicon.svg", "image/svg+xml"},  // linked by index.html: no request for a missing icon
     // three.js r111 (libjs-three) in its own layout: OrbitControls imports ../../../build/three.module.js.
     {"/three/build/three.module.js", 1, "build/three.module.js", "text/javascript; charset=utf-8"},
     {"/three/examples/jsm/controls/OrbitControls.js", 1, "examples/jsm/controls/OrbitControls.js",
@@ -365,7 +372,7 @@ void append_zones(std::string& out, const cell::MonitorConfig& cfg) {
 }  // namespace
 
 std::string make_static_json(const cell::MonitorConfig& cfg, const GridGeometry& grid, const std::int16_t* prior,
-                             std::size_t prior_size) {
+                             std::size_t prior_size, bool snapshots) {
     const GridDims d = grid.dims();
     std::string out = "{\"dims\":[" + std::to_string(d.nx) + "," + std::to_string(d.ny) + "," + std::to_string(d.nz) +
                       "],\"voxel_size\":";
@@ -376,7 +383,7 @@ std::string make_static_json(const cell::MonitorConfig& cfg, const GridGeometry&
     append_num(out, grid.origin().y());
     out += ",";
     append_num(out, grid.origin().z());
-    out += "],";
+    out += std::string("],\"snapshots\":") + (snapshots ? "true" : "false") + ",";
     append_zones(out, cfg);
     out += ",\"cases\":[";
     for (std::size_t c = 0U; c < cfg.cases.size(); ++c) {
@@ -461,6 +468,31 @@ bool parse_http_address(const std::string& text, std::string& address, int& port
     address = host.empty() ? std::string("127.0.0.1") : host;
     port = static_cast<int>(p);
     return true;
+}
+
+bool can_listen_on(const std::string& text, const std::string& address, int port, std::string& error) {
+    sockaddr_in where{};
+    where.sin_family = AF_INET;
+    where.sin_port = htons(static_cast<std::uint16_t>(port));
+    if (inet_pton(AF_INET, address.c_str(), &where.sin_addr) != 1) {
+        error = "--http " + text + ": the address must be an IPv4 address A.B.C.D";
+        return false;
+    }
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
+        error = "--http " + text + ": cannot listen there: " + std::strerror(errno);
+        return false;
+    }
+    const int one = 1;
+    static_cast<void>(::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one));  // as the server does
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API takes a sockaddr*
+    const bool ok = ::bind(fd, reinterpret_cast<const sockaddr*>(&where), sizeof where) == 0;
+    const int bind_errno = errno;
+    static_cast<void>(::close(fd));
+    if (!ok) {
+        error = "--http " + text + ": cannot listen there: " + std::strerror(bind_errno);
+    }
+    return ok;
 }
 
 }  // namespace cellguard::monitor

@@ -101,7 +101,7 @@ def main():
         fail(f"expected STATUS= for the start-up stop, the release and the stop: {statuses}")
     log = open(stderr_path).read().splitlines()
     print(f"check_service: event log: {len(log)} lines for 60 cycles")
-    for prefix, what in (("<4>protective stop: intruded protective", "the stop at warning"),
+    for prefix, what in (("<4>protective stop (a protective zone intruded): intruded protective", "the stop at warning"),
                          ("<5>stop released", "the release at notice"),
                          ("<6>heartbeat: ", "a heartbeat at info")):
         if not any(line.startswith(prefix) for line in log):

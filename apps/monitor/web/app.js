@@ -103,7 +103,15 @@ function zoneGeometry(z) {
 
 function buildScene(s) {
   const holder = document.getElementById('canvas-holder');
-  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  let renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  } catch (e) {  // no WebGL: say so where the 3D view would be; the rest of the page is live
+    view.webgl = false;
+    document.getElementById('no-webgl').hidden = false;
+    return;
+  }
+  view.webgl = true;
   renderer.setPixelRatio(window.devicePixelRatio);
   holder.appendChild(renderer.domElement);
   const scene = new THREE.Scene();
@@ -226,7 +234,17 @@ function tickLiveness() {
 
 async function loadStops() {
   try {
+    const note = document.getElementById('stops-note');
+    if (grid && grid.snapshots === false) {
+      note.textContent = 'No stop history: the monitor runs without --snapshot-dir DIR, so it keeps no ' +
+        'snapshot of its protective stops to list here.';
+      view.stopsNote = note.textContent;
+      return;
+    }
     const stops = await (await fetch('/api/stops')).json();
+    note.textContent = stops.length === 0 ? 'No protective stop after a release yet (a snapshot is ' +
+      'written for each).' : '';
+    view.stopsNote = note.textContent;
     const list = document.getElementById('stops');
     const key = stops.map(s => s.sequence).join(',');
     if (list.dataset.key === key) return;
@@ -244,6 +262,8 @@ async function loadStops() {
     view.stops = stops.length;
   } catch (e) { view.error = String(e); }
 }
+
+view.loadStops = loadStops;  // the headless-browser test asks for the list once a snapshot is on disk
 
 async function main() {
   try {

@@ -3,11 +3,14 @@
 // The monitor's TOML configuration loader (toml++).
 #include "cellguard/host/cell/config.hpp"
 
+#include <sys/stat.h>
 #include <toml++/toml.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <initializer_list>
 #include <limits>
@@ -425,6 +428,7 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
                      {"grid", "sensors", "zones", "thresholds", "prior", "fusion", "can", "cycle", "restart_interlock",
                       "demo", "cases", "robot", "separation", "speed_classes", "opt_out"});
         MonitorConfig c;
+        c.source = source_name;
         load_grid(L, root, c);
         config_detail::load_sensors(L, root, c, base_dir);
         load_zones(L, root, c);
@@ -442,6 +446,19 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
 ConfigLoad load_monitor_config(const std::string& path) {
     std::string text;
     std::string dir;
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) {
+        ConfigLoad out;
+        out.error = path + ": cannot open the configuration file: " + std::strerror(errno);
+        return out;
+    }
+    if (!S_ISREG(st.st_mode)) {  // a directory opens as an empty stream: say so, not "grid: missing table"
+        ConfigLoad out;
+        out.error = path + ": not a configuration file (" +
+                    (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file") +
+                    "); give a TOML file, e.g. apps/monitor/config/paper-cell.toml";
+        return out;
+    }
     if (!host::read_text_file(path, text, dir)) {
         ConfigLoad out;
         out.error = path + ": cannot open the configuration file";

@@ -2,6 +2,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/io/candump_log.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 
@@ -170,12 +173,16 @@ IoStatus CandumpLogWriter::open(const char* path, const char* interface_name, Mo
     if (path == nullptr || path[0] == '\0') {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "candump log: empty path");
     }
+    // Opened for appending, not truncated: a run refused after this (a later
+    // argument, a missing prior) leaves the previous run's log as it was; the
+    // first frame empties it (issue 32).
     // NOLINTNEXTLINE(cppcoreguidelines-owning-memory): file_ owns it; close() releases it
-    std::FILE* f = std::fopen(path, "w");
+    std::FILE* f = std::fopen(path, "a");
     if (f == nullptr) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot create: %s", path, std::strerror(errno));
     }
     file_ = f;
+    emptied_ = false;
     clock_ = &clock;
     std::memcpy(interface_, interface_name, std::strlen(interface_name) + 1U);
     return IoStatus{};
@@ -200,6 +207,15 @@ bool CandumpLogWriter::send(const CanFrame& frame) noexcept {
     const std::size_t n = format_candump_line(line, sizeof(line), clock_->now_us(), interface_, frame);
     if (n == 0U) {
         return false;
+    }
+    if (!emptied_) {  // the first frame: the previous content goes (a pipe or device has none to keep)
+        struct stat st {};
+        const int fd = fileno(file_);
+        if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && ftruncate(fd, 0) != 0) {
+            failed_ = true;
+            return false;
+        }
+        emptied_ = true;
     }
     line[n] = '\n';
     if (std::fwrite(line, 1U, n + 1U, file_) != n + 1U) {

@@ -167,6 +167,7 @@ private:
     cell::FrameStatus frame_status_{};
     std::vector<std::uint64_t> stamps_;  ///< per sensor: the capture time its source gave (0: none)
     std::uint64_t sent_us_ = 0U;         ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
+    std::uint64_t cycle_real_us_ = 0U;   ///< the last cycle's real duration (CycleClock::real_span_us)
     SafetyController controller_;
     CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC
     MonitorStats stats_{};

@@ -129,13 +129,21 @@ const char* zone_shown_state(const LiveSnapshot& s, std::size_t zone) noexcept;
 void write_state_json(const LiveSnapshot& s, std::uint64_t age_us, JsonWriter& out) noexcept;
 
 /// /api/static's body: grid, zones, cases, background and inaccessible
-/// interiors of the prior (made once at start, on the main thread).
+/// interiors of the prior (made once at start, on the main thread), and
+/// @p snapshots: whether the monitor writes snapshots of its stops
+/// (--snapshot-dir; without, the page says why its stop history is empty).
 std::string make_static_json(const cell::MonitorConfig& cfg, const GridGeometry& grid, const std::int16_t* prior,
-                             std::size_t prior_size);
+                             std::size_t prior_size, bool snapshots = true);
 
 /// "PORT", ":PORT" (both on 127.0.0.1) or "A.B.C.D:PORT" into @p address
 /// and @p port (0..65535); false with @p error set otherwise.
 [[nodiscard]] bool parse_http_address(const std::string& text, std::string& address, int& port, std::string& error);
+
+/// Whether a TCP socket can listen on @p address (IPv4, as parse_http_address
+/// gives it) and @p port now: binds one and closes it. False with @p error
+/// ("--http TEXT: cannot listen there: <reason>") otherwise. The monitor asks
+/// before it opens any output, so a refused address loses nothing.
+[[nodiscard]] bool can_listen_on(const std::string& text, const std::string& address, int port, std::string& error);
 
 }  // namespace cellguard::monitor
 

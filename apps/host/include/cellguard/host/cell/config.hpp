@@ -267,6 +267,9 @@ struct MonitorConfig {
     /// The protections this configuration turns off, each with its stated
     /// reason ([opt_out]; every one is checked against the settings).
     std::vector<OptOut> opt_outs;
+    /// Where the configuration came from, for messages: the file's path, or
+    /// "<built-in ...>" for a built-in text (parse_monitor_config's source_name).
+    std::string source;
 };
 
 /// True when @p cfg's [opt_out] names the protection @p name.

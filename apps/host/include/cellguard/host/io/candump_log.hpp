@@ -64,9 +64,12 @@ public:
     CandumpLogWriter(CandumpLogWriter&&) = delete;
     CandumpLogWriter& operator=(CandumpLogWriter&&) = delete;
 
-    /// Creates (truncates) @p path; lines name @p interface_name and take
-    /// their time from @p clock (must outlive the writer). kInvalidArgument
-    /// for a bad interface name or when the file cannot be created.
+    /// Opens @p path for writing, creating it when missing; an existing file
+    /// keeps its content until the first frame is sent, which empties it
+    /// first (a run refused before its first cycle loses no earlier log).
+    /// Lines name @p interface_name and take their time from @p clock (must
+    /// outlive the writer). kInvalidArgument for a bad interface name or when
+    /// the file cannot be opened for writing.
     IoStatus open(const char* path, const char* interface_name, MonotonicClock& clock) noexcept;
     /// Flushes and closes the file; false when a write or the close failed.
     bool close() noexcept;
@@ -82,6 +85,7 @@ private:
     char interface_[kCandumpMaxInterfaceName + 1U] = {};
     std::size_t lines_ = 0U;
     bool failed_ = false;
+    bool emptied_ = false;  ///< the first frame emptied the file
 };
 
 }  // namespace cellguard
