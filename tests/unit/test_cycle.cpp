@@ -140,18 +140,20 @@ TEST_CASE("cycle: with footprint fusion, depth images cost footprint units inste
     cam.intrinsics.height = 240;
     SensorReading empty_cam = cam;  // a depth image without pixels (width 0): no rays, no footprint work
     empty_cam.intrinsics.width = 0;
+    SensorReading flat_cam = cam;  // a width but no rows (height 0): no pixels either
+    flat_cam.intrinsics.height = 0;
     SensorReading points;
     points.kind = SensorDataKind::kPointSet;
-    const SensorReading sensors[] = {cam, empty_cam, points};
+    const SensorReading sensors[] = {cam, empty_cam, flat_cam, points};
     const CycleWorkBound rays = compute_work_bound(g, sensors, zones);
     const FootprintParams params;
     const CycleWorkBound b = with_footprint_fusion(rays, g, sensors, params);
     const std::uint64_t pixels = 320U * 240U;
     CHECK(b.rays == rays.rays);
     CHECK(b.voxel_steps == rays.voxel_steps - pixels * max_voxels_per_segment(g));
-    CHECK(b.footprint_units == footprint_work_bound(g, pixels, params) + footprint_work_bound(g, 0U, params));
+    CHECK(b.footprint_units == footprint_work_bound(g, pixels, params) + 2U * footprint_work_bound(g, 0U, params));
     CHECK(b.footprint_units > 0U);
-    CHECK(b.grid_voxels == rays.grid_voxels + 2U * g.voxel_count());  // one pass per depth image
+    CHECK(b.grid_voxels == rays.grid_voxels + 3U * g.voxel_count());  // one pass per depth image
 }
 
 // verifies: SR-CTRL-005, SR-GEN-003
