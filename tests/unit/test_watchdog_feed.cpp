@@ -47,6 +47,7 @@ int first_clock_fault(std::int64_t rate_ppm, int polls) {
     rate.window_periods = 20U;
     CommandReceiverConfig rc;
     rc.sct_us = 250000U;
+    rc.link.enabled = false;  // Session link off: the simulated PLC sends protocol 0.1 samples (command_link.cpp)
     SimulatedPlcLink link(rc, nullptr, rate);
     link.set_command(robot_command());
     for (int k = 0; k < polls; ++k) {
