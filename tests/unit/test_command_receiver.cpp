@@ -460,7 +460,7 @@ TEST_CASE("command receiver: a configuration is checked, and an invalid one cann
     c.channel.base_can_id = 0x7FCU;
     CHECK_FALSE(CommandReceiver::check_config(c).ok());
     CHECK(test::violates_contract([&] { const CommandReceiver r(c); }));
-    test::check_enum_names<CommandFault>(18U, "unknown command fault");
+    test::check_enum_names<CommandFault>(29U, "unknown command fault");
 }
 
 // verifies: SR-CMD-003, SR-CMD-004

@@ -387,7 +387,7 @@ TEST_CASE("plc receiver: the safe-state message stops, warns, faults, reduces sp
 // verifies: SR-GEN-004
 TEST_CASE(
     "plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
-    test::check_enum_names<ReceiverFault>(16U, "unknown receiver fault");
+    test::check_enum_names<ReceiverFault>(27U, "unknown receiver fault");
 }
 
 // verifies: SR-CMD-008

@@ -439,9 +439,8 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
     bad = config;
     bad.max_sequence_step = 0U;
     CHECK_FALSE(LinkEndpoint::check_config(bad).ok());
-    for (int f = 0; f <= 8; ++f) {
-        CHECK(std::string(to_string(static_cast<LinkFault>(f))) != "unknown link fault");
-    }
+    test::check_enum_names<LinkFault>(9U, "unknown link fault");
+    test::check_enum_names<LinkFrameCheck>(7U, "unknown link frame check");
 }
 
 // verifies: SR-CAN-013
@@ -616,7 +615,7 @@ TEST_CASE("iec 61784-3 insertion: a sample of another sender inserted after a ge
 }
 
 // verifies: SR-CAN-004, SR-CAN-014
-TEST_CASE("iec 61784-3 masquerade: the other direction's link frame, or a diagnostics-like frame, on a link ID") {
+TEST_CASE("iec 61784-3 masquerade: the other direction's link frame on a link ID is detected") {
     const Batch cmd_sample = foreign_command_sample();
     const Batch out_sample = foreign_output_sample();
     CHECK(output_mutant(once(kFirst, [&cmd_sample](Batch& b, const std::vector<Batch>&) {
