@@ -444,7 +444,7 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
 }
 
 // verifies: SR-CAN-013
-TEST_CASE("session link: both sides come up through the handshake and stay valid; an output without an endpoint is refused") {
+TEST_CASE("session link: both sides come up through the handshake and stay valid, and an output without an endpoint is refused") {
     Cell cell;
     bring_up(cell);
     cell.run(200);
