@@ -182,7 +182,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FuzzedDataProvider in(data, size);
     CommandReceiverConfig config;
     config.channel.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
-    config.link.enabled = false;  // Session link off: this target's independent check models the protocol 0.1 sample
+    // Session link off: this target's independent check models the protocol 0.1 sample
+    config.link.enabled = false;
     config.srvt_us = 5000U;
     config.sample_window_us = 12000U;
     config.sct_us = 40000U;

@@ -81,7 +81,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FuzzedDataProvider in(data, size);
     PlcReceiverConfig config;
     config.channel.data_id_mode = static_cast<E2eP01DataIdMode>(in.ConsumeIntegralInRange<int>(0, 3));
-    config.link.enabled = false;  // Session link off: this target's independent check models the protocol 0.1 pair
+    // Session link off: this target's independent check models the protocol 0.1 pair
+    config.link.enabled = false;
     config.srvt_us = 5000U;
     config.sct_us = 20000U;
     config.max_delta_counter = in.ConsumeIntegralInRange<std::uint8_t>(1U, 3U);

@@ -20,7 +20,7 @@ constexpr std::uint64_t kGapUs = 300U;       // between two frames of a sample
 
 CommandReceiverConfig receiver_config() {
     CommandReceiverConfig c;  // the defaults: SRVT 10 ms, window 20 ms, SCT 120 ms, delta 2, recovery 2
-    c.link.enabled = false;  // the protocol 0.1 checks; the session link's tests set up both sides
+    c.link.enabled = false;   // the protocol 0.1 checks; the session link's tests set up both sides
     return c;
 }
 

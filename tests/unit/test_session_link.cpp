@@ -23,10 +23,10 @@ using namespace cellguard;
 namespace {
 
 constexpr std::uint64_t kMs = 1000U;
-constexpr std::uint64_t kTickUs = 10U * kMs;        // simulation step
-constexpr std::uint64_t kWatchdogUs = 250U * kMs;   // both sides' link.watchdog_us
-constexpr int kControllerTicks = 10;                // controller period 100 ms
-constexpr int kPlcTicks = 5;                        // PLC period 50 ms
+constexpr std::uint64_t kTickUs = 10U * kMs;       // simulation step
+constexpr std::uint64_t kWatchdogUs = 250U * kMs;  // both sides' link.watchdog_us
+constexpr int kControllerTicks = 10;               // controller period 100 ms
+constexpr int kPlcTicks = 5;                       // PLC period 50 ms
 
 LinkFields fields(std::uint16_t seq, std::uint16_t echo, std::uint8_t session = 7U, std::uint8_t echo_session = 9U) {
     LinkFields f;
@@ -111,7 +111,8 @@ struct Cell {
         for (;;) {
             std::size_t best = flight.size();
             for (std::size_t i = 0; i < flight.size(); ++i) {
-                if (flight[i].arrival_us <= now && (best == flight.size() || flight[i].arrival_us < flight[best].arrival_us)) {
+                if (flight[i].arrival_us <= now &&
+                    (best == flight.size() || flight[i].arrival_us < flight[best].arrival_us)) {
                     best = i;
                 }
             }
@@ -278,8 +279,7 @@ Outcome count(const std::vector<bool>& valid, int from) {
 }
 
 /// Brings a cell up, mutates the output direction from sample kFirst on, runs 1 s more.
-Outcome output_mutant(const Cell::Mutator& mutator, const Cell::Delay& delay = {}, bool link = true,
-                      int ticks = 100) {
+Outcome output_mutant(const Cell::Mutator& mutator, const Cell::Delay& delay = {}, bool link = true, int ticks = 100) {
     Cell cell(1U, 1U, link);
     bring_up(cell);
     cell.output_mutator = mutator;
@@ -289,8 +289,7 @@ Outcome output_mutant(const Cell::Mutator& mutator, const Cell::Delay& delay = {
 }
 
 /// The same for the command direction (PLC samples from kFirstCommand on), seen by the controller.
-Outcome command_mutant(const Cell::Mutator& mutator, const Cell::Delay& delay = {}, bool link = true,
-                       int ticks = 100) {
+Outcome command_mutant(const Cell::Mutator& mutator, const Cell::Delay& delay = {}, bool link = true, int ticks = 100) {
     Cell cell(1U, 1U, link);
     bring_up(cell);
     cell.input_mutator = mutator;
@@ -314,9 +313,7 @@ void flip(Batch& b, std::size_t frame, std::size_t byte, std::uint8_t mask) {
 
 /// A ramp: @p step_ms more latency per sample from sample @p from on.
 Cell::Delay ramp(int from, std::uint64_t step_ms) {
-    return [from, step_ms](int n) {
-        return n < from ? 0U : static_cast<std::uint64_t>(n - from + 1) * step_ms * kMs;
-    };
+    return [from, step_ms](int n) { return n < from ? 0U : static_cast<std::uint64_t>(n - from + 1) * step_ms * kMs; };
 }
 
 /// The frames a second controller (session 99) sends as its first sample.
@@ -371,7 +368,8 @@ TEST_CASE("session link: sequence ring, link frame round trip, binding to its sa
         CHECK(out.echo == 12U);
         CHECK(out.session == 7U);
         CHECK(out.echo_session == 9U);
-        CHECK(check_link_frame(f.value(), m, Span<const CanFrame>(bound), 10U, out) == LinkFrameCheck::kCounterMismatch);
+        CHECK(check_link_frame(f.value(), m, Span<const CanFrame>(bound), 10U, out) ==
+              LinkFrameCheck::kCounterMismatch);
         // Every single-bit corruption of the link frame, and of the bound frame, fails.
         for (std::size_t bit = 0; bit < 64U; ++bit) {
             CanFrame bad = f.value();
@@ -411,21 +409,21 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
     const LinkFields first = e.next(1000U);  // sequence 1 at 1 ms
     CHECK(first.sequence == 1U);
     CHECK(first.echo == 0U);
-    CHECK(e.on_peer(fields(100U, 0U, 7U, 0U), 2000U) == LinkFault::kNoEchoYet);   // the peer has not heard us
+    CHECK(e.on_peer(fields(100U, 0U, 7U, 0U), 2000U) == LinkFault::kNoEchoYet);  // the peer has not heard us
     CHECK(e.next(3000U).echo == 100U);                                           // now we echo it
     CHECK(e.on_peer(fields(101U, 1U), 50U * kMs) == LinkFault::kNone);           // round trip 49 ms
     CHECK(e.data_origin_us() == 1000U);
     CHECK(e.age_check(101U * kMs) == LinkFault::kNone);
-    CHECK(e.age_check(101U * kMs + 1U) == LinkFault::kWatchdogExpired);         // 100 ms + 1 us after 1 ms
+    CHECK(e.age_check(101U * kMs + 1U) == LinkFault::kWatchdogExpired);  // 100 ms + 1 us after 1 ms
     CHECK(e.on_peer(fields(101U, 2U), 60U * kMs) == LinkFault::kRepeatedSequence);
     CHECK(e.on_peer(fields(102U, 2U), 60U * kMs) == LinkFault::kNone);
-    CHECK(e.on_peer(fields(105U, 2U), 61U * kMs) == LinkFault::kSequenceJump);   // two lost, bound 2
+    CHECK(e.on_peer(fields(105U, 2U), 61U * kMs) == LinkFault::kSequenceJump);  // two lost, bound 2
     CHECK(e.on_peer(fields(106U, 2U, 7U, 8U), 62U * kMs) == LinkFault::kWrongEchoSession);
     CHECK(e.on_peer(fields(107U, 40U), 63U * kMs) == LinkFault::kEchoUnknown);   // never sent
     CHECK(e.on_peer(fields(108U, 1U), 64U * kMs) == LinkFault::kEchoBackwards);  // older than echo 2
     CHECK(e.on_peer(fields(109U, 2U), 200U * kMs) == LinkFault::kWatchdogExpired);
     CHECK(e.on_peer(fields(110U, 2U, 8U), 64U * kMs) == LinkFault::kSessionChanged);
-    CHECK(e.on_peer(fields(111U, 2U, 8U), 64U * kMs) == LinkFault::kNone);        // the new session is the reference
+    CHECK(e.on_peer(fields(111U, 2U, 8U), 64U * kMs) == LinkFault::kNone);  // the new session is the reference
     // Configuration refusals.
     LinkConfig bad = config;
     bad.session = 0U;
@@ -444,7 +442,8 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
 }
 
 // verifies: SR-CAN-013
-TEST_CASE("session link: both sides come up through the handshake and stay valid, and an output without an endpoint is refused") {
+TEST_CASE(
+    "session link: both sides come up through the handshake and stay valid, and an output without an endpoint is refused") {
     Cell cell;
     bring_up(cell);
     cell.run(200);
@@ -467,15 +466,20 @@ TEST_CASE("session link: both sides come up through the handshake and stay valid
 // frames 0 safety, 1 copy, 2 link; command direction: 0..5 A A' B B' C C', 6 link.
 
 // verifies: SR-CAN-004, SR-CAN-014
-TEST_CASE("iec 61784-3 corruption: a flipped bit in a protected frame or in the link frame is detected, both directions") {
-    CHECK(output_mutant(once(kFirst, [](Batch& b, const std::vector<Batch>&) { flip(b, 0U, 3U, 0x10U); }))
-              .invalid_polls > 0);
-    CHECK(output_mutant(once(kFirst, [](Batch& b, const std::vector<Batch>&) { flip(b, 2U, 4U, 0x01U); }))
-              .invalid_polls > 0);
-    CHECK(command_mutant(once(kFirstCommand, [](Batch& b, const std::vector<Batch>&) { flip(b, 2U, 5U, 0x80U); }))
-              .invalid_polls > 0);
-    CHECK(command_mutant(once(kFirstCommand, [](Batch& b, const std::vector<Batch>&) { flip(b, 6U, 2U, 0x01U); }))
-              .invalid_polls > 0);
+TEST_CASE(
+    "iec 61784-3 corruption: a flipped bit in a protected frame or in the link frame is detected, both directions") {
+    CHECK(output_mutant(once(kFirst, [](Batch& b, const std::vector<Batch>&) {
+              flip(b, 0U, 3U, 0x10U);
+          })).invalid_polls > 0);
+    CHECK(output_mutant(once(kFirst, [](Batch& b, const std::vector<Batch>&) {
+              flip(b, 2U, 4U, 0x01U);
+          })).invalid_polls > 0);
+    CHECK(command_mutant(once(kFirstCommand, [](Batch& b, const std::vector<Batch>&) {
+              flip(b, 2U, 5U, 0x80U);
+          })).invalid_polls > 0);
+    CHECK(command_mutant(once(kFirstCommand, [](Batch& b, const std::vector<Batch>&) {
+              flip(b, 6U, 2U, 0x01U);
+          })).invalid_polls > 0);
 }
 
 // verifies: SR-CAN-014, SR-CAN-015
@@ -538,8 +542,9 @@ TEST_CASE("iec 61784-3 replay across a restart: frames of the previous session a
     cmd.run(100);
     REQUIRE(cmd.c().poll(cmd.now).status.valid);
     const std::size_t cpolls = cmd.controller_valid.size();
-    cmd.input_mutator = once(static_cast<int>(cmd.input_history.size()),
-                             [&cmd_before](Batch& b, const std::vector<Batch>&) { b.frames = cmd_before.back().frames; });
+    cmd.input_mutator = once(
+        static_cast<int>(cmd.input_history.size()),
+        [&cmd_before](Batch& b, const std::vector<Batch>&) { b.frames = cmd_before.back().frames; });
     cmd.run(30);
     CHECK(count(cmd.controller_valid, static_cast<int>(cpolls)).invalid_polls > 0);
 }
@@ -547,9 +552,7 @@ TEST_CASE("iec 61784-3 replay across a restart: frames of the previous session a
 // verifies: SR-CAN-008, SR-CAN-014
 TEST_CASE("iec 61784-3 incorrect sequence: frames of a sample out of order, and an older sample, are detected") {
     const auto link_first = [](std::size_t link, std::size_t before) {
-        return [link, before](Batch& b, const std::vector<Batch>&) {
-            std::swap(b.frames[link], b.frames[before]);
-        };
+        return [link, before](Batch& b, const std::vector<Batch>&) { std::swap(b.frames[link], b.frames[before]); };
     };
     const auto older = [](Batch& b, const std::vector<Batch>& h) { b.frames = h[h.size() - 3U].frames; };
     CHECK(output_mutant(once(kFirst, link_first(2U, 1U))).invalid_polls > 0);

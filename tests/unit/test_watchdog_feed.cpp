@@ -47,7 +47,8 @@ int first_clock_fault(std::int64_t rate_ppm, int polls) {
     rate.window_periods = 20U;
     CommandReceiverConfig rc;
     rc.sct_us = 250000U;
-    rc.link.enabled = false;  // Session link off: the simulated PLC sends protocol 0.1 samples (command_link.cpp)
+    // Session link off: the simulated PLC sends protocol 0.1 samples (command_link.cpp)
+    rc.link.enabled = false;
     SimulatedPlcLink link(rc, nullptr, rate);
     link.set_command(robot_command());
     for (int k = 0; k < polls; ++k) {

@@ -281,14 +281,16 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
     SafetyOutputConfig output_config;
     output_config.zone_count = kRobotScenarioZones;
     output_config.prior_crc = view.value().header().payload_crc;
-    output_config.session_link = false;  // Session link off: the canned scenario's digest is of the 0.1 frames (issue 33 follow-up)
+    // Session link off: the canned scenario's digest is of the 0.1 frames (issue 33 follow-up)
+    output_config.session_link = false;
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 
     const ControllerConfig config = robot_controller_config(frames.sensor_count(), cases.value(), voxels);
     CommandReceiverConfig receiver_config;
     receiver_config.sct_us = kMaxCommandAgeUs;
-    receiver_config.link.enabled = false;  // Session link off: the canned PLC sends 0.1 samples (issue 33 follow-up)
+    // Session link off: the canned PLC sends 0.1 samples (issue 33 follow-up)
+    receiver_config.link.enabled = false;
     PlcCommandSender plc(receiver_config.channel);
     CommandReceiver receiver(receiver_config);
 

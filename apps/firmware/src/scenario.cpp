@@ -294,7 +294,8 @@ ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& 
     SafetyOutputConfig output_config;
     output_config.zone_count = kScenarioZones;
     output_config.prior_crc = view.value().header().payload_crc;
-    output_config.session_link = false;  // Session link off: the canned scenario has no PLC to echo; its digest is of the 0.1 frames
+    // Session link off: the canned scenario has no PLC to echo; its digest is of the 0.1 frames
+    output_config.session_link = false;
     DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
     CanSafetyOutput output(output_config, sender);
 

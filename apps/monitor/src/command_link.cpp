@@ -10,7 +10,9 @@ namespace cellguard::monitor {
 CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg) {
     CommandReceiverConfig rc;
     rc.channel = cfg.can.command;
-    rc.link.enabled = false;  // Session link off: the monitor's PLC and output speak protocol 0.1 until they are wired to the controller's link endpoint (issue 33)
+    // Session link off: the monitor's PLC and output speak protocol 0.1 until they are wired to the controller's link
+    // endpoint (issue 33)
+    rc.link.enabled = false;
     rc.sct_us = std::max<std::uint64_t>(cell::command_age_limit_us(cfg), rc.sample_window_us + 1U);
     return rc;
 }

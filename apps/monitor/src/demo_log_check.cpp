@@ -410,7 +410,8 @@ void LogChecker::finish() {
 PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) {
     PlcReceiverConfig rc;
     rc.channel = config.can.channel;
-    rc.link.enabled = false;  // Session link off: the demo logs carry the protocol 0.1 frame set (monitor_loop.cpp)
+    // Session link off: the demo logs carry the protocol 0.1 frame set (monitor_loop.cpp)
+    rc.link.enabled = false;
     rc.srvt_us = config.period_us / 2U;
     rc.sct_us = 3U * config.period_us;
     rc.expected_zone_count = static_cast<std::uint8_t>(std::min<std::size_t>(config.zones.size(), 255U));

@@ -20,7 +20,9 @@ SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCe
     oc.channel = cfg.can.channel;
     oc.zone_count = static_cast<std::uint8_t>(cell.zones.size());
     oc.prior_crc = prior_crc;
-    oc.session_link = false;  // Session link off: the monitor, its demo logs and their check speak protocol 0.1 until wired to a link endpoint (issue 33)
+    // Session link off: the monitor, its demo logs and their check speak protocol 0.1 until wired to a link endpoint
+    // (issue 33)
+    oc.session_link = false;
     return oc;
 }
 

@@ -148,9 +148,8 @@ void CommandReceiver::on_part(const CanFrame& frame, std::size_t index, std::uin
     if (!resync_ && next_ != index) {
         // A part where a copy was due; an A before the sample completed; any other part out of turn.
         enter_safe_state(next_ == kLinkIndex ? CommandFault::kLinkFrameMissing
-                         : next_ % 2U == 1U
-                             ? CommandFault::kInvertedCopyMissing
-                             : (is_a ? CommandFault::kSampleIncomplete : CommandFault::kPartOutOfOrder));
+                         : next_ % 2U == 1U  ? CommandFault::kInvertedCopyMissing
+                                            : (is_a ? CommandFault::kSampleIncomplete : CommandFault::kPartOutOfOrder));
     }
     if (resync_ && !is_a) {
         return;  // after a fault (and at start-up) only an A starts a sample

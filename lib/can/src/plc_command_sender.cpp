@@ -21,7 +21,7 @@ Result<CommandFrames> PlcCommandSender::next_sample(const RobotCommand& command)
 }
 
 Result<LinkedCommandFrames> PlcCommandSender::next_sample(const RobotCommand& command, const LinkFields& link,
-                                                         const LinkChannel& channel) noexcept {
+                                                          const LinkChannel& channel) noexcept {
     const Result<CommandFrames> frames = encode_command_sample(command, counter_, config_);
     if (!frames.ok()) {
         return frames.error();

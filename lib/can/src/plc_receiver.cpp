@@ -97,16 +97,15 @@ Status PlcReceiver::check_config(const PlcReceiverConfig& config) noexcept {
     if (config.link.enabled) {
         const std::uint32_t peer = config.link.peer.can_id;
         const SafetyChannelConfig& ch = config.channel;
-        if (!LinkEndpoint::check_config(config.link).ok() || peer == ch.safety_can_id ||
-            peer == inverted_can_id(ch) || peer == ch.diagnostics_can_id || peer == ch.separation_can_id) {
+        if (!LinkEndpoint::check_config(config.link).ok() || peer == ch.safety_can_id || peer == inverted_can_id(ch) ||
+            peer == ch.diagnostics_can_id || peer == ch.separation_can_id) {
             return ErrorCode::kInvalidArgument;
         }
     }
     return Status{};
 }
 
-PlcReceiver::PlcReceiver(const PlcReceiverConfig& config) noexcept
-    : config_(config), link_(usable_link(config.link)) {
+PlcReceiver::PlcReceiver(const PlcReceiverConfig& config) noexcept : config_(config), link_(usable_link(config.link)) {
     CG_ENFORCE(check_config(config).ok(), "PlcReceiver needs a configuration that passes check_config");
 }
 

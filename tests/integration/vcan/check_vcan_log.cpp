@@ -87,7 +87,8 @@ PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
     // As cellguard-monitor-check-log: SRVT half a period, SCT three periods.
     PlcReceiverConfig rc;
     rc.channel = cfg.can.channel;
-    rc.link.enabled = false;  // Session link off: the monitor sends the protocol 0.1 frame set (monitor_loop.cpp)
+    // Session link off: the monitor sends the protocol 0.1 frame set (monitor_loop.cpp)
+    rc.link.enabled = false;
     rc.srvt_us = cfg.period_us / 2U;
     rc.sct_us = 3U * cfg.period_us;
     rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());

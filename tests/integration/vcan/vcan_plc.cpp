@@ -121,7 +121,8 @@ struct Run {
 PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
     PlcReceiverConfig rc;
     rc.channel = cfg.can.channel;
-    rc.link.enabled = false;  // Session link off: the monitor sends the protocol 0.1 frame set (monitor_loop.cpp)
+    // Session link off: the monitor sends the protocol 0.1 frame set (monitor_loop.cpp)
+    rc.link.enabled = false;
     rc.srvt_us = cfg.period_us / 2U;
     rc.sct_us = 3U * cfg.period_us;
     rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());

@@ -87,8 +87,8 @@ CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t c
     safety_counter_ = e2e_p01_next_counter(safety_counter_);
     diagnostics_counter_ = e2e_p01_next_counter(diagnostics_counter_);
     page_ = static_cast<std::uint8_t>((page_ + 1U) % 4U);
-    CycleFrames frames{safety.value(), inverted_copy(safety.value()), diagnostics.value(), CanFrame{}, false,
-                       CanFrame{},     false};
+    CycleFrames frames{
+        safety.value(), inverted_copy(safety.value()), diagnostics.value(), CanFrame{}, false, CanFrame{}, false};
     if (link != nullptr) {
         const CanFrame bound[1] = {frames.safety};
         const Result<CanFrame> link_frame = encode_link_frame(link->next(report.started_us), counter,

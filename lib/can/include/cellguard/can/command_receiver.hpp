@@ -103,12 +103,12 @@ enum class CommandFault : std::uint8_t {
 /// every 50 ms, its six frames back to back: one lost sample is tolerated
 /// (delta 2, 100 ms < SCT), two are not.
 struct CommandReceiverConfig {
-    CommandChannelConfig channel;             ///< CAN IDs, data IDs, data ID mode (the sender's)
-    std::uint64_t srvt_us = 10000U;           ///< latest copy arrival after its part, > 0
-    std::uint64_t sample_window_us = 20000U;  ///< latest C' after its A, >= srvt_us
-    std::uint64_t sct_us = 120000U;           ///< longest time between good samples, > sample_window_us
-    std::uint8_t max_delta_counter = 2U;      ///< largest accepted counter step, 1..14
-    std::uint8_t recovery_good_samples = 2U;  ///< good samples after the reference one to become valid, >= 1
+    CommandChannelConfig channel;                ///< CAN IDs, data IDs, data ID mode (the sender's)
+    std::uint64_t srvt_us = 10000U;              ///< latest copy arrival after its part, > 0
+    std::uint64_t sample_window_us = 20000U;     ///< latest C' after its A, >= srvt_us
+    std::uint64_t sct_us = 120000U;              ///< longest time between good samples, > sample_window_us
+    std::uint8_t max_delta_counter = 2U;         ///< largest accepted counter step, 1..14
+    std::uint8_t recovery_good_samples = 2U;     ///< good samples after the reference one to become valid, >= 1
     LinkConfig link = controller_link_config();  ///< the session link (own: the controller's link channel)
 };
 
@@ -188,7 +188,7 @@ private:
     std::uint64_t part_time_us_ = 0U;
     bool have_time_ = false;
     std::uint64_t last_time_us_ = 0U;
-    CommandInput input_{};  // the last good sample
+    CommandInput input_{};                // the last good sample
     CanFrame parts_[kCommandParts] = {};  // parts A, B, C of the sample in progress (the link frame's binding)
     LinkEndpoint link_;
 };

@@ -168,7 +168,7 @@ private:
     std::uint64_t pending_time_us_ = 0U;
     bool have_time_ = false;
     std::uint64_t last_time_us_ = 0U;
-    SafetyMessage message_;  // content of the last good pair
+    SafetyMessage message_;       // content of the last good pair
     bool awaiting_link_ = false;  // the pair passed; its link frame is due
     LinkEndpoint link_;
 };

@@ -62,7 +62,7 @@ inline constexpr SignalLayout kEcho{"EchoSequence", 32U, 16U, ByteOrder::kIntel,
 /// The sender's session value, 1..255.
 inline constexpr SignalLayout kSession{"Session", 48U, 8U, ByteOrder::kIntel, 1U, "", 255U, Multiplex::kNone, 0U};
 /// The other side's session the sender accepted, 0 = none yet.
-inline constexpr SignalLayout kEchoSession{"EchoSession", 56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
+inline constexpr SignalLayout kEchoSession{"EchoSession",    56U, 8U, ByteOrder::kIntel, 1U, "", 255U,
                                            Multiplex::kNone, 0U};
 /// Every signal of the link frame.
 inline constexpr SignalLayout kSignals[] = {kCrc, kCounter, kDataIdNibble, kSequence, kEcho, kSession, kEchoSession};
@@ -137,11 +137,11 @@ enum class LinkFrameCheck : std::uint8_t {
 
 /// Configuration of a LinkEndpoint.
 struct LinkConfig {
-    bool enabled = true;                  ///< off only with a stated reason in the caller's configuration
+    bool enabled = true;                              ///< off only with a stated reason in the caller's configuration
     LinkChannel own = kDefaultControllerLinkChannel;  ///< the channel this side's link frames use
     LinkChannel peer = kDefaultPlcLinkChannel;        ///< the channel the other side's link frames use
-    std::uint8_t session = 1U;            ///< this start's session, 1..255 (differ from the previous start's)
-    std::uint64_t watchdog_us = 300000U;  ///< longest round trip and data age, > 0
+    std::uint8_t session = 1U;             ///< this start's session, 1..255 (differ from the previous start's)
+    std::uint64_t watchdog_us = 300000U;   ///< longest round trip and data age, > 0
     std::uint16_t max_sequence_step = 2U;  ///< largest accepted step of the other side's sequence, 1..kLinkHistory
 };
 
