@@ -120,6 +120,10 @@ ReceiverStatus PlcReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us
         } else {
             check_timeouts(now_us);  // not ours: only time has passed
         }
+        if (valid_ && config_.link.enabled && link_.age_check(now_us) != LinkFault::kNone) {
+            // Every frame, not only polls: the status returned here is never valid for data older than the watchdog.
+            enter_safe_state(ReceiverFault::kWatchdogExpired);
+        }
     }
     return status();
 }
