@@ -32,7 +32,7 @@ using namespace cellguard::monitor;
 
 namespace {
 
-constexpr int kCycles = 60;                       // the fixture's --cycles
+constexpr int kCycles = 60;  // the fixture's --cycles
 // Protocol 0.2: the PLC's link frame (alone), safety frame, inverted copy, the controller's link frame, diagnostics
 constexpr std::size_t kLinesPerCycle = 5U;
 constexpr int kRobotCycles = 170;  // the robot-cell fixture's --cycles
@@ -286,7 +286,8 @@ TEST_CASE("cellguard-monitor-check-log on the demo log: frames that stop early f
     CAPTURE(all_failures(r));
     CHECK(r.input_ok);
     CHECK_FALSE(r.passed());
-    CHECK(has_failure(r, "PLC poll at ", "safe state: round trip or data age above the watchdog time (watchdog 300 ms)"));
+    CHECK(
+        has_failure(r, "PLC poll at ", "safe state: round trip or data age above the watchdog time (watchdog 300 ms)"));
     CHECK(has_failure(r, "expected 300 lines, got 280"));
 }
 

@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/sim/workcell.hpp"
-#include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
@@ -94,8 +94,7 @@ public:
 /// The monitor as main wires it, with counting sources and a counting sender;
 /// with @p with_plc the simulated PLC of a log run (its link frames alone).
 struct Monitor {
-    explicit Monitor(MonitorConfig config, bool with_plc = true)
-        : cfg(std::move(config)), clock(false, source_clock) {
+    explicit Monitor(MonitorConfig config, bool with_plc = true) : cfg(std::move(config)), clock(false, source_clock) {
         cfg.budget_us = 60000000U;  // the cycles' decisions, not this host's speed (as the demo's ctest)
         REQUIRE_FALSE(cell.configure(cfg).failed());
         REQUIRE_FALSE(cell.build_prior(cfg, nullptr).failed());

@@ -60,7 +60,10 @@ struct CycleRecord {
 
 /// The robot-cell demo as main wires it, with a counting sender.
 struct RobotCell {
-    RobotCell() : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(command_receiver_config(cfg), plc_receiver_config(cfg), &can) {
+    RobotCell()
+        : cfg(robot_cell_demo_config()),
+          clock(false, source_clock),
+          plc(command_receiver_config(cfg), plc_receiver_config(cfg), &can) {
         cfg.budget_us = 60000000U;  // the decisions, not this host's speed
         REQUIRE_FALSE(cell.configure(cfg).failed());
         REQUIRE_FALSE(cell.configure_robot(cfg, nullptr).failed());

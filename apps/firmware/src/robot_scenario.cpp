@@ -27,8 +27,8 @@ using detail::Digest;
 using detail::digest_grid;
 using detail::digest_report;
 using detail::DigestingSender;
-using detail::PlcTapSender;
 using detail::Line;
+using detail::PlcTapSender;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -108,8 +108,8 @@ bool send_plc_samples(const RobotRun& run, const RobotCommand& command, std::uin
                       std::uint32_t samples) noexcept {
     for (std::uint32_t s = samples; s > 0U; --s) {
         const std::uint64_t at = start - kLastSampleLeadUs - (s - 1U) * kPlcPeriodUs;
-        const Result<LinkedCommandFrames> frames = run.plc.next_sample(
-            command, run.plc_receiver.next_link(at), run.plc_receiver.config().link.own);
+        const Result<LinkedCommandFrames> frames = run.plc.next_sample(command, run.plc_receiver.next_link(at),
+                                                                       run.plc_receiver.config().link.own);
         if (!frames.ok()) {
             return false;
         }

@@ -29,8 +29,8 @@ using detail::Digest;
 using detail::digest_grid;
 using detail::digest_report;
 using detail::DigestingSender;
-using detail::PlcTapSender;
 using detail::Line;
+using detail::PlcTapSender;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -206,9 +206,9 @@ constexpr std::uint64_t kCannedPlcSctUs = 10000000U;
 
 struct ScriptRun {
     SafetyController& controller;
-    PlcReceiver& plc;                 // the canned PLC's receiver: its link frames' fields
-    LinkEndpoint& controller_link;    // the controller's link endpoint (a cell without commands)
-    std::uint8_t& plc_link_counter;   // E2E counter of the PLC's link frames sent alone
+    PlcReceiver& plc;                // the canned PLC's receiver: its link frames' fields
+    LinkEndpoint& controller_link;   // the controller's link endpoint (a cell without commands)
+    std::uint8_t& plc_link_counter;  // E2E counter of the PLC's link frames sent alone
     const CannedFrames& frames;
     const EvidenceGrid& frame_grid;
     MonotonicClock& clock;
@@ -343,8 +343,8 @@ ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& 
     }
     summary.setup_ok = true;
 
-    const ScriptRun run{controller, plc, controller_link, plc_link_counter, frames, frame_grid, clock, digest, text,
-                        how.prefix};
+    const ScriptRun run{controller, plc,  controller_link, plc_link_counter, frames, frame_grid, clock,
+                        digest,     text, how.prefix};
     for (const Step& step : kScript) {
         run_step(run, step);
         ++summary.cycles;

@@ -13,10 +13,10 @@
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/can/can_sender.hpp"
 #include "cellguard/can/plc_receiver.hpp"
-#include "cellguard/safety/clock.hpp"
 #include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/safety/clock.hpp"
 
 namespace cellguard::firmware::detail {
 

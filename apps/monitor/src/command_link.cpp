@@ -89,8 +89,8 @@ CommandPoll SimulatedPlcLink::poll(std::uint64_t now_us) noexcept {
         bool alone = false;
         if (has_command_ && link) {
             const LinkFields fields = plc_.next_link(arrival);
-            const Result<LinkedCommandFrames> frames =
-                sender_.next_sample(command_, fields, receiver_.receiver().config().link.peer);
+            const Result<LinkedCommandFrames> frames = sender_.next_sample(command_, fields,
+                                                                           receiver_.receiver().config().link.peer);
             if (frames.ok()) {
                 for (const CanFrame& f : frames.value().sample.frame) {
                     out[n++] = f;

@@ -78,8 +78,8 @@ struct RobotCycle {
 /// One log, line by line: see the file comment of demo_log_check.hpp.
 class LogChecker {
 public:
-    LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, const CommandReceiverConfig& cc,
-               int cycles, DemoLogCheck& out)
+    LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, const CommandReceiverConfig& cc, int cycles,
+               DemoLogCheck& out)
         : cfg_(cfg),
           rc_(rc),
           plc_(rc),
@@ -127,9 +127,9 @@ private:
     int diagnostics_ = 0;
     int valid_pairs_ = 0;
     std::uint32_t faults_seen_ = 0U;
-    int separations_ = 0;           // a robot cell: separation frames so far
-    int command_frames_ = 0;        // a robot cell: command frames so far
-    int command_valid_cycles_ = 0;  // cycles whose separation frame says CommandValid
+    int separations_ = 0;                     // a robot cell: separation frames so far
+    int command_frames_ = 0;                  // a robot cell: command frames so far
+    int command_valid_cycles_ = 0;            // cycles whose separation frame says CommandValid
     std::uint32_t command_faults_seen_ = 0U;  // the command receiver's fault events so far
     int command_failures_ = 0;                // those reported as failures (not the start-up handshake)
     int plc_handshakes_ = 0;                  // start-up kNoEchoYet of the PLC receiver: it had sent nothing yet
@@ -139,8 +139,8 @@ private:
     int plc_links_ = 0;                       // the PLC's link frames
     std::uint64_t safety_time_us_ = 0U;       // the time stamp of the last safety frame
     std::uint64_t sample_start_us_ = 0U;      // the time stamp of the last command part A
-    bool robot_;                // a robot cell: separation frames and command frames
-    bool have_safety_ = false;  // a safety frame waits for its copy
+    bool robot_;                              // a robot cell: separation frames and command frames
+    bool have_safety_ = false;                // a safety frame waits for its copy
     bool have_time_ = false;
     bool separation_due_ = false;  // a robot cell: a diagnostics frame came, its separation frame is due
 };
@@ -507,8 +507,9 @@ void LogChecker::finish() {
     }
     out_.summary = std::to_string(lines_) + " lines, " + std::to_string(stop_.size()) + " safety pairs (" +
                    std::to_string(valid_pairs_) + " accepted by the PLC receiver), " + std::to_string(diagnostics_) +
-                   " diagnostics frames" + (robot_ ? robot_summary() : std::string()) + "; session link: " +
-                   std::to_string(controller_links_) + " controller and " + std::to_string(plc_links_) +
+                   " diagnostics frames" + (robot_ ? robot_summary() : std::string()) +
+                   "; session link: " + std::to_string(controller_links_) + " controller and " +
+                   std::to_string(plc_links_) +
                    " PLC link frames, fields as their endpoints send them, round trip within " +
                    ms_text(rc_.link.watchdog_us) + ", start-up handshake " +
                    std::to_string(plc_handshakes_ + command_handshakes_) + "; PLC receiver " + polled + ", " +

@@ -597,8 +597,9 @@ int run_monitor(int argc, char** argv) {
     // The simulated PLC sends on the controller's own cycle and clock: no second time base (and paced,
     // a skipped period would look like a fast clock), so only a PLC on a CAN interface feeds the check.
     if (!PlcReceiver::check_config(plc_receiver).ok()) {
-        static_cast<void>(std::fprintf(stderr, "cellguard-monitor: no valid PLC receiver for the simulated PLC "
-                                               "(period or zone count)\n"));
+        static_cast<void>(std::fprintf(stderr,
+                                       "cellguard-monitor: no valid PLC receiver for the simulated PLC "
+                                       "(period or zone count)\n"));
         return 2;
     }
     SimulatedPlcLink plc(receiver, plc_receiver, &can);

@@ -212,8 +212,7 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     if (newest != 0U && sent_us_ != 0U && stats_.latency_count < stats_.latency_us.size()) {
         stats_.latency_us[stats_.latency_count++] = sent_us_ > newest ? sent_us_ - newest : 0U;
     }
-    const std::size_t frames_per_cycle =
-        (r.robot.configured ? 4U : 3U) + (output_.last_frames().has_link ? 1U : 0U);
+    const std::size_t frames_per_cycle = (r.robot.configured ? 4U : 3U) + (output_.last_frames().has_link ? 1U : 0U);
     if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != frames_per_cycle) {
         ++stats_.send_failures;
     }
@@ -353,7 +352,8 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
                                            alone.refused != 0U ? to_string(alone.last) : ""));
         }
     } else {
-        static_cast<void>(std::fprintf(out, "summary: no PLC link: the link frames carry no echo, a PLC refuses them\n"));
+        static_cast<void>(
+            std::fprintf(out, "summary: no PLC link: the link frames carry no echo, a PLC refuses them\n"));
     }
     can_->write_summary(out, log_ok);
 }

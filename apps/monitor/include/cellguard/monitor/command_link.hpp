@@ -191,7 +191,7 @@ private:
     CanSender* bus_;
     RobotCommand command_{};
     ReceiverStatus plc_status_{};
-    std::uint64_t plc_time_us_ = 0U;         ///< the PLC's clock: never earlier than what it last saw
+    std::uint64_t plc_time_us_ = 0U;        ///< the PLC's clock: never earlier than what it last saw
     std::uint8_t standalone_counter_ = 0U;  ///< E2E counter of the link frames sent alone
     bool has_command_ = false;
     bool silent_ = false;
