@@ -108,7 +108,9 @@ struct Seen {
 
 constexpr std::size_t kSampleFrames = kCommandFramesPerSample + 1U;  // A, A', B, B', C, C' and the PLC's link frame
 constexpr std::size_t kHistory = 2U * kSampleFrames - 1U;  // a complete sample and six frames of one in progress
-constexpr std::size_t kSentHistory = 64U;  // the controller's link frames whose send times the oracle remembers
+// Every link frame the controller sends in one input (at most one a step, 512 steps): the oracle
+// finds the send time of any echo, however many frames were sent since without time passing.
+constexpr std::size_t kSentHistory = 1024U;
 
 /// The controller's link frames: sequence and send time (the age bound's reference).
 struct Sent {

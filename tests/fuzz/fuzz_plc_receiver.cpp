@@ -114,8 +114,9 @@ struct Seen {
 
 /// The frames on the pair's IDs (normal, copy, link) the oracle remembers, newest last.
 constexpr std::size_t kHistory = 5U;
-/// The PLC's link frames whose send times the oracle remembers (more than the endpoint's kLinkHistory).
-constexpr std::size_t kSentHistory = 64U;
+/// Every link frame the PLC sends in one input (at most one a step, 256 steps): the oracle finds the send
+/// time of any echo, however many frames were sent since without time passing.
+constexpr std::size_t kSentHistory = 1024U;
 
 }  // namespace
 

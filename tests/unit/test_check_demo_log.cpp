@@ -24,6 +24,7 @@
 #include "cellguard/can/separation_frame.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/demo_log_check.hpp"
 
 using namespace cellguard;
@@ -87,9 +88,17 @@ std::vector<std::string> retimed(const std::vector<std::string>& lines,
     return out;
 }
 
+/// The fixture run's configuration: the demo's, with its --budget-ms 60000
+/// (cellguard-monitor-check-log --budget-ms: the session link's watchdog time
+/// is two periods plus the budget, 60.2 s, as in that run).
+MonitorConfig fixture_config(MonitorConfig cfg = demo_config()) {
+    cfg.budget_us = 60000000U;
+    return cfg;
+}
+
 DemoLogCheck check_text(const std::string& text, int cycles) {
     std::istringstream in(text);
-    return check_demo_log(in, cycles, demo_config());
+    return check_demo_log(in, cycles, fixture_config());
 }
 
 DemoLogCheck check_lines(const std::vector<std::string>& lines) {
@@ -146,7 +155,7 @@ DemoLogCheck check_robot_lines(const std::vector<std::string>& lines) {
         text += l + "\n";
     }
     std::istringstream in(text);
-    return check_demo_log(in, kRobotCycles, robot_cell_demo_config());
+    return check_demo_log(in, kRobotCycles, fixture_config(robot_cell_demo_config()));
 }
 
 /// @p line with its frame replaced by @p frame (same time stamp and interface).
@@ -267,27 +276,25 @@ TEST_CASE("cellguard-monitor-check-log on the demo log: the unmodified log passe
     CHECK(r.passed());
     CHECK(r.summary.find("300 lines, 60 safety pairs (58 accepted by the PLC receiver), 60 diagnostics frames; "
                          "session link: 60 controller and 60 PLC link frames, fields as their endpoints send them, "
-                         "round trip within 300 ms, start-up handshake 1;") == 0U);
+                         "round trip within 60200 ms, start-up handshake 1;") == 0U);
     CHECK(r.summary.find("polled every 1 ms of log time") != std::string::npos);
     CHECK(r.summary.find(", 0 faults;") != std::string::npos);
 }
 
 // verifies: SR-SYS-006, SR-CAN-008
-TEST_CASE("cellguard-monitor-check-log on the demo log: frames that stop early fail, the watchdog expires at a poll" *
+TEST_CASE("cellguard-monitor-check-log on the demo log: frames that stop early fail, the SCT expires at a poll" *
           doctest::skip()) {
     // The last 20 lines dropped: the five frames of cycles 56 to 59. The last
-    // pair (cycle 55's) echoes the PLC's link frame sent about 0.5 s before the
-    // end of the run (the first frame's time + 60 periods of 100 ms): more
-    // than the session link's watchdog time (300 ms), which runs out before
-    // the SCT (300 ms from the pair's completion, later), so the PLC's polls find the data too old.
+    // pair (cycle 55's) completes about 0.5 s before the end of the run (the
+    // first frame's time + 60 periods of 100 ms), more than the SCT of 300 ms
+    // (the watchdog time of this run, 60.2 s, is longer), so the PLC's polls find it expired.
     std::vector<std::string> lines = demo_log_lines();
     lines.resize(lines.size() - 20U);
     const DemoLogCheck r = check_lines(lines);
     CAPTURE(all_failures(r));
     CHECK(r.input_ok);
     CHECK_FALSE(r.passed());
-    CHECK(
-        has_failure(r, "PLC poll at ", "safe state: round trip or data age above the watchdog time (watchdog 300 ms)"));
+    CHECK(has_failure(r, "PLC poll at ", "safe state: safeguard cycle time expired (SCT 300 ms)"));
     CHECK(has_failure(r, "expected 300 lines, got 280"));
 }
 
@@ -320,29 +327,35 @@ TEST_CASE(
     doctest::skip()) {
     // Cycle 30's inverted copy (index 152) and the link frame that closes the
     // pair (index 153) moved to its safety frame's time + d; re-sorted by time
-    // they follow their cycle's diagnostics frame, as lines 154 and 155.
+    // they follow their cycle's diagnostics frame, as lines 154 and 155 (cycle
+    // 31's PLC link frame, index 155, is kept after them: a cycle longer than
+    // d would otherwise start before them).
     const std::vector<std::string> lines = demo_log_lines();
     const std::uint64_t t = safety_frame_time(lines, 30);
+    const std::uint64_t plc31 = record_of(lines.at(155U)).timestamp_us;
+    const auto moved = [&](std::uint64_t copy_at, std::uint64_t link_at) {
+        return retimed(lines, {{152U, copy_at}, {153U, link_at}, {155U, std::max(plc31, link_at + 1U)}});
+    };
     SUBCASE("d = SRVT + 2 ms = 52 ms: a poll (every 1 ms) before the copy arrives finds the SRVT expired") {
-        const DemoLogCheck r = check_lines(retimed(lines, {{152U, t + 52000U}, {153U, t + 52000U}}));
+        const DemoLogCheck r = check_lines(moved(t + 52000U, t + 52000U));
         CAPTURE(all_failures(r));
         CHECK_FALSE(r.passed());
         CHECK(has_failure(r, "PLC poll at t = ", "safe state: inverted copy missing (SRVT 50 ms)"));
         CHECK(has_failure(r, "line 154 ", "safe state: unexpected inverted copy"));
     }
     SUBCASE("d = SRVT + 1 us: the copy itself is late") {
-        const DemoLogCheck r = check_lines(retimed(lines, {{152U, t + 50001U}, {153U, t + 50001U}}));
+        const DemoLogCheck r = check_lines(moved(t + 50001U, t + 50001U));
         CAPTURE(all_failures(r));
         CHECK_FALSE(r.passed());
         CHECK(has_failure(r, "line 154 ", "safe state: inverted copy late (SRVT 50 ms)"));
     }
     SUBCASE("d = SRVT = 50 ms: accepted, as by the receiver") {
-        const DemoLogCheck r = check_lines(retimed(lines, {{152U, t + 50000U}, {153U, t + 50000U}}));
+        const DemoLogCheck r = check_lines(moved(t + 50000U, t + 50000U));
         CAPTURE(all_failures(r));
         CHECK(r.passed());
     }
     SUBCASE("the copy at SRVT, its link frame 1 us later: the link frame is missing within the SRVT") {
-        const DemoLogCheck r = check_lines(retimed(lines, {{152U, t + 50000U}, {153U, t + 50001U}}));
+        const DemoLogCheck r = check_lines(moved(t + 50000U, t + 50001U));
         CAPTURE(all_failures(r));
         CHECK_FALSE(r.passed());
         CHECK(has_failure(r, "line 155 ", "safe state: link frame missing"));
@@ -373,22 +386,22 @@ TEST_CASE(
 // verifies: SR-SYS-006, SR-CAN-016, SR-CAN-017
 TEST_CASE("cellguard-monitor-check-log on the demo log: the controller's frames delayed past the watchdog time fail" *
           doctest::skip()) {
-    // From cycle 30 on, every frame the controller sent is 350 ms late (a
-    // buffering gateway): the pairs still come one period apart and in
-    // order, so SRVT and SCT hold after the first gap, but each link frame
-    // echoes a PLC link frame sent more than the watchdog time (300 ms) before.
+    // From cycle 30 on, every frame the controller sent is the watchdog time
+    // (60.2 s in this run) plus 50 ms late (a buffering gateway): each of its
+    // link frames then echoes a PLC link frame sent longer ago than that.
     const std::vector<std::string> lines = demo_log_lines();
+    const std::uint64_t delay = link_watchdog_us(fixture_config()) + 50000U;
     std::vector<std::pair<std::size_t, std::uint64_t>> moves;
     for (std::size_t i = kLinesPerCycle * 30U; i < lines.size(); ++i) {
         const CandumpRecord rec = record_of(lines[i]);
         if (rec.frame.id != 0x0C7U) {
-            moves.emplace_back(i, rec.timestamp_us + 350000U);
+            moves.emplace_back(i, rec.timestamp_us + delay);
         }
     }
     const DemoLogCheck r = check_lines(retimed(lines, moves));
     CAPTURE(all_failures(r));
     CHECK_FALSE(r.passed());
-    CHECK(has_failure(r, "safe state: round trip or data age above the watchdog time (watchdog 300 ms)"));
+    CHECK(has_failure(r, "safe state: round trip or data age above the watchdog time (watchdog 60200 ms)"));
 }
 
 // verifies: SR-SYS-006

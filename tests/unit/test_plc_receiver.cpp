@@ -429,7 +429,8 @@ TEST_CASE("plc receiver: the largest recovery count, 255 good pairs, is reached 
 }
 
 // verifies: SR-CAN-016
-TEST_CASE("plc receiver: a frame that comes when the data in use is older than the watchdog time gives the safe state") {
+TEST_CASE(
+    "plc receiver: a frame that comes when the data in use is older than the watchdog time gives the safe state") {
     // Found by the fuzz target's age oracle: the age was checked at polls and
     // on link frames, so the status a safety frame or copy returned could be
     // valid for data older than the watchdog time until the next poll.
@@ -466,4 +467,3 @@ TEST_CASE("plc receiver: a frame that comes when the data in use is older than t
     CHECK(s.stop_requested);
     CHECK(s.fault == ReceiverFault::kWatchdogExpired);
 }
-

@@ -18,7 +18,9 @@ CommandReceiverConfig command_receiver_config(const cell::MonitorConfig& cfg) {
 ClockRateConfig clock_rate_config(const cell::MonitorConfig& cfg) { return cfg.can.clock_rate; }
 
 std::uint64_t link_watchdog_us(const cell::MonitorConfig& cfg) noexcept {
-    return std::max<std::uint64_t>(3U * cfg.period_us, 1U);
+    const std::uint64_t two_periods = cfg.period_us > UINT64_MAX / 2U ? UINT64_MAX : 2U * cfg.period_us;
+    const std::uint64_t w = two_periods > UINT64_MAX - cfg.budget_us ? UINT64_MAX : two_periods + cfg.budget_us;
+    return std::max<std::uint64_t>(w, 1U);
 }
 
 PlcReceiverConfig plc_receiver_config(const cell::MonitorConfig& cfg) {

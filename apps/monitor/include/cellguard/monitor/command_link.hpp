@@ -53,11 +53,12 @@
 namespace cellguard::monitor {
 
 /// The session link's watchdog time W of both sides in the cell of @p cfg:
-/// three controller periods (the PLC receiver's SCT here). The round trip it
-/// bounds spans the controller's period, the PLC's sending period (at most
-/// the controller's) and both transfers; the data in use may be one period
-/// older than the last echo at the poll before the next one: W = 3 T covers
-/// that with one period of margin (300 ms at 100 ms).
+/// two controller periods plus the cycle budget (cfg.budget_us), 300 ms at
+/// 100 ms with a budget of one period (saturating). The round trip it bounds
+/// runs from the PLC's link frame to the controller's pair that echoes it:
+/// the wait for the next cycle start (at most T), the cycle (at most the
+/// budget) and the transfers; the data in use may be one period older at
+/// the poll before the next pair; the PLC sends at least once a period.
 [[nodiscard]] std::uint64_t link_watchdog_us(const cell::MonitorConfig& cfg) noexcept;
 
 /// The command receiver's configuration for the cell of @p cfg, as the
