@@ -142,6 +142,20 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         if (!st.ok()) {
             continue;
         }
+        if (rec.frame.id == rc.link.own.can_id) {
+            // Another sender's frame: its kernel stamp may precede the monitor's frame read before it by a few
+            // microseconds; it is not part of the monitor's frame order (nor of the receiver's time).
+            // The PLC's link frame, sent alone: the fields its endpoint (re-run here) sends.
+            ++out.plc_links;
+            const LinkFields want = plc.next_link(rec.timestamp_us);
+            const bool same = get_signal(rec.frame, link_layout::kSequence) == want.sequence &&
+                              get_signal(rec.frame, link_layout::kEcho) == want.echo &&
+                              get_signal(rec.frame, link_layout::kSession) == want.session &&
+                              get_signal(rec.frame, link_layout::kEchoSession) == want.echo_session;
+            expect(same, where + "the PLC's link frame is not what its endpoint sends (sequence " +
+                             std::to_string(want.sequence) + ", echo " + std::to_string(want.echo) + ")");
+            continue;
+        }
         // The PLC polls every 10 ms; between frames that is where silence shows.
         for (std::uint64_t t = last_t + 10000U; last_t != 0U && t < rec.timestamp_us; t += 10000U) {
             const ReceiverStatus ps = plc.poll(t);
@@ -159,18 +173,6 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         expect(rec.timestamp_us >= last_t, where + "timestamp went back");
         last_t = rec.timestamp_us;
         const CanFrame& f = rec.frame;
-        if (f.id == rc.link.own.can_id) {
-            // The PLC's link frame, sent alone: the fields its endpoint (re-run here) sends.
-            ++out.plc_links;
-            const LinkFields want = plc.next_link(rec.timestamp_us);
-            const bool same = get_signal(f, link_layout::kSequence) == want.sequence &&
-                              get_signal(f, link_layout::kEcho) == want.echo &&
-                              get_signal(f, link_layout::kSession) == want.session &&
-                              get_signal(f, link_layout::kEchoSession) == want.echo_session;
-            expect(same, where + "the PLC's link frame is not what its endpoint sends (sequence " +
-                             std::to_string(want.sequence) + ", echo " + std::to_string(want.echo) + ")");
-            continue;
-        }
         const ReceiverStatus rs = plc.on_frame(f, rec.timestamp_us);
         expect(rs.communication_valid || rs.stop_requested, where + "receiver not valid but no stop");
         if (rs.communication_valid) {
