@@ -20,8 +20,8 @@ CELLGUARD_DBC_FRAMES_OUT) into a temporary file. For each frame it checks:
     multiplexed diagnostics frame: the multiplexor and the selected page);
   - each decoded raw value equals the expected one (signed joints included),
     and each physical value is raw * factor + offset of the DBC;
-  - the command parts and their copies are transmitted by the PLC node, the
-    output frames by CELLGUARD;
+  - the command parts, their copies and the PLC link frame are transmitted by
+    the PLC node, the output frames by CELLGUARD;
 and at the end that every message of the DBC was decoded at least once.
 
 Exit status: 0 all checks pass, 1 a check failed, 2 usage or input error,
@@ -45,7 +45,7 @@ except ImportError:
 
 LINE = re.compile(r"^\((\d+\.\d+)\)\s+(\S+)\s+([0-9A-Fa-f]{3,8})#([0-9A-Fa-f]*)\s+#(.*)$")
 TEST_CASE = "dbc: the frames file for the third-party decoder check*"
-COMMAND_IDS = range(0x0C1, 0x0C7)
+COMMAND_IDS = range(0x0C1, 0x0C8)  # parts A..C', then the PLC's link frame (protocol 0.2)
 
 
 def read_frames(path):

@@ -58,6 +58,8 @@ int main() {
 
     PlcReceiverConfig config;
     config.expected_zone_count = 4U;
+    // Session link off: this consumer check feeds protocol 0.1 pairs only
+    config.link.enabled = false;
     check(PlcReceiver::check_config(config).ok(), "the receiver configuration is valid");
 
     const Result<CanFrame> encoded = encode_safety_frame(clear, 0U, config.channel);

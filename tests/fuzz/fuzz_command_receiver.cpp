@@ -1,20 +1,28 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Fuzz target: the controller's command receiver on arbitrary sequences of
-// command frames, polls and time steps (good samples frame by frame, parts
-// and copies out of order, repeated, corrupted, under other data IDs, raw
-// garbage on any ID, replays, parts of the previous sample or with another
-// counter mixed in, samples abandoned half-way, time going backwards).
+// Fuzz target: the controller's command receiver, protocol 0.2 (session link
+// on), on arbitrary sequences of command frames, polls and time steps (good
+// samples frame by frame closed by the PLC's link frame, the controller's own
+// link frames to a PLC endpoint that echoes them, parts, copies and link
+// frames out of order, repeated, corrupted, under other data IDs, raw garbage
+// on any ID, single frames and whole samples replayed, delays between the
+// controller's link frame and the echo, a PLC restart, parts of the previous
+// sample or with another counter mixed in, samples abandoned half-way, time
+// going backwards).
 // Aborts if the receiver ever reports "valid" for data that a fresh,
-// independent check rejects: the last six frames on the command IDs before
-// any sample in progress must be A, A', B, B', C, C' of one sample, each part
-// passing a bitwise CRC written from the AUTOSAR E2E Profile 1 rules with its
-// own data ID, its counter range and reserved bits, each copy the inverse of
-// its part within the SRVT, all three with one counter, the sample within its
-// window and within the SCT of now, the frames in progress a correct prefix of
-// the next sample; and the reported command and counter must be that sample's
-// (decoded here byte by byte), with a counter step of 1..max_delta_counter
-// from the previous valid report.
+// independent check rejects: the last seven frames on the command and PLC
+// link IDs before any sample in progress must be A, A', B, B', C, C' and the
+// link frame of one sample, each part passing a bitwise CRC written from the
+// AUTOSAR E2E Profile 1 rules with its own data ID, its counter range and
+// reserved bits, each copy the inverse of its part within the SRVT, all three
+// with one counter, the link frame's CRC continued over parts A, B and C with
+// that counter, the sample within its window and within the SCT of now, the
+// link frame's echo naming this controller's session and a link frame it sent
+// at most watchdog_us before now (the age bound, on the controller's clock),
+// while valid its sequence never going back (no replay), the frames in
+// progress a correct prefix of the next sample; and the reported command and
+// counter must be that sample's (decoded here byte by byte), with a counter
+// step of 1..max_delta_counter from the previous valid report.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cstddef>
@@ -27,6 +35,7 @@
 
 using namespace cellguard;
 using cellguard::fuzz::ref_p01_crc;
+using cellguard::fuzz::ref_update;
 
 namespace {
 
@@ -97,7 +106,34 @@ struct Seen {
     std::uint64_t time;
 };
 
-constexpr std::size_t kHistory = 11U;  // a complete sample and the five frames of one in progress
+constexpr std::size_t kSampleFrames = kCommandFramesPerSample + 1U;  // A, A', B, B', C, C' and the PLC's link frame
+constexpr std::size_t kHistory = 2U * kSampleFrames - 1U;  // a complete sample and six frames of one in progress
+// Every link frame the controller sends in one input (at most one a step, 512 steps): the oracle
+// finds the send time of any echo, however many frames were sent since without time passing.
+constexpr std::size_t kSentHistory = 1024U;
+
+/// The controller's link frames: sequence and send time (the age bound's reference).
+struct Sent {
+    std::uint16_t sequence[kSentHistory] = {};
+    std::uint64_t us[kSentHistory] = {};
+    std::size_t count = 0U;
+};
+
+/// Independent check of the PLC's link frame closing parts @p a, @p b, @p c:
+/// the E2E P01 CRC over the link channel's data ID and bytes 1..7, continued
+/// over the 8 bytes of each part, the counter part A's, the length 8.
+bool ref_link_ok(const CanFrame& link, const CanFrame& a, const CanFrame& b, const CanFrame& c, const LinkChannel& ch) {
+    if (link.id != ch.can_id || link.dlc != 8U || (link.data[1] & 0x0FU) != (a.data[1] & 0x0FU)) {
+        return false;
+    }
+    std::uint8_t reg = ref_p01_crc(link.data, ch.data_id, ch.data_id_mode);
+    for (const CanFrame* part : {&a, &b, &c}) {
+        for (const std::uint8_t byte : part->data) {
+            reg = ref_update(reg, byte);
+        }
+    }
+    return reg == link.data[0];
+}
 
 /// With CELLGUARD_FUZZ_STATS set, reports at exit how often the oracle saw a valid status.
 struct Stats {
@@ -127,19 +163,20 @@ RobotCommand fuzzed_command(FuzzedDataProvider& in) {
     return c;
 }
 
-/// The oracle for a valid status: see the file comment.
-void check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, std::uint64_t now,
-                 const CommandReceiverConfig& config) {
+/// The oracle for a valid status: see the file comment. Returns the link frame's sequence.
+unsigned check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, std::uint64_t now,
+                     const CommandReceiverConfig& config, const Sent& sent) {
     const CommandChannelConfig& ch = config.channel;
-    // The newest C' ends the sample; frames after it are a sample in progress.
-    std::size_t end = seen;  // index one past the sample's C'
-    while (end > 0U && history[end - 1U].frame.id != ch.base_can_id + 5U) {
+    const LinkChannel& link_ch = config.link.peer;
+    // The newest PLC link frame ends the sample; frames after it are a sample in progress.
+    std::size_t end = seen;  // index one past the sample's link frame
+    while (end > 0U && history[end - 1U].frame.id != link_ch.can_id) {
         --end;
     }
-    ORACLE(end >= 6U);
+    ORACLE(end >= kSampleFrames);
     const std::size_t progress = seen - end;
-    ORACLE(progress <= 5U);
-    const Seen* s = history + (end - 6U);
+    ORACLE(progress <= kCommandFramesPerSample);
+    const Seen* s = history + (end - kSampleFrames);
     for (int part = 0; part < 3; ++part) {
         const Seen& f = s[2 * part];
         const Seen& copy = s[2 * part + 1];
@@ -148,8 +185,24 @@ void check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, st
         ORACLE(copy.time >= f.time && copy.time - f.time <= config.srvt_us);
         ORACLE((f.frame.data[1] & 0x0FU) == (s[0].frame.data[1] & 0x0FU));
     }
-    ORACLE(s[5].time - s[0].time <= config.sample_window_us);
-    ORACLE(now >= s[5].time && now - s[5].time <= config.sct_us);
+    const Seen& link = s[kCommandFramesPerSample];
+    ORACLE(ref_link_ok(link.frame, s[0].frame, s[2].frame, s[4].frame, link_ch));
+    ORACLE(link.time >= s[5].time && link.time - s[0].time <= config.sample_window_us);
+    ORACLE(now >= link.time && now - link.time <= config.sct_us);
+    // The age bound: the echo names this controller's session and a link frame it sent at most watchdog_us ago.
+    const unsigned sequence = static_cast<unsigned>(link.frame.data[2] | (link.frame.data[3] << 8U));
+    const unsigned echo = static_cast<unsigned>(link.frame.data[4] | (link.frame.data[5] << 8U));
+    ORACLE(link.frame.data[7] == config.link.session && link.frame.data[6] != 0U && sequence != 0U);
+    bool found = false;
+    for (std::size_t i = 0U; i < kSentHistory && i < sent.count; ++i) {
+        const std::size_t slot = (sent.count - 1U - i) % kSentHistory;
+        if (sent.sequence[slot] == echo) {
+            found = true;
+            ORACLE(now >= sent.us[slot] && now - sent.us[slot] <= config.link.watchdog_us);
+            break;
+        }
+    }
+    ORACLE(found);
     const RobotCommand expected = ref_decode(s[0].frame, s[2].frame, s[4].frame);
     for (std::size_t j = expected.joint_count; j < kMaxCommandJoints; ++j) {
         ORACLE(expected.joint_raw[j] == 0);
@@ -157,7 +210,7 @@ void check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, st
     ORACLE(p.input.valid);
     ORACLE(p.input.command == expected);
     ORACLE(p.input.counter == (s[0].frame.data[1] & 0x0FU));
-    ORACLE(p.input.received_us == s[5].time);
+    ORACLE(p.input.received_us == link.time);
     // The sample in progress is a correct prefix of the next one, within its limits.
     const Seen* n = history + end;
     for (std::size_t i = 0U; i < progress; ++i) {
@@ -174,6 +227,19 @@ void check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, st
     if (progress % 2U == 1U) {
         ORACLE(now - n[progress - 1U].time <= config.srvt_us);
     }
+    return sequence;
+}
+
+/// The seven frames of a sample of @p command with counter @p counter: the PLC's link frame from @p plc.
+void make_sample(CanFrame (&out)[kSampleFrames], const RobotCommand& command, std::uint8_t counter,
+                 const CommandChannelConfig& ch, LinkEndpoint& plc, std::uint64_t now) {
+    const CommandFrames frames = encode_command_sample(command, counter, ch).value();
+    for (std::size_t i = 0U; i < kCommandFramesPerSample; ++i) {
+        out[i] = frames.frame[i];
+    }
+    const CanFrame parts[3] = {frames.frame[0], frames.frame[2], frames.frame[4]};
+    out[kCommandFramesPerSample] =
+        encode_link_frame(plc.next(now), counter, plc.config().own, Span<const CanFrame>(parts)).value();
 }
 
 }  // namespace
@@ -187,14 +253,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     config.sct_us = 40000U;
     config.max_delta_counter = in.ConsumeIntegralInRange<std::uint8_t>(1U, 3U);
     config.recovery_good_samples = in.ConsumeIntegralInRange<std::uint8_t>(1U, 3U);
+    config.link.session = in.ConsumeIntegralInRange<std::uint8_t>(1U, 255U);
+    config.link.watchdog_us = in.ConsumeIntegralInRange<std::uint32_t>(1000U, 80000U);
+    config.link.max_sequence_step = in.ConsumeIntegralInRange<std::uint16_t>(1U, 3U);
     CommandReceiver receiver(config);
     const CommandChannelConfig& ch = config.channel;
 
+    // The PLC's side of the link: echoes the controller's link frames it gets; restarts with a new session.
+    LinkConfig plc_config = plc_link_config();
+    plc_config.session = in.ConsumeIntegralInRange<std::uint8_t>(1U, 255U);
+    plc_config.watchdog_us = 1000000000U;  // the PLC's own checks do not matter here
+    LinkEndpoint plc(plc_config);
+    Sent sent;
+
     std::uint64_t now = 1000000U;
     std::uint8_t counter = 0U;
-    CommandFrames sample = encode_command_sample(RobotCommand{}, counter, ch).value();
-    CommandFrames previous = sample;
-    CommandFrames mixed = sample;
+    CanFrame sample[kSampleFrames] = {};
+    make_sample(sample, RobotCommand{}, counter, ch, plc, now);
+    CanFrame previous[kSampleFrames] = {};
+    CanFrame mixed[kSampleFrames] = {};
+    for (std::size_t i = 0U; i < kSampleFrames; ++i) {
+        previous[i] = sample[i];
+        mixed[i] = sample[i];
+    }
+    CanFrame queue[kSampleFrames] = {};  // a replayed sample being delivered, one frame a step
+    std::size_t queued = 0U;
+    std::size_t queue_next = 0U;
     std::size_t next = 0U;  // the frame of `sample` to send next
     Seen history[kHistory] = {};
     std::size_t seen = 0U;
@@ -202,13 +286,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::size_t replay_count = 0U;
     bool was_valid = false;
     std::uint8_t last_counter = 0U;
+    unsigned last_sequence = 0U;
 
-    for (int step = 0; step < 512 && in.remaining_bytes() > 0U; ++step) {
+    for (int step = 0; step < 512 && (queued > queue_next || in.remaining_bytes() > 0U); ++step) {
         CanFrame f{};
         bool deliver = true;
-        switch (in.ConsumeIntegralInRange<int>(0, 13)) {
-            case 0:  // time passes, with or without a poll
-                now += in.ConsumeIntegralInRange<std::uint32_t>(0U, 50000U);
+        const int op = queued > queue_next ? -1 : in.ConsumeIntegralInRange<int>(0, 16);
+        switch (op) {
+            case -1:  // the next frame of a replayed sample
+                f = queue[queue_next++];
+                if (queue_next == queued) {
+                    queued = 0U;
+                    queue_next = 0U;
+                }
+                break;
+            case 0:  // time passes, with or without a poll (up to twice the largest watchdog time: a delay)
+                now += in.ConsumeBool() ? in.ConsumeIntegralInRange<std::uint32_t>(0U, 50000U)
+                                        : in.ConsumeIntegralInRange<std::uint32_t>(0U, 160000U);
                 deliver = false;
                 if (in.ConsumeBool()) {
                     continue;
@@ -223,23 +317,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                         break;
                     default: counter = in.ConsumeIntegralInRange<std::uint8_t>(0U, 14U); break;
                 }
-                previous = sample;
-                sample = encode_command_sample(fuzzed_command(in), counter, ch).value();
+                for (std::size_t i = 0U; i < kSampleFrames; ++i) {
+                    previous[i] = sample[i];
+                }
+                make_sample(sample, fuzzed_command(in), counter, ch, plc, now);
                 next = 0U;
                 [[fallthrough]];
             case 2:  // the next frame of the sample, shortly after the previous one
             case 3:
             case 4:
                 now += in.ConsumeIntegralInRange<std::uint32_t>(0U, 3000U);
-                f = sample.frame[next];
-                next = (next + 1U) % kCommandFramesPerSample;
+                f = sample[next];
+                next = (next + 1U) % kSampleFrames;
                 break;
             case 5:  // any frame of the sample: reordered or repeated
-                f = sample.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                f = sample[in.ConsumeIntegralInRange<std::size_t>(0U, kSampleFrames - 1U)];
                 break;
-            case 6: {  // raw bytes on a command ID or any ID
-                f.id = in.ConsumeBool() ? ch.base_can_id + in.ConsumeIntegralInRange<std::uint32_t>(0U, 5U)
-                                        : in.ConsumeIntegralInRange<std::uint32_t>(0U, 0x7FFU);
+            case 6: {  // raw bytes on a command ID, the PLC's link ID or any ID
+                switch (in.ConsumeIntegralInRange<int>(0, 2)) {
+                    case 0: f.id = ch.base_can_id + in.ConsumeIntegralInRange<std::uint32_t>(0U, 5U); break;
+                    case 1: f.id = config.link.peer.can_id; break;
+                    default: f.id = in.ConsumeIntegralInRange<std::uint32_t>(0U, 0x7FFU); break;
+                }
                 f.dlc = in.ConsumeIntegralInRange<std::uint8_t>(0U, 15U);
                 for (std::uint8_t& b : f.data) {
                     b = in.ConsumeIntegral<std::uint8_t>();
@@ -247,12 +346,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 break;
             }
             case 7: {  // a frame of the sample with one bit flipped
-                f = sample.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                f = sample[in.ConsumeIntegralInRange<std::size_t>(0U, kSampleFrames - 1U)];
                 const unsigned bit = in.ConsumeIntegralInRange<unsigned>(0U, 63U);
                 f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] ^ (1U << (bit % 8U)));
                 break;
             }
-            case 8:  // replay an earlier command frame
+            case 8:  // replay an earlier frame
                 if (replay_count == 0U) {
                     deliver = false;
                 } else {
@@ -279,23 +378,49 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 if (!r.ok()) {
                     deliver = false;
                 } else {
-                    mixed = r.value();
-                    f = mixed.frame[2U * part + (in.ConsumeBool() ? 1U : 0U)];
+                    f = r.value().frame[2U * part + (in.ConsumeBool() ? 1U : 0U)];
                 }
                 break;
             }
             case 12: {  // splice: the rest of the sample in progress comes from another command, same counter
-                mixed = encode_command_sample(fuzzed_command(in), counter, ch).value();
+                const CommandFrames other = encode_command_sample(fuzzed_command(in), counter, ch).value();
                 for (std::size_t i = next + (next % 2U); i < kCommandFramesPerSample; ++i) {
-                    sample.frame[i] = mixed.frame[i];
+                    sample[i] = other.frame[i];  // the link frame stays bound to the original parts
                 }
                 deliver = false;
                 break;
             }
             case 11:  // a frame of the previous sample: parts of two samples mixed
-                f = previous.frame[in.ConsumeIntegralInRange<std::size_t>(0U, 5U)];
+                f = previous[in.ConsumeIntegralInRange<std::size_t>(0U, kSampleFrames - 1U)];
                 break;
-            default: {  // poll
+            case 13: {  // the controller sends its link frame; the PLC gets it (or it is lost)
+                const LinkFields fields = receiver.link().next(now);
+                sent.sequence[sent.count % kSentHistory] = fields.sequence;
+                sent.us[sent.count % kSentHistory] = now;
+                ++sent.count;
+                if (in.ConsumeBool()) {
+                    static_cast<void>(plc.on_peer(fields, now));
+                }
+                deliver = false;
+                break;
+            }
+            case 14:  // a whole earlier sample replayed, frame by frame
+                for (std::size_t i = 0U; i < kSampleFrames; ++i) {
+                    queue[i] = in.ConsumeBool() ? previous[i] : mixed[i];
+                }
+                queued = kSampleFrames;
+                queue_next = 0U;
+                deliver = false;
+                break;
+            case 15:  // keep the current sample for a later replay
+                for (std::size_t i = 0U; i < kSampleFrames; ++i) {
+                    mixed[i] = sample[i];
+                }
+                deliver = false;
+                break;
+            default: {  // the PLC restarts: a new session, its sequence from 1 again
+                plc_config.session = static_cast<std::uint8_t>(plc_config.session % 255U + 1U);
+                plc = LinkEndpoint(plc_config);
                 deliver = false;
                 break;
             }
@@ -303,7 +428,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
         if (deliver) {
             (void)receiver.on_frame(f, now);
-            if (f.id >= ch.base_can_id && f.id < ch.base_can_id + kCommandFramesPerSample) {
+            if ((f.id >= ch.base_can_id && f.id < ch.base_can_id + kCommandFramesPerSample) ||
+                f.id == config.link.peer.can_id) {
                 if (seen == kHistory) {
                     for (std::size_t i = 1U; i < kHistory; ++i) {
                         history[i - 1U] = history[i];
@@ -325,13 +451,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             was_valid = false;
             continue;
         }
-        check_valid(p, history, seen, now, config);
+        const unsigned sequence = check_valid(p, history, seen, now, config, sent);
         if (was_valid && p.input.counter != last_counter) {
             const std::uint8_t delta = e2e_p01_counter_delta(p.input.counter, last_counter);
             ORACLE(delta >= 1U && delta <= config.max_delta_counter);
         }
+        // No replay while valid: the PLC's sequence in use never goes back (fewer than 32768 of its frames here,
+        // and its restarts restart it: compared only while the receiver stayed valid, which a restart breaks).
+        if (was_valid) {
+            ORACLE(sequence >= last_sequence);
+        }
         was_valid = true;
         last_counter = p.input.counter;
+        last_sequence = sequence;
     }
     return 0;
 }

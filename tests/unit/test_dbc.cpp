@@ -16,6 +16,7 @@
 #include "cellguard/can/command_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/can/separation_frame.hpp"
+#include "cellguard/can/session_link.hpp"
 
 using namespace cellguard;
 
@@ -151,14 +152,15 @@ void check_against_table(const DbcMessage& msg, const SignalLayout (&table)[N], 
 }  // namespace
 
 // verifies: SR-CAN-002
-TEST_CASE("dbc: the file parses, every SG_ line included, and holds the ten frames on the default CAN IDs") {
+TEST_CASE("dbc: the file parses, every SG_ line included, and holds the twelve frames on the default CAN IDs") {
     const Dbc& dbc = the_dbc();
-    REQUIRE(dbc.messages.size() == 10U);
+    REQUIRE(dbc.messages.size() == 12U);
     unsigned parsed = 0U;
     for (const DbcMessage& m : dbc.messages) {
         parsed += static_cast<unsigned>(m.signals.size());
         CHECK(m.dlc == 8U);
-        const bool command = m.id >= kDefaultCommandBaseCanId && m.id < kDefaultCommandBaseCanId + 6U;
+        const bool command = (m.id >= kDefaultCommandBaseCanId && m.id < kDefaultCommandBaseCanId + 6U) ||
+                             m.id == kDefaultPlcLinkChannel.can_id;
         CHECK(m.sender == (command ? "PLC" : "CELLGUARD"));
     }
     CHECK(parsed == dbc.sg_lines);
@@ -177,6 +179,16 @@ TEST_CASE("dbc: the file parses, every SG_ line included, and holds the ten fram
         REQUIRE(m != nullptr);
         CHECK(m->name == command_names[i]);
     }
+}
+
+// verifies: SR-CAN-013
+TEST_CASE("dbc: both link frames (protocol 0.2) match the link layout table") {
+    REQUIRE(find_message(kDefaultControllerLinkChannel.can_id) != nullptr);
+    REQUIRE(find_message(kDefaultPlcLinkChannel.can_id) != nullptr);
+    CHECK(find_message(kDefaultControllerLinkChannel.can_id)->name == "CellguardLink");
+    CHECK(find_message(kDefaultPlcLinkChannel.can_id)->name == "PlcLink");
+    check_against_table(*find_message(kDefaultControllerLinkChannel.can_id), link_layout::kSignals, false);
+    check_against_table(*find_message(kDefaultPlcLinkChannel.can_id), link_layout::kSignals, false);
 }
 
 // verifies: SR-CAN-002
@@ -324,6 +336,19 @@ std::vector<ExpectedFrame> expected_frames() {
     ExpectedFrame c{s.frame[4], {}};
     add_header(c, 12U);
     c.values.insert(c.values.end(), {{"Joint5", joints[5]}, {"Joint6", joints[6]}, {"RobotId", 0xFEDC}});
+    for (const LinkChannel& link_channel : {kDefaultControllerLinkChannel, kDefaultPlcLinkChannel}) {
+        LinkFields f;
+        f.sequence = 54321U;
+        f.echo = 65535U;
+        f.session = 200U;
+        f.echo_session = 17U;
+        const CanFrame bound[1] = {s.frame[0]};
+        ExpectedFrame link{encode_link_frame(f, 12U, link_channel, Span<const CanFrame>(bound)).value(), {}};
+        add_header(link, 12U);
+        link.values.insert(link.values.end(),
+                           {{"Sequence", 54321}, {"EchoSequence", 65535}, {"Session", 200}, {"EchoSession", 17}});
+        out.push_back(link);
+    }
     out.push_back(a);
     out.push_back(inverted(a, {8U, 4U, 4U, 4U, 2U, 3U, 0U, 0U}));
     out.push_back(b);
@@ -373,7 +398,7 @@ TEST_CASE("dbc: the frames file for the third-party decoder check covers every m
         CHECK(e.values.size() == present);
         text += frames_file_line(e, index++) + "\n";
     }
-    CHECK(frames.size() == 11U);  // the ten messages, the diagnostics frame on two pages
+    CHECK(frames.size() == 13U);  // the twelve messages, the diagnostics frame on two pages
     // tools/dbc_decode_check.py runs this test case with CELLGUARD_DBC_FRAMES_OUT set and decodes the file.
     if (const char* path = std::getenv("CELLGUARD_DBC_FRAMES_OUT"); path != nullptr) {
         std::ofstream out(path);

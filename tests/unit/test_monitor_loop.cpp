@@ -4,7 +4,9 @@
 // its cycles allocate nothing, on the simulated demo and with a recorded PCD
 // sensor, each sensor's frame is loaded exactly once per cycle, and the
 // simulator's allocation-free rendering into caller buffers gives
-// render_frame's images bit for bit.
+// render_frame's images bit for bit; protocol 0.2 in a cell without a robot:
+// the simulated PLC's link frames alone are echoed and its receiver accepts
+// the controller's pairs, and without a PLC link no pair is accepted.
 #include <doctest/doctest.h>
 
 #include <cstdio>
@@ -15,12 +17,14 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/command_link.hpp"
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
@@ -70,9 +74,27 @@ struct NullOutput {
     char buffer[8192] = {};
 };
 
-/// The monitor as main wires it, with counting sources and a counting sender.
+/// A CanSender that counts the frames and hands each to a PLC receiver (the monitor's frames as a PLC gets them).
+class PlcSideSender final : public CanSender {
+public:
+    explicit PlcSideSender(const PlcReceiverConfig& config) : plc(config) {}
+    bool send(const CanFrame& frame) noexcept override {
+        ++frames;
+        if (frame.id != plc.config().link.own.can_id) {  // not the PLC's own link frames
+            status = plc.on_frame(frame, ++now_us);
+        }
+        return true;
+    }
+    PlcReceiver plc;
+    ReceiverStatus status{};
+    std::uint64_t now_us = 0U;
+    std::size_t frames = 0U;
+};
+
+/// The monitor as main wires it, with counting sources and a counting sender;
+/// with @p with_plc the simulated PLC of a log run (its link frames alone).
 struct Monitor {
-    explicit Monitor(MonitorConfig config) : cfg(std::move(config)), clock(false, source_clock) {
+    explicit Monitor(MonitorConfig config, bool with_plc = true) : cfg(std::move(config)), clock(false, source_clock) {
         cfg.budget_us = 60000000U;  // the cycles' decisions, not this host's speed (as the demo's ctest)
         REQUIRE_FALSE(cell.configure(cfg).failed());
         REQUIRE_FALSE(cell.build_prior(cfg, nullptr).failed());
@@ -91,7 +113,10 @@ struct Monitor {
             sources.push_back(counted.back().get());
         }
         can.use_sender(sender);
-        loop = std::make_unique<MonitorLoop>(cfg, cell, sources, can, clock, out.file);
+        if (with_plc) {
+            plc = std::make_unique<SimulatedPlcLink>(command_receiver_config(cfg), plc_receiver_config(cfg), &can);
+        }
+        loop = std::make_unique<MonitorLoop>(cfg, cell, sources, can, clock, out.file, plc.get());
         REQUIRE(loop->status().ok());
     }
 
@@ -117,6 +142,7 @@ struct Monitor {
     std::vector<std::unique_ptr<PcdFrameSource>> recorded;
     std::vector<std::unique_ptr<CountingSource>> counted;
     std::vector<FrameSource*> sources;
+    std::unique_ptr<SimulatedPlcLink> plc;
     std::unique_ptr<MonitorLoop> loop;
 };
 
@@ -145,9 +171,17 @@ TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and
     for (const std::unique_ptr<SimulatedFrameSource>& s : m.simulated) {
         CHECK(s->renders() == static_cast<std::uint64_t>(cycles));  // each image rendered once per cycle
     }
-    // The demo's decisions: three frames per cycle, the stop when the person
-    // enters the protective zone (cycle 15), no fault.
-    CHECK(m.sender.frames == 3U * static_cast<std::size_t>(cycles));
+    // The demo's decisions: four frames per cycle and the PLC's link frame,
+    // the stop when the person enters the protective zone (cycle 15), no fault.
+    CHECK(m.sender.frames == 5U * static_cast<std::size_t>(cycles));
+    // Protocol 0.2 without a robot: the controller refuses the PLC's first link
+    // frame (no echo of its session yet: the handshake) and accepts the rest;
+    // the PLC's receiver accepts the controller's pairs.
+    CHECK(m.plc->standalone_link().accepted == static_cast<std::uint32_t>(cycles - 1));
+    CHECK(m.plc->standalone_link().refused == 1U);
+    CHECK(m.plc->standalone_link().last == LinkFault::kNoEchoYet);
+    CHECK(m.plc->plc_status().communication_valid);
+    CHECK(m.plc->plc_status().fault_events == 0U);
     const MonitorStats& st = m.loop->stats();
     CHECK(st.cycles_run == cycles);
     CHECK(st.send_failures == 0);
@@ -220,7 +254,30 @@ TEST_CASE("monitor loop: with a recorded PCD sensor, good and refused frames all
     CHECK(pcd.used() == 60U);  // every file read once per cycle it is due
     CHECK(pcd.refused() == 60U);
     CHECK((m.loop->stats().faults_seen & fault_bit(Fault::kFrameInconsistent)) != 0U);
-    CHECK(m.sender.frames == 3U * static_cast<std::size_t>(cycles));
+    CHECK(m.sender.frames == 5U * static_cast<std::size_t>(cycles));
+}
+
+// verifies: SR-CAN-017
+TEST_CASE("monitor loop: without a PLC link the controller's link frames echo nothing and a PLC refuses every pair") {
+    // The PLC's receiver sees the monitor's frames but sends nothing itself:
+    // no round trip, so no age bound, so no pair is ever accepted (the stop holds).
+    Monitor m(demo_config(), false);
+    PlcSideSender plc_side(plc_receiver_config(m.cfg));
+    m.can.use_sender(plc_side);
+    static_cast<void>(m.run(20));
+    CHECK(plc_side.frames == 4U * 20U);  // safety frame, copy, link frame, diagnostics
+    CHECK_FALSE(plc_side.status.communication_valid);
+    CHECK(plc_side.status.stop_requested);
+    CHECK(plc_side.status.fault == ReceiverFault::kNoEchoYet);
+    CHECK(plc_side.status.fault_events >= 20U);  // every pair refused
+    // The summary says so.
+    char text[4096] = {};
+    std::FILE* summary = fmemopen(text, sizeof text, "w");
+    REQUIRE(summary != nullptr);
+    m.loop->write_summary(summary, RunResult{}, true);
+    std::fclose(summary);
+    CHECK(std::string(text).find("summary: no PLC link: the link frames carry no echo, a PLC refuses them") !=
+          std::string::npos);
 }
 
 // verifies: SR-SYS-005

@@ -70,7 +70,9 @@ struct CycleRecord {
 /// clock's advance per reading (a large one: a slow, loaded host).
 struct RobotCell {
     explicit RobotCell(const std::string& log_path = "", std::uint64_t step_us = 10U)
-        : cfg(robot_cell_demo_config()), clock(false, source_clock), plc(command_receiver_config(cfg), &can) {
+        : cfg(robot_cell_demo_config()),
+          clock(false, source_clock),
+          plc(command_receiver_config(cfg), plc_receiver_config(cfg), &can) {
         source_clock.step = step_us;
         cfg.budget_us = 60000000U;  // the decisions, not this host's speed
         REQUIRE_FALSE(cell.configure(cfg).failed());
@@ -144,7 +146,12 @@ TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced
     c.run();
     REQUIRE(c.cycles.size() == 170U);
     CHECK(c.allocating_cycles == 0);
-    CHECK(c.sender.command_frames == 6U * c.cycles.size());  // the PLC's six frames every cycle
+    CHECK(c.sender.command_frames == 6U * c.cycles.size());  // the PLC's six frames every cycle (and its link frame)
+    // Protocol 0.2: the simulated PLC's receiver accepts the controller's pairs
+    // with their link frames from its third pair on and never refuses one after.
+    CHECK(c.plc.plc_status().communication_valid);
+    CHECK(c.plc.plc_status().fault_events == 0U);
+    CHECK(c.plc.receiver().link().sequence() == c.cycles.size());  // one controller link frame a cycle
     // Start-up: the receiver needs a reference sample and two good ones, then
     // the faults recover and the restart interlock runs; from cycle 20 on the
     // commands are good in every cycle.

@@ -24,6 +24,7 @@ PlcReceiverConfig receiver_config() {
     c.max_delta_counter = 1U;
     c.recovery_good_pairs = 2U;
     c.expected_zone_count = 4U;
+    c.link.enabled = false;  // the protocol 0.1 checks; the session link's tests set up both sides
     return c;
 }
 
@@ -386,7 +387,7 @@ TEST_CASE("plc receiver: the safe-state message stops, warns, faults, reduces sp
 // verifies: SR-GEN-004
 TEST_CASE(
     "plc receiver: every receiver fault has its own name, and a value outside the enumeration has the fallback name") {
-    test::check_enum_names<ReceiverFault>(16U, "unknown receiver fault");
+    test::check_enum_names<ReceiverFault>(27U, "unknown receiver fault");
 }
 
 // verifies: SR-CMD-008
@@ -425,4 +426,44 @@ TEST_CASE("plc receiver: the largest recovery count, 255 good pairs, is reached 
         CHECK_FALSE(s.stop_requested);
     }
     CHECK(link.receiver.poll(link.now).fault_events == 0U);
+}
+
+// verifies: SR-CAN-016
+TEST_CASE(
+    "plc receiver: a frame that comes when the data in use is older than the watchdog time gives the safe state") {
+    // Found by the fuzz target's age oracle: the age was checked at polls and
+    // on link frames, so the status a safety frame or copy returned could be
+    // valid for data older than the watchdog time until the next poll.
+    PlcReceiverConfig c = receiver_config();
+    c.link.enabled = true;
+    c.link.watchdog_us = 20000U;
+    PlcReceiver rx(c);
+    LinkEndpoint controller(controller_link_config());
+    std::uint64_t t = 1000000U;
+    std::uint8_t counter = 0U;
+    ReceiverStatus s;
+    const auto pair = [&](std::uint64_t at) {
+        const CanFrame f = encode_safety_frame(clear_message(), counter, c.channel).value();
+        const CanFrame bound[1] = {f};
+        const CanFrame link =
+            encode_link_frame(controller.next(at), counter, c.link.peer, Span<const CanFrame>(bound)).value();
+        counter = e2e_p01_next_counter(counter);
+        static_cast<void>(rx.on_frame(f, at));
+        static_cast<void>(rx.on_frame(inverted_copy(f), at + 1U));
+        return rx.on_frame(link, at + 2U);
+    };
+    for (int k = 0; k < 4; ++k) {  // the PLC's link frame echoed, then a pair: the reference and two recovery pairs
+        static_cast<void>(controller.on_peer(rx.next_link(t), t));
+        s = pair(t);
+        t += 5000U;
+    }
+    REQUIRE(s.communication_valid);
+    // The PLC's link frames stop reaching the controller; 25 ms after the
+    // last echoed one (> 20 ms) the next safety frame arrives, within the SCT.
+    t += 20000U;
+    const CanFrame f = encode_safety_frame(clear_message(), counter, c.channel).value();
+    s = rx.on_frame(f, t);
+    CHECK_FALSE(s.communication_valid);
+    CHECK(s.stop_requested);
+    CHECK(s.fault == ReceiverFault::kWatchdogExpired);
 }

@@ -48,6 +48,7 @@ SafetyOutputConfig output_config(std::uint8_t zones = 2U) {
     SafetyOutputConfig c;
     c.zone_count = zones;
     c.prior_crc = 0xCAFEF00DU;
+    c.session_link = false;  // the protocol 0.1 checks; the session link's tests set up both sides
     return c;
 }
 
@@ -97,6 +98,7 @@ TEST_CASE(
     CanSafetyOutput out(output_config(), sender);
     PlcReceiverConfig rc;
     rc.expected_zone_count = 2U;
+    rc.link.enabled = false;  // the protocol 0.1 checks; the session link's tests set up both sides
     PlcReceiver plc(rc);
     std::uint64_t now = 1000000U;
     std::uint32_t prior_crc = 0U;
@@ -217,6 +219,7 @@ TEST_CASE("safety output: with a robot, the separation frame follows the diagnos
     CanSafetyOutput out(output_config(), sender);
     PlcReceiverConfig rc;
     rc.expected_zone_count = 2U;
+    rc.link.enabled = false;  // the protocol 0.1 checks; the session link's tests set up both sides
     PlcReceiver plc(rc);
     std::uint64_t now = 1000000U;
     const SpeedRequest requests[] = {SpeedRequest::kFull, SpeedRequest::kReduced, SpeedRequest::kProtectiveStop};

@@ -145,12 +145,12 @@ TEST_CASE(
                                        {read.data(), read.size()});
     CHECK(st.ok());
     CHECK(read == grid_at_stop);
-    // The frames: 16 cycles of 3 before (cycles 0-15), 64 after.
+    // The frames: 16 cycles of 4 before (cycles 0-15: safety, copy, link, diagnostics), 64 after.
     const std::string frames = read_text(snap + "/can.log");
-    CHECK(count_lines_not_starting_with_hash(frames) == 48 + 64);
+    CHECK(count_lines_not_starting_with_hash(frames) == 64 + 64);
     CHECK(frames.rfind("(", 0) == 0);  // candump -L lines only, no comments
     const std::string text = read_text(snap + "/snapshot.txt");
-    CHECK(text.find("can_frames_before 48\ncan_frames_after 64\ncan_frames_received 0\n") != std::string::npos);
+    CHECK(text.find("can_frames_before 64\ncan_frames_after 64\ncan_frames_received 0\n") != std::string::npos);
     const std::string png = read_text(snap + "/picture.png");
     CHECK(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
     CHECK(text.find("zone protective INTRUDED") != std::string::npos);

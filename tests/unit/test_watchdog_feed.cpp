@@ -47,13 +47,20 @@ int first_clock_fault(std::int64_t rate_ppm, int polls) {
     rate.window_periods = 20U;
     CommandReceiverConfig rc;
     rc.sct_us = 250000U;
-    SimulatedPlcLink link(rc, nullptr, rate);
+    PlcReceiverConfig pc;
+    pc.sct_us = 250000U;
+    SimulatedPlcLink link(rc, pc, nullptr, rate);
     link.set_command(robot_command());
+    // The controller's side of the session link: its frames after each poll, echoing the PLC.
+    CycleFrameEncoder output(SafetyOutputConfig{});
     for (int k = 0; k < polls; ++k) {
         const std::uint64_t local = 1000000U + static_cast<std::uint64_t>(k) * 100000U +
                                     static_cast<std::uint64_t>(static_cast<std::int64_t>(k) * 100000 * rate_ppm /
                                                                1000000);
         static_cast<void>(link.poll(local));
+        CycleReport report{};
+        report.started_us = local;
+        link.on_sent(output.encode(report, 0U, &link.controller_link()), local + 1U);
         if (link.clock_rate().faults() == fault_bit(Fault::kClockFault)) {
             return k;
         }

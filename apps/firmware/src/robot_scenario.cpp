@@ -9,6 +9,7 @@
 
 #include "cellguard/can/command_receiver.hpp"
 #include "cellguard/can/plc_command_sender.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/grid_config.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
@@ -27,6 +28,7 @@ using detail::digest_grid;
 using detail::digest_report;
 using detail::DigestingSender;
 using detail::Line;
+using detail::PlcTapSender;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -91,6 +93,7 @@ struct RobotRun {
     const CannedFrames& frames;
     const EvidenceGrid& frame_grid;
     PlcCommandSender& plc;
+    PlcReceiver& plc_receiver;  // the PLC's side of the session link (its link frames' fields)
     CommandReceiver& receiver;
     ScriptClock& clock;
     Digest& digest;
@@ -105,18 +108,23 @@ bool send_plc_samples(const RobotRun& run, const RobotCommand& command, std::uin
                       std::uint32_t samples) noexcept {
     for (std::uint32_t s = samples; s > 0U; --s) {
         const std::uint64_t at = start - kLastSampleLeadUs - (s - 1U) * kPlcPeriodUs;
-        const Result<CommandFrames> frames = run.plc.next_sample(command);
+        const Result<LinkedCommandFrames> frames = run.plc.next_sample(command, run.plc_receiver.next_link(at),
+                                                                       run.plc_receiver.config().link.own);
         if (!frames.ok()) {
             return false;
         }
         std::uint64_t t = at;
-        for (const CanFrame& f : frames.value().frame) {
+        const auto send = [&run, &t](const CanFrame& f) {
             run.digest.u32(f.id);
             run.digest.u8(f.dlc);
             run.digest.bytes(Span<const std::uint8_t>(f.data, sizeof(f.data)));
             static_cast<void>(run.receiver.on_frame(f, t));
             t += kFrameGapUs;
+        };
+        for (const CanFrame& f : frames.value().sample.frame) {
+            send(f);
         }
+        send(frames.value().link);  // protocol 0.2: the PLC's link frame closes the sample
     }
     return true;
 }
@@ -281,16 +289,23 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
     SafetyOutputConfig output_config;
     output_config.zone_count = kRobotScenarioZones;
     output_config.prior_crc = view.value().header().payload_crc;
-    DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
-    CanSafetyOutput output(output_config, sender);
-
-    const ControllerConfig config = robot_controller_config(frames.sensor_count(), cases.value(), voxels);
+    ScriptClock clock;
+    // Protocol 0.2 in both directions: the canned PLC receives the
+    // controller's frames (PlcTapSender) and echoes its link frames; the
+    // controller's link endpoint is its command receiver's.
+    PlcReceiverConfig plc_config;
+    plc_config.expected_zone_count = kRobotScenarioZones;
+    plc_config.sct_us = 3U * kRobotScenarioPeriodUs;
+    PlcReceiver plc_receiver(plc_config);
+    DigestingSender digesting(can, output_config.channel.diagnostics_can_id, digest);
+    PlcTapSender sender(digesting, plc_receiver, clock);
     CommandReceiverConfig receiver_config;
     receiver_config.sct_us = kMaxCommandAgeUs;
     PlcCommandSender plc(receiver_config.channel);
     CommandReceiver receiver(receiver_config);
+    CanSafetyOutput output(output_config, sender, &receiver.link());
 
-    ScriptClock clock;
+    const ControllerConfig config = robot_controller_config(frames.sensor_count(), cases.value(), voxels);
     const SensorModelTable model;
     EvidenceGrid frame_grid = grid.value();  // a view of the firmware's grid storage
     const Span<const std::int16_t> prior_values(cellguard_firmware_robot_prior_values, voxels);
@@ -303,7 +318,7 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
     }
     summary.setup_ok = true;
 
-    const RobotRun run{controller, frames, frame_grid, plc, receiver, clock, digest, text};
+    const RobotRun run{controller, frames, frame_grid, plc, plc_receiver, receiver, clock, digest, text};
     for (std::uint32_t k = 0U; k < kRobotScenarioCycles; ++k) {
         if (!run_robot_step(run, k, kRobotScript[k])) {
             return summary;
@@ -312,7 +327,8 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
     }
     summary.digest = digest.total();
     Line last;
-    last.text("robot frames ").dec(sender.frames()).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    last.text("robot frames ").dec(digesting.frames()).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    last.text("robot plc pairs accepted ").dec(sender.accepted()).text("\n");
     text.write(last.c_str());
     Line result;
     result.text("robot digest ").hex(summary.digest).text("\n");

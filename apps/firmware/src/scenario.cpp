@@ -8,6 +8,8 @@
 #include <cstdint>
 
 #include "cellguard/base/crc32.hpp"
+#include "cellguard/can/plc_receiver.hpp"
+#include "cellguard/can/session_link.hpp"
 #include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/grid_config.hpp"
 #include "cellguard/grid/depth_pyramid.hpp"
@@ -28,6 +30,7 @@ using detail::digest_grid;
 using detail::digest_report;
 using detail::DigestingSender;
 using detail::Line;
+using detail::PlcTapSender;
 
 using GridStorage = StaticEvidenceGridStorage<CELLGUARD_GRID_NX, CELLGUARD_GRID_NY, CELLGUARD_GRID_NZ>;
 
@@ -200,8 +203,17 @@ void write_cycle_line(const char* prefix, const CycleReport& r, const char* scen
 }
 
 /// What one step of the script runs on.
+/// The canned PLC's SCT: the canned run is not paced (its clock counts
+/// readings on the host, runs on the board's timer on the target), so the
+/// PLC's time checks are loose; the digest holds the frames, whose link
+/// fields (sequence, session, echo) do not depend on time.
+constexpr std::uint64_t kCannedPlcSctUs = 10000000U;
+
 struct ScriptRun {
     SafetyController& controller;
+    PlcReceiver& plc;                // the canned PLC's receiver: its link frames' fields
+    LinkEndpoint& controller_link;   // the controller's link endpoint (a cell without commands)
+    std::uint8_t& plc_link_counter;  // E2E counter of the PLC's link frames sent alone
     const CannedFrames& frames;
     const EvidenceGrid& frame_grid;
     MonotonicClock& clock;
@@ -214,6 +226,18 @@ struct ScriptRun {
 /// controller's cycle, the digest of its grid and report, the cycle's line.
 void run_step(const ScriptRun& run, const Step& step) noexcept {
     run.digest.start_cycle();
+    // Protocol 0.2, a cell without commands: before the cycle the PLC sends
+    // its link frame alone (the echo of the controller's last sequence); the
+    // controller's link endpoint checks it, and echoes it in its next frames.
+    const std::uint64_t plc_now = run.clock.now_us();
+    const Result<CanFrame> plc_link = encode_link_frame(run.plc.next_link(plc_now), run.plc_link_counter,
+                                                        run.plc.config().link.own, Span<const CanFrame>());
+    if (plc_link.ok()) {
+        run.plc_link_counter = e2e_p01_next_counter(run.plc_link_counter);
+        run.digest.u32(plc_link.value().id);
+        run.digest.bytes(Span<const std::uint8_t>(plc_link.value().data, sizeof(plc_link.value().data)));
+        static_cast<void>(run.controller_link.on_standalone_frame(plc_link.value(), run.clock.now_us()));
+    }
     SensorInput inputs[kMaxCannedSensors];
     const std::uint64_t now = run.clock.now_us();
     for (std::size_t s = 0U; s < run.frames.sensor_count(); ++s) {
@@ -299,8 +323,17 @@ ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& 
     SafetyOutputConfig output_config;
     output_config.zone_count = kScenarioZones;
     output_config.prior_crc = view.value().header().payload_crc;
-    DigestingSender sender(can, output_config.channel.diagnostics_can_id, digest);
-    CanSafetyOutput output(output_config, sender);
+    // Protocol 0.2: the canned PLC receives the controller's frames
+    // (PlcTapSender) and sends its link frame alone every cycle (run_step).
+    PlcReceiverConfig plc_config;
+    plc_config.expected_zone_count = kScenarioZones;
+    plc_config.sct_us = kCannedPlcSctUs;
+    PlcReceiver plc(plc_config);
+    LinkEndpoint controller_link(controller_link_config());
+    std::uint8_t plc_link_counter = 0U;
+    DigestingSender digesting(can, output_config.channel.diagnostics_can_id, digest);
+    PlcTapSender sender(digesting, plc, clock);
+    CanSafetyOutput output(output_config, sender, &controller_link);
 
     ControllerConfig config = scenario_controller_config(frames.sensor_count());
     config.footprint = how.footprint;
@@ -315,7 +348,8 @@ ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& 
     }
     summary.setup_ok = true;
 
-    const ScriptRun run{controller, frames, frame_grid, clock, digest, text, how.prefix};
+    const ScriptRun run{controller, plc,  controller_link, plc_link_counter, frames, frame_grid, clock,
+                        digest,     text, how.prefix};
     for (const Step& step : kScript) {
         run_step(run, step);
         ++summary.cycles;
@@ -326,7 +360,7 @@ ScenarioSummary run_paper_cell(MonotonicClock& clock, CanSender& can, TextSink& 
         summary.fuse_us_max = fuse_us > summary.fuse_us_max ? fuse_us : summary.fuse_us_max;
     }
     summary.digest = digest.total();
-    write_totals(how.prefix, summary, sender.frames(), text);
+    write_totals(how.prefix, summary, digesting.frames(), text);
     return summary;
 }
 

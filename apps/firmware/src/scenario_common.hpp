@@ -11,9 +11,12 @@
 #include <cstdint>
 
 #include "cellguard/base/crc32.hpp"
+#include "cellguard/can/can_sender.hpp"
+#include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/firmware/canned_frames.hpp"
 #include "cellguard/firmware/scenario.hpp"
 #include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/safety/clock.hpp"
 
 namespace cellguard::firmware::detail {
 
@@ -81,6 +84,30 @@ private:
     std::uint32_t diagnostics_id_;
     Digest* digest_;
     std::uint32_t frames_ = 0U;
+};
+
+/// The canned PLC's receiving side (protocol 0.2): every frame the
+/// controller sends goes to the PLC's receiver at @p clock's time, then on
+/// to @p inner. The PLC's link frames take their fields (the echo of the
+/// controller's sequence) from that receiver (PlcReceiver::next_link).
+class PlcTapSender final : public CanSender {
+public:
+    PlcTapSender(CanSender& inner, PlcReceiver& plc, MonotonicClock& clock) noexcept
+        : inner_(&inner), plc_(&plc), clock_(&clock) {}
+    bool send(const CanFrame& frame) noexcept override {
+        const ReceiverStatus s = plc_->on_frame(frame, clock_->now_us());
+        accepted_ += s.communication_valid && frame.id == plc_->config().link.peer.can_id ? 1U : 0U;
+        return inner_->send(frame);
+    }
+    [[nodiscard]] std::uint16_t detail_faults() noexcept override { return inner_->detail_faults(); }
+    /// Link frames after which the PLC's receiver was valid (a pair accepted with its link frame).
+    [[nodiscard]] std::uint32_t accepted() const noexcept { return accepted_; }
+
+private:
+    CanSender* inner_;
+    PlcReceiver* plc_;
+    MonotonicClock* clock_;
+    std::uint32_t accepted_ = 0U;
 };
 
 /// A text line built in place.

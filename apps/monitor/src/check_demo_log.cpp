@@ -56,11 +56,15 @@ int main(int argc, char** argv) {
     std::string demo = "paper-cell";
     int cycles = 0;
     std::string config_path;
+    int budget_ms = 0;
     CLI::Option* demo_opt = cli.app()
                                 .add_option("--demo", demo,
                                             "the demo that wrote the log: paper-cell (the default) or robot-cell")
                                 ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
     cli.text("--config", config_path, "FILE", "the configuration file of the run that wrote the log (not with --demo)");
+    cli.integer("--budget-ms", budget_ms, 1, 60000, "MS",
+                "the run's --budget-ms, if it had one: the session link's watchdog time is two periods plus the "
+                "cycle budget, as in the monitor");
     cli.argument("LOG", "the candump log", [&log](const std::string& v) { log = v; });
     cli.argument("CYCLES", "the demo's --cycles, 1.." + std::to_string(kDemoLogMaxCycles),
                  [&cycles](const std::string& v) {
@@ -83,6 +87,9 @@ int main(int argc, char** argv) {
     if (!load.ok) {
         static_cast<void>(std::fprintf(stderr, "%s: configuration error: %s\n", kProgram, load.error.c_str()));
         return host::kExitUsage;
+    }
+    if (budget_ms > 0) {
+        load.config.budget_us = static_cast<std::uint64_t>(budget_ms) * 1000U;
     }
     const DemoLogCheck r = check_demo_log_file(log, cycles, load.config);
     for (const std::string& f : r.failures) {

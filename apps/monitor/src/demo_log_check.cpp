@@ -40,8 +40,30 @@ std::string fault_text(ReceiverFault fault, const PlcReceiverConfig& rc) {
         text += " (SCT " + ms_text(rc.sct_us) + ")";
     } else if (fault == ReceiverFault::kInvertedCopyMissing || fault == ReceiverFault::kInvertedCopyLate) {
         text += " (SRVT " + ms_text(rc.srvt_us) + ")";
+    } else if (fault == ReceiverFault::kWatchdogExpired) {
+        text += " (watchdog " + ms_text(rc.link.watchdog_us) + ")";
     }
     return text;
+}
+
+/// The link fields a link frame carries (no check of its CRC or binding).
+LinkFields raw_link_fields(const CanFrame& f) noexcept {
+    LinkFields l;
+    l.sequence = static_cast<std::uint16_t>(get_signal(f, link_layout::kSequence));
+    l.echo = static_cast<std::uint16_t>(get_signal(f, link_layout::kEcho));
+    l.session = static_cast<std::uint8_t>(get_signal(f, link_layout::kSession));
+    l.echo_session = static_cast<std::uint8_t>(get_signal(f, link_layout::kEchoSession));
+    return l;
+}
+
+/// "sequence S session X echo E of session Y".
+std::string link_text(const LinkFields& l) {
+    return "sequence " + std::to_string(l.sequence) + " session " + std::to_string(l.session) + " echo " +
+           std::to_string(l.echo) + " of session " + std::to_string(l.echo_session);
+}
+
+bool same_fields(const LinkFields& a, const LinkFields& b) noexcept {
+    return a.sequence == b.sequence && a.echo == b.echo && a.session == b.session && a.echo_session == b.echo_session;
 }
 
 /// What the log shows of one cycle of a robot cell.
@@ -56,11 +78,12 @@ struct RobotCycle {
 /// One log, line by line: see the file comment of demo_log_check.hpp.
 class LogChecker {
 public:
-    LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, int cycles, DemoLogCheck& out)
+    LogChecker(const cell::MonitorConfig& cfg, const PlcReceiverConfig& rc, const CommandReceiverConfig& cc, int cycles,
+               DemoLogCheck& out)
         : cfg_(cfg),
           rc_(rc),
           plc_(rc),
-          commands_(command_receiver_config(cfg)),
+          commands_(cc),
           step_us_(demo_log_poll_interval_us(rc)),
           out_(out),
           cycles_(cycles),
@@ -78,6 +101,9 @@ private:
     void on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, const std::string& where);
     void on_diagnostics_frame(const CanFrame& f, const std::string& where);
     void on_separation_frame(const CanFrame& f, const std::string& where);
+    void on_controller_link(const CanFrame& f, const ReceiverStatus& rs, const std::string& where);
+    void on_plc_link(const CanFrame& f, std::uint64_t t_us, const std::string& where);
+    [[nodiscard]] bool handshake(ReceiverFault fault) const noexcept;
     void check_separation(const SeparationMessage& m, const RobotCycle& c, const std::string& where);
     [[nodiscard]] bool is_command_id(std::uint32_t id) const noexcept;
     int check_entry_cycle();
@@ -101,12 +127,20 @@ private:
     int diagnostics_ = 0;
     int valid_pairs_ = 0;
     std::uint32_t faults_seen_ = 0U;
-    int separations_ = 0;           // a robot cell: separation frames so far
-    int command_frames_ = 0;        // a robot cell: command frames so far
-    int command_valid_cycles_ = 0;  // cycles whose separation frame says CommandValid
-    std::uint32_t command_faults_seen_ = 0U;
-    bool robot_;                // a robot cell: separation frames and command frames
-    bool have_safety_ = false;  // a safety frame waits for its copy
+    int separations_ = 0;                     // a robot cell: separation frames so far
+    int command_frames_ = 0;                  // a robot cell: command frames so far
+    int command_valid_cycles_ = 0;            // cycles whose separation frame says CommandValid
+    std::uint32_t command_faults_seen_ = 0U;  // the command receiver's fault events so far
+    int command_failures_ = 0;                // those reported as failures (not the start-up handshake)
+    int plc_handshakes_ = 0;                  // start-up kNoEchoYet of the PLC receiver: it had sent nothing yet
+    int command_handshakes_ = 0;              // the same for the controller's side
+    int plc_failures_ = 0;                    // PLC receiver faults reported as failures
+    int controller_links_ = 0;                // the controller's link frames
+    int plc_links_ = 0;                       // the PLC's link frames
+    std::uint64_t safety_time_us_ = 0U;       // the time stamp of the last safety frame
+    std::uint64_t sample_start_us_ = 0U;      // the time stamp of the last command part A
+    bool robot_;                              // a robot cell: separation frames and command frames
+    bool have_safety_ = false;                // a safety frame waits for its copy
     bool have_time_ = false;
     bool separation_due_ = false;  // a robot cell: a diagnostics frame came, its separation frame is due
 };
@@ -144,8 +178,15 @@ void LogChecker::line(const std::string& text) {
         on_diagnostics_frame(f, where);
     } else if (robot_ && f.id == cfg_.can.channel.separation_can_id) {
         on_separation_frame(f, where);
+    } else if (f.id == plc_.config().link.peer.can_id) {
+        on_controller_link(f, rs, where);
+    } else if (f.id == plc_.config().link.own.can_id) {
+        on_plc_link(f, t, where);
     } else if (robot_ && is_command_id(f.id)) {
         ++command_frames_;
+        if (f.id == command_can_id(cfg_.can.command, CommandPart::kA)) {
+            sample_start_us_ = t;
+        }
     } else {
         fail(where + ": unexpected CAN ID");
     }
@@ -170,9 +211,20 @@ void LogChecker::poll_until(std::uint64_t t_us) {
     }
 }
 
+// The start-up handshake of the session link: the other side's first link
+// frame cannot echo this side before this side has sent anything.
+bool LogChecker::handshake(ReceiverFault fault) const noexcept {
+    return fault == ReceiverFault::kNoEchoYet && plc_.link().sequence() == 0U;
+}
+
 void LogChecker::observe(const ReceiverStatus& rs, const std::string& where) {
     if (rs.fault_events > faults_seen_) {
         faults_seen_ = rs.fault_events;
+        if (handshake(rs.fault)) {
+            ++plc_handshakes_;
+            return;
+        }
+        ++plc_failures_;
         fail(where + ": the PLC receiver enters the safe state: " + fault_text(rs.fault, rc_));
     }
 }
@@ -180,7 +232,61 @@ void LogChecker::observe(const ReceiverStatus& rs, const std::string& where) {
 void LogChecker::observe_commands(const CommandStatus& cs, const std::string& where) {
     if (cs.fault_events > command_faults_seen_) {
         command_faults_seen_ = cs.fault_events;
+        if (cs.fault == CommandFault::kNoEchoYet && commands_.link().sequence() == 0U) {
+            ++command_handshakes_;  // the start-up handshake (see handshake())
+            return;
+        }
+        ++command_failures_;
         fail(where + ": the controller's command receiver enters the safe state: " + to_string(cs.fault));
+    }
+}
+
+// The controller's link frame: its fields must be those of the controller's
+// endpoint re-run here (its sequence, session and the echo of the PLC's
+// latest accepted link frame), stamped at its safety frame's time; the PLC
+// receiver checks its binding to the pair, the session, the echo and the round trip.
+void LogChecker::on_controller_link(const CanFrame& f, const ReceiverStatus& rs, const std::string& where) {
+    ++controller_links_;
+    // The pair with its link frame: from the third on (the reference pair and
+    // two recovery pairs); after a reported fault the receiver is not valid
+    // until it recovers, which says nothing new.
+    if (stop_.size() >= 3U + static_cast<std::size_t>(plc_handshakes_) && plc_failures_ == 0 &&
+        !rs.communication_valid) {
+        fail(where + ": PLC receiver not valid: " + to_string(rs.fault));
+    }
+    if (rs.communication_valid && !stop_.empty() && rs.stop_requested != stop_.back()) {
+        fail(where + ": PLC receiver's stop decision differs from the frame's stop bit");
+    }
+    valid_pairs_ += rs.communication_valid ? 1 : 0;
+    const LinkFields want = commands_.link().next(safety_time_us_);
+    const LinkFields got = raw_link_fields(f);
+    if (!same_fields(want, got)) {
+        fail(where + ": the controller's link frame carries " + link_text(got) + ", its endpoint sends " +
+             link_text(want));
+    }
+}
+
+// The PLC's link frame: its fields must be those of the PLC's endpoint (the
+// PLC receiver's, re-run here), stamped when the PLC sent the sample (its
+// part A) or the frame alone; the controller's side checks it: closing a
+// command sample (a robot cell), or alone (LinkEndpoint::on_standalone_frame).
+void LogChecker::on_plc_link(const CanFrame& f, std::uint64_t t_us, const std::string& where) {
+    ++plc_links_;
+    const LinkFields want = plc_.next_link(robot_ ? sample_start_us_ : t_us);
+    const LinkFields got = raw_link_fields(f);
+    if (!same_fields(want, got)) {
+        fail(where + ": the PLC's link frame carries " + link_text(got) + ", its endpoint sends " + link_text(want));
+    }
+    if (robot_) {
+        return;  // the command receiver got it with the sample (line())
+    }
+    const bool started = commands_.link().sequence() != 0U;
+    const LinkFault lf = commands_.link().on_standalone_frame(f, t_us);
+    if (lf == LinkFault::kNoEchoYet && !started) {
+        ++command_handshakes_;
+    } else if (lf != LinkFault::kNone) {
+        ++command_failures_;
+        fail(where + ": the controller refuses the PLC's link frame: " + to_string(lf));
     }
 }
 
@@ -193,6 +299,7 @@ void LogChecker::on_safety_frame(const CanFrame& f, std::uint64_t t_us, const st
     }
     stop_.push_back(c.ok() ? c.value().message.protective_stop : true);
     last_safety_ = f;
+    safety_time_us_ = t_us;
     have_safety_ = true;
     if (!robot_) {
         return;
@@ -209,7 +316,8 @@ void LogChecker::on_safety_frame(const CanFrame& f, std::uint64_t t_us, const st
     // command frames; the log check polls at the cycle's safety frame.
     rc.command = commands_.poll(t_us);
     observe_commands(rc.command.status, where + " (command receiver polled)");
-    if (robot_cycles_.size() >= 2U && command_faults_seen_ == 0U && !rc.command.status.valid) {
+    if (robot_cycles_.size() >= 2U + static_cast<std::size_t>(command_handshakes_) && command_failures_ == 0 &&
+        !rc.command.status.valid) {
         fail(where + ": command receiver not valid from the third sample on: " + to_string(rc.command.status.fault));
     }
     robot_cycles_.push_back(rc);
@@ -224,15 +332,7 @@ void LogChecker::on_inverted_copy(const CanFrame& f, const ReceiverStatus& rs, c
     if (!same) {
         fail(where + ": inverted copy does not match its safety frame");
     }
-    // From the third pair on (the reference pair and two recovery pairs); after a
-    // reported fault the receiver is not valid until it recovers, which says nothing new.
-    if (stop_.size() >= 3U && faults_seen_ == 0U && !rs.communication_valid) {
-        fail(where + ": PLC receiver not valid: " + to_string(rs.fault));
-    }
-    if (rs.communication_valid && rs.stop_requested != stop_.back()) {
-        fail(where + ": PLC receiver's stop decision differs from the frame's stop bit");
-    }
-    valid_pairs_ += rs.communication_valid ? 1 : 0;
+    static_cast<void>(rs);  // protocol 0.2: the pair is decided by its link frame (on_controller_link)
     have_safety_ = false;
 }
 
@@ -356,7 +456,7 @@ std::string LogChecker::robot_summary() const {
     return ", " + std::to_string(separations_) + " separation frames, " + std::to_string(command_frames_) +
            " command frames (" + std::to_string(commands_.status().good_samples) +
            " samples accepted by the command receiver, valid in " + std::to_string(valid) + " cycles, " +
-           std::to_string(command_faults_seen_) + " faults; " + std::to_string(command_valid_cycles_) +
+           std::to_string(command_failures_) + " faults; " + std::to_string(command_valid_cycles_) +
            " cycles used a valid command, its case echoed)";
 }
 
@@ -375,14 +475,21 @@ void LogChecker::finish() {
         }
         polled = "polled every " + ms_text(step_us_) + " of log time up to t = " + seconds_text(t) + " s";
     }
-    // A robot cell: the separation frame, and the simulated PLC's sample of six frames.
-    const int per_cycle = robot_ ? 4 + static_cast<int>(kCommandFramesPerSample) : 3;
+    // Protocol 0.2: the controller's link frame, and the PLC's (closing its
+    // sample of six command frames in a robot cell, alone otherwise); a robot
+    // cell also sends the separation frame.
+    const int per_cycle = robot_ ? 5 + static_cast<int>(kCommandFramesPerSample) + 1 : 5;
     if (lines_ != per_cycle * cycles_) {
         fail("expected " + std::to_string(per_cycle * cycles_) + " lines, got " + std::to_string(lines_));
     }
     if (static_cast<int>(stop_.size()) != cycles_) {
         fail("expected one safety frame per cycle, " + std::to_string(cycles_) + ", got " +
              std::to_string(stop_.size()));
+    }
+    if (controller_links_ != cycles_ || plc_links_ != cycles_) {
+        fail("expected one link frame of each side per cycle, " + std::to_string(cycles_) + ", got " +
+             std::to_string(controller_links_) + " of the controller and " + std::to_string(plc_links_) +
+             " of the PLC");
     }
     if (robot_ && (separations_ != cycles_ || separation_due_)) {
         fail("expected one separation frame per cycle after its diagnostics frame, " + std::to_string(cycles_) +
@@ -400,21 +507,19 @@ void LogChecker::finish() {
     }
     out_.summary = std::to_string(lines_) + " lines, " + std::to_string(stop_.size()) + " safety pairs (" +
                    std::to_string(valid_pairs_) + " accepted by the PLC receiver), " + std::to_string(diagnostics_) +
-                   " diagnostics frames" + (robot_ ? robot_summary() : std::string()) + "; PLC receiver " + polled +
-                   ", " + std::to_string(faults_seen_) + " faults; " + decisions + "; " +
+                   " diagnostics frames" + (robot_ ? robot_summary() : std::string()) +
+                   "; session link: " + std::to_string(controller_links_) + " controller and " +
+                   std::to_string(plc_links_) +
+                   " PLC link frames, fields as their endpoints send them, round trip within " +
+                   ms_text(rc_.link.watchdog_us) + ", start-up handshake " +
+                   std::to_string(plc_handshakes_ + command_handshakes_) + "; PLC receiver " + polled + ", " +
+                   std::to_string(plc_failures_) + " faults; " + decisions + "; " +
                    std::to_string(out_.failures.size()) + " failures";
 }
 
 }  // namespace
 
-PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) {
-    PlcReceiverConfig rc;
-    rc.channel = config.can.channel;
-    rc.srvt_us = config.period_us / 2U;
-    rc.sct_us = 3U * config.period_us;
-    rc.expected_zone_count = static_cast<std::uint8_t>(std::min<std::size_t>(config.zones.size(), 255U));
-    return rc;
-}
+PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config) { return plc_receiver_config(config); }
 
 std::uint64_t demo_log_poll_interval_us(const PlcReceiverConfig& receiver) noexcept {
     return std::max<std::uint64_t>(1U, std::min<std::uint64_t>(1000U, receiver.srvt_us / 10U));
@@ -435,14 +540,37 @@ DemoLogCheck check_demo_log(std::istream& log, int cycles, const cell::MonitorCo
                                ms_text(config.period_us) + ", " + std::to_string(config.zones.size()) + " zones)");
         return out;
     }
-    if (config.robot.enabled && !CommandReceiver::check_config(command_receiver_config(config)).ok()) {
+    if (!CommandReceiver::check_config(command_receiver_config(config)).ok()) {
         out.input_ok = false;
         out.failures.emplace_back("no valid command receiver configuration for this monitor configuration");
         return out;
     }
-    LogChecker checker(config, rc, cycles, out);
+    std::vector<std::string> lines;
     for (std::string line; std::getline(log, line);) {
-        checker.line(line);
+        lines.push_back(line);
+    }
+    // Each side's session is chosen at its start: take it from its first link frame in the log.
+    PlcReceiverConfig plc = rc;
+    CommandReceiverConfig cc = command_receiver_config(config);
+    bool have_plc = false;
+    bool have_controller = false;
+    for (const std::string& l : lines) {
+        CandumpRecord rec;
+        if (!parse_candump_line(l.c_str(), rec).ok()) {
+            continue;
+        }
+        const auto session = static_cast<std::uint8_t>(get_signal(rec.frame, link_layout::kSession));
+        if (!have_plc && rec.frame.id == plc.link.own.can_id && session != 0U) {
+            plc.link.session = session;
+            have_plc = true;
+        } else if (!have_controller && rec.frame.id == cc.link.own.can_id && session != 0U) {
+            cc.link.session = session;
+            have_controller = true;
+        }
+    }
+    LogChecker checker(config, plc, cc, cycles, out);
+    for (const std::string& l : lines) {
+        checker.line(l);
     }
     checker.finish();
     return out;

@@ -19,6 +19,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -413,7 +414,21 @@ int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& 
     return 0;
 }
 
-/// The PLC's command link for the cycle (nullptr: none) as --commands asks;
+/// A session value for this start, 1..255 and not @p other: random
+/// (std::random_device), so consecutive starts differ with probability 254/255.
+std::uint8_t new_link_session(std::uint8_t other) {
+    std::random_device random;
+    std::uint8_t session = 0U;
+    while (session == 0U || session == other) {
+        session = static_cast<std::uint8_t>(random() & 0xFFU);
+    }
+    return session;
+}
+
+/// The PLC's link for the cycle as --commands asks: the simulated PLC of a
+/// demo scene with a robot, or of any run that does not send on a SocketCAN
+/// interface (a log: it sends its link frames alone, protocol 0.2, so the
+/// log shows both sides of the session link), else the interface's PLC;
 /// @p e says why not when --commands asks for a source the cell lacks.
 CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const CanPort& can, SimulatedPlcLink& plc,
                              SocketCanCommandLink& socket_commands, SetupError& e) {
@@ -427,7 +442,7 @@ CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const 
     if (scene_robot && opt.commands != "can") {
         return &plc;
     }
-    return interface ? &socket_commands : nullptr;
+    return interface ? static_cast<CommandLink*>(&socket_commands) : &plc;
 }
 
 /// Footprint fusion's runner for fusion.threads (nullptr: one core).
@@ -613,11 +628,23 @@ int run_monitor(int argc, char** argv) {
     for (const std::unique_ptr<FrameSource>& s : owned) {
         sources.push_back(s.get());
     }
-    const CommandReceiverConfig receiver = command_receiver_config(cfg);
+    CommandReceiverConfig receiver = command_receiver_config(cfg);
+    // Protocol 0.2: each start takes a new session value, so that nothing sent before this start (a replay
+    // across the restart) is accepted by the PLC, and the simulated PLC's own differs from it.
+    receiver.link.session = new_link_session(0U);
+    PlcReceiverConfig plc_receiver = plc_receiver_config(cfg);
+    plc_receiver.link.session = new_link_session(receiver.link.session);
     // The simulated PLC sends on the controller's own cycle and clock: no second time base (and paced,
     // a skipped period would look like a fast clock), so only a PLC on a CAN interface feeds the check.
-    SimulatedPlcLink plc(receiver, &can);
-    SocketCanCommandLink socket_commands(receiver, can, clock_rate_config(cfg));
+    if (!PlcReceiver::check_config(plc_receiver).ok()) {
+        static_cast<void>(std::fprintf(stderr,
+                                       "cellguard-monitor: no valid PLC receiver for the simulated PLC "
+                                       "(period or zone count)\n"));
+        return 2;
+    }
+    SimulatedPlcLink plc(receiver, plc_receiver, &can);
+    // A cell without commands still has its PLC link: the PLC sends its link frame alone (command_link.hpp).
+    SocketCanCommandLink socket_commands(receiver, can, clock_rate_config(cfg), !takes_commands(cfg));
     RobotCellDemo demo(cfg, cell, plc);
     // A demo scene with a robot keeps moving (people, the robot's program)
     // whichever link brings the commands.

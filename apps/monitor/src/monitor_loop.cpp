@@ -20,7 +20,7 @@ SafetyOutputConfig output_config(const cell::MonitorConfig& cfg, const MonitorCe
     oc.channel = cfg.can.channel;
     oc.zone_count = static_cast<std::uint8_t>(cell.zones.size());
     oc.prior_crc = prior_crc;
-    return oc;
+    return oc;  // session link on (protocol 0.2): the link endpoint is the command link's
 }
 
 // The controller's configuration with the cell's robot and fusion sides.
@@ -137,7 +137,9 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       controller_(robot_controller_config(cfg, cell, runner), cell.frame_grid,
                   {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
                   cell.zones, cell.model, clock, this),
-      output_(output_config(cfg, cell, controller_.prior_crc()), can) {
+      own_link_(controller_link_config()),
+      output_(output_config(cfg, cell, controller_.prior_crc()), can,
+              commands != nullptr ? &commands->controller_link() : &own_link_) {
     for (std::size_t s = 0U; s < inputs_.size() && sources_match_; ++s) {
         const bool simulated = cfg.sensors[s].pcd_files.empty();
         inputs_[s].present = true;
@@ -163,6 +165,9 @@ Status MonitorLoop::status() const noexcept {
 bool MonitorLoop::publish(const CycleReport& report) noexcept {
     const bool sent = output_.publish(report);
     sent_us_ = linux_port::monotonic_now_us();
+    if (commands_ != nullptr) {
+        commands_->on_sent(output_.last_frames(), clock_->now_us());  // a simulated PLC receives them
+    }
     return sent;
 }
 
@@ -208,7 +213,7 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     if (newest != 0U && sent_us_ != 0U && stats_.latency_count < stats_.latency_us.size()) {
         stats_.latency_us[stats_.latency_count++] = sent_us_ > newest ? sent_us_ - newest : 0U;
     }
-    const std::size_t frames_per_cycle = r.robot.configured ? 4U : 3U;
+    const std::size_t frames_per_cycle = (r.robot.configured ? 4U : 3U) + (output_.last_frames().has_link ? 1U : 0U);
     if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != frames_per_cycle) {
         ++stats_.send_failures;
     }
@@ -353,6 +358,18 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
             c.samples, c.windows, c.restarts, c.last_deviation_ppm / 1e4, c.max_abs_deviation_ppm / 1e4,
             commands_->clock_rate().config().tolerance_ppm / 1e4,
             commands_->clock_rate().faulted() ? ": CLOCK FAULT" : ""));
+    }
+    if (commands_ != nullptr) {
+        const StandaloneLinkCounts& alone = commands_->standalone_link();
+        if (alone.accepted + alone.refused != 0U) {
+            static_cast<void>(std::fprintf(out,
+                                           "summary: the PLC's link frames sent alone: %u accepted, %u refused%s%s\n",
+                                           alone.accepted, alone.refused, alone.refused != 0U ? ", the last: " : "",
+                                           alone.refused != 0U ? to_string(alone.last) : ""));
+        }
+    } else {
+        static_cast<void>(
+            std::fprintf(out, "summary: no PLC link: the link frames carry no echo, a PLC refuses them\n"));
     }
     can_->write_summary(out, log_ok);
 }

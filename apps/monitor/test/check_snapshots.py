@@ -97,8 +97,10 @@ def main():
         text = open(os.path.join(path, "snapshot.txt")).read()
         before = int(re.search(r"^can_frames_before (\d+)$", text, re.M).group(1))
         after = int(re.search(r"^can_frames_after (\d+)$", text, re.M).group(1))
-        want_before = min(64, 3 * (cycle + 1))
-        want_after = min(64, 3 * (60 - cycle - 1))
+        # Five frames a cycle (protocol 0.2): safety, copy, the controller's and the simulated PLC's link frames,
+        # diagnostics.
+        want_before = min(64, 5 * (cycle + 1))
+        want_after = min(64, 5 * (60 - cycle - 1))
         if (before, after) != (want_before, want_after) or len(frames) != before + after:
             fail(f"{d}: {before} frames before and {after} after, expected {want_before} and {want_after}")
         print(f"check_snapshots: {d}: grid, picture and {before} + {after} CAN frames checked "

@@ -18,6 +18,27 @@ CommandFault fault_of(FrameCheck check) noexcept {
     return CommandFault::kMalformedContent;
 }
 
+CommandFault fault_of(LinkFault fault) noexcept {
+    switch (fault) {
+        case LinkFault::kNone:  // not a fault; never passed here
+        case LinkFault::kNoEchoYet: return CommandFault::kNoEchoYet;
+        case LinkFault::kSessionChanged: return CommandFault::kSessionChanged;
+        case LinkFault::kRepeatedSequence: return CommandFault::kRepeatedSequence;
+        case LinkFault::kSequenceJump: return CommandFault::kSequenceJump;
+        case LinkFault::kWrongEchoSession: return CommandFault::kWrongEchoSession;
+        case LinkFault::kEchoUnknown: return CommandFault::kEchoUnknown;
+        case LinkFault::kEchoBackwards: return CommandFault::kEchoBackwards;
+        case LinkFault::kWatchdogExpired: return CommandFault::kWatchdogExpired;
+    }
+    return CommandFault::kWatchdogExpired;
+}
+
+/// The endpoint's config: the given one when the link is enabled, else a valid placeholder (never used).
+LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? link : controller_link_config(); }
+
+/// Index of the link frame in a sample: after A, A', B, B', C, C'.
+constexpr std::size_t kLinkIndex = kCommandFramesPerSample;
+
 constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 /// True when @p copy is the bitwise inverse of @p frame with the same DLC.
@@ -51,6 +72,17 @@ const char* to_string(CommandFault fault) noexcept {
         case CommandFault::kUnexpectedInvertedCopy: return "unexpected inverted copy";
         case CommandFault::kSctExpired: return "safeguard cycle time expired";
         case CommandFault::kTimeWentBackwards: return "time went backwards";
+        case CommandFault::kLinkFrameMissing: return "link frame missing";
+        case CommandFault::kLinkFrameInvalid: return "link frame invalid";
+        case CommandFault::kUnexpectedLinkFrame: return "unexpected link frame";
+        case CommandFault::kNoEchoYet: return "no echo of this session yet";
+        case CommandFault::kSessionChanged: return "PLC session changed";
+        case CommandFault::kRepeatedSequence: return "repeated sequence";
+        case CommandFault::kSequenceJump: return "sequence jump";
+        case CommandFault::kWrongEchoSession: return "echo of another session";
+        case CommandFault::kEchoUnknown: return "echo of a sequence not sent";
+        case CommandFault::kEchoBackwards: return "echo older than the last one";
+        case CommandFault::kWatchdogExpired: return "round trip or data age above the watchdog time";
     }
     return "unknown command fault";
 }
@@ -62,10 +94,18 @@ Status CommandReceiver::check_config(const CommandReceiverConfig& config) noexce
         config.recovery_good_samples < 1U) {
         return ErrorCode::kInvalidArgument;
     }
+    if (config.link.enabled) {
+        const std::uint32_t peer = config.link.peer.can_id;
+        const std::uint32_t base = config.channel.base_can_id;
+        if (!LinkEndpoint::check_config(config.link).ok() || (peer >= base && peer - base < kCommandFramesPerSample)) {
+            return ErrorCode::kInvalidArgument;
+        }
+    }
     return Status{};
 }
 
-CommandReceiver::CommandReceiver(const CommandReceiverConfig& config) noexcept : config_(config) {
+CommandReceiver::CommandReceiver(const CommandReceiverConfig& config) noexcept
+    : config_(config), link_(usable_link(config.link)) {
     CG_ENFORCE(check_config(config).ok(), "CommandReceiver needs a configuration that passes check_config");
 }
 
@@ -79,6 +119,8 @@ CommandStatus CommandReceiver::on_frame(const CanFrame& frame, std::uint64_t now
             } else {
                 on_copy(frame, index, now_us);
             }
+        } else if (config_.link.enabled && frame.id == config_.link.peer.can_id) {
+            on_link(frame, now_us);
         } else {
             check_timeouts(now_us);  // not ours: only time has passed
         }
@@ -89,6 +131,9 @@ CommandStatus CommandReceiver::on_frame(const CanFrame& frame, std::uint64_t now
 CommandPoll CommandReceiver::poll(std::uint64_t now_us) noexcept {
     if (advance_time(now_us)) {
         check_timeouts(now_us);
+        if (valid_ && config_.link.enabled && link_.age_check(now_us) != LinkFault::kNone) {
+            enter_safe_state(CommandFault::kWatchdogExpired);  // the command in use is older than the watchdog time
+        }
     }
     CommandPoll p;
     p.status = status();
@@ -102,8 +147,9 @@ void CommandReceiver::on_part(const CanFrame& frame, std::size_t index, std::uin
     const bool is_a = index == 0U;
     if (!resync_ && next_ != index) {
         // A part where a copy was due; an A before the sample completed; any other part out of turn.
-        enter_safe_state(next_ % 2U == 1U ? CommandFault::kInvertedCopyMissing
-                                          : (is_a ? CommandFault::kSampleIncomplete : CommandFault::kPartOutOfOrder));
+        enter_safe_state(next_ == kLinkIndex ? CommandFault::kLinkFrameMissing
+                         : next_ % 2U == 1U  ? CommandFault::kInvertedCopyMissing
+                                            : (is_a ? CommandFault::kSampleIncomplete : CommandFault::kPartOutOfOrder));
     }
     if (resync_ && !is_a) {
         return;  // after a fault (and at start-up) only an A starts a sample
@@ -129,6 +175,7 @@ void CommandReceiver::on_part(const CanFrame& frame, std::size_t index, std::uin
         return;
     }
     merge_command_part(content, assembling_);
+    parts_[index / 2U] = frame;
     part_frame_ = frame;
     part_time_us_ = now_us;
     next_ = index + 1U;
@@ -155,9 +202,35 @@ void CommandReceiver::on_copy(const CanFrame& frame, std::size_t index, std::uin
         return;
     }
     next_ = index + 1U;
-    if (next_ == kCommandFramesPerSample) {
+    if (next_ == kCommandFramesPerSample && !config_.link.enabled) {
         complete_sample(now_us);
     }
+}
+
+void CommandReceiver::on_link(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (resync_) {
+        return;  // the rest of a broken sample
+    }
+    if (next_ != kLinkIndex) {
+        enter_safe_state(CommandFault::kUnexpectedLinkFrame);
+        return;
+    }
+    if (now_us - sample_start_us_ > config_.sample_window_us) {
+        enter_safe_state(CommandFault::kLinkFrameMissing);
+        return;
+    }
+    LinkFields fields;
+    if (check_link_frame(frame, config_.link.peer, Span<const CanFrame>(parts_), sample_counter_, fields) !=
+        LinkFrameCheck::kOk) {
+        enter_safe_state(CommandFault::kLinkFrameInvalid);
+        return;
+    }
+    const LinkFault link = link_.on_peer(fields, now_us);
+    if (link != LinkFault::kNone) {
+        enter_safe_state(fault_of(link));
+        return;
+    }
+    complete_sample(now_us);
 }
 
 void CommandReceiver::complete_sample(std::uint64_t now_us) noexcept {
@@ -212,7 +285,7 @@ void CommandReceiver::check_timeouts(std::uint64_t now_us) noexcept {
     if (next_ % 2U == 1U && now_us - part_time_us_ > config_.srvt_us) {
         enter_safe_state(CommandFault::kInvertedCopyMissing);
     } else if (next_ != 0U && now_us - sample_start_us_ > config_.sample_window_us) {
-        enter_safe_state(CommandFault::kSampleIncomplete);
+        enter_safe_state(next_ == kLinkIndex ? CommandFault::kLinkFrameMissing : CommandFault::kSampleIncomplete);
     }
     if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
         enter_safe_state(CommandFault::kSctExpired);

@@ -20,4 +20,19 @@ Result<CommandFrames> PlcCommandSender::next_sample(const RobotCommand& command)
     return frames;
 }
 
+Result<LinkedCommandFrames> PlcCommandSender::next_sample(const RobotCommand& command, const LinkFields& link,
+                                                          const LinkChannel& channel) noexcept {
+    const Result<CommandFrames> frames = encode_command_sample(command, counter_, config_);
+    if (!frames.ok()) {
+        return frames.error();
+    }
+    const CanFrame parts[kCommandParts] = {frames.value().frame[0], frames.value().frame[2], frames.value().frame[4]};
+    const Result<CanFrame> link_frame = encode_link_frame(link, counter_, channel, Span<const CanFrame>(parts));
+    if (!link_frame.ok()) {
+        return link_frame.error();
+    }
+    counter_ = e2e_p01_next_counter(counter_);
+    return LinkedCommandFrames{frames.value(), link_frame.value()};
+}
+
 }  // namespace cellguard

@@ -18,6 +18,24 @@ ReceiverFault fault_of(FrameCheck check) noexcept {
     return ReceiverFault::kMalformedContent;
 }
 
+ReceiverFault fault_of(LinkFault fault) noexcept {
+    switch (fault) {
+        case LinkFault::kNone:  // not a fault; never passed here
+        case LinkFault::kNoEchoYet: return ReceiverFault::kNoEchoYet;
+        case LinkFault::kSessionChanged: return ReceiverFault::kSessionChanged;
+        case LinkFault::kRepeatedSequence: return ReceiverFault::kRepeatedSequence;
+        case LinkFault::kSequenceJump: return ReceiverFault::kSequenceJump;
+        case LinkFault::kWrongEchoSession: return ReceiverFault::kWrongEchoSession;
+        case LinkFault::kEchoUnknown: return ReceiverFault::kEchoUnknown;
+        case LinkFault::kEchoBackwards: return ReceiverFault::kEchoBackwards;
+        case LinkFault::kWatchdogExpired: return ReceiverFault::kWatchdogExpired;
+    }
+    return ReceiverFault::kWatchdogExpired;
+}
+
+/// The endpoint's config: the given one when the link is enabled, else a valid placeholder (never used).
+LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? link : plc_link_config(); }
+
 constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 }  // namespace
@@ -40,6 +58,17 @@ const char* to_string(ReceiverFault fault) noexcept {
         case ReceiverFault::kUnexpectedInvertedCopy: return "unexpected inverted copy";
         case ReceiverFault::kSctExpired: return "safeguard cycle time expired";
         case ReceiverFault::kTimeWentBackwards: return "time went backwards";
+        case ReceiverFault::kLinkFrameMissing: return "link frame missing";
+        case ReceiverFault::kLinkFrameInvalid: return "link frame invalid";
+        case ReceiverFault::kUnexpectedLinkFrame: return "unexpected link frame";
+        case ReceiverFault::kNoEchoYet: return "no echo of this session yet";
+        case ReceiverFault::kSessionChanged: return "controller session changed";
+        case ReceiverFault::kRepeatedSequence: return "repeated sequence";
+        case ReceiverFault::kSequenceJump: return "sequence jump";
+        case ReceiverFault::kWrongEchoSession: return "echo of another session";
+        case ReceiverFault::kEchoUnknown: return "echo of a sequence not sent";
+        case ReceiverFault::kEchoBackwards: return "echo older than the last one";
+        case ReceiverFault::kWatchdogExpired: return "round trip or data age above the watchdog time";
     }
     return "unknown receiver fault";
 }
@@ -65,10 +94,18 @@ Status PlcReceiver::check_config(const PlcReceiverConfig& config) noexcept {
         config.recovery_good_pairs < 1U || config.expected_zone_count > kMaxZonesInFrame) {
         return ErrorCode::kInvalidArgument;
     }
+    if (config.link.enabled) {
+        const std::uint32_t peer = config.link.peer.can_id;
+        const SafetyChannelConfig& ch = config.channel;
+        if (!LinkEndpoint::check_config(config.link).ok() || peer == ch.safety_can_id || peer == inverted_can_id(ch) ||
+            peer == ch.diagnostics_can_id || peer == ch.separation_can_id) {
+            return ErrorCode::kInvalidArgument;
+        }
+    }
     return Status{};
 }
 
-PlcReceiver::PlcReceiver(const PlcReceiverConfig& config) noexcept : config_(config) {
+PlcReceiver::PlcReceiver(const PlcReceiverConfig& config) noexcept : config_(config), link_(usable_link(config.link)) {
     CG_ENFORCE(check_config(config).ok(), "PlcReceiver needs a configuration that passes check_config");
 }
 
@@ -78,8 +115,14 @@ ReceiverStatus PlcReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us
             on_normal_frame(frame, now_us);
         } else if (frame.id == inverted_can_id(config_.channel)) {
             on_inverted_copy(frame, now_us);
+        } else if (config_.link.enabled && frame.id == config_.link.peer.can_id) {
+            on_link_frame(frame, now_us);
         } else {
             check_timeouts(now_us);  // not ours: only time has passed
+        }
+        if (valid_ && config_.link.enabled && link_.age_check(now_us) != LinkFault::kNone) {
+            // Every frame, not only polls: the status returned here is never valid for data older than the watchdog.
+            enter_safe_state(ReceiverFault::kWatchdogExpired);
         }
     }
     return status();
@@ -96,6 +139,10 @@ void PlcReceiver::on_normal_frame(const CanFrame& frame, std::uint64_t now_us) n
     if (pending_) {
         pending_ = false;
         enter_safe_state(ReceiverFault::kInvertedCopyMissing);
+    }
+    if (awaiting_link_) {
+        awaiting_link_ = false;
+        enter_safe_state(ReceiverFault::kLinkFrameMissing);
     }
     if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
         enter_safe_state(ReceiverFault::kSctExpired);  // a late frame; it may still start a new reference
@@ -134,6 +181,38 @@ void PlcReceiver::on_inverted_copy(const CanFrame& frame, std::uint64_t now_us) 
         enter_safe_state(ReceiverFault::kInvertedCopyMismatch);
         return;
     }
+    if (config_.link.enabled) {
+        awaiting_link_ = true;  // pending_frame_, pending_content_ and pending_time_us_ stay for the link frame
+        return;
+    }
+    accept_pair(now_us);
+}
+
+void PlcReceiver::on_link_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+    if (!awaiting_link_) {
+        enter_safe_state(ReceiverFault::kUnexpectedLinkFrame);
+        return;
+    }
+    awaiting_link_ = false;
+    if (now_us - pending_time_us_ > config_.srvt_us) {
+        enter_safe_state(ReceiverFault::kLinkFrameMissing);
+        return;
+    }
+    LinkFields fields;
+    if (check_link_frame(frame, config_.link.peer, Span<const CanFrame>(&pending_frame_, 1U), pending_content_.counter,
+                         fields) != LinkFrameCheck::kOk) {
+        enter_safe_state(ReceiverFault::kLinkFrameInvalid);
+        return;
+    }
+    const LinkFault link = link_.on_peer(fields, now_us);
+    if (link != LinkFault::kNone) {
+        enter_safe_state(fault_of(link));
+        return;
+    }
+    accept_pair(now_us);
+}
+
+void PlcReceiver::accept_pair(std::uint64_t now_us) noexcept {
     // A complete pair. Check it against the previous good pair, if there is one.
     if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
         enter_safe_state(ReceiverFault::kSctExpired);  // late; the pair may still start a new reference
@@ -166,6 +245,7 @@ bool PlcReceiver::advance_time(std::uint64_t now_us) noexcept {
     if (have_time_ && now_us < last_time_us_) {
         last_time_us_ = now_us;  // continue on the new time line; every time reference is dropped
         pending_ = false;
+        awaiting_link_ = false;
         enter_safe_state(ReceiverFault::kTimeWentBackwards);
         return false;
     }
@@ -179,8 +259,15 @@ void PlcReceiver::check_timeouts(std::uint64_t now_us) noexcept {
         pending_ = false;
         enter_safe_state(ReceiverFault::kInvertedCopyMissing);
     }
+    if (awaiting_link_ && now_us - pending_time_us_ > config_.srvt_us) {
+        awaiting_link_ = false;
+        enter_safe_state(ReceiverFault::kLinkFrameMissing);
+    }
     if (have_reference_ && now_us - reference_time_us_ > config_.sct_us) {
         enter_safe_state(ReceiverFault::kSctExpired);
+    }
+    if (valid_ && config_.link.enabled && link_.age_check(now_us) != LinkFault::kNone) {
+        enter_safe_state(ReceiverFault::kWatchdogExpired);  // the data in use is older than the watchdog time
     }
 }
 

@@ -3,7 +3,13 @@
 // cellguard-vcan-check: checks what `candump -L` recorded on a real kernel CAN
 // interface while cellguard-monitor sent on it (tools/vcan-integration.sh,
 // tests/integration/vcan/vcan-test.sh). Every frame goes through the
-// PLC-side receiver with the timestamps the kernel gave it.
+// PLC-side receiver with the timestamps the kernel gave it. Protocol 0.2:
+// the recording also holds the link frames cellguard-vcan-plc (link mode)
+// sent alone in reply to each of the monitor's link frames; the check
+// re-runs that PLC's link endpoint (each PLC link frame must carry the
+// sequence, session and echo it sends), so the receiver checks the
+// monitor's link frames (binding, echo, round trip within the watchdog time)
+// as that PLC did.
 //
 //   cellguard-vcan-check normal CONFIG LOG CYCLES
 //     An undisturbed run of CYCLES cycles: every frame recorded, every frame
@@ -25,6 +31,7 @@
 //     stop after the restart delay.
 //
 // Exit status: 0 all checks passed, 1 a check failed, 2 usage or input error.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -38,6 +45,7 @@
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/io/candump_log.hpp"
+#include "cellguard/monitor/command_link.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -57,18 +65,20 @@ void expect(bool ok, const std::string& what) {
 struct CycleFrames {
     bool safety = false;       // safety frame recorded
     bool copy = false;         // its inverted copy recorded (and exact)
+    bool link = false;         // the monitor's link frame recorded after the copy
     bool diagnostics = false;  // diagnostics frame recorded
     SafetyMessage message;
     DiagnosticsMessage diag;
     std::uint64_t t_us = 0U;    // timestamp of the safety frame
-    ReceiverStatus after_copy;  // receiver status after the copy
+    ReceiverStatus after_copy;  // receiver status after the pair's link frame (the pair complete)
 };
 
 struct Parsed {
     std::vector<CycleFrames> cycles;  // index = monitor cycle
     int lines = 0;
+    int plc_links = 0;  // the PLC's link frames
     std::uint32_t prior_crc = 0U;
-    bool silence_seen = false;               // a poll found the SCT expired
+    bool silence_seen = false;               // a poll found the SCT expired or the data older than the watchdog time
     std::uint64_t silence_at_us = 0U;        // time of the first such poll
     int invalid_polls_after_valid = 0;       // polls reporting a fault after the first valid status
     std::vector<ReceiverFault> faults_seen;  // distinct receiver faults after the first valid status
@@ -83,14 +93,20 @@ void note_fault(Parsed& p, ReceiverFault fault) {
     p.faults_seen.push_back(fault);
 }
 
-PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
-    // As cellguard-monitor-check-log: SRVT half a period, SCT three periods.
-    PlcReceiverConfig rc;
-    rc.channel = cfg.can.channel;
-    rc.srvt_us = cfg.period_us / 2U;
-    rc.sct_us = 3U * cfg.period_us;
-    rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());
-    return rc;
+// As cellguard-monitor-check-log: SRVT half a period, SCT three periods, the watchdog time three periods.
+PlcReceiverConfig receiver_config(const MonitorConfig& cfg) { return monitor::plc_receiver_config(cfg); }
+
+/// The session of the first PLC link frame in the log at @p path (1 when there is none).
+std::uint8_t plc_session(const char* path, const PlcReceiverConfig& rc) {
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) {
+        CandumpRecord rec;
+        if (parse_candump_line(line.c_str(), rec).ok() && rec.frame.id == rc.link.own.can_id) {
+            const auto s = static_cast<std::uint8_t>(get_signal(rec.frame, link_layout::kSession));
+            return s != 0U ? s : 1U;
+        }
+    }
+    return 1U;
 }
 
 /// Reads the log, checks every frame, assigns frames to monitor cycles by the
@@ -98,7 +114,8 @@ PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
 /// runs the receiver, polling it every 10 ms of log time between frames.
 bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
     const SafetyChannelConfig& ch = cfg.can.channel;
-    const PlcReceiverConfig rc = receiver_config(cfg);
+    PlcReceiverConfig rc = receiver_config(cfg);
+    rc.link.session = plc_session(path, rc);
     if (!PlcReceiver::check_config(rc).ok()) {
         std::printf("receiver configuration invalid\n");
         return false;
@@ -110,7 +127,7 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         return false;
     }
     int cycle = -1;       // cycle of the last safety frame
-    int expect_next = 0;  // 0: safety frame, 1: copy, 2: diagnostics
+    int expect_next = 0;  // 0: safety frame, 1: copy, 3: link frame, 2: diagnostics
     CanFrame last_safety{};
     std::uint64_t last_t = 0U;
     bool was_valid = false;
@@ -125,10 +142,25 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         if (!st.ok()) {
             continue;
         }
+        if (rec.frame.id == rc.link.own.can_id) {
+            // Another sender's frame: its kernel stamp may precede the monitor's frame read before it by a few
+            // microseconds; it is not part of the monitor's frame order (nor of the receiver's time).
+            // The PLC's link frame, sent alone: the fields its endpoint (re-run here) sends.
+            ++out.plc_links;
+            const LinkFields want = plc.next_link(rec.timestamp_us);
+            const bool same = get_signal(rec.frame, link_layout::kSequence) == want.sequence &&
+                              get_signal(rec.frame, link_layout::kEcho) == want.echo &&
+                              get_signal(rec.frame, link_layout::kSession) == want.session &&
+                              get_signal(rec.frame, link_layout::kEchoSession) == want.echo_session;
+            expect(same, where + "the PLC's link frame is not what its endpoint sends (sequence " +
+                             std::to_string(want.sequence) + ", echo " + std::to_string(want.echo) + ")");
+            continue;
+        }
         // The PLC polls every 10 ms; between frames that is where silence shows.
         for (std::uint64_t t = last_t + 10000U; last_t != 0U && t < rec.timestamp_us; t += 10000U) {
             const ReceiverStatus ps = plc.poll(t);
-            if (ps.fault == ReceiverFault::kSctExpired && !out.silence_seen) {
+            if ((ps.fault == ReceiverFault::kSctExpired || ps.fault == ReceiverFault::kWatchdogExpired) &&
+                !out.silence_seen) {
                 out.silence_seen = true;
                 out.silence_at_us = t;
             }
@@ -185,8 +217,14 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
             }
             expect(same, where + "inverted copy does not match its safety frame");
             if (expect_next == 1 && cycle >= 0) {
+                out.cycles[static_cast<std::size_t>(cycle)].copy = same;
+            }
+            expect_next = 3;
+        } else if (f.id == rc.link.peer.can_id) {
+            expect(expect_next == 3, where + "the monitor's link frame not right after a safety pair");
+            if (expect_next == 3 && cycle >= 0) {
                 CycleFrames& cf = out.cycles[static_cast<std::size_t>(cycle)];
-                cf.copy = same;
+                cf.link = true;
                 cf.after_copy = rs;
             }
             expect_next = 2;
@@ -222,7 +260,7 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
     return true;
 }
 
-bool complete(const CycleFrames& c) { return c.safety && c.copy && c.diagnostics; }
+bool complete(const CycleFrames& c) { return c.safety && c.copy && c.link && c.diagnostics; }
 
 /// The first cycle in which the scripted person overlaps a protective zone (-1: none).
 int entry_cycle(const MonitorConfig& cfg, int cycles) {
@@ -252,8 +290,11 @@ int check_normal(const MonitorConfig& cfg, const char* log, int cycles) {
         return 2;
     }
     const PlcReceiverConfig rc = receiver_config(cfg);
-    expect(p.lines == 3 * cycles,
-           "expected " + std::to_string(3 * cycles) + " frames, recorded " + std::to_string(p.lines));
+    // Four frames of the monitor a cycle and the PLC's link frame in reply to each of its link frames.
+    expect(p.lines == 5 * cycles,
+           "expected " + std::to_string(5 * cycles) + " frames, recorded " + std::to_string(p.lines));
+    expect(p.plc_links == cycles,
+           "expected " + std::to_string(cycles) + " PLC link frames, recorded " + std::to_string(p.plc_links));
     expect(static_cast<int>(p.cycles.size()) == cycles,
            "expected " + std::to_string(cycles) + " cycles, the counters span " + std::to_string(p.cycles.size()));
     int valid_pairs = 0;
@@ -262,7 +303,9 @@ int check_normal(const MonitorConfig& cfg, const char* log, int cycles) {
         const std::string where = "cycle " + std::to_string(k) + ": ";
         expect(complete(c), where + "not every frame recorded");
         valid_pairs += c.after_copy.communication_valid ? 1 : 0;
-        if (k >= rc.recovery_good_pairs) {  // the reference pair and the recovery pairs before
+        // Cycle 0's link frame echoes nothing (the PLC replies to it: the start-up handshake); then the
+        // reference pair and the recovery pairs.
+        if (k >= rc.recovery_good_pairs + 1U) {
             expect(c.after_copy.communication_valid, where + "receiver not valid: " + to_string(c.after_copy.fault));
             expect(c.after_copy.stop_requested == c.message.protective_stop,
                    where + "receiver's stop differs from the frame's");
@@ -290,11 +333,13 @@ int check_normal(const MonitorConfig& cfg, const char* log, int cycles) {
         entry_stop = at.message.protective_stop;
     }
     std::printf(
-        "normal run: %d frames, %zu cycles, %d pairs valid at the PLC receiver, prior CRC 0x%08X; person "
+        "normal run: %d frames (%d of them the PLC's link frames), %zu cycles, %d pairs valid at the PLC "
+        "receiver (session link, watchdog %.0f ms), prior CRC 0x%08X; person "
         "enters the protective zone in cycle %d, stop bit in that cycle's frame: %d, sent %.1f ms after the "
         "previous cycle's (period %.0f ms, SCT %.0f ms); %d failures\n",
-        p.lines, p.cycles.size(), valid_pairs, p.prior_crc, entry, entry_stop ? 1 : 0, latency_ms,
-        static_cast<double>(cfg.period_us) / 1000.0, static_cast<double>(rc.sct_us) / 1000.0, g_failures);
+        p.lines, p.plc_links, p.cycles.size(), valid_pairs, static_cast<double>(rc.link.watchdog_us) / 1000.0,
+        p.prior_crc, entry, entry_stop ? 1 : 0, latency_ms, static_cast<double>(cfg.period_us) / 1000.0,
+        static_cast<double>(rc.sct_us) / 1000.0, g_failures);
     return g_failures == 0 ? 0 : 1;
 }
 
@@ -371,7 +416,8 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
         if (resumed >= 0) {
             expect(complete(c), "cycle " + std::to_string(k) + " after the outage: not every frame recorded");
         } else if (first_missing >= 0 && k > first_missing) {
-            expect(!c.safety && !c.copy && !c.diagnostics, "cycle " + std::to_string(k) + ": frames inside the outage");
+            expect(!c.safety && !c.copy && !c.link && !c.diagnostics,
+                   "cycle " + std::to_string(k) + ": frames inside the outage");
         }
     }
     expect(first_missing > 0, "frames are missing (the interface went down)");
@@ -388,7 +434,7 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     for (int k = 0; k < f; ++k) {
         const CycleFrames& c = p.cycles[static_cast<std::size_t>(k)];
         expect(!c.message.fault, "cycle " + std::to_string(k) + ": fault bit before the outage");
-        if (k >= rc.recovery_good_pairs) {
+        if (k >= static_cast<int>(rc.recovery_good_pairs) + 1) {  // after the start-up handshake (check_normal)
             expect(c.after_copy.communication_valid,
                    "cycle " + std::to_string(k) +
                        ": receiver not valid before the outage: " + to_string(c.after_copy.fault));
@@ -438,22 +484,27 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
     const std::uint64_t gap_us = back.t_us - last_before.t_us;
     expect(!back.after_copy.communication_valid && back.after_copy.stop_requested,
            "receiver in the safe state at the first pair after the outage");
-    // Two ways in: a gap longer than the SCT is silence, seen by the PLC's
-    // poll before the next frame comes, and the first pair back is the new
-    // reference; a shorter gap shows as a counter jump on the first pair
-    // back (frames lost), which is rejected, and the pair after it is the
-    // reference. Either way recovery_good_pairs more good pairs are needed.
+    // Two ways in: a gap longer than the watchdog time (or the SCT) is
+    // silence, seen by the PLC's poll before the next frame comes (the data
+    // in use too old, or no pair within the SCT); a shorter gap shows as a
+    // counter jump on the first pair back (frames lost). Either way the
+    // first pair back is refused: the monitor's link sequence advanced in
+    // every cycle of the outage (a sequence jump) and its echo names a PLC
+    // link frame from before the outage; the PLC replies to its link frame,
+    // the pair after it echoes that reply and is the reference; then
+    // recovery_good_pairs more good pairs are needed.
     const bool silence_first = p.silence_seen && p.silence_at_us < back.t_us;
-    if (gap_us > rc.sct_us + 10000U) {
+    if (gap_us > std::min(rc.sct_us, rc.link.watchdog_us) + 10000U) {
         expect(silence_first,
-               "receiver reported the SCT expired during the " + std::to_string(gap_us / 1000U) + " ms gap");
+               "receiver reported silence (watchdog or SCT) during the " + std::to_string(gap_us / 1000U) + " ms gap");
     }
     bool jump_seen = false;
     for (ReceiverFault k : p.faults_seen) {
-        jump_seen = jump_seen || k == ReceiverFault::kCounterJump || k == ReceiverFault::kSctExpired;
+        jump_seen = jump_seen || k == ReceiverFault::kCounterJump || k == ReceiverFault::kSctExpired ||
+                    k == ReceiverFault::kSequenceJump || k == ReceiverFault::kWatchdogExpired;
     }
-    expect(silence_first || jump_seen, "receiver saw the outage as silence or as a counter jump");
-    const int reference = silence_first ? r : r + 1;
+    expect(silence_first || jump_seen, "receiver saw the outage as silence or as a counter or sequence jump");
+    const int reference = r + 1;
     for (int k = r; k < n; ++k) {
         const CycleFrames& c = p.cycles[static_cast<std::size_t>(k)];
         const bool want_valid = k >= reference + rc.recovery_good_pairs;
@@ -523,7 +574,7 @@ int check_fault(const MonitorConfig& cfg, const char* log, const char* status, i
         "cycle %d (%.0f ms after); %d failures\n",
         p.lines, n, f, f + 1, r - f, r, static_cast<double>(gap_us) / 1000.0,
         faults_text(back.diag.active_faults).c_str(), rfaults.empty() ? "-" : rfaults.c_str(),
-        silence_first ? " (SCT expired in the gap)" : " (no silence: counter jump)", reference + rc.recovery_good_pairs,
+        silence_first ? " (silence in the gap)" : " (no silence: counter jump)", reference + rc.recovery_good_pairs,
         cleared, released, held_ms, g_failures);
     return g_failures == 0 ? 0 : 1;
 }

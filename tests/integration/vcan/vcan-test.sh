@@ -23,7 +23,10 @@
 # Three runs (a fourth and fifth below), all paced (one cycle per period on the real clock); RUNS
 # (default "normal fault robot") selects them:
 # 1. normal: NORMAL_CYCLES cycles undisturbed; every frame recorded and valid,
-#    the stop in the entry cycle (cellguard-vcan-check normal).
+#    the stop in the entry cycle (cellguard-vcan-check normal). Protocol 0.2:
+#    in runs 1 and 2 (a cell without a robot) cellguard-vcan-plc runs in its
+#    link mode, the PLC's link frame alone in reply to each of the monitor's,
+#    so that the monitor echoes it and the check's PLC receiver accepts pairs.
 # 2. fault: after the monitor has reported cycle DOWN_AT the interface is
 #    set down, after cycle UP_AT up again; the fault path and the recovery
 #    (cellguard-vcan-check fault). DOWN_AT is after the person has left both
@@ -36,11 +39,16 @@
 #    the command (PlcCommandSender) every half period, case 0, case 2 from
 #    cycle SWITCH_AT, nothing from cycle SILENT_AT, and checks the monitor's
 #    frames live (PlcReceiver): commands accepted and their case echoed, the
-#    stop released, then the stop within SCT + 2 T after the PLC fell silent.
+#    stop released, then the stop within SCT + 2 T after the PLC fell silent;
+#    then, at cycle DELAY_AT, a sample held since the silence (older than the
+#    watchdog time), and at cycle REPLAY_AT a whole sample from 15 samples
+#    before it: the monitor refuses both (CommandValid stays 0; its status
+#    lines name the reason: the watchdog and the sequence jump).
 # 4. unprivileged: UNPRIV_CYCLES cycles as user nobody with no capabilities,
 #    as the systemd unit runs it (apps/monitor/systemd: DynamicUser, an empty
 #    CapabilityBoundingSet): the CAN_RAW socket on the interface, which is
-#    up, opens and every frame is sent (needs root and su to start it).
+#    up, opens and every frame is sent, four a cycle (needs root and su to
+#    start it; no PLC: its link frames echo nothing).
 set -u
 bin=$1
 cfg=$2
@@ -52,7 +60,13 @@ DOWN_AT=${DOWN_AT:-36}
 UP_AT=${UP_AT:-41}
 SWITCH_AT=${SWITCH_AT:-8}
 SILENT_AT=${SILENT_AT:-11}
-END_AT=${END_AT:-16}
+DELAY_AT=${DELAY_AT:-17}
+REPLAY_AT=${REPLAY_AT:-19}
+END_AT=${END_AT:-21}
+# The robot run's cycle budget (--budget-ms): two periods, so that the session
+# link's watchdog time (two periods plus the budget: 8 s) is shorter than the
+# delayed sample's hold (SILENT_AT to DELAY_AT, 12 s).
+ROBOT_BUDGET_MS=${ROBOT_BUDGET_MS:-4000}
 UNPRIV_CYCLES=${UNPRIV_CYCLES:-10}
 RUNS=${RUNS:-normal fault robot unprivileged}
 rcfg=$(dirname "$cfg")/vcan-robot-cell.toml
@@ -121,6 +135,19 @@ wait_for_cycle() {
     return 1
 }
 
+# Starts cellguard-vcan-plc in its link mode on the interface (run 1, 2) and
+# returns once it listens; its output goes to $1.
+start_link_plc() {
+    "$bin/cellguard-vcan-plc" link "$cfg" "$ifc" > "$1" 2>&1 &
+    link_plc_pid=$!
+    i=0
+    while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$1" && kill -0 "$link_plc_pid" 2> /dev/null; do
+        sleep 0.1
+        i=$((i + 1))
+    done
+    grep -q '^PLC: ' "$1" || { fail "the link PLC did not start"; show "$1"; return 1; }
+}
+
 # Waits up to $2 s for process $1 to exit, then interrupts it.
 wait_or_interrupt() {
     i=0
@@ -140,7 +167,8 @@ case " $RUNS " in *" fault "*) ;; *) FAULT_CYCLES=0 ;; esac
 # --- 1. normal run --------------------------------------------------------
 if [ "$NORMAL_CYCLES" -gt 0 ]; then
 say "normal run: $NORMAL_CYCLES cycles, paced"
-start_candump "$work/normal.log" -n $((3 * NORMAL_CYCLES)) || finish
+start_candump "$work/normal.log" -n $((5 * NORMAL_CYCLES)) || finish
+start_link_plc "$work/normal.plc" || finish
 t0=$(uptime_s)
 "$bin/cellguard-monitor" --config "$cfg" --can-interface "$ifc" --cycles "$NORMAL_CYCLES" --paced \
     > "$work/normal.out" 2>&1
@@ -150,6 +178,8 @@ say "normal run: monitor exited $rc after $(awk -v a="$t0" -v b="$(uptime_s)" 'B
 grep '^summary:' "$work/normal.out" | sed 's/^/    /'
 # candump -n exits by itself after the expected frame count.
 wait_or_interrupt "$candump_pid" 5
+wait_or_interrupt "$link_plc_pid" 0
+grep '^PLC: ' "$work/normal.plc" | sed 's/^/    /'
 if "$bin/cellguard-vcan-check" normal "$cfg" "$work/normal.log" "$NORMAL_CYCLES" > "$work/normal.check" 2>&1; then
     say "PASS normal: $(tail -n 1 "$work/normal.check")"
 else
@@ -164,6 +194,7 @@ if [ "$FAULT_CYCLES" -gt 0 ]; then
 say "fault run: $FAULT_CYCLES cycles, paced; $ifc down after cycle $DOWN_AT, up after cycle $UP_AT"
 # -D: candump keeps running while the interface is down.
 start_candump "$work/fault.log" -D || finish
+start_link_plc "$work/fault.plc" || finish
 "$bin/cellguard-monitor" --config "$cfg" --can-interface "$ifc" --cycles "$FAULT_CYCLES" --paced \
     > "$work/fault.out" 2> "$work/fault.err" &
 monitor_pid=$!
@@ -189,8 +220,10 @@ grep -q 'the CAN output failed: CAN-error fault latched in' "$work/fault.err" ||
 grep '^summary:' "$work/fault.out" | sed 's/^/    /'
 # Let candump read what is queued, then stop it (it flushes on SIGINT).
 sleep 0.5
+wait_or_interrupt "$link_plc_pid" 0
 kill -INT "$candump_pid" 2> /dev/null
 wait "$candump_pid" 2> /dev/null
+grep '^PLC: ' "$work/fault.plc" | sed 's/^/    /'
 if "$bin/cellguard-vcan-check" fault "$cfg" "$work/fault.log" "$work/fault.out" "$FAULT_CYCLES" \
     > "$work/fault.check" 2>&1; then
     say "PASS fault: $(tail -n 1 "$work/fault.check")"
@@ -208,9 +241,11 @@ case " $RUNS " in *" robot "*)
 # says the host stalled its own writes (a sample spread over more than the
 # monitor's sample window, whose refusal is right), 1 otherwise.
 robot_run() {
-say "robot run (attempt $1): $((END_AT + 1)) cycles, paced, --commands can; PLC: case 0, case 2 from cycle $SWITCH_AT, silent from cycle $SILENT_AT"
+say "robot run (attempt $1): $((END_AT + 1)) cycles, paced, --commands can; PLC: case 0, case 2 from cycle $SWITCH_AT, silent from cycle $SILENT_AT, a delayed sample at $DELAY_AT, a replayed one at $REPLAY_AT"
 t0=$(uptime_s)
-"$bin/cellguard-vcan-plc" "$rcfg" "$ifc" "$SWITCH_AT" "$SILENT_AT" "$END_AT" > "$work/robot.plc" 2>&1 &
+"$bin/cellguard-vcan-plc" "$rcfg" "$ifc" "$SWITCH_AT" "$SILENT_AT" "$DELAY_AT" "$REPLAY_AT" "$END_AT" \
+    "$ROBOT_BUDGET_MS" \
+    > "$work/robot.plc" 2>&1 &
 plc_pid=$!
 # The PLC listens before the monitor's first frame: its first line says so.
 i=0
@@ -219,16 +254,21 @@ while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$work/robot.plc" && kill -0 "$plc_pi
     i=$((i + 1))
 done
 grep -q '^PLC: ' "$work/robot.plc" || { show "$work/robot.plc"; return 1; }
-# --budget-ms: the decisions, not the emulator's speed (as the demo's ctest).
+# --budget-ms: two periods, not the emulator's speed alone (see ROBOT_BUDGET_MS).
 "$bin/cellguard-monitor" --config "$rcfg" --can-interface "$ifc" --commands can --cycles $((END_AT + 1)) --paced \
-    --budget-ms 60000 > "$work/robot.out" 2>&1
+    --budget-ms "$ROBOT_BUDGET_MS" > "$work/robot.out" 2>&1
 rc=$?
 say "robot run: monitor exited $rc after $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s"
 [ $rc -eq 0 ] || { show "$work/robot.out"; return 1; }
 grep '^summary:' "$work/robot.out" | sed 's/^/    /'
 wait_or_interrupt "$plc_pid" 30
 grep '^PLC: samples' "$work/robot.plc" | sed 's/^/    /'
-if [ -s "$work/robot.plc" ] && tail -n 1 "$work/robot.plc" | grep -q '; 0 failures$'; then
+# The monitor's status lines name why it refused the delayed and the replayed sample.
+why_delay=$(grep -c 'link: round trip or data age above the watchdog time' "$work/robot.out")
+why_replay=$(grep -c 'link: sequence jump' "$work/robot.out")
+say "robot run: monitor status lines naming the watchdog: $why_delay, the sequence jump: $why_replay"
+if [ -s "$work/robot.plc" ] && tail -n 1 "$work/robot.plc" | grep -q '; 0 failures$' &&
+    [ "$why_delay" -gt 0 ] && [ "$why_replay" -gt 0 ]; then
     say "PASS robot: $(tail -n 1 "$work/robot.plc")"
     return 0
 fi
@@ -260,7 +300,7 @@ upriv=$(mktemp -d /tmp/cellguard-unpriv.XXXXXX)
 cp "$bin/cellguard-monitor" "$cfg" "$upriv/"
 chmod 755 "$upriv" "$upriv/cellguard-monitor"
 chmod 644 "$upriv/$(basename "$cfg")"
-start_candump "$work/unpriv.log" -n $((3 * UNPRIV_CYCLES)) || finish
+start_candump "$work/unpriv.log" -n $((4 * UNPRIV_CYCLES)) || finish
 su -s /bin/sh nobody -c "cd /; grep '^Cap' /proc/self/status; exec '$upriv/cellguard-monitor' --config '$upriv/$(basename "$cfg")' --can-interface '$ifc' --cycles $UNPRIV_CYCLES --quiet --budget-ms 60000" \
     > "$work/unpriv.out" 2>&1
 rc=$?
@@ -270,10 +310,10 @@ grep '^Cap' "$work/unpriv.out" | sed 's/^/    /'
 grep -q '^CapEff:[[:space:]]*0000000000000000$' "$work/unpriv.out" ||
     { fail "the monitor did not run without capabilities"; show "$work/unpriv.out"; }
 [ $rc -eq 0 ] || { fail "monitor exit status $rc as nobody"; show "$work/unpriv.out"; }
-if [ "$frames" -eq $((3 * UNPRIV_CYCLES)) ]; then
+if [ "$frames" -eq $((4 * UNPRIV_CYCLES)) ]; then
     say "PASS unprivileged: $frames frames sent as nobody without capabilities"
 else
-    fail "unprivileged run: $frames frames on $ifc, expected $((3 * UNPRIV_CYCLES))"
+    fail "unprivileged run: $frames frames on $ifc, expected $((4 * UNPRIV_CYCLES))"
     show "$work/unpriv.out"
 fi
 rm -rf "$upriv"

@@ -13,7 +13,17 @@
 //   and monitoring case 0, then case 2 from the monitor's cycle SWITCH_AT;
 //   from cycle SILENT_AT it sends nothing more (a PLC that falls silent);
 // - it receives the monitor's frames with PlcReceiver (polled every 10 ms)
-//   and decodes the diagnostics and separation frames.
+//   and decodes the diagnostics and separation frames;
+// - protocol 0.2: each sample ends with the PLC's link frame, its fields
+//   from the receiver's link endpoint (the echo of the monitor's latest
+//   link frame), and the receiver accepts a pair only with the monitor's
+//   link frame, whose echo must be at most the watchdog time old;
+// - after the silence, at the monitor's cycle DELAY_AT it sends a sample it
+//   built when it fell silent (its link frame echoes a monitor link frame
+//   then more than the watchdog time old: a delayed sample), and at cycle
+//   REPLAY_AT a whole sample it sent 15 samples before the silence, byte for
+//   byte (its E2E counter is the one 15 samples on: a replay); the monitor
+//   must refuse both: CommandValid stays 0 and the stop stays.
 // It starts sending when the monitor's first safety frame arrives and ends
 // after the monitor's cycle END_AT (or when the monitor has been silent for
 // 6 periods), then checks:
@@ -28,10 +38,20 @@
 //   silence;
 // - when the PLC fell silent, the stop came within the stated response time,
 //   SCT + 2 T from the last sample (can-safety-protocol.md, "Response time";
-//   SCT = robot.max_command_age), with kCommandInvalid, and stayed.
+//   SCT = robot.max_command_age), with kCommandInvalid, and stayed, through
+//   the delayed and the replayed sample.
 // Time is CLOCK_MONOTONIC at reception (the monitor's clock in --paced mode).
 //
-// usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT END_AT
+// usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT DELAY_AT REPLAY_AT END_AT BUDGET_MS
+//        cellguard-vcan-plc link CONFIG IFACE
+// BUDGET_MS is the monitor's --budget-ms: the session link's watchdog time is
+// two periods plus the cycle budget on both sides (monitor::link_watchdog_us).
+// The second form is the PLC of a cell without a robot (runs 1 and 2): it
+// sends its link frame alone in reply to each of the monitor's link frames
+// (PlcReceiver::next_link, encode_link_frame with no bound frames, its own
+// E2E counter), so that the monitor echoes it; it checks nothing (the
+// recording is checked by cellguard-vcan-check) and runs until SIGINT or
+// SIGTERM, ignoring failed writes (the fault run takes the interface down).
 // Exit status: 0 all checks passed, 1 a check failed, 2 usage, set-up or I/O error.
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -41,7 +61,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -82,6 +104,9 @@ std::uint64_t now_us() {
 /// The arm's pose over station A (vcan-robot-scene.toml's keyframes), radians.
 constexpr double kPoseRad[6] = {-1.5707963, 0.1, 1.2, 1.8416, 0.0, 0.0};
 
+/// The seven frames of a protocol 0.2 sample, as sent.
+using SampleFrames = std::array<CanFrame, kCommandFramesPerSample + 1U>;
+
 /// A sample sent.
 struct Sample {
     std::uint64_t t_us = 0U;      ///< after its last frame was written
@@ -95,7 +120,7 @@ struct Cycle {
     std::uint64_t t_us = 0U;  ///< safety frame received
     SafetyMessage safety;
     bool copy = false;
-    bool receiver_valid = false;  ///< the PLC receiver after the copy
+    bool receiver_valid = false;  ///< the PLC receiver after the pair's link frame
     bool diagnostics = false;
     std::uint16_t faults = 0U;
     bool separation = false;
@@ -108,8 +133,18 @@ struct Run {
     std::uint16_t robot_id = 0U;
     int switch_at = 0;
     int silent_at = 0;
+    int delay_at = 0;
+    int replay_at = 0;
     int end_at = 0;
     std::vector<Sample> samples;
+    std::vector<SampleFrames> sent;  ///< the frames of every sample sent, for the replay
+    SampleFrames held{};             ///< the sample built at the silence, sent at DELAY_AT
+    bool have_held = false;
+    std::uint64_t held_us = 0U;      ///< when it was built
+    int delayed_cycle = -1;          ///< the monitor's cycle count when the delayed sample went out
+    double delayed_ms = -1.0;        ///< how long it was held
+    int replayed_cycle = -1;         ///< the same for the replay
+    std::size_t replayed_from = 0U;  ///< index of the replayed sample
     std::vector<Cycle> cycles;
     std::uint64_t last_sample_us = 0U;  ///< the last sample sent
     std::uint32_t receiver_faults = 0U;
@@ -118,12 +153,11 @@ struct Run {
     std::string receiver_fault_text;
 };
 
+/// As the monitor's simulated PLC: SRVT half a period, SCT three periods, the watchdog time three periods; a
+/// session value of this start (the process ID's, 1..255).
 PlcReceiverConfig receiver_config(const MonitorConfig& cfg) {
-    PlcReceiverConfig rc;
-    rc.channel = cfg.can.channel;
-    rc.srvt_us = cfg.period_us / 2U;
-    rc.sct_us = 3U * cfg.period_us;
-    rc.expected_zone_count = static_cast<std::uint8_t>(cfg.zones.size());
+    PlcReceiverConfig rc = monitor::plc_receiver_config(cfg);
+    rc.link.session = static_cast<std::uint8_t>(static_cast<unsigned>(getpid()) % 255U + 1U);
     return rc;
 }
 
@@ -152,8 +186,8 @@ bool send_frame(int fd, const CanFrame& f) {
     return write(fd, &k, sizeof(k)) == static_cast<ssize_t>(sizeof(k));
 }
 
-/// Sends the next sample; false when the sender refused or a write failed.
-bool send_sample(int fd, PlcCommandSender& sender, Run& run) {
+/// The next sample's seven frames (its link frame from @p plc at this time), or false when the sender refused.
+bool build_sample(PlcCommandSender& sender, PlcReceiver& plc, Run& run, SampleFrames& out, Sample& s) {
     RobotCommand cmd;
     cmd.monitoring_case = static_cast<int>(run.cycles.size()) < run.switch_at ? 0U : 2U;
     cmd.speed_class = 0U;
@@ -162,25 +196,77 @@ bool send_sample(int fd, PlcCommandSender& sender, Run& run) {
         cmd.joint_raw[j] = static_cast<std::int16_t>(std::lround(kPoseRad[j] / kRevoluteJointUnitRad));
     }
     cmd.robot_id = run.robot_id;
-    Sample s;
     s.counter = sender.counter();
     s.monitoring_case = cmd.monitoring_case;
-    const Result<CommandFrames> frames = sender.next_sample(cmd);
+    const Result<LinkedCommandFrames> frames = sender.next_sample(cmd, plc.next_link(now_us()), plc.config().link.own);
     if (!frames.ok()) {
         std::printf("the PLC-side sender refused the command\n");
         return false;
     }
-    const std::uint64_t t0 = now_us();
-    for (const CanFrame& f : frames.value().frame) {
+    for (std::size_t i = 0U; i < kCommandFramesPerSample; ++i) {
+        out[i] = frames.value().sample.frame[i];
+    }
+    out[kCommandFramesPerSample] = frames.value().link;
+    return true;
+}
+
+/// Writes the seven frames of a sample; false when a write failed.
+bool write_sample(int fd, const SampleFrames& frames) {
+    for (const CanFrame& f : frames) {
         if (!send_frame(fd, f)) {
             std::perror("write");
             return false;
         }
     }
+    return true;
+}
+
+/// Sends the next sample; false when the sender refused or a write failed.
+bool send_sample(int fd, PlcCommandSender& sender, PlcReceiver& plc, Run& run) {
+    Sample s;
+    SampleFrames frames{};
+    if (!build_sample(sender, plc, run, frames, s)) {
+        return false;
+    }
+    const std::uint64_t t0 = now_us();
+    if (!write_sample(fd, frames)) {
+        return false;
+    }
     s.t_us = now_us();
     s.burst_us = s.t_us - t0;  // the kernel stamps the frames within this span
     run.samples.push_back(s);
+    run.sent.push_back(frames);
     run.last_sample_us = s.t_us;
+    return true;
+}
+
+/// After the silence: the sample held since it began (a delayed sample) at
+/// cycle DELAY_AT, a whole sample from 15 samples before it (a replay) at
+/// cycle REPLAY_AT. False when a write failed.
+bool inject(int fd, PlcCommandSender& sender, PlcReceiver& plc, Run& run) {
+    const int cycle = static_cast<int>(run.cycles.size());
+    if (!run.have_held) {
+        Sample ignored;
+        if (!build_sample(sender, plc, run, run.held, ignored)) {
+            return false;
+        }
+        run.have_held = true;
+        run.held_us = now_us();
+    }
+    if (cycle >= run.delay_at && run.delayed_cycle < 0) {
+        run.delayed_cycle = cycle;
+        run.delayed_ms = static_cast<double>(now_us() - run.held_us) / 1000.0;
+        if (!write_sample(fd, run.held)) {
+            return false;
+        }
+    }
+    if (cycle >= run.replay_at && run.replayed_cycle < 0 && run.sent.size() >= 15U) {
+        run.replayed_cycle = cycle;
+        run.replayed_from = run.sent.size() - 15U;
+        if (!write_sample(fd, run.sent[run.replayed_from])) {
+            return false;
+        }
+    }
     return true;
 }
 
@@ -199,6 +285,7 @@ void on_frame(const CanFrame& f, std::uint64_t t, PlcReceiver& plc, Run& run) {
         return;  // the rest of a cycle whose safety frame came before this PLC listened
     } else if (f.id == inverted_can_id(ch)) {
         run.cycles.back().copy = true;
+    } else if (f.id == plc.config().link.peer.can_id) {
         run.cycles.back().receiver_valid = rs.communication_valid;
         if (rs.communication_valid && run.first_valid_pair < 0) {
             run.first_valid_pair = static_cast<int>(run.cycles.size()) - 1;
@@ -215,10 +302,14 @@ void on_frame(const CanFrame& f, std::uint64_t t, PlcReceiver& plc, Run& run) {
         run.cycles.back().separation = d.ok();
         run.cycles.back().sep = d.ok() ? d.value().message : SeparationMessage{};
     }
-    if (run.first_valid_pair >= 0 && rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
-        run.receiver_fault_text = to_string(rs.fault);
+    // Up to the silence: a PLC that sends nothing gets no fresh echo, and its
+    // receiver then refuses the data as too old (the watchdog), as it should.
+    if (static_cast<int>(run.cycles.size()) <= run.silent_at) {
+        if (run.first_valid_pair >= 0 && rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
+            run.receiver_fault_text = to_string(rs.fault);
+        }
+        run.receiver_faults = run.first_valid_pair >= 0 ? rs.fault_events - run.faults_at_valid : 0U;
     }
-    run.receiver_faults = run.first_valid_pair >= 0 ? rs.fault_events - run.faults_at_valid : 0U;
 }
 
 /// Reads every frame waiting on @p fd.
@@ -250,10 +341,13 @@ bool exchange(int fd, Run& run) {
         const bool started = !run.cycles.empty();
         const bool sending = started && static_cast<int>(run.cycles.size()) < run.silent_at;
         if (sending && now >= next_send) {
-            if (!send_sample(fd, sender, run)) {
+            if (!send_sample(fd, sender, plc, run)) {
                 return false;
             }
             next_send = next_send == 0U || now > next_send + half ? now + half : next_send + half;
+        }
+        if (started && !sending && !inject(fd, sender, plc, run)) {
+            return false;
         }
         // Cycle END_AT complete (or its last frames a period late).
         if (static_cast<int>(run.cycles.size()) > run.end_at &&
@@ -272,7 +366,8 @@ bool exchange(int fd, Run& run) {
             last_rx = now_us();
         }
         const ReceiverStatus rs = plc.poll(now_us());
-        if (run.first_valid_pair >= 0 && rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
+        if (static_cast<int>(run.cycles.size()) < run.silent_at && run.first_valid_pair >= 0 &&
+            rs.fault_events > run.faults_at_valid && run.receiver_faults == 0U) {
             run.receiver_fault_text = to_string(rs.fault);
             run.receiver_faults = rs.fault_events - run.faults_at_valid;
         }
@@ -337,7 +432,8 @@ int check(const Run& run) {
     expect(static_cast<int>(run.cycles.size()) > run.end_at, "the monitor's cycles up to " +
                                                                  std::to_string(run.end_at) + " received (got " +
                                                                  std::to_string(run.cycles.size()) + ")");
-    expect(run.first_valid_pair >= 0 && run.first_valid_pair <= 2, "the PLC receiver valid from the third pair on");
+    // Cycle 0's link frame echoes nothing (the start-up handshake), then the reference and two recovery pairs.
+    expect(run.first_valid_pair >= 0 && run.first_valid_pair <= 3, "the PLC receiver valid from the fourth pair on");
     expect(run.receiver_faults == 0U, "the PLC receiver left the valid state: " + run.receiver_fault_text);
     int first_ok = -1;
     int released = -1;
@@ -354,7 +450,20 @@ int check(const Run& run) {
                    "cycle " + std::to_string(k) + ": the stop comes with kCommandInvalid and CommandValid 0");
         }
         expect(stop_at < 0 || c.safety.protective_stop, "cycle " + std::to_string(k) + ": the stop stays");
+        // After the delayed and the replayed sample went out: still no valid command.
+        const bool injected = (run.delayed_cycle >= 0 && static_cast<int>(k) > run.delayed_cycle) ||
+                              (run.replayed_cycle >= 0 && static_cast<int>(k) > run.replayed_cycle);
+        if (injected) {
+            expect(!c.sep.command_valid && (c.faults & fault_bit(FaultCode::kCommandInvalid)) != 0U,
+                   "cycle " + std::to_string(k) + ": the delayed or replayed sample refused (CommandValid 0)");
+        }
     }
+    expect(run.delayed_cycle >= 0 && run.delayed_cycle < static_cast<int>(run.cycles.size()) - 1,
+           "the delayed sample was sent, a cycle before the end");
+    expect(run.replayed_cycle >= 0 && run.replayed_cycle < static_cast<int>(run.cycles.size()) - 1,
+           "the replayed sample was sent, a cycle before the end");
+    expect(run.delayed_ms > static_cast<double>(monitor::link_watchdog_us(run.cfg)) / 1000.0,
+           "the delayed sample was held longer than the watchdog time");
     const double bound_ms = static_cast<double>(sct + 2U * t) / 1000.0;
     double response_ms = -1.0;
     if (stop_at >= 0) {
@@ -374,7 +483,7 @@ int check(const Run& run) {
         late += smp.burst_us > window ? 1U : 0U;
     }
     std::printf(
-        "PLC: samples' six writes took at most %.1f ms (the monitor's sample window %.0f ms); %zu took longer\n",
+        "PLC: samples' seven writes took at most %.1f ms (the monitor's sample window %.0f ms); %zu took longer\n",
         static_cast<double>(longest) / 1000.0, static_cast<double>(window) / 1000.0, late);
     if (late > 0U && g_failures > 0) {
         std::printf(
@@ -384,12 +493,15 @@ int check(const Run& run) {
     }
     std::printf(
         "robot run: %zu samples sent (%zu frames), %zu monitor cycles received; PLC receiver valid from cycle %d, "
-        "%u faults after; commands used from cycle %d, stop released in cycle %d, case 0 then 2 from cycle %d "
-        "echoed; PLC silent from cycle %d (first cycle after the last sample: %zu); stop in cycle %d, %.0f ms "
-        "after the last sample (bound SCT + 2 T = %.0f + 2 x %.0f = %.0f ms); %d failures\n",
-        run.samples.size(), 6U * run.samples.size(), run.cycles.size(), run.first_valid_pair, run.receiver_faults,
+        "%u faults after up to the silence; commands used from cycle %d, stop released in cycle %d, case 0 then 2 "
+        "from cycle %d echoed; PLC silent from cycle %d (first cycle after the last sample: %zu); stop in cycle %d, "
+        "%.0f ms after the last sample (bound SCT + 2 T = %.0f + 2 x %.0f = %.0f ms); delayed sample (held %.0f ms, "
+        "watchdog %.0f ms) sent in cycle %d, whole sample %zu replayed in cycle %d: both refused; %d failures\n",
+        run.samples.size(), 7U * run.samples.size(), run.cycles.size(), run.first_valid_pair, run.receiver_faults,
         first_ok, released, run.switch_at, run.silent_at, silent, stop_at, response_ms,
-        static_cast<double>(sct) / 1000.0, static_cast<double>(t) / 1000.0, bound_ms, g_failures);
+        static_cast<double>(sct) / 1000.0, static_cast<double>(t) / 1000.0, bound_ms, run.delayed_ms,
+        static_cast<double>(monitor::link_watchdog_us(run.cfg)) / 1000.0, run.delayed_cycle, run.replayed_from,
+        run.replayed_cycle, g_failures);
     return g_failures == 0 ? 0 : 1;
 }
 
@@ -412,24 +524,87 @@ bool robot_id(const MonitorConfig& cfg, std::uint16_t& id) {
     return true;
 }
 
+volatile std::sig_atomic_t g_stop = 0;
+
+void on_signal(int /*signal*/) { g_stop = 1; }
+
+/// The link mode (see the file comment): replies to each of the monitor's link frames with its own, alone.
+int link_only(const MonitorConfig& cfg, int fd) {
+    PlcReceiver plc(receiver_config(cfg));
+    std::uint8_t counter = 0U;
+    std::uint64_t replies = 0U;
+    std::uint64_t failed = 0U;
+    std::printf("PLC: link frames alone on reply, session %u\n", plc.config().link.session);
+    std::fflush(stdout);
+    while (g_stop == 0) {
+        pollfd p{fd, POLLIN, 0};
+        static_cast<void>(::poll(&p, 1, 50));
+        can_frame k{};
+        while (recv(fd, &k, sizeof(k), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(k))) {
+            if ((k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0U || k.can_dlc > 8U) {
+                continue;
+            }
+            CanFrame f{};
+            f.id = k.can_id & CAN_SFF_MASK;
+            f.dlc = k.can_dlc;
+            std::memcpy(f.data, k.data, sizeof(f.data));
+            static_cast<void>(plc.on_frame(f, now_us()));
+            if (f.id != plc.config().link.peer.can_id) {
+                continue;
+            }
+            const Result<CanFrame> reply = encode_link_frame(plc.next_link(now_us()), counter, plc.config().link.own,
+                                                             Span<const CanFrame>());
+            counter = e2e_p01_next_counter(counter);
+            ++replies;
+            failed += reply.ok() && send_frame(fd, reply.value()) ? 0U : 1U;  // the fault run takes the interface down
+        }
+        static_cast<void>(plc.poll(now_us()));
+    }
+    std::printf("PLC: %llu link frames sent in reply, %llu writes failed\n", static_cast<unsigned long long>(replies),
+                static_cast<unsigned long long>(failed));
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     Run run;
-    if (argc != 6 || cycle_arg(argv[3]) < 0 || cycle_arg(argv[4]) <= cycle_arg(argv[3]) ||
-        cycle_arg(argv[5]) <= cycle_arg(argv[4])) {
-        std::fprintf(stderr, "usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT END_AT\n");
+    if (argc == 4 && std::strcmp(argv[1], "link") == 0) {
+        const ConfigLoad l = load_monitor_config(argv[2]);
+        if (!l.ok) {
+            std::printf("configuration error: %s\n", l.error.c_str());
+            return 2;
+        }
+        const int fd = open_socket(argv[3]);
+        if (fd < 0) {
+            return 2;
+        }
+        static_cast<void>(std::signal(SIGINT, on_signal));
+        static_cast<void>(std::signal(SIGTERM, on_signal));
+        const int rc = link_only(l.config, fd);
+        close(fd);
+        return rc;
+    }
+    if (argc != 9 || cycle_arg(argv[8]) < 0 || cycle_arg(argv[3]) < 0 || cycle_arg(argv[4]) <= cycle_arg(argv[3]) ||
+        cycle_arg(argv[5]) <= cycle_arg(argv[4]) || cycle_arg(argv[6]) <= cycle_arg(argv[5]) ||
+        cycle_arg(argv[7]) <= cycle_arg(argv[6])) {
+        std::fprintf(stderr,
+                     "usage: cellguard-vcan-plc CONFIG IFACE SWITCH_AT SILENT_AT DELAY_AT REPLAY_AT END_AT BUDGET_MS\n"
+                     "       cellguard-vcan-plc link CONFIG IFACE\n");
         return 2;
     }
     run.switch_at = cycle_arg(argv[3]);
     run.silent_at = cycle_arg(argv[4]);
-    run.end_at = cycle_arg(argv[5]);
+    run.delay_at = cycle_arg(argv[5]);
+    run.replay_at = cycle_arg(argv[6]);
+    run.end_at = cycle_arg(argv[7]);
     const ConfigLoad l = load_monitor_config(argv[1]);
     if (!l.ok) {
         std::printf("configuration error: %s\n", l.error.c_str());
         return 2;
     }
     run.cfg = l.config;
+    run.cfg.budget_us = static_cast<std::uint64_t>(cycle_arg(argv[8])) * 1000U;  // as the monitor's --budget-ms
     if (!robot_id(run.cfg, run.robot_id)) {
         return 2;
     }

@@ -74,7 +74,9 @@ CycleFrameEncoder::CycleFrameEncoder(const SafetyOutputConfig& config) noexcept 
     CG_ENFORCE(check_safety_output_config(config).ok(), "CycleFrameEncoder needs a valid configuration");
 }
 
-CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept {
+CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t can_detail_faults,
+                                      LinkEndpoint* link) noexcept {
+    const std::uint8_t counter = safety_counter_;
     const Result<CanFrame> safety = encode_safety_frame(safety_message(report.safety, report.robot, config_.zone_count),
                                                         safety_counter_, config_.channel);
     const Result<CanFrame> diagnostics = encode_diagnostics_frame(
@@ -85,7 +87,16 @@ CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t c
     safety_counter_ = e2e_p01_next_counter(safety_counter_);
     diagnostics_counter_ = e2e_p01_next_counter(diagnostics_counter_);
     page_ = static_cast<std::uint8_t>((page_ + 1U) % 4U);
-    CycleFrames frames{safety.value(), inverted_copy(safety.value()), diagnostics.value(), CanFrame{}, false};
+    CycleFrames frames{
+        safety.value(), inverted_copy(safety.value()), diagnostics.value(), CanFrame{}, false, CanFrame{}, false};
+    if (link != nullptr) {
+        const CanFrame bound[1] = {frames.safety};
+        const Result<CanFrame> link_frame = encode_link_frame(link->next(report.started_us), counter,
+                                                              link->config().own, Span<const CanFrame>(bound));
+        CG_ENFORCE(link_frame.ok(), "a checked link endpoint's frame always encodes");
+        frames.link = link_frame.value();
+        frames.has_link = true;
+    }
     if (report.robot.configured) {
         const Result<CanFrame> separation = encode_separation_frame(separation_message(report.robot),
                                                                     separation_counter_, config_.channel);
@@ -97,15 +108,23 @@ CycleFrames CycleFrameEncoder::encode(const CycleReport& report, std::uint16_t c
     return frames;
 }
 
-CanSafetyOutput::CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept
-    : status_(check_safety_output_config(config)), encoder_(usable_config(config)), sender_(&sender) {}
+CanSafetyOutput::CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender, LinkEndpoint* link) noexcept
+    : status_(check_safety_output_config(config)),
+      encoder_(usable_config(config)),
+      sender_(&sender),
+      link_(config.session_link ? link : nullptr) {
+    if (status_.ok() && config.session_link && link == nullptr) {
+        status_ = ErrorCode::kInvalidArgument;  // protocol 0.2 needs the controller's link endpoint
+    }
+}
 
 bool CanSafetyOutput::publish(const CycleReport& report) noexcept {
     if (!status_.ok()) {
         return false;
     }
-    last_ = encoder_.encode(report, sender_->detail_faults());
-    return sender_->send(last_.safety) && sender_->send(last_.inverted) && sender_->send(last_.diagnostics) &&
+    last_ = encoder_.encode(report, sender_->detail_faults(), link_);
+    return sender_->send(last_.safety) && sender_->send(last_.inverted) &&
+           (!last_.has_link || sender_->send(last_.link)) && sender_->send(last_.diagnostics) &&
            (!last_.has_separation || sender_->send(last_.separation));
 }
 

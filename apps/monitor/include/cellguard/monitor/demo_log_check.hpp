@@ -12,21 +12,34 @@
 ///
 /// The checks, each a failure message when it does not hold:
 /// - every line parses (candump -L format) and carries the safety frame, its
-///   inverted copy or the diagnostics frame of the demo's channel;
+///   inverted copy, the controller's link frame, the diagnostics frame of
+///   the demo's channel or the simulated PLC's link frame (protocol 0.2);
 /// - safety counters run 0..14 in order; each inverted copy matches the
 ///   safety frame before it; diagnostics pages run 0..3 in order;
 /// - the PLC receiver never enters the safe state (every fault is reported
 ///   with where it was seen: a log line or a poll), it is valid from the third
-///   pair on (the reference pair and two recovery pairs) and its stop
-///   decision follows each frame's stop bit;
-/// - 3 x CYCLES lines and CYCLES safety frames;
+///   pair on (the reference pair and two recovery pairs; one more after a
+///   start-up handshake) and its stop decision, taken when the pair's link
+///   frame arrives, follows each frame's stop bit;
+/// - the session link: both endpoints are re-run from the log (each side's
+///   session taken from its first link frame): every link frame must carry
+///   the sequence, session and echo its endpoint sends (the controller's
+///   stamped at its safety frame's time, the PLC's at its sample's part A
+///   or, alone, at its own time); the PLC receiver checks the controller's
+///   link frames (binding to the pair, echo, round trip within the watchdog
+///   time on the log's clock), the controller's side the PLC's (closing a
+///   command sample, or alone: LinkEndpoint::on_standalone_frame); a
+///   kNoEchoYet on a side that has sent nothing yet is the start-up
+///   handshake, counted, not a failure; one link frame of each side per cycle;
+/// - 5 x CYCLES lines and CYCLES safety frames;
 /// - the stop request appears in the cycle in which the scripted person
 ///   (scenario.hpp) enters a protective zone, and not in the cycle before.
 ///
 /// A cell with a robot (`--demo robot-cell`: config.robot.enabled) sends a
-/// fourth frame per cycle, the separation frame, and its log also holds the
-/// simulated PLC's command frames (six per sample, one sample per cycle,
-/// before the cycle's output frames). There, besides the checks above:
+/// fifth frame per cycle, the separation frame, and its log also holds the
+/// simulated PLC's command frames (six per sample and its link frame, one
+/// sample per cycle, before the cycle's output frames). There, besides the
+/// checks above:
 /// - every separation frame decodes (E2E: data ID, CRC, counter range,
 ///   reserved bits), comes right after its cycle's diagnostics frame, and its
 ///   counter runs 0..14 in order; its case is the safety frame's ActiveCase,
@@ -40,7 +53,7 @@
 /// - a cycle whose separation frame says CommandValid used exactly the
 ///   sample the receiver holds: same command counter, and the echoed case
 ///   (ActiveCase) is the commanded one;
-/// - (4 + 6) x CYCLES lines, CYCLES safety and separation frames;
+/// - (5 + 7) x CYCLES lines, CYCLES safety and separation frames;
 /// - instead of the scripted person's entry: the start-up stop is released,
 ///   and a stop request follows the release (the scene's person comes close);
 ///   the summary names the cycles of the release, the first reduced speed and
@@ -76,7 +89,8 @@ struct DemoLogCheck {
 };
 
 /// The PLC receiver's configuration for the log of @p config: its channel and
-/// zone count, SRVT half a period, SCT three periods.
+/// zone count, SRVT half a period, SCT three periods, the session link's
+/// watchdog three periods (plc_receiver_config, command_link.hpp).
 [[nodiscard]] PlcReceiverConfig demo_log_receiver_config(const cell::MonitorConfig& config);
 
 /// The PLC's poll interval on the log's clock: 1 ms, or SRVT / 10 when that

@@ -15,7 +15,11 @@
 ///     monitor runs cameras paced only);
 ///  3. the controller runs and publishes through the CAN safety output,
 ///     which asks the CAN port for its detail faults (a SocketCAN
-///     interface reads its error frames then; can_port.hpp);
+///     interface reads its error frames then; can_port.hpp); protocol 0.2:
+///     with the link frame whose fields come from the command link's
+///     controller endpoint (command_link.hpp), and the cycle's frames go to
+///     the command link (a simulated PLC receives them). Without a command
+///     link the controller's frames carry no echo and a PLC refuses them;
 ///  4. the run's counts are updated and the status line is formatted into the
 ///     fixed buffer and written to the status output.
 /// run_cycles() runs a loop's cycles, as fast as possible or paced one per
@@ -52,7 +56,7 @@ struct MonitorStats {
     int stop_cycles = 0;                ///< cycles with the stop requested
     int warning_cycles = 0;             ///< cycles with the warning on
     int first_stop_after_release = -1;  ///< the first cycle that stopped after one that did not (-1: none)
-    int send_failures = 0;              ///< log or sender: cycles that did not send their frames (3, or 4 with a robot)
+    int send_failures = 0;              ///< log or sender: cycles that did not send their frames (4, or 5 with a robot)
     int reduced_cycles = 0;             ///< cycles with reduced speed requested (and no stop)
     int command_invalid_cycles = 0;     ///< cycles that refused the PLC's command
     int can_fault_cycles = 0;           ///< cycles that ended with the CAN-error fault latched
@@ -169,6 +173,7 @@ private:
     std::uint64_t sent_us_ = 0U;         ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
     std::uint64_t cycle_real_us_ = 0U;   ///< the last cycle's real duration (CycleClock::real_span_us)
     SafetyController controller_;
+    LinkEndpoint own_link_;   ///< the controller's link endpoint when there is no command link (no echo)
     CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC
     MonitorStats stats_{};
     CycleObserver* observer_ = nullptr;  ///< after each complete cycle (nullptr: none)

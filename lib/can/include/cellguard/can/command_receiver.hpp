@@ -23,7 +23,14 @@
 ///   a delta above max_delta_counter is kCounterJump;
 /// - SCT: a good sample completes within sct_us of the previous one; a late
 ///   sample, and a poll or frame that finds none within sct_us, are kSctExpired;
-/// - time going backwards between calls.
+/// - time going backwards between calls;
+/// - protocol 0.2, the session link (session_link.hpp; on unless
+///   config.link.enabled is false): each sample is closed by the PLC's link
+///   frame (after C', within the sample window; CRC bound to parts A, B and
+///   C, the sample's counter); its session, sequence and echo pass the
+///   controller's LinkEndpoint (owned here, shared with the CAN output
+///   through link()), whose round trip and data age must stay within
+///   link.watchdog_us (checked on the link frame and at every poll).
 ///
 /// After a fault, and at start-up, the receiver waits for the next part A:
 /// the rest of a broken sample is discarded without further faults, so the
@@ -51,6 +58,7 @@
 #include "cellguard/base/result.hpp"
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/command_frame.hpp"
+#include "cellguard/can/session_link.hpp"
 #include "cellguard/safety/robot_command.hpp"
 
 namespace cellguard {
@@ -75,6 +83,17 @@ enum class CommandFault : std::uint8_t {
     kUnexpectedInvertedCopy = 15,  ///< a copy where a part was due, or the copy of another part
     kSctExpired = 16,              ///< no good sample within sct_us (late sample or silence)
     kTimeWentBackwards = 17,       ///< the caller's time decreased
+    kLinkFrameMissing = 18,        ///< another frame, or nothing within the sample window, where the link frame was due
+    kLinkFrameInvalid = 19,        ///< the link frame failed its check (CRC bound to A, B, C, counter, length)
+    kUnexpectedLinkFrame = 20,     ///< a link frame where none was due
+    kNoEchoYet = 21,               ///< start-up: the PLC has not echoed this controller's session yet
+    kSessionChanged = 22,          ///< the PLC's session changed (restart, or a replay of another session)
+    kRepeatedSequence = 23,        ///< the PLC's sequence did not advance (replay)
+    kSequenceJump = 24,            ///< the PLC's sequence jumped (loss beyond the bound, old replay)
+    kWrongEchoSession = 25,        ///< the echo names another session of this controller (replay across its restart)
+    kEchoUnknown = 26,             ///< the echo is no sequence this controller sent recently
+    kEchoBackwards = 27,           ///< the echo is older than the last one
+    kWatchdogExpired = 28,         ///< round trip or data age above link.watchdog_us (unacceptable delay)
 };
 /// A short, static name for @p fault (never nullptr).
 [[nodiscard]] const char* to_string(CommandFault fault) noexcept;
@@ -84,12 +103,13 @@ enum class CommandFault : std::uint8_t {
 /// every 50 ms, its six frames back to back: one lost sample is tolerated
 /// (delta 2, 100 ms < SCT), two are not.
 struct CommandReceiverConfig {
-    CommandChannelConfig channel;             ///< CAN IDs, data IDs, data ID mode (the sender's)
-    std::uint64_t srvt_us = 10000U;           ///< latest copy arrival after its part, > 0
-    std::uint64_t sample_window_us = 20000U;  ///< latest C' after its A, >= srvt_us
-    std::uint64_t sct_us = 120000U;           ///< longest time between good samples, > sample_window_us
-    std::uint8_t max_delta_counter = 2U;      ///< largest accepted counter step, 1..14
-    std::uint8_t recovery_good_samples = 2U;  ///< good samples after the reference one to become valid, >= 1
+    CommandChannelConfig channel;                ///< CAN IDs, data IDs, data ID mode (the sender's)
+    std::uint64_t srvt_us = 10000U;              ///< latest copy arrival after its part, > 0
+    std::uint64_t sample_window_us = 20000U;     ///< latest C' after its A, >= srvt_us
+    std::uint64_t sct_us = 120000U;              ///< longest time between good samples, > sample_window_us
+    std::uint8_t max_delta_counter = 2U;         ///< largest accepted counter step, 1..14
+    std::uint8_t recovery_good_samples = 2U;     ///< good samples after the reference one to become valid, >= 1
+    LinkConfig link = controller_link_config();  ///< the session link (own: the controller's link channel)
 };
 
 /// The receiver's state, beside the CommandInput.
@@ -110,7 +130,9 @@ struct CommandPoll {
 class CommandReceiver {
 public:
     /// kInvalidArgument unless the channel is valid, 0 < srvt_us <= sample_window_us
-    /// < sct_us, max_delta_counter is 1..14 and recovery_good_samples >= 1.
+    /// < sct_us, max_delta_counter is 1..14 and recovery_good_samples >= 1; with
+    /// the link enabled, LinkEndpoint::check_config and a peer link CAN ID
+    /// outside the six command IDs.
     [[nodiscard]] static Status check_config(const CommandReceiverConfig& config) noexcept;
 
     /// A receiver in the safe state (kNoSampleYet). @p config must pass check_config (contract).
@@ -129,10 +151,16 @@ public:
     /// The last good sample (its counter and receive time; valid false before
     /// the first), whether or not recovery is complete: the clock-rate check's input.
     [[nodiscard]] const CommandInput& last_sample() const noexcept { return input_; }
+    /// The controller's link endpoint: the CAN output takes the fields of its
+    /// link frames from it (LinkEndpoint::next).
+    [[nodiscard]] LinkEndpoint& link() noexcept { return link_; }
+    /// The same, read-only.
+    [[nodiscard]] const LinkEndpoint& link() const noexcept { return link_; }
     /// The configuration in use.
     [[nodiscard]] const CommandReceiverConfig& config() const noexcept { return config_; }
 
 private:
+    void on_link(const CanFrame& frame, std::uint64_t now_us) noexcept;
     void on_part(const CanFrame& frame, std::size_t index, std::uint64_t now_us) noexcept;
     void on_copy(const CanFrame& frame, std::size_t index, std::uint64_t now_us) noexcept;
     void complete_sample(std::uint64_t now_us) noexcept;
@@ -160,7 +188,9 @@ private:
     std::uint64_t part_time_us_ = 0U;
     bool have_time_ = false;
     std::uint64_t last_time_us_ = 0U;
-    CommandInput input_{};  // the last good sample
+    CommandInput input_{};                // the last good sample
+    CanFrame parts_[kCommandParts] = {};  // parts A, B, C of the sample in progress (the link frame's binding)
+    LinkEndpoint link_;
 };
 
 }  // namespace cellguard

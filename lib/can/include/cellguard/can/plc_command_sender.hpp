@@ -15,6 +15,11 @@
 /// refused and the counter does not advance; the PLC then sends nothing, and
 /// the controller's receiver stops the robot when its SCT runs out.
 ///
+/// Protocol 0.2 (session_link.hpp): next_sample(command, link, channel) adds
+/// the PLC's link frame after C' (counter the sample's, CRC bound to parts
+/// A, B and C), with the fields the PLC's receiver gives
+/// (PlcReceiver::next_link at the sending time): seven frames a sample.
+///
 /// The PLC should send a sample at least every sct_us / 2 of the controller's
 /// receiver (every 50 ms with the defaults), and check the safety frame's
 /// ActiveCase echo against the case it asked for.
@@ -25,9 +30,16 @@
 
 #include "cellguard/base/result.hpp"
 #include "cellguard/can/command_frame.hpp"
+#include "cellguard/can/session_link.hpp"
 #include "cellguard/safety/robot_command.hpp"
 
 namespace cellguard {
+
+/// The seven frames of a protocol 0.2 sample: A, A', B, B', C, C', then the link frame.
+struct LinkedCommandFrames {
+    CommandFrames sample;  ///< A, A', B, B', C, C'
+    CanFrame link;         ///< the PLC's link frame, sent last
+};
 
 /// Turns RobotCommands into the six frames of successive samples.
 class PlcCommandSender {
@@ -42,6 +54,12 @@ public:
     /// and the counter advanced; kInvalidArgument (counter unchanged) when
     /// @p command is not well formed (command_well_formed).
     [[nodiscard]] Result<CommandFrames> next_sample(const RobotCommand& command) noexcept;
+
+    /// The seven frames of the next sample: the six above and the link frame
+    /// for @p link on @p channel; kInvalidArgument (counter unchanged) when
+    /// the command is not well formed or the link fields or channel are invalid.
+    [[nodiscard]] Result<LinkedCommandFrames> next_sample(const RobotCommand& command, const LinkFields& link,
+                                                          const LinkChannel& channel) noexcept;
 
     /// Counter the next sample will carry, 0..14.
     [[nodiscard]] std::uint8_t counter() const noexcept { return counter_; }

@@ -18,7 +18,14 @@
 ///   repeated (delta 0) or jumped by more than max_delta_counter is a fault;
 /// - the SCT (safeguard cycle time): a new good pair must complete within
 ///   sct_us of the previous one; a late pair and silence (seen by poll()) are faults;
-/// - time going backwards is a fault (the caller's clock is not monotonic).
+/// - time going backwards is a fault (the caller's clock is not monotonic);
+/// - protocol 0.2, the session link (session_link.hpp; on unless
+///   config.link.enabled is false): each pair is closed by the controller's
+///   link frame (CRC bound to the safety frame, the pair's counter, within
+///   the SRVT of the safety frame); its session, sequence and echo pass the
+///   PLC's LinkEndpoint, whose round trip and data age must stay within
+///   link.watchdog_us (checked on every frame and poll). The PLC sends its
+///   own link frames with next_link() (PlcCommandSender::next_sample).
 ///
 /// Safe state and recovery: any failure sets communication_valid = false and
 /// stop_requested = true, records the reason and drops the counter reference.
@@ -30,7 +37,10 @@
 /// the robot after a protective stop is the PLC's restart interlock, not this class.
 ///
 /// While valid, the reported message is from the last good pair; the data is
-/// then at most sct_us + srvt_us old. While not valid, the reported message is
+/// then at most sct_us + srvt_us newer than the previous pair, and, with the
+/// session link, at most link.watchdog_us old on the PLC's own clock (the
+/// controller built it after it had received a link frame the PLC sent at
+/// most watchdog_us before). While not valid, the reported message is
 /// the safe-state message (stop, warning, fault and reduced speed set, case 0,
 /// every zone intruded and unseen). While valid, stop_requested follows the
 /// frame's ProtectiveStop bit; the PLC reads message.reduced_speed (meaningful
@@ -43,6 +53,7 @@
 #include "cellguard/base/result.hpp"
 #include "cellguard/can/can_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
+#include "cellguard/can/session_link.hpp"
 
 namespace cellguard {
 
@@ -64,6 +75,17 @@ enum class ReceiverFault : std::uint8_t {
     kUnexpectedInvertedCopy = 13,  ///< a copy with no normal frame waiting for it
     kSctExpired = 14,              ///< no good pair within the SCT (late frame or silence)
     kTimeWentBackwards = 15,       ///< the caller's time decreased
+    kLinkFrameMissing = 16,        ///< no link frame after the copy, or not within the SRVT
+    kLinkFrameInvalid = 17,        ///< the link frame failed its check (CRC bound to the pair, counter, length)
+    kUnexpectedLinkFrame = 18,     ///< a link frame with no pair waiting for it
+    kNoEchoYet = 19,               ///< start-up: the controller has not echoed this PLC's session yet
+    kSessionChanged = 20,          ///< the controller's session changed (restart, or a replay of another session)
+    kRepeatedSequence = 21,        ///< the controller's sequence did not advance (replay)
+    kSequenceJump = 22,            ///< the controller's sequence jumped (loss beyond the bound, old replay)
+    kWrongEchoSession = 23,        ///< the echo names another session of this PLC (replay across its restart)
+    kEchoUnknown = 24,             ///< the echo is no sequence this PLC sent recently
+    kEchoBackwards = 25,           ///< the echo is older than the last one
+    kWatchdogExpired = 26,         ///< round trip or data age above link.watchdog_us (unacceptable delay)
 };
 /// A short, static name for @p fault (never nullptr).
 [[nodiscard]] const char* to_string(ReceiverFault fault) noexcept;
@@ -76,6 +98,7 @@ struct PlcReceiverConfig {
     std::uint8_t max_delta_counter = 1U;    ///< largest accepted counter step, 1..14 (1 = no frame may be lost)
     std::uint8_t recovery_good_pairs = 2U;  ///< good pairs after the reference pair to leave the safe state, >= 1
     std::uint8_t expected_zone_count = 0U;  ///< zone count the frames must carry, 0..16
+    LinkConfig link = plc_link_config();    ///< the session link (own: the PLC's link channel)
 };
 
 /// What the PLC acts on.
@@ -95,7 +118,9 @@ struct ReceiverStatus {
 class PlcReceiver {
 public:
     /// kInvalidArgument unless the channel config is valid, 0 < srvt_us < sct_us,
-    /// max_delta_counter is 1..14, recovery_good_pairs >= 1 and expected_zone_count <= 16.
+    /// max_delta_counter is 1..14, recovery_good_pairs >= 1 and expected_zone_count <= 16;
+    /// with the link enabled, LinkEndpoint::check_config and a peer link CAN ID
+    /// that is none of the output channel's.
     [[nodiscard]] static Status check_config(const PlcReceiverConfig& config) noexcept;
 
     /// A receiver in the safe state (kNoFrameYet). @p config must pass check_config (contract).
@@ -109,10 +134,18 @@ public:
     /// returns the status. Call it every PLC cycle and act on its result.
     [[nodiscard]] ReceiverStatus poll(std::uint64_t now_us) noexcept;
 
+    /// The fields of the PLC's next link frame, sent at @p now_us (its send
+    /// time is recorded for the round trip): hand them to PlcCommandSender.
+    [[nodiscard]] LinkFields next_link(std::uint64_t now_us) noexcept { return link_.next(now_us); }
+    /// The PLC's link endpoint.
+    [[nodiscard]] const LinkEndpoint& link() const noexcept { return link_; }
+
     /// The configuration in use.
     [[nodiscard]] const PlcReceiverConfig& config() const noexcept { return config_; }
 
 private:
+    void on_link_frame(const CanFrame& frame, std::uint64_t now_us) noexcept;
+    void accept_pair(std::uint64_t now_us) noexcept;
     void on_normal_frame(const CanFrame& frame, std::uint64_t now_us) noexcept;
     void on_inverted_copy(const CanFrame& frame, std::uint64_t now_us) noexcept;
     /// False (after entering the safe state) when time went backwards.
@@ -135,7 +168,9 @@ private:
     std::uint64_t pending_time_us_ = 0U;
     bool have_time_ = false;
     std::uint64_t last_time_us_ = 0U;
-    SafetyMessage message_;  // content of the last good pair
+    SafetyMessage message_;       // content of the last good pair
+    bool awaiting_link_ = false;  // the pair passed; its link frame is due
+    LinkEndpoint link_;
 };
 
 }  // namespace cellguard

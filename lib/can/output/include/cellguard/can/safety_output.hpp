@@ -22,6 +22,14 @@
 ///    request, the command's counter and validity. A cell without a robot
 ///    sends the first three only, as before the robot was added: the set of
 ///    frames is fixed by the commissioned configuration, not by the cycle.
+/// Protocol 0.2: with the session link (SafetyOutputConfig::session_link, on
+/// by default) the controller's link frame follows the copy (frame 2b): its
+/// E2E counter the safety frame's, its CRC bound to the safety frame, its
+/// fields from the controller's LinkEndpoint (LinkEndpoint::next, stamped
+/// with the cycle's start, which is earlier than the send: the round trip
+/// the endpoint measures is never shorter than the real one). The endpoint
+/// is the caller's (the CommandReceiver's in a cell with a robot); an output
+/// configured with the link but given no endpoint is refused.
 /// The safety frame (with its copy), the diagnostics and the separation
 /// frame each have their own E2E counter, advancing by one per cycle in
 /// which the frame is encoded (0..14, wrapping 14 -> 0) whether or not the
@@ -42,6 +50,7 @@
 #include "cellguard/can/can_sender.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/can/separation_frame.hpp"
+#include "cellguard/can/session_link.hpp"
 #include "cellguard/safety/cycle_output.hpp"
 
 namespace cellguard {
@@ -51,6 +60,7 @@ struct SafetyOutputConfig {
     SafetyChannelConfig channel{};  ///< CAN IDs, data IDs, data ID mode
     std::uint8_t zone_count = 0U;   ///< configured zones, 0..kMaxZonesInFrame
     std::uint32_t prior_crc = 0U;   ///< CRC-32 of the prior in use (SafetyController::prior_crc)
+    bool session_link = true;       ///< send the link frame (protocol 0.2); off only with a stated reason
 };
 
 /// Checks @p config: kInvalidArgument for an invalid channel config,
@@ -83,6 +93,8 @@ struct CycleFrames {
     CanFrame diagnostics;  ///< the diagnostics frame
     CanFrame separation;   ///< the separation frame (only when has_separation)
     bool has_separation;   ///< the cycle sends a separation frame (a robot is configured)
+    CanFrame link;         ///< the controller's link frame (only when has_link)
+    bool has_link;         ///< the cycle sends a link frame (session link on)
 };
 
 /// Encodes the frames of successive cycles: holds the three E2E counters and
@@ -93,8 +105,10 @@ public:
     explicit CycleFrameEncoder(const SafetyOutputConfig& config) noexcept;
 
     /// The frames of the cycle in @p report; advances the counters of the
-    /// frames it encodes and the page.
-    [[nodiscard]] CycleFrames encode(const CycleReport& report, std::uint16_t can_detail_faults) noexcept;
+    /// frames it encodes and the page. With @p link, also the link frame
+    /// (its fields from link->next(report.started_us)).
+    [[nodiscard]] CycleFrames encode(const CycleReport& report, std::uint16_t can_detail_faults,
+                                     LinkEndpoint* link = nullptr) noexcept;
 
     /// Counter the next safety frame will carry.
     [[nodiscard]] std::uint8_t safety_counter() const noexcept { return safety_counter_; }
@@ -117,14 +131,15 @@ private:
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
 class CanSafetyOutput final : public CycleOutput {
 public:
-    /// Binds @p sender (must outlive the output). A @p config that fails
-    /// check_safety_output_config is refused: status() holds the error and
-    /// publish() sends nothing and returns false.
-    CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender) noexcept;
+    /// Binds @p sender and @p link (both must outlive the output). A @p config
+    /// that fails check_safety_output_config, or has session_link on without a
+    /// @p link, is refused: status() holds the error and publish() sends
+    /// nothing and returns false.
+    CanSafetyOutput(const SafetyOutputConfig& config, CanSender& sender, LinkEndpoint* link = nullptr) noexcept;
 
     /// Asks the sender for its detail faults (ActiveFaults bits 9..14 of this
     /// cycle's diagnostics frame), then sends the safety frame, its copy, the
-    /// diagnostics frame and (with a robot) the separation frame in this
+    /// link frame (session link on), the diagnostics frame and (with a robot) the separation frame in this
     /// order, stopping at the first failed send. False when refused (nothing is asked or sent) or when a send failed.
     bool publish(const CycleReport& report) noexcept override;
 
@@ -139,6 +154,7 @@ private:
     Status status_;
     CycleFrameEncoder encoder_;
     CanSender* sender_;
+    LinkEndpoint* link_;
     CycleFrames last_{};
 };
 
