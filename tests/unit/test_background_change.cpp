@@ -19,6 +19,7 @@
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/safety_controller.hpp"
+#include "paper_cell.hpp"
 
 using namespace cellguard;
 
@@ -32,46 +33,27 @@ public:
 
 // The paper cell with its prior, the firmware scenario's zones and each
 // sensor's commissioned view of the empty cell (as the monitor builds it
-// for prior.source = "simulated-background").
+// for prior.source = "simulated-background"). The render of the empty cell,
+// G_B and the prior are built once per process (paper_cell.hpp); each Cell
+// has its own copies of every buffer the controller or a test may change.
 struct Cell {
     GridGeometry g = paper_grid_geometry();
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
-    std::vector<std::int16_t> frame_lo, bg_lo, prior, scratch;
-    std::vector<std::uint8_t> frame_ob, bg_ob;
+    const test::PaperCellCommissioning& commissioned = test::paper_cell_commissioning();
+    std::vector<std::int16_t> frame_lo = commissioned.frame_log_odds;
+    std::vector<std::int16_t> prior = commissioned.prior;
+    std::vector<std::int16_t> scratch = commissioned.scratch;
+    std::vector<std::uint8_t> frame_ob = commissioned.frame_observed;
     std::vector<std::uint32_t> mask;
     EvidenceGrid frame_grid;
     CompiledZones zones;
     SensorModelTable model;
-    sim::SimulatedFrame empty;
+    const sim::SimulatedFrame& empty = commissioned.empty;  // read-only, shared
     std::vector<BackgroundReference> refs;
 
-    Cell()
-        : frame_lo(g.voxel_count()),
-          bg_lo(g.voxel_count()),
-          prior(g.voxel_count()),
-          scratch(g.voxel_count()),
-          frame_ob(g.voxel_count()),
-          bg_ob(g.voxel_count()),
-          mask(g.voxel_count()),
-          empty(sim::render_frame(sensors, sim::reference_scene())),
-          refs(sensors.size()) {
+    Cell() : mask(g.voxel_count()), refs(sensors.size()) {
         frame_grid =
             EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
-        EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
-        bg.clear();
-        for (int i = 0; i < 8; ++i) {
-            REQUIRE(fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
-                                          {scratch.data(), scratch.size()})
-                        .ok());
-        }
-        AccessibilityParams params;
-        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
-        std::vector<std::uint32_t> words(size.words);
-        std::vector<std::uint8_t> bytes(size.bytes);
-        REQUIRE(compute_accessibility_prior(
-                    bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                    {prior.data(), prior.size()}, {})
-                    .ok());
         const auto zs = firmware::scenario_zone_configs();
         zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}).value();
         for (std::size_t s = 0; s < refs.size(); ++s) {
@@ -93,10 +75,16 @@ struct Inputs {
     std::vector<SensorInput> in;
     Inputs(const Cell& cell, const std::vector<sim::SensorSpec>& specs, const sim::Scene& scene, std::uint64_t now)
         : sim(sim::render_frame(specs, scene)) {
-        for (std::size_t s = 0; s < specs.size(); ++s) {
+        add(cell, sim, now);
+    }
+    // The empty cell seen from the commissioned poses: the shared render of
+    // it (render_frame of the same sensors and scene gives these images, bit for bit).
+    Inputs(const Cell& cell, std::uint64_t now) { add(cell, cell.empty, now); }
+    void add(const Cell& cell, const sim::SimulatedFrame& frame, std::uint64_t now) {
+        for (std::size_t s = 0; s < frame.depth.size(); ++s) {
             SensorInput i;
             i.reading = sim::depth_reading(cell.sensors[s],
-                                           Span<const float>(sim.depth[s].data(), sim.depth[s].size()));
+                                           Span<const float>(frame.depth[s].data(), frame.depth[s].size()));
             i.captured_us = now;
             i.present = true;
             i.background = &cell.refs[s];
@@ -125,7 +113,7 @@ ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene
     SafetyController c = cell.controller(clock);
     ChangeRun out;
     for (int k = 0; k < 2; ++k) {
-        const Inputs empty(cell, cell.sensors, sim::reference_scene(), clock.t);
+        const Inputs empty(cell, clock.t);
         REQUIRE(c.run_cycle(empty.span(), false).detected_faults == 0U);
     }
     Inputs changed(cell, specs, scene, clock.t);
@@ -142,7 +130,7 @@ ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene
     }
     out.changed_sensors = c.background_change().latched;
     for (int k = 0; k < 5; ++k) {
-        const Inputs empty(cell, cell.sensors, sim::reference_scene(), clock.t);
+        const Inputs empty(cell, clock.t);
         const CycleReport& r = c.run_cycle(empty.span(), false);
         out.stays_latched = out.stays_latched && r.safety.stop_requested &&
                             (r.safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U;

@@ -33,6 +33,7 @@
 #include "cellguard/prior/background_image.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
 #include "cellguard/safety/safety_controller.hpp"
+#include "paper_cell.hpp"
 
 using namespace cellguard;
 
@@ -56,8 +57,11 @@ DirectionGrid grid_of(const sim::SensorSpec& s) {
 struct Cell {
     GridGeometry g = paper_grid_geometry();
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
-    std::vector<std::int16_t> frame_lo, bg_lo, prior, scratch;
-    std::vector<std::uint8_t> frame_ob, bg_ob;
+    const test::PaperCellCommissioning& commissioned = test::paper_cell_commissioning();  // built once, read-only
+    std::vector<std::int16_t> frame_lo = commissioned.frame_log_odds;
+    std::vector<std::int16_t> prior = commissioned.prior;
+    std::vector<std::int16_t> scratch = commissioned.scratch;
+    std::vector<std::uint8_t> frame_ob = commissioned.frame_observed;
     std::vector<std::uint32_t> mask;
     EvidenceGrid frame_grid;
     CompiledZones zones;
@@ -65,33 +69,10 @@ struct Cell {
     std::vector<std::vector<float>> views;
     std::vector<BackgroundReference> refs;
 
-    Cell()
-        : frame_lo(g.voxel_count()),
-          bg_lo(g.voxel_count()),
-          prior(g.voxel_count()),
-          scratch(g.voxel_count()),
-          frame_ob(g.voxel_count()),
-          bg_ob(g.voxel_count()),
-          mask(g.voxel_count()),
-          refs(sensors.size()) {
-        const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
+    Cell() : mask(g.voxel_count()), refs(sensors.size()) {
+        const sim::SimulatedFrame& empty = commissioned.empty;
         frame_grid =
             EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
-        EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
-        bg.clear();
-        for (int i = 0; i < 8; ++i) {
-            REQUIRE(fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
-                                          {scratch.data(), scratch.size()})
-                        .ok());
-        }
-        AccessibilityParams params;
-        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
-        std::vector<std::uint32_t> words(size.words);
-        std::vector<std::uint8_t> bytes(size.bytes);
-        REQUIRE(compute_accessibility_prior(
-                    bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                    {prior.data(), prior.size()}, {})
-                    .ok());
         const auto zs = firmware::scenario_zone_configs();
         zones = CompiledZones::compile(g, {zs.data(), zs.size()}, {mask.data(), mask.size()}).value();
         for (std::size_t s = 0; s < sensors.size(); ++s) {
@@ -134,14 +115,30 @@ struct Inputs {
         const sim::SimulatedFrame f = sim::render_frame(specs, scene);
         for (const SensorReading& r : f.readings)
             points.push_back(depth_image_points(r));
-        for (std::size_t s = 0; s < specs.size(); ++s) {
+        add(cell, points, now);
+    }
+    // The empty cell from the commissioned poses: the points of the shared
+    // render of it (render_frame of the same sensors and scene gives these images, bit for bit).
+    Inputs(const Cell& cell, std::uint64_t now) { add(cell, empty_points(), now); }
+    void add(const Cell& cell, const std::vector<std::vector<Eigen::Vector3f>>& sensor_points, std::uint64_t now) {
+        for (std::size_t s = 0; s < sensor_points.size(); ++s) {
             SensorInput i;
-            i.reading = point_reading(cell.sensors[s], points[s]);
+            i.reading = point_reading(cell.sensors[s], sensor_points[s]);
             i.captured_us = now;
             i.present = true;
             i.background = &cell.refs[s];
             in.push_back(i);
         }
+    }
+    // Each sensor's points of the empty cell, made once per process from the shared render (read-only).
+    static const std::vector<std::vector<Eigen::Vector3f>>& empty_points() {
+        static const std::vector<std::vector<Eigen::Vector3f>> points = [] {
+            std::vector<std::vector<Eigen::Vector3f>> p;
+            for (const SensorReading& r : test::paper_cell_commissioning().empty.readings)
+                p.push_back(depth_image_points(r));
+            return p;
+        }();
+        return points;
     }
     Span<const SensorInput> span() const { return {in.data(), in.size()}; }
 };
@@ -161,7 +158,7 @@ ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene
     SafetyController c = cell.controller(clock);
     ChangeRun out;
     for (int k = 0; k < 2; ++k) {
-        const Inputs empty(cell, cell.sensors, sim::reference_scene(), clock.t);
+        const Inputs empty(cell, clock.t);
         REQUIRE(c.run_cycle(empty.span(), false).detected_faults == 0U);
         for (std::size_t s = 0; s < cell.sensors.size(); ++s)
             REQUIRE(c.background_change().last[s].longer == 0U);
@@ -180,7 +177,7 @@ ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene
     }
     out.changed_sensors = c.background_change().latched;
     for (int k = 0; k < 3; ++k) {
-        const Inputs empty(cell, cell.sensors, sim::reference_scene(), clock.t);
+        const Inputs empty(cell, clock.t);
         const CycleReport& r = c.run_cycle(empty.span(), false);
         out.stays_latched = out.stays_latched && r.safety.stop_requested &&
                             (r.safety.latched_faults & fault_bit(Fault::kPriorCheckFailed)) != 0U;

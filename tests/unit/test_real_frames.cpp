@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/scenario.hpp"
@@ -131,7 +132,10 @@ struct WholeViewZone {
 };
 
 /// The prior commissioned from the sensors' @p frame alone, given as many
-/// times as min_background_frames asks for @p method.
+/// times as min_background_frames asks for @p method. The frame is fused
+/// once (fuse_background_frame) and its fused grid accumulated again for
+/// each further copy: fuse_background_frame is clear, fuse_frame and
+/// accumulate_background, so G_B is the same, bit for bit.
 std::vector<std::int16_t> prior_from(const GridGeometry& g, Span<const SensorReading> frame, PriorMethod method) {
     AccessibilityParams params;
     params.method = method;
@@ -140,9 +144,10 @@ std::vector<std::int16_t> prior_from(const GridGeometry& g, Span<const SensorRea
     REQUIRE(frames >= 1U);
     Grid background(g);
     Grid scratch_frame(g);
-    for (std::uint32_t k = 0; k < frames; ++k) {
-        REQUIRE(fuse_background_frame(background.grid, scratch_frame.grid, frame, model, scratch_frame.fusion_scratch())
-                    .ok());
+    REQUIRE(
+        fuse_background_frame(background.grid, scratch_frame.grid, frame, model, scratch_frame.fusion_scratch()).ok());
+    for (std::uint32_t k = 1; k < frames; ++k) {
+        REQUIRE(accumulate_background(background.grid, scratch_frame.grid).ok());
     }
     const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
     std::vector<std::uint32_t> words(size.words);

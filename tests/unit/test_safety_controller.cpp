@@ -26,6 +26,7 @@
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "contract_capture.hpp"
+#include "paper_cell.hpp"
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
 #include "test_robot.hpp"
@@ -54,43 +55,25 @@ public:
 
 // The paper's cell, its background prior (probabilistic method), and the
 // firmware scenario's two zones on the free floor in front of the first
-// background box.
+// background box. The render of the empty cell, G_B and the prior are built once per
+// process (paper_cell.hpp); each Workcell has its own copies of every buffer
+// the controller or a test may change.
 struct Workcell {
     GridGeometry g = paper_grid_geometry();
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
-    std::vector<std::int16_t> frame_lo, bg_lo, prior, scratch;
-    std::vector<std::uint8_t> frame_ob, bg_ob;
+    const test::PaperCellCommissioning& commissioned = test::paper_cell_commissioning();  // built once, read-only
+    std::vector<std::int16_t> frame_lo = commissioned.frame_log_odds;
+    std::vector<std::int16_t> prior = commissioned.prior;
+    std::vector<std::int16_t> scratch = commissioned.scratch;
+    std::vector<std::uint8_t> frame_ob = commissioned.frame_observed;
     std::vector<std::uint32_t> mask;
     EvidenceGrid frame_grid;
     CompiledZones zones;
     SensorModelTable model;
 
-    Workcell()
-        : frame_lo(g.voxel_count()),
-          bg_lo(g.voxel_count()),
-          prior(g.voxel_count()),
-          scratch(g.voxel_count()),
-          frame_ob(g.voxel_count()),
-          bg_ob(g.voxel_count()),
-          mask(g.voxel_count()) {
+    Workcell() : mask(g.voxel_count()) {
         frame_grid =
             EvidenceGrid::make(g, {frame_lo.data(), frame_lo.size()}, {frame_ob.data(), frame_ob.size()}).value();
-        EvidenceGrid bg = EvidenceGrid::make(g, {bg_lo.data(), bg_lo.size()}, {bg_ob.data(), bg_ob.size()}).value();
-        bg.clear();
-        const sim::SimulatedFrame empty = sim::render_frame(sensors, sim::reference_scene());
-        for (int i = 0; i < 8; ++i) {
-            REQUIRE(fuse_background_frame(bg, frame_grid, {empty.readings.data(), empty.readings.size()}, model,
-                                          fusion_scratch())
-                        .ok());
-        }
-        AccessibilityParams params;
-        const AccessibilityScratchSize size = accessibility_scratch_size(g.dims(), params);
-        std::vector<std::uint32_t> words(size.words);
-        std::vector<std::uint8_t> bytes(size.bytes);
-        REQUIRE(compute_accessibility_prior(
-                    bg, params, AccessibilityScratch{{words.data(), words.size()}, {bytes.data(), bytes.size()}},
-                    {prior.data(), prior.size()}, {})
-                    .ok());
         // The firmware scenario's zones: zone 0 protective, on the floor in
         // front of box B; zone 1 a warning zone across it.
         const auto zs = firmware::scenario_zone_configs();

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/sim/experiment.hpp"
@@ -659,7 +660,13 @@ ArmAlone fuse_arm_alone(double step, bool noisy, ArmAlone* empty = nullptr) {
     const sim::Scene cell_background = sim::background_of(file.scene);
     sim::SimulatedFrame f = sim::render_noisy_frame(file.sensors, noise, cell_background, 1000U);
     for (std::uint64_t i = 0U; i < 8U; ++i) {
-        if (noisy && i > 0U) {  // ideal frames are all the same
+        if (!noisy && i > 0U) {
+            // Ideal frames are all the same: frame.grid still holds this one fused (fuse_background_frame is
+            // clear, fuse_frame and accumulate_background), so accumulating it again gives the same G_B.
+            REQUIRE(accumulate_background(background.grid, frame.grid).ok());
+            continue;
+        }
+        if (noisy && i > 0U) {
             f = sim::render_noisy_frame(file.sensors, noise, cell_background, 1000U + i);
         }
         REQUIRE(fuse_background_frame(background.grid, frame.grid, {f.readings.data(), f.readings.size()}, model,
