@@ -516,6 +516,14 @@ TEST_CASE("traversal: the reference comparison detects a wrong traversal") {
     const VoxelCoord far{6, 0, 0};
     extra.insert(extra.begin() + 3, TraversedVoxel{g.index_of(far), far, extra[3].t_enter, extra[3].t_enter});
     CHECK(failures(extra) > 0);
+    std::vector<TraversedVoxel> first_moved = t;  // the first voxel is not the start voxel
+    first_moved.front().coord = VoxelCoord{1, 0, 0};
+    first_moved.front().index = g.index_of(first_moved.front().coord);
+    CHECK(failures(first_moved) > 0);
+    std::vector<TraversedVoxel> last_moved = t;  // the last voxel is not the end voxel
+    last_moved.back().coord = VoxelCoord{5, 4, 5};
+    last_moved.back().index = g.index_of(last_moved.back().coord);
+    CHECK(failures(last_moved) > 0);
     std::vector<TraversedVoxel> shifted = t;  // distances off by 1e-6 m
     shifted[6].t_exit += 1e-6;
     shifted[7].t_enter += 1e-6;
