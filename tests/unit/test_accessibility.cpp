@@ -963,3 +963,20 @@ TEST_CASE("accessibility: the thresholded baseline's test P(occ) < t_B is exact 
     CHECK(at.prior[0] == kNeverForeground);
     CHECK(at.p_acc[0] == 0.0F);
 }
+
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: a t_B whose logit rounds one above its log-odds is still exact: that voxel is not empty") {
+    // t_B = P(occ) of a voxel L itself: L is not below it (not empty), L - 1 is. Around -8516 the logit of
+    // P(occ)(L) rounds up to L + 1, so the first guess must be corrected downwards.
+    for (std::int16_t l = -8520; l <= -8505; ++l) {
+        CAPTURE(l);
+        Background bg(2, 1, 1);
+        bg.set(0, 0, 0, static_cast<std::int16_t>(l - 1));
+        bg.set(1, 0, 0, l);
+        AccessibilityParams p = params_of(PriorMethod::kThresholdedBaseline, 0, 0U);
+        p.t_b = probability_from_log_odds(l);
+        const Prior out = compute(bg, p);
+        CHECK(out.prior[0] == kLogOddsUnknown);
+        CHECK(out.prior[1] == kNeverForeground);
+    }
+}

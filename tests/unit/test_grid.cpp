@@ -72,11 +72,15 @@ TEST_CASE("grid: voxel coordinates and dimensions are equal exactly when every c
     CHECK(a != VoxelCoord{2, -4, 5});
     CHECK(a != VoxelCoord{3, 4, 5});
     CHECK(a != VoxelCoord{3, -4, -5});
+    CHECK_FALSE(a == VoxelCoord{3, -4, -5});
+    CHECK_FALSE(a != VoxelCoord{3, -4, 5});
     constexpr std::int32_t lo = std::numeric_limits<std::int32_t>::min();
     constexpr std::int32_t hi = std::numeric_limits<std::int32_t>::max();
     CHECK(VoxelCoord{lo, hi, 0} == VoxelCoord{lo, hi, 0});
     CHECK(VoxelCoord{lo, hi, 0} != VoxelCoord{hi, lo, 0});
     CHECK(VoxelCoord{0, 0, lo} != VoxelCoord{0, 0, hi});
+    CHECK_FALSE(VoxelCoord{lo, hi, 0} == VoxelCoord{hi, lo, 0});
+    CHECK_FALSE(VoxelCoord{0, 0, lo} != VoxelCoord{0, 0, lo});
     CHECK(GridDims{4, 5, 6} == GridDims{4, 5, 6});
     CHECK_FALSE(GridDims{4, 5, 6} == GridDims{5, 5, 6});
     CHECK_FALSE(GridDims{4, 5, 6} == GridDims{4, 6, 6});

@@ -425,8 +425,11 @@ private:
     std::mt19937 rng_;
 };
 
+GridGeometry grid_of(const V3& origin, double voxel_size, GridDims dims) {
+    return GridGeometry::make(origin, voxel_size, dims).value();
+}
 GridGeometry grid_a() {  // voxel size 0.1 (not a binary fraction), origin off any lattice
-    return GridGeometry::make(V3(-0.37, 0.21, -0.13), 0.1, GridDims{7, 5, 6}).value();
+    return grid_of(V3(-0.37, 0.21, -0.13), 0.1, GridDims{7, 5, 6});
 }
 GridGeometry grid_b() {  // binary fractions: lattice coordinates are exact
     return GridGeometry::make(V3(-0.5, 0.25, -0.375), 0.125, GridDims{7, 5, 6}).value();
@@ -513,6 +516,14 @@ TEST_CASE("traversal: the reference comparison detects a wrong traversal") {
     const VoxelCoord far{6, 0, 0};
     extra.insert(extra.begin() + 3, TraversedVoxel{g.index_of(far), far, extra[3].t_enter, extra[3].t_enter});
     CHECK(failures(extra) > 0);
+    std::vector<TraversedVoxel> first_moved = t;  // the first voxel is not the start voxel
+    first_moved.front().coord = VoxelCoord{1, 0, 0};
+    first_moved.front().index = g.index_of(first_moved.front().coord);
+    CHECK(failures(first_moved) > 0);
+    std::vector<TraversedVoxel> last_moved = t;  // the last voxel is not the end voxel
+    last_moved.back().coord = VoxelCoord{5, 4, 5};
+    last_moved.back().index = g.index_of(last_moved.back().coord);
+    CHECK(failures(last_moved) > 0);
     std::vector<TraversedVoxel> shifted = t;  // distances off by 1e-6 m
     shifted[6].t_exit += 1e-6;
     shifted[7].t_enter += 1e-6;
@@ -923,4 +934,22 @@ TEST_CASE(
     detail::ExactTraversalPlan fine = p;
     fine.metres_per_tau = 1e-30;
     CHECK(detail::tau_bound_below(fine, mid) == detail::kTauNever);
+}
+
+// verifies: SR-TRAV-001
+TEST_CASE("traversal: a segment whose length in metres overflows binary64 visits nothing") {
+    // Voxels of 1e150 m: the far ends lie 1e8 voxels from the grid, within kMaxSegmentVoxelCoordinate, but the
+    // square of their distance (2e158 m) is beyond binary64, so its length is not finite. The same grid walks a
+    // segment of 3e150 m.
+    const GridGeometry g = grid_of(V3(-2e150, -2e150, -2e150), 1e150, GridDims{4, 4, 4});
+    const V3 far_lo(-1e158, 0.5e150, 0.5e150);
+    const V3 far_hi(1e158, 0.5e150, 0.5e150);
+    for (const Rasterization m : {Rasterization::kExact, Rasterization::kBresenham3d}) {
+        CAPTURE(static_cast<int>(m));
+        CHECK(collect(m, g, V3(-1.5e150, 0.5e150, 0.5e150), V3(1.5e150, 0.5e150, 0.5e150)).size() == 4U);
+        CHECK(collect(m, g, far_lo, far_hi).empty());
+        CHECK(count_traversed_voxels(m, g, far_lo, far_hi) == 0U);
+    }
+    CHECK(clip_segment_to_grid(g, V3(-1.5e150, 0.5e150, 0.5e150), V3(1.5e150, 0.5e150, 0.5e150)).hits);
+    CHECK_FALSE(clip_segment_to_grid(g, far_lo, far_hi).hits);
 }

@@ -1329,26 +1329,40 @@ TEST_CASE(
     fc.footprint.workspaces = ws.spans();
     TestClock ray_clock;
     TestClock fp_clock;
+    TestClock table_clock;
     SafetyController ray = w.controller(ray_clock);
     SafetyController fp = w.controller(fc, fp_clock);
+    SafetyController with_table = w.controller(table_clock);  // by ray, the slot's depth-image ray table attached
     Frame a(w, with_person(0.2, 0.4), ray_clock.t);
     Frame b(w, with_person(0.2, 0.4), fp_clock.t);
+    Frame c(w, with_person(0.2, 0.4), table_clock.t);
+    test::RayTableVectors storage(w.g, c.inputs[3].reading);
+    const Result<RayTable> table = RayTable::build(w.g, c.inputs[3].reading, storage.storage());
+    REQUIRE(table.ok());
     const std::vector<Eigen::Vector3f> points = depth_image_points(a.inputs[3].reading);
     REQUIRE_FALSE(points.empty());
-    for (Frame* f : {&a, &b}) {
+    for (Frame* f : {&a, &b, &c}) {
         SensorReading p = f->inputs[3].reading;
         p.kind = SensorDataKind::kPointSet;
         p.points = Span<const Eigen::Vector3f>(points.data(), points.size());
         f->inputs[3].reading = p;
     }
+    c.inputs[3].table = &table.value();
     const CycleReport r = ray.run_cycle(a.span(), false);
     const CycleReport f = fp.run_cycle(b.span(), false);
+    const CycleReport t = with_table.run_cycle(c.span(), false);
     CHECK(r.detected_faults == 0U);
     CHECK(f.detected_faults == 0U);
     CHECK(f.fusion.rays_fused == r.fusion.rays_fused);
     CHECK(f.zones.zones[0].state == r.zones.zones[0].state);
     CHECK(f.zones.zones[0].state == ZoneState::kIntruded);
     CHECK(f.safety.stop_requested);
+    // A point set is never fused through a table (its points are not the table's rays): as without one.
+    CHECK(t.detected_faults == 0U);
+    CHECK(t.fusion.rays_fused == r.fusion.rays_fused);
+    CHECK(t.fusion.voxel_updates == r.fusion.voxel_updates);
+    CHECK(t.zones.zones[0].state == ZoneState::kIntruded);
+    CHECK(t.safety.stop_requested);
 }
 
 // verifies: SR-CTRL-002

@@ -561,3 +561,27 @@ TEST_CASE(
     CHECK(r.candidates == 2U);
     CHECK(r.request == SpeedRequest::kProtectiveStop);
 }
+
+// verifies: SR-SSM-003
+TEST_CASE("a foreground voxel 65.535 m or more from the robot reads kDistanceFarMm, one nearer its distance in mm") {
+    Cell cell(small_grid());
+    cell.foreground(0, 0, 0);  // centre (0.025, 0.025, 0.025)
+    RobotPose pose;
+    pose.count = 1U;
+    pose.capsules[0].radius = 0.1;
+    const SeparationParams p = demo_params();
+    for (const double x : {100.0, -100.0, 60.0}) {
+        CAPTURE(x);
+        for (int k = 0; k < 3; ++k)
+            pose.capsules[0].a[k] = pose.capsules[0].b[k] = k == 0 ? x : 0.025;
+        const SeparationResult r = run(cell, pose, p);
+        CHECK(r.candidates == 1U);
+        CHECK(r.foreground_mm == reference_mm(cell, pose, false, 1U));
+        if (std::abs(x) >= 100.0) {
+            CHECK(r.foreground_mm == kDistanceFarMm);  // saturated, not wrapped to a near distance
+        } else {
+            CHECK(r.foreground_mm < kDistanceFarMm);
+        }
+        CHECK(r.request == SpeedRequest::kFull);
+    }
+}
