@@ -67,7 +67,8 @@ stamp "aarch64: building"
 configure "$bdir/build-aarch64" aarch64-linux
 a64_targets=(--target cellguard-firmware-digest)  # the digest program: lib/ and the firmware's scenario
 [ "$run_ctest" -eq 0 ] || a64_targets+=(cellguard_unit_tests)
-cmake --build "$bdir/build-aarch64" -j "$jobs" "${a64_targets[@]}" >/dev/null
+cmake --build "$bdir/build-aarch64" -j "$jobs" "${a64_targets[@]}" >"$bdir/build-aarch64/cross-build.log" 2>&1 ||
+  { tail -n 60 "$bdir/build-aarch64/cross-build.log"; echo "cross: the aarch64 build failed" >&2; exit 1; }
 if [ "$run_ctest" -eq 1 ]; then
   stamp "aarch64: the unit tests under qemu-aarch64, $jobs shards"
   c0=$(date +%s)

@@ -225,9 +225,9 @@ void CommandReceiver::on_link(const CanFrame& frame, std::uint64_t now_us) noexc
         enter_safe_state(CommandFault::kLinkFrameInvalid);
         return;
     }
-    const LinkFault link = link_.on_peer(fields, now_us);
-    if (link != LinkFault::kNone) {
-        enter_safe_state(fault_of(link));
+    const LinkFault link_fault = link_.on_peer(fields, now_us);
+    if (link_fault != LinkFault::kNone) {
+        enter_safe_state(fault_of(link_fault));
         return;
     }
     complete_sample(now_us);

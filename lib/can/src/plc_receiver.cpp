@@ -204,9 +204,9 @@ void PlcReceiver::on_link_frame(const CanFrame& frame, std::uint64_t now_us) noe
         enter_safe_state(ReceiverFault::kLinkFrameInvalid);
         return;
     }
-    const LinkFault link = link_.on_peer(fields, now_us);
-    if (link != LinkFault::kNone) {
-        enter_safe_state(fault_of(link));
+    const LinkFault link_fault = link_.on_peer(fields, now_us);
+    if (link_fault != LinkFault::kNone) {
+        enter_safe_state(fault_of(link_fault));
         return;
     }
     accept_pair(now_us);
