@@ -247,6 +247,18 @@ ControllerConfig robot_controller_config(std::size_t sensor_count, const Monitor
     return config;
 }
 
+/// Prints the run's frame count and prior CRC, the canned PLC's accepted pairs and the digest.
+void report_robot_run(const ScenarioSummary& summary, std::uint32_t frames, std::uint32_t plc_pairs_accepted,
+                      TextSink& text) noexcept {
+    Line last;
+    last.text("robot frames ").dec(frames).text(" prior_crc ").hex(summary.prior_crc).text("\n");
+    last.text("robot plc pairs accepted ").dec(plc_pairs_accepted).text("\n");
+    text.write(last.c_str());
+    Line result;
+    result.text("robot digest ").hex(summary.digest).text("\n");
+    text.write(result.c_str());
+}
+
 }  // namespace
 
 ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
@@ -326,13 +338,7 @@ ScenarioSummary run_robot_scenario(CanSender& can, TextSink& text) noexcept {
         ++summary.cycles;
     }
     summary.digest = digest.total();
-    Line last;
-    last.text("robot frames ").dec(digesting.frames()).text(" prior_crc ").hex(summary.prior_crc).text("\n");
-    last.text("robot plc pairs accepted ").dec(sender.accepted()).text("\n");
-    text.write(last.c_str());
-    Line result;
-    result.text("robot digest ").hex(summary.digest).text("\n");
-    text.write(result.c_str());
+    report_robot_run(summary, digesting.frames(), sender.accepted(), text);
     return summary;
 }
 

@@ -371,6 +371,16 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
     return sources;
 }
 
+/// The frame sources as the loop takes them: pointers to @p owned, in its order.
+std::vector<FrameSource*> pointers_to(const std::vector<std::unique_ptr<FrameSource>>& owned) {
+    std::vector<FrameSource*> sources;
+    sources.reserve(owned.size());
+    for (const std::unique_ptr<FrameSource>& s : owned) {
+        sources.push_back(s.get());
+    }
+    return sources;
+}
+
 /// The real clock and pause for --write-background.
 class RealRecordingTime final : public RecordingTime {
 public:
@@ -395,11 +405,7 @@ int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& 
         return fail(e);
     }
     const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(recording, cell, cameras);
-    std::vector<FrameSource*> sources;
-    sources.reserve(owned.size());
-    for (const std::unique_ptr<FrameSource>& s : owned) {
-        sources.push_back(s.get());
-    }
+    std::vector<FrameSource*> sources = pointers_to(owned);
     BackgroundRecording rec;
     rec.path = opt.write_background;
     rec.frames = opt.background_frames > 0 ? opt.background_frames : cfg.prior.background_frames;
@@ -572,6 +578,26 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
     return loop.exit_status(stderr, log_ok);
 }
 
+/// Both ends' receiver configurations with their protocol 0.2 session values: each start takes a
+/// new one, so that nothing sent before this start (a replay across the restart) is accepted by
+/// the PLC, and the simulated PLC's own differs from it. False (after a message) when the
+/// simulated PLC's receiver configuration is refused (period or zone count).
+bool link_configs(const MonitorConfig& cfg, CommandReceiverConfig& receiver, PlcReceiverConfig& plc_receiver) {
+    receiver = command_receiver_config(cfg);
+    receiver.link.session = new_link_session(0U);
+    plc_receiver = plc_receiver_config(cfg);
+    plc_receiver.link.session = new_link_session(receiver.link.session);
+    // The simulated PLC sends on the controller's own cycle and clock: no second time base (and paced,
+    // a skipped period would look like a fast clock), so only a PLC on a CAN interface feeds the check.
+    if (!PlcReceiver::check_config(plc_receiver).ok()) {
+        static_cast<void>(std::fprintf(stderr,
+                                       "cellguard-monitor: no valid PLC receiver for the simulated PLC "
+                                       "(period or zone count)\n"));
+        return false;
+    }
+    return true;
+}
+
 /// The monitor (main without its last-resort catch).
 int run_monitor(int argc, char** argv) {
     Options opt;
@@ -623,23 +649,10 @@ int run_monitor(int argc, char** argv) {
         return fail(e);
     }
     const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell, cameras);
-    std::vector<FrameSource*> sources;
-    sources.reserve(owned.size());
-    for (const std::unique_ptr<FrameSource>& s : owned) {
-        sources.push_back(s.get());
-    }
-    CommandReceiverConfig receiver = command_receiver_config(cfg);
-    // Protocol 0.2: each start takes a new session value, so that nothing sent before this start (a replay
-    // across the restart) is accepted by the PLC, and the simulated PLC's own differs from it.
-    receiver.link.session = new_link_session(0U);
-    PlcReceiverConfig plc_receiver = plc_receiver_config(cfg);
-    plc_receiver.link.session = new_link_session(receiver.link.session);
-    // The simulated PLC sends on the controller's own cycle and clock: no second time base (and paced,
-    // a skipped period would look like a fast clock), so only a PLC on a CAN interface feeds the check.
-    if (!PlcReceiver::check_config(plc_receiver).ok()) {
-        static_cast<void>(std::fprintf(stderr,
-                                       "cellguard-monitor: no valid PLC receiver for the simulated PLC "
-                                       "(period or zone count)\n"));
+    std::vector<FrameSource*> sources = pointers_to(owned);
+    CommandReceiverConfig receiver;
+    PlcReceiverConfig plc_receiver;
+    if (!link_configs(cfg, receiver, plc_receiver)) {
         return 2;
     }
     SimulatedPlcLink plc(receiver, plc_receiver, &can);

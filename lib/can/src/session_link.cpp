@@ -18,9 +18,9 @@ std::uint8_t bound_crc(const CanFrame& frame, const LinkChannel& channel, std::u
     // e2e_p01_crc is the raw register (start 0x00, no final XOR); Crc_CalculateCRC8
     // continues from a start value XORed with 0xFF, and XORs its result with 0xFF.
     std::uint8_t reg = e2e_p01_crc({frame.data, kCanMaxDataLength}, 0U, channel.data_id, channel.data_id_mode, counter);
-    for (std::size_t i = 0U; i < bound.size(); ++i) {
+    for (const CanFrame& f : bound) {
         reg = static_cast<std::uint8_t>(
-            crc8_sae_j1850({bound[i].data, kCanMaxDataLength}, static_cast<std::uint8_t>(reg ^ 0xFFU), false) ^ 0xFFU);
+            crc8_sae_j1850({f.data, kCanMaxDataLength}, static_cast<std::uint8_t>(reg ^ 0xFFU), false) ^ 0xFFU);
     }
     return reg;
 }
