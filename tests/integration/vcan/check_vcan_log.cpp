@@ -9,7 +9,9 @@
 // re-runs that PLC's link endpoint (each PLC link frame must carry the
 // sequence, session and echo it sends), so the receiver checks the
 // monitor's link frames (binding, echo, round trip within the watchdog time)
-// as that PLC did.
+// as that PLC did. The k-th reply is matched to the k-th link frame of the
+// monitor, whichever the log records first (the kernel may hand candump the
+// reply a few microseconds before the frame it answers; CI saw it once).
 //
 //   cellguard-vcan-check normal CONFIG LOG CYCLES
 //     An undisturbed run of CYCLES cycles: every frame recorded, every frame
@@ -133,6 +135,21 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
     bool was_valid = false;
     std::uint8_t crc_bytes[4] = {};
     bool crc_page_seen[4] = {};
+    std::vector<LinkFields> answers_due;       // per link frame of the monitor not yet answered: its reply's echo
+    std::vector<CandumpRecord> early_replies;  // replies logged before the link frame they answer
+    // One reply of the PLC: the sequence and session its endpoint (re-run here) sends, the echo due.
+    const auto check_reply = [&plc, &answers_due](const CandumpRecord& reply, const std::string& where) {
+        const LinkFields want = plc.next_link(reply.timestamp_us);
+        const LinkFields due = answers_due.front();
+        answers_due.erase(answers_due.begin());
+        const auto got = [&reply](const SignalLayout& s) { return get_signal(reply.frame, s); };
+        const bool same = got(link_layout::kSequence) == want.sequence && got(link_layout::kSession) == want.session &&
+                          got(link_layout::kEcho) == due.echo && got(link_layout::kEchoSession) == due.echo_session;
+        expect(same, where + "the PLC's link frame is not what its endpoint sends (sequence " +
+                         std::to_string(want.sequence) + ", echo " + std::to_string(due.echo) + "; recorded " +
+                         std::to_string(got(link_layout::kSequence)) + ", echo " +
+                         std::to_string(got(link_layout::kEcho)) + ")");
+    };
     for (std::string line; std::getline(in, line);) {
         ++out.lines;
         const std::string where = "log line " + std::to_string(out.lines) + ": ";
@@ -143,17 +160,17 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
             continue;
         }
         if (rec.frame.id == rc.link.own.can_id) {
-            // Another sender's frame: its kernel stamp may precede the monitor's frame read before it by a few
-            // microseconds; it is not part of the monitor's frame order (nor of the receiver's time).
-            // The PLC's link frame, sent alone: the fields its endpoint (re-run here) sends.
+            // The PLC's link frame, sent alone in reply to the monitor's link frame. The k-th reply answers the
+            // k-th link frame and echoes what the PLC held right after it. The log's order of the two is not
+            // causal: the kernel may hand the reply to candump a few microseconds before the frame it answers
+            // (then the check waits for that frame), and a PLC that lags (a loaded VM) may reply after later
+            // frames of the monitor.
             ++out.plc_links;
-            const LinkFields want = plc.next_link(rec.timestamp_us);
-            const bool same = get_signal(rec.frame, link_layout::kSequence) == want.sequence &&
-                              get_signal(rec.frame, link_layout::kEcho) == want.echo &&
-                              get_signal(rec.frame, link_layout::kSession) == want.session &&
-                              get_signal(rec.frame, link_layout::kEchoSession) == want.echo_session;
-            expect(same, where + "the PLC's link frame is not what its endpoint sends (sequence " +
-                             std::to_string(want.sequence) + ", echo " + std::to_string(want.echo) + ")");
+            if (answers_due.empty()) {
+                early_replies.push_back(rec);
+            } else {
+                check_reply(rec, where);
+            }
             continue;
         }
         // The PLC polls every 10 ms; between frames that is where silence shows.
@@ -222,6 +239,12 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
             expect_next = 3;
         } else if (f.id == rc.link.peer.can_id) {
             expect(expect_next == 3, where + "the monitor's link frame not right after a safety pair");
+            PlcReceiver peek = plc;  // what the PLC's reply to this frame echoes, without advancing the model
+            answers_due.push_back(peek.next_link(rec.timestamp_us));
+            if (!early_replies.empty()) {
+                check_reply(early_replies.front(), where);
+                early_replies.erase(early_replies.begin());
+            }
             if (expect_next == 3 && cycle >= 0) {
                 CycleFrames& cf = out.cycles[static_cast<std::size_t>(cycle)];
                 cf.link = true;
@@ -254,6 +277,8 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
             expect(false, where + "unexpected CAN ID 0x" + std::to_string(f.id));
         }
     }
+    expect(early_replies.empty(), std::to_string(early_replies.size()) +
+                                      " link frame(s) of the PLC at the log's end answer no link frame of the monitor");
     out.prior_crc = static_cast<std::uint32_t>(crc_bytes[0]) | (static_cast<std::uint32_t>(crc_bytes[1]) << 8U) |
                     (static_cast<std::uint32_t>(crc_bytes[2]) << 16U) |
                     (static_cast<std::uint32_t>(crc_bytes[3]) << 24U);
