@@ -163,7 +163,8 @@ RobotCommand fuzzed_command(FuzzedDataProvider& in) {
     return c;
 }
 
-/// The oracle for a valid status: see the file comment. Returns the link frame's sequence.
+/// The oracle for a valid status: see the file comment. Returns the link frame's session (bits 16..23) and
+/// sequence (bits 0..15).
 unsigned check_valid(const CommandPoll& p, const Seen* history, std::size_t seen, std::uint64_t now,
                      const CommandReceiverConfig& config, const Sent& sent) {
     const CommandChannelConfig& ch = config.channel;
@@ -227,7 +228,7 @@ unsigned check_valid(const CommandPoll& p, const Seen* history, std::size_t seen
     if (progress % 2U == 1U) {
         ORACLE(now - n[progress - 1U].time <= config.srvt_us);
     }
-    return sequence;
+    return (static_cast<unsigned>(link.frame.data[6]) << 16U) | sequence;
 }
 
 /// The seven frames of a sample of @p command with counter @p counter: the PLC's link frame from @p plc.
@@ -286,7 +287,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::size_t replay_count = 0U;
     bool was_valid = false;
     std::uint8_t last_counter = 0U;
-    unsigned last_sequence = 0U;
+    unsigned used = 0U;  // session << 16 | sequence of the newest sample in use since the PLC's last restart, 0 = none
 
     for (int step = 0; step < 512 && (queued > queue_next || in.remaining_bytes() > 0U); ++step) {
         CanFrame f{};
@@ -421,6 +422,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             default: {  // the PLC restarts: a new session, its sequence from 1 again
                 plc_config.session = static_cast<std::uint8_t>(plc_config.session % 255U + 1U);
                 plc = LinkEndpoint(plc_config);
+                used = 0U;  // its sequence starts again; its session values wrap after 255 restarts
                 deliver = false;
                 break;
             }
@@ -451,19 +453,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             was_valid = false;
             continue;
         }
-        const unsigned sequence = check_valid(p, history, seen, now, config, sent);
+        const unsigned in_use = check_valid(p, history, seen, now, config, sent);
         if (was_valid && p.input.counter != last_counter) {
             const std::uint8_t delta = e2e_p01_counter_delta(p.input.counter, last_counter);
             ORACLE(delta >= 1U && delta <= config.max_delta_counter);
         }
-        // No replay while valid: the PLC's sequence in use never goes back (fewer than 32768 of its frames here,
-        // and its restarts restart it: compared only while the receiver stayed valid, which a restart breaks).
-        if (was_valid) {
-            ORACLE(sequence >= last_sequence);
+        // No replay, across faults too: within one session of the PLC the sequence in use never goes back (the
+        // endpoint keeps its reference against frames behind it; fewer than 32768 of the PLC's frames here).
+        if (used != 0U && (in_use >> 16U) == (used >> 16U)) {
+            ORACLE(in_use >= used);
         }
+        used = in_use;
         was_valid = true;
         last_counter = p.input.counter;
-        last_sequence = sequence;
     }
     return 0;
 }

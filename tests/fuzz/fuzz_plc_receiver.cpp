@@ -158,7 +158,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::uint64_t sent_us[kSentHistory] = {};
     std::size_t sent_count = 0U;
     bool have_valid_sequence = false;
-    unsigned valid_sequence = 0U;
+    unsigned valid_sequence = 0U;  // of the newest pair in use since the controller's last restart
+    unsigned valid_session = 0U;
 
     for (int step = 0; step < 256 && (queued > queue_next || in.remaining_bytes() > 0U); ++step) {
         CanFrame f{};
@@ -313,6 +314,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             default: {  // the controller restarts: a new session, its sequence from 1 again
                 ctrl_config.session = static_cast<std::uint8_t>(ctrl_config.session % 255U + 1U);
                 controller = LinkEndpoint(ctrl_config);
+                have_valid_sequence = false;  // its sequence starts again; its session values wrap after 255 restarts
                 deliver = false;
                 break;
             }
@@ -342,7 +344,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         ORACLE(s.communication_valid == (s.fault == ReceiverFault::kNone));
         if (!s.communication_valid) {
             ORACLE(s.stop_requested);
-            have_valid_sequence = false;
             continue;
         }
         // The newest link frame closes the pair in use; after it at most the next normal frame and its copy.
@@ -377,13 +378,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
         }
         ORACLE(found);
-        // No replay while valid: the sequence in use never goes back (the harness's controller sends fewer than
-        // 32768 frames). After a fault the endpoint takes the next sequence as its reference: a replay then
-        // needs an echo still within the watchdog time, which the age bound above checks.
-        if (have_valid_sequence && l.session == ctrl_config.session) {
+        // No replay, across faults too: within one session of the controller the sequence in use never goes
+        // back (the endpoint keeps its reference against frames behind it; fewer than 32768 frames here).
+        if (have_valid_sequence && l.session == valid_session) {
             ORACLE(l.sequence >= valid_sequence);
         }
-        have_valid_sequence = l.session == ctrl_config.session;
+        have_valid_sequence = true;
+        valid_session = l.session;
         valid_sequence = l.sequence;
         // What follows the link frame: nothing, the next normal frame, or it and its copy, within the SRVT.
         const std::size_t after = seen - 1U - link_at;

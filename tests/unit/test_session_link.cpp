@@ -441,6 +441,67 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
     test::check_enum_names<LinkFrameCheck>(7U, "unknown link frame check");
 }
 
+// verifies: SR-CAN-015
+TEST_CASE("session link: a replay cannot take the reference back across a fault, by sequence or by session") {
+    LinkConfig config = controller_link_config();
+    config.session = 9U;
+    config.watchdog_us = 100U * kMs;
+    LinkEndpoint e(config);
+    static_cast<void>(e.next(1U * kMs));  // sequences 1 and 2, sent at 1 and 2 ms
+    static_cast<void>(e.next(2U * kMs));
+    CHECK(e.on_peer(fields(10U, 1U), 10U * kMs) == LinkFault::kNone);
+    CHECK(e.on_peer(fields(13U, 2U), 20U * kMs) == LinkFault::kSequenceJump);  // 11 and 12 lost: reference 13
+    // 11 and 12 replayed, younger than the watchdog time: refused, the reference stays 13. (Before, 11 became
+    // the reference and 12 passed: a replay accepted right after a fault.)
+    CHECK(e.on_peer(fields(11U, 2U), 21U * kMs) == LinkFault::kRepeatedSequence);
+    CHECK(e.on_peer(fields(12U, 2U), 22U * kMs) == LinkFault::kRepeatedSequence);
+    CHECK(e.on_peer(fields(14U, 2U), 23U * kMs) == LinkFault::kNone);  // the genuine next frame
+    // The ring's halves: 32,767 ahead is a loss (a jump forward), 32,768 ahead is behind.
+    CHECK(kLinkSequenceBehind == 32768U);
+    CHECK(e.on_peer(fields(static_cast<std::uint16_t>(14U + 32768U), 2U), 24U * kMs) == LinkFault::kRepeatedSequence);
+    CHECK(e.on_peer(fields(static_cast<std::uint16_t>(14U + 32767U), 2U), 25U * kMs) == LinkFault::kSequenceJump);
+    // A reference older than the watchdog time may move back (a long silence must not lock the link out); a
+    // frame from before it echoes a sequence sent more than the watchdog time ago and is refused by that.
+    CHECK(e.on_peer(fields(15U, 2U), 126U * kMs) == LinkFault::kSequenceJump);
+    CHECK(e.on_peer(fields(16U, 2U), 127U * kMs) == LinkFault::kWatchdogExpired);
+
+    // By session: the other side restarts (7 -> 8); frames of session 7 replayed after that are refused
+    // and 8 stays the reference.
+    LinkEndpoint s(config);
+    static_cast<void>(s.next(1U * kMs));
+    CHECK(s.on_peer(fields(50U, 1U, 7U), 10U * kMs) == LinkFault::kNone);
+    CHECK(s.on_peer(fields(1U, 1U, 8U), 20U * kMs) == LinkFault::kSessionChanged);
+    CHECK(s.on_peer(fields(51U, 1U, 7U), 30U * kMs) == LinkFault::kSessionChanged);
+    CHECK(s.on_peer(fields(52U, 1U, 7U), 40U * kMs) == LinkFault::kSessionChanged);  // before: accepted
+    CHECK(s.on_peer(fields(2U, 1U, 8U), 50U * kMs) == LinkFault::kNone);
+    // Once the reference is older than the watchdog time the session just left may come back (a restart
+    // whose session value repeats): taken as the reference, then accepted on a fresh echo.
+    const LinkFields mine = s.next(150U * kMs);
+    CHECK(s.on_peer(fields(1U, mine.sequence, 7U), 151U * kMs) == LinkFault::kSessionChanged);
+    CHECK(s.on_peer(fields(2U, mine.sequence, 7U), 152U * kMs) == LinkFault::kNone);
+}
+
+// verifies: SR-CAN-008
+TEST_CASE("session link: an inverted copy after the SCT reports the safe state, not the pair before it") {
+    // With the link on, a copy completes no pair (its link frame does), so the status the copy returns
+    // needs the SCT check of its own (a fuzz input found it valid 1.8 ms past the SCT before 2026-12-05).
+    Cell cell;
+    bring_up(cell);
+    PlcReceiver& plc = cell.p();
+    REQUIRE(plc.poll(cell.now).communication_valid);
+    std::uint64_t expiry = cell.now;  // the first time a poll finds the pair in use too old, on a copy
+    for (PlcReceiver probe = plc; probe.poll(expiry).communication_valid; probe = plc) {
+        expiry += 100U;
+    }
+    PlcReceiver probe = plc;
+    REQUIRE(probe.poll(expiry).fault == ReceiverFault::kSctExpired);
+    const CanFrame normal = cell.output_history.back().frames[0];
+    CHECK(plc.on_frame(normal, expiry - 1000U).communication_valid);  // still within the SCT
+    const ReceiverStatus s = plc.on_frame(inverted_copy(normal), expiry);
+    CHECK_FALSE(s.communication_valid);
+    CHECK(s.fault == ReceiverFault::kSctExpired);
+}
+
 // verifies: SR-CAN-013
 TEST_CASE(
     "session link: both sides come up through the handshake and stay valid, and an output without an endpoint is refused") {

@@ -120,8 +120,13 @@ ReceiverStatus PlcReceiver::on_frame(const CanFrame& frame, std::uint64_t now_us
         } else {
             check_timeouts(now_us);  // not ours: only time has passed
         }
+        // Every frame, not only polls: the status returned here is never valid for a reference pair older than
+        // the SCT (an inverted copy accepts no pair, so nothing else checks it there) or data older than the
+        // watchdog time.
+        if (valid_ && now_us - reference_time_us_ > config_.sct_us) {
+            enter_safe_state(ReceiverFault::kSctExpired);
+        }
         if (valid_ && config_.link.enabled && link_.age_check(now_us) != LinkFault::kNone) {
-            // Every frame, not only polls: the status returned here is never valid for data older than the watchdog.
             enter_safe_state(ReceiverFault::kWatchdogExpired);
         }
     }

@@ -145,23 +145,46 @@ LinkFault LinkEndpoint::on_peer(const LinkFields& fields, std::uint64_t now_us) 
     if (!fields_valid(fields)) {
         return LinkFault::kSequenceJump;  // never produced by check_link_frame; refused all the same
     }
-    if (peer_session_ != 0U && fields.session != peer_session_) {
-        peer_session_ = fields.session;
-        peer_sequence_ = fields.sequence;
-        return LinkFault::kSessionChanged;
-    }
-    if (peer_session_ != 0U) {
-        const std::uint16_t step = link_sequence_delta(fields.sequence, peer_sequence_);
-        if (step == 0U) {
-            return LinkFault::kRepeatedSequence;
-        }
-        if (step > config_.max_sequence_step) {
-            peer_sequence_ = fields.sequence;
-            return LinkFault::kSequenceJump;
-        }
-    }
+    const LinkFault order = check_order(fields, now_us);
+    return order != LinkFault::kNone ? order : check_echo(fields, now_us);
+}
+
+bool LinkEndpoint::reference_fresh(std::uint64_t now_us) const noexcept {
+    return peer_session_ != 0U && now_us >= peer_us_ && now_us - peer_us_ <= config_.watchdog_us;
+}
+
+void LinkEndpoint::take_reference(const LinkFields& fields, std::uint64_t now_us) noexcept {
     peer_session_ = fields.session;
     peer_sequence_ = fields.sequence;
+    peer_us_ = now_us;
+}
+
+LinkFault LinkEndpoint::check_order(const LinkFields& fields, std::uint64_t now_us) noexcept {
+    if (peer_session_ == 0U) {
+        take_reference(fields, now_us);
+        return LinkFault::kNone;
+    }
+    // A frame that would move the reference back (behind it, or to the session just left) is a replay
+    // while the reference is younger than the watchdog time: refused, the reference kept. An older
+    // reference may move: any frame sent before it arrived echoes a sequence older than the watchdog time.
+    const bool fresh = reference_fresh(now_us);
+    if (fields.session != peer_session_) {
+        if (fresh && fields.session == left_session_) {
+            return LinkFault::kSessionChanged;
+        }
+        left_session_ = peer_session_;
+        take_reference(fields, now_us);
+        return LinkFault::kSessionChanged;
+    }
+    const std::uint16_t step = link_sequence_delta(fields.sequence, peer_sequence_);
+    if (step == 0U || (fresh && step >= kLinkSequenceBehind)) {
+        return LinkFault::kRepeatedSequence;
+    }
+    take_reference(fields, now_us);
+    return step > config_.max_sequence_step ? LinkFault::kSequenceJump : LinkFault::kNone;
+}
+
+LinkFault LinkEndpoint::check_echo(const LinkFields& fields, std::uint64_t now_us) noexcept {
     if (fields.echo_session == 0U || fields.echo == 0U) {
         return LinkFault::kNoEchoYet;  // the other side has not heard this side yet
     }

@@ -14,9 +14,11 @@
 /// monotonic clock, at which it sent each of its last kLinkHistory sequence
 /// numbers. When a link frame of the other side arrives, the endpoint checks:
 /// - session nonzero; the other side's session equal to the one it had (a
-///   change is a restart of the other side: a fault, then a new reference);
+///   change is a restart of the other side: a fault, then a new reference;
+///   back to the session just left is a replay and leaves the reference);
 /// - the other side's sequence advanced by 1..max_sequence_step from the last
-///   accepted one (0 is a repetition, more is a loss or a replay from earlier);
+///   accepted one (0 or behind it is a repetition or a replay and leaves the
+///   reference; more ahead is a loss: a fault, then the new reference);
 /// - the echoed session is its own (a replay from before its own restart, or a
 ///   peer that has not yet heard it, fails here: the start-up handshake);
 /// - the echoed sequence is one it sent among its last kLinkHistory, and not
@@ -81,6 +83,8 @@ constexpr std::uint8_t kProtocolVersionMinor = 2U;
 [[nodiscard]] constexpr std::uint16_t link_next_sequence(std::uint16_t sequence) noexcept {
     return static_cast<std::uint16_t>(sequence >= kLinkSequenceMax ? 1U : sequence + 1U);
 }
+/// Forward distances from this one on (32768..65534) are a sequence behind the reference: an older frame.
+constexpr std::uint16_t kLinkSequenceBehind = (kLinkSequenceMax + 1U) / 2U;
 /// Forward distance from @p last to @p received on the ring 1..65535 (both nonzero).
 [[nodiscard]] constexpr std::uint16_t link_sequence_delta(std::uint16_t received, std::uint16_t last) noexcept {
     return static_cast<std::uint16_t>((static_cast<std::uint32_t>(received) + kLinkSequenceMax - last) %
@@ -160,7 +164,7 @@ enum class LinkFault : std::uint8_t {
     kNone = 0,              ///< the last frame passed and the data is young enough
     kNoEchoYet = 1,         ///< start-up: no frame echoing this side's session yet
     kSessionChanged = 2,    ///< the other side's session changed (it restarted) or a frame of another session
-    kRepeatedSequence = 3,  ///< the other side's sequence did not advance (repetition, replay)
+    kRepeatedSequence = 3,  ///< the other side's sequence did not advance or went back (repetition, replay)
     kSequenceJump = 4,      ///< it advanced by more than max_sequence_step (loss, insertion, old replay)
     kWrongEchoSession = 5,  ///< the echo names another session of this side (replay across its restart)
     kEchoUnknown = 6,       ///< the echo is no sequence this side sent among its last kLinkHistory
@@ -187,8 +191,13 @@ public:
     /// Checks the other side's link fields @p fields, received at @p now_us;
     /// kNone when accepted. The other side's session and sequence become the
     /// reference (and the echo this side sends next) when the session and
-    /// sequence checks pass, and also on a session change or a jump, so the
-    /// next frame is checked against the latest one; a repetition leaves them.
+    /// sequence checks pass, and also on a session change or a forward jump, so
+    /// the next frame is checked against the latest one. A repetition leaves
+    /// them, and so does, while the reference is at most watchdog_us old, a
+    /// frame that would move it back: a sequence behind it (kRepeatedSequence)
+    /// or the session just left (kSessionChanged); a replay cannot take the
+    /// reference back across a fault. An older reference may move: any frame
+    /// sent before it arrived echoes a sequence older than watchdog_us.
     [[nodiscard]] LinkFault on_peer(const LinkFields& fields, std::uint64_t now_us) noexcept;
 
     /// kNoEchoYet before the first accepted echo, kWatchdogExpired when the
@@ -210,12 +219,19 @@ public:
     [[nodiscard]] const LinkConfig& config() const noexcept { return config_; }
 
 private:
+    [[nodiscard]] bool reference_fresh(std::uint64_t now_us) const noexcept;
+    void take_reference(const LinkFields& fields, std::uint64_t now_us) noexcept;
+    [[nodiscard]] LinkFault check_order(const LinkFields& fields, std::uint64_t now_us) noexcept;
+    [[nodiscard]] LinkFault check_echo(const LinkFields& fields, std::uint64_t now_us) noexcept;
+
     LinkConfig config_;
     std::uint16_t sequence_ = 0U;  // last sent, 0 = none
     std::uint16_t sent_sequence_[kLinkHistory] = {};
     std::uint64_t sent_us_[kLinkHistory] = {};
     std::uint8_t peer_session_ = 0U;    // 0 = none
-    std::uint16_t peer_sequence_ = 0U;  // last accepted, 0 = none
+    std::uint16_t peer_sequence_ = 0U;  // the reference: last accepted (or jumped to), 0 = none
+    std::uint64_t peer_us_ = 0U;        // when the reference was taken
+    std::uint8_t left_session_ = 0U;    // the other side's session before its last change, 0 = none
     std::uint16_t echo_ = 0U;           // last accepted echo, 0 = none
     std::uint64_t echo_sent_us_ = 0U;
 };
