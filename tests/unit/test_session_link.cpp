@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cellguard/can/command_receiver.hpp"
+#include "cellguard/can/e2e_crc.hpp"
 #include "cellguard/can/plc_command_sender.hpp"
 #include "cellguard/can/plc_receiver.hpp"
 #include "cellguard/can/safety_output.hpp"
@@ -439,6 +440,68 @@ TEST_CASE("session link: the endpoint's session, sequence, echo and watchdog che
     CHECK_FALSE(LinkEndpoint::check_config(bad).ok());
     test::check_enum_names<LinkFault>(9U, "unknown link fault");
     test::check_enum_names<LinkFrameCheck>(7U, "unknown link frame check");
+}
+
+// verifies: SR-CAN-014
+TEST_CASE("session link: each refusal of the channel, the configuration, the frame content and the endpoint alone") {
+    // Channels: an ID beyond 11 bits, a data ID beyond 12 bits in kNibble mode.
+    LinkChannel wide = kDefaultControllerLinkChannel;
+    wide.can_id = 0x800U;
+    CHECK_FALSE(check_link_channel(wide).ok());
+    CHECK_FALSE(encode_link_frame(fields(1U, 1U), 0U, wide, {}).ok());
+    LinkChannel nibble = kDefaultControllerLinkChannel;
+    nibble.data_id_mode = E2eP01DataIdMode::kNibble;
+    nibble.data_id = 0x1000U;
+    CHECK_FALSE(check_link_channel(nibble).ok());
+    // Configurations: either channel invalid, a step bound above the history.
+    LinkConfig bad = controller_link_config();
+    bad.own = wide;
+    CHECK_FALSE(LinkEndpoint::check_config(bad).ok());
+    bad = controller_link_config();
+    bad.peer = nibble;
+    CHECK_FALSE(LinkEndpoint::check_config(bad).ok());
+    bad = controller_link_config();
+    bad.max_sequence_step = static_cast<std::uint16_t>(kLinkHistory + 1U);
+    CHECK_FALSE(LinkEndpoint::check_config(bad).ok());
+    // Content with a valid CRC but sequence 0, session 0 or nibble bits outside kNibble mode: malformed.
+    const LinkChannel ch = kDefaultControllerLinkChannel;
+    const auto crafted = [&ch](std::uint16_t sequence, std::uint8_t session, std::uint8_t nibble_bits) {
+        CanFrame f{ch.can_id, 8U, {}};
+        f.data[1] = static_cast<std::uint8_t>(nibble_bits << 4U);  // counter 0
+        f.data[2] = static_cast<std::uint8_t>(sequence & 0xFFU);
+        f.data[3] = static_cast<std::uint8_t>(sequence >> 8U);
+        f.data[4] = 1U;  // echo 1
+        f.data[6] = session;
+        f.data[7] = 9U;
+        f.data[0] = e2e_p01_crc({f.data, kCanMaxDataLength}, 0U, ch.data_id, ch.data_id_mode, 0U);
+        return f;
+    };
+    LinkFields out;
+    CHECK(check_link_frame(crafted(1U, 7U, 0U), ch, {}, 0U, out) == LinkFrameCheck::kOk);
+    CHECK(check_link_frame(crafted(0U, 7U, 0U), ch, {}, 0U, out) == LinkFrameCheck::kMalformedContent);
+    CHECK(check_link_frame(crafted(1U, 0U, 0U), ch, {}, 0U, out) == LinkFrameCheck::kMalformedContent);
+    CHECK(check_link_frame(crafted(1U, 7U, 3U), ch, {}, 0U, out) == LinkFrameCheck::kMalformedContent);
+
+    // The endpoint: fields with sequence 0, an echo session without an echo, an echo from before its own send,
+    // a standalone frame that fails its check, an age check before the echo's send time.
+    LinkConfig config = controller_link_config();
+    config.peer = ch;
+    config.own = kDefaultPlcLinkChannel;
+    config.session = 9U;
+    LinkEndpoint e(config);
+    CHECK(e.on_peer(fields(0U, 1U), 1U * kMs) == LinkFault::kSequenceJump);
+    const LinkFields mine = e.next(10U * kMs);
+    CHECK(e.on_peer(fields(1U, 0U, 7U, 9U), 11U * kMs) == LinkFault::kNoEchoYet);
+    CHECK(e.on_peer(fields(2U, mine.sequence), 9U * kMs) == LinkFault::kWatchdogExpired);  // before the send
+    CHECK(e.on_standalone_frame(crafted(0U, 7U, 0U), 12U * kMs) == LinkFault::kSequenceJump);
+    CHECK(e.on_peer(fields(3U, mine.sequence), 13U * kMs) == LinkFault::kNone);
+    CHECK(e.age_check(13U * kMs) == LinkFault::kNone);
+    CHECK(e.age_check(9U * kMs) == LinkFault::kWatchdogExpired);  // a clock before the data's origin
+    // An echo whose slot was reused by a later sequence: unknown.
+    for (std::size_t k = 0U; k < kLinkHistory; ++k) {
+        static_cast<void>(e.next(14U * kMs));
+    }
+    CHECK(e.on_peer(fields(4U, mine.sequence), 15U * kMs) == LinkFault::kEchoUnknown);
 }
 
 // verifies: SR-CAN-015
