@@ -369,8 +369,9 @@ TEST_CASE(
     // Cycle 45's safety frame, copy and link frame (indices 226..228) replaced
     // by cycle 30's (indices 151..153), at cycle 45's time stamps: the E2E
     // counter (45 mod 15 = 30 mod 15) is the expected one, so protocol 0.1
-    // accepted it; the link frame's sequence (31) is 15 behind, a jump
-    // backwards the PLC's link endpoint refuses.
+    // accepted it; the link frame's sequence (31) is 15 behind the
+    // reference, a repetition the PLC's link endpoint refuses (and which
+    // leaves its reference).
     std::vector<std::string> lines = demo_log_lines();
     for (std::size_t k = 0U; k < 3U; ++k) {
         const CandumpRecord old = record_of(lines.at(151U + k));
@@ -379,7 +380,7 @@ TEST_CASE(
     const DemoLogCheck r = check_lines(lines);
     CAPTURE(all_failures(r));
     CHECK_FALSE(r.passed());
-    CHECK(has_failure(r, "line 229 ", "safe state: sequence jump"));
+    CHECK(has_failure(r, "line 229 ", "safe state: repeated sequence"));
     CHECK(has_failure(r, "line 229: the controller's link frame carries sequence 31 "));
 }
 

@@ -43,7 +43,7 @@
 #    then, at cycle DELAY_AT, a sample held since the silence (older than the
 #    watchdog time), and at cycle REPLAY_AT a whole sample from 15 samples
 #    before it: the monitor refuses both (CommandValid stays 0; its status
-#    lines name the reason: the watchdog and the sequence jump).
+#    lines name the reason: the watchdog and the repeated sequence).
 # 4. unprivileged: UNPRIV_CYCLES cycles as user nobody with no capabilities,
 #    as the systemd unit runs it (apps/monitor/systemd: DynamicUser, an empty
 #    CapabilityBoundingSet): the CAN_RAW socket on the interface, which is
@@ -265,8 +265,9 @@ wait_or_interrupt "$plc_pid" 30
 grep '^PLC: samples' "$work/robot.plc" | sed 's/^/    /'
 # The monitor's status lines name why it refused the delayed and the replayed sample.
 why_delay=$(grep -c 'link: round trip or data age above the watchdog time' "$work/robot.out")
-why_replay=$(grep -c 'link: sequence jump' "$work/robot.out")
-say "robot run: monitor status lines naming the watchdog: $why_delay, the sequence jump: $why_replay"
+# The replay is behind the link's reference: a repeated sequence (a jump only once the reference is older than W).
+why_replay=$(grep -c -E 'link: (repeated sequence|sequence jump)' "$work/robot.out")
+say "robot run: monitor status lines naming the watchdog: $why_delay, the replay (repeated sequence or jump): $why_replay"
 if [ -s "$work/robot.plc" ] && tail -n 1 "$work/robot.plc" | grep -q '; 0 failures$' &&
     [ "$why_delay" -gt 0 ] && [ "$why_replay" -gt 0 ]; then
     say "PASS robot: $(tail -n 1 "$work/robot.plc")"
