@@ -47,6 +47,15 @@ def fail(msg):
     sys.exit(1)
 
 
+def monitor_url(mon):
+    """The URL the monitor prints once it serves HTTP (read from its stdout); fails when it prints none."""
+    for line in mon.stdout:
+        m = re.search(r"http: serving on (http://127\.0\.0\.1:\d+/)", line)
+        if m:
+            return m.group(1)
+    fail("the monitor did not print its URL")
+
+
 def closed_port():
     """A loopback port nothing listens on (bound, then closed)."""
     s = socket.socket()
@@ -185,14 +194,7 @@ def main():
     mon = subprocess.Popen([monitor, "--demo", DEMO, "--paced", "--quiet", "--cycles", str(CYCLES), "--budget-ms", "60000",
                             "--http", "127.0.0.1:0", "--log", log, "--snapshot-dir", snaps],
                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    url = None
-    for line in mon.stdout:
-        m = re.search(r"http: serving on (http://127\.0\.0\.1:\d+/)", line)
-        if m:
-            url = m.group(1)
-            break
-    if url is None:
-        fail("the monitor did not print its URL")
+    url = monitor_url(mon)
     rest = []
     threading.Thread(target=lambda: rest.extend(mon.stdout), daemon=True).start()
     try:
@@ -243,14 +245,7 @@ def run_without_webgl(monitor, dt, browser, profile, out_dir):
                             "--http", "127.0.0.1:0", "--log", log],
                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
-        url = None
-        for line in mon.stdout:
-            m = re.search(r"http: serving on (http://127\.0\.0\.1:\d+/)", line)
-            if m:
-                url = m.group(1)
-                break
-        if url is None:
-            fail("the monitor did not print its URL")
+        url = monitor_url(mon)
         threading.Thread(target=lambda: [None for _ in mon.stdout], daemon=True).start()
         dt.call("Page.navigate", url=url)
         # Until the page has shown 20 cycles and loaded its stop history (at most 120 s on a loaded host).

@@ -42,6 +42,26 @@ def check(ok, what):
         failures.append(what)
 
 
+def read_until(s, marker):
+    """What arrives on @p s until @p marker is in it, the peer closes, or a timeout or reset."""
+    data = b""
+    try:
+        while marker not in data:
+            chunk = s.recv(4096)
+            if not chunk:
+                break
+            data += chunk
+    except (socket.timeout, ConnectionResetError):
+        pass
+    return data
+
+
+def status_of(reply):
+    """The status code at the start of an HTTP answer (0: none)."""
+    m = re.match(rb"HTTP/1\.[01] (\d{3})", reply)
+    return int(m.group(1)) if m else 0
+
+
 def raw(port, data, timeout=5.0, read=True):
     """Sends @p data on a new connection; returns the status code (0: closed without an answer)."""
     s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
@@ -49,20 +69,11 @@ def raw(port, data, timeout=5.0, read=True):
         s.sendall(data)
         if not read:
             return s
-        reply = b""
-        try:
-            while b"\r\n" not in reply:
-                chunk = s.recv(4096)
-                if not chunk:
-                    break
-                reply += chunk
-        except (socket.timeout, ConnectionResetError):
-            pass
+        reply = read_until(s, b"\r\n")
     finally:
         if read:
             s.close()
-    m = re.match(rb"HTTP/1\.[01] (\d{3})", reply)
-    return int(m.group(1)) if m else 0
+    return status_of(reply)
 
 
 def answer_and_close(port, data, timeout=5.0):
@@ -86,8 +97,7 @@ def answer_and_close(port, data, timeout=5.0):
         pass
     finally:
         s.close()
-    m = re.match(rb"HTTP/1\.[01] (\d{3})", reply)
-    return (int(m.group(1)) if m else 0), closed
+    return status_of(reply), closed
 
 
 def get(port, path, method="GET", extra=b""):
@@ -172,17 +182,7 @@ def served_again(port):
 def stream_head(s):
     """The status of an event stream's answer head (0: none)."""
     s.settimeout(30)
-    head = b""
-    try:
-        while b"\r\n\r\n" not in head:
-            chunk = s.recv(4096)
-            if not chunk:
-                break
-            head += chunk
-    except (socket.timeout, ConnectionResetError):
-        pass
-    m = re.match(rb"HTTP/1\.[01] (\d{3})", head)
-    return int(m.group(1)) if m else 0
+    return status_of(read_until(s, b"\r\n\r\n"))
 
 
 def checks(port):

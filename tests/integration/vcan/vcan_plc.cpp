@@ -186,6 +186,23 @@ bool send_frame(int fd, const CanFrame& f) {
     return write(fd, &k, sizeof(k)) == static_cast<ssize_t>(sizeof(k));
 }
 
+/// The next classic data frame waiting on @p fd, without blocking (extended, remote and error frames are
+/// skipped); false when none is waiting.
+bool receive_frame(int fd, CanFrame& out) {
+    can_frame k{};
+    while (recv(fd, &k, sizeof(k), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(k))) {
+        if ((k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0U || k.can_dlc > 8U) {
+            continue;
+        }
+        out = CanFrame{};
+        out.id = k.can_id & CAN_SFF_MASK;
+        out.dlc = k.can_dlc;
+        std::memcpy(out.data, k.data, sizeof(out.data));
+        return true;
+    }
+    return false;
+}
+
 /// The next sample's seven frames (its link frame from @p plc at this time), or false when the sender refused.
 bool build_sample(PlcCommandSender& sender, PlcReceiver& plc, Run& run, SampleFrames& out, Sample& s) {
     RobotCommand cmd;
@@ -314,15 +331,8 @@ void on_frame(const CanFrame& f, std::uint64_t t, PlcReceiver& plc, Run& run) {
 
 /// Reads every frame waiting on @p fd.
 void drain(int fd, PlcReceiver& plc, Run& run) {
-    can_frame k{};
-    while (recv(fd, &k, sizeof(k), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(k))) {
-        if ((k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0U || k.can_dlc > 8U) {
-            continue;
-        }
-        CanFrame f{};
-        f.id = k.can_id & CAN_SFF_MASK;
-        f.dlc = k.can_dlc;
-        std::memcpy(f.data, k.data, sizeof(f.data));
+    CanFrame f{};
+    while (receive_frame(fd, f)) {
         on_frame(f, now_us(), plc, run);
     }
 }
@@ -539,15 +549,8 @@ int link_only(const MonitorConfig& cfg, int fd) {
     while (g_stop == 0) {
         pollfd p{fd, POLLIN, 0};
         static_cast<void>(::poll(&p, 1, 50));
-        can_frame k{};
-        while (recv(fd, &k, sizeof(k), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(k))) {
-            if ((k.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) != 0U || k.can_dlc > 8U) {
-                continue;
-            }
-            CanFrame f{};
-            f.id = k.can_id & CAN_SFF_MASK;
-            f.dlc = k.can_dlc;
-            std::memcpy(f.data, k.data, sizeof(f.data));
+        CanFrame f{};
+        while (receive_frame(fd, f)) {
             static_cast<void>(plc.on_frame(f, now_us()));
             if (f.id != plc.config().link.peer.can_id) {
                 continue;
