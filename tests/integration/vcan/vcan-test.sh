@@ -137,15 +137,21 @@ wait_for_cycle() {
 
 # Starts cellguard-vcan-plc in its link mode on the interface (run 1, 2) and
 # returns once it listens; its output goes to $1.
-start_link_plc() {
-    "$bin/cellguard-vcan-plc" link "$cfg" "$ifc" > "$1" 2>&1 &
-    link_plc_pid=$!
+# Waits up to 60 s for the PLC program (pid $2) to write its first line ("PLC: ...") to $1; fails when it
+# did not (it exited, or took longer).
+wait_plc_started() {
     i=0
-    while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$1" && kill -0 "$link_plc_pid" 2> /dev/null; do
+    while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$1" && kill -0 "$2" 2> /dev/null; do
         sleep 0.1
         i=$((i + 1))
     done
-    grep -q '^PLC: ' "$1" || { fail "the link PLC did not start"; show "$1"; return 1; }
+    grep -q '^PLC: ' "$1"
+}
+
+start_link_plc() {
+    "$bin/cellguard-vcan-plc" link "$cfg" "$ifc" > "$1" 2>&1 &
+    link_plc_pid=$!
+    wait_plc_started "$1" "$link_plc_pid" || { fail "the link PLC did not start"; show "$1"; return 1; }
 }
 
 # Waits up to $2 s for process $1 to exit, then interrupts it.
@@ -248,12 +254,7 @@ t0=$(uptime_s)
     > "$work/robot.plc" 2>&1 &
 plc_pid=$!
 # The PLC listens before the monitor's first frame: its first line says so.
-i=0
-while [ $i -lt 600 ] && ! grep -q '^PLC: ' "$work/robot.plc" && kill -0 "$plc_pid" 2> /dev/null; do
-    sleep 0.1
-    i=$((i + 1))
-done
-grep -q '^PLC: ' "$work/robot.plc" || { show "$work/robot.plc"; return 1; }
+wait_plc_started "$work/robot.plc" "$plc_pid" || { show "$work/robot.plc"; return 1; }
 # --budget-ms: two periods, not the emulator's speed alone (see ROBOT_BUDGET_MS).
 "$bin/cellguard-monitor" --config "$rcfg" --can-interface "$ifc" --commands can --cycles $((END_AT + 1)) --paced \
     --budget-ms "$ROBOT_BUDGET_MS" > "$work/robot.out" 2>&1
