@@ -858,6 +858,39 @@ TEST_CASE("accessibility: a grid with an empty axis needs no scratch, for either
     CHECK(any.bytes > 0U);
 }
 
+// verifies: SR-PRIOR-003
+TEST_CASE("accessibility: scratch sizes saturate instead of wrapping for dimensions no grid can have") {
+    using accessibility_detail::padded_count;
+    using accessibility_detail::saturating_add;
+    using accessibility_detail::saturating_mul;
+    constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+    std::vector<int> extents = {std::numeric_limits<int>::max(), 1 << 20, 1 << 21};  // read at run time
+    // (2^31 + 18) * (2^20 + 18) * (2^21 + 18) is beyond 64 bits: the count saturates.
+    const GridDims huge{extents[0], extents[0], extents[0]};
+    CHECK(padded_count(huge, 8, kAllFaces) == kMax);
+    // (2^21 + 2)^3 (no radius, no open face: each axis grows by 2) is just above 2^63: it fits, twice it does not.
+    const GridDims big{extents[2], extents[2], extents[2]};
+    const std::uint64_t n = padded_count(big, 0, 0U);
+    const std::uint64_t side = (std::uint64_t{1} << 21U) + 2U;
+    CHECK(n == side * side * side);
+    CHECK(n > (std::uint64_t{1} << 63U));
+    const AccessibilityScratchSize t = accessibility_scratch_size(big, params_of(PriorMethod::kThresholded, 0, 0U));
+    CHECK(t.words == n);
+    CHECK(t.bytes == std::numeric_limits<std::size_t>::max());  // 2n saturates
+    const AccessibilityScratchSize p = accessibility_scratch_size(big, params_of(PriorMethod::kProbabilistic, 0, 0U));
+    CHECK(p.words == std::numeric_limits<std::size_t>::max());  // 7n saturates
+    const AccessibilityScratchSize any = accessibility_scratch_size_any(huge);
+    CHECK(any.words == std::numeric_limits<std::size_t>::max());
+    CHECK(any.bytes == std::numeric_limits<std::size_t>::max());
+    // The helpers at their edges.
+    const std::uint64_t zero = extents.size() - 3U;  // 0, at run time
+    CHECK(saturating_mul(zero, kMax) == 0U);
+    CHECK(saturating_mul(kMax, 2U) == kMax);
+    CHECK(saturating_add(kMax - 1U, 1U) == kMax);
+    CHECK(saturating_add(kMax - 1U, 2U) == kMax);
+    CHECK(saturating_add(kMax, zero) == kMax);
+}
+
 // verifies: SR-FUSE-008
 TEST_CASE("accessibility: no number of background frames suffices when the clamp stops at or above the threshold") {
     const SensorModelTable model;

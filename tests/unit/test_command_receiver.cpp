@@ -463,6 +463,27 @@ TEST_CASE("command receiver: a configuration is checked, and an invalid one cann
     test::check_enum_names<CommandFault>(29U, "unknown command fault");
 }
 
+// verifies: SR-CAN-015, SR-CMD-006
+TEST_CASE("command receiver: a link whose peer channel is invalid or lies among the command's frame IDs is refused") {
+    CommandReceiverConfig c = receiver_config();
+    c.link.enabled = true;
+    REQUIRE(CommandReceiver::check_config(c).ok());
+    const std::uint32_t base = c.channel.base_can_id;
+    const auto frames = static_cast<std::uint32_t>(kCommandFramesPerSample);
+    for (const std::uint32_t taken : {base, base + frames - 1U, std::uint32_t{kCanMaxStandardId + 1U}}) {
+        CAPTURE(taken);
+        CommandReceiverConfig d = c;
+        d.link.peer.can_id = taken;
+        CHECK(CommandReceiver::check_config(d).error() == ErrorCode::kInvalidArgument);
+    }
+    for (const std::uint32_t free_id : {base - 1U, base + frames}) {  // just outside the frames
+        CAPTURE(free_id);
+        CommandReceiverConfig d = c;
+        d.link.peer.can_id = free_id;
+        CHECK(CommandReceiver::check_config(d).ok() == (free_id != c.link.own.can_id));
+    }
+}
+
 // verifies: SR-CMD-003, SR-CMD-004
 TEST_CASE("command receiver: a part or copy of another length makes the command invalid") {
     for (std::size_t frame = 0U; frame < 6U; ++frame) {

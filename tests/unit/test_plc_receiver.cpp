@@ -368,6 +368,27 @@ TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot b
     }));
 }
 
+// verifies: SR-CAN-015, SR-GEN-003
+TEST_CASE("plc receiver: a link whose peer channel is invalid or shares a safety, copy, diagnostics or separation ID is "
+          "refused") {
+    PlcReceiverConfig c = receiver_config();
+    c.link.enabled = true;
+    REQUIRE(PlcReceiver::check_config(c).ok());
+    const SafetyChannelConfig ch = c.channel;
+    for (const std::uint32_t taken : {ch.safety_can_id, inverted_can_id(ch), ch.diagnostics_can_id,
+                                      ch.separation_can_id, kCanMaxStandardId + 1U}) {
+        CAPTURE(taken);
+        PlcReceiverConfig d = c;
+        d.link.peer.can_id = taken;
+        CHECK(PlcReceiver::check_config(d).error() == ErrorCode::kInvalidArgument);
+    }
+    PlcReceiverConfig d = c;
+    d.link.watchdog_us = 0U;  // the endpoint's own check
+    CHECK(PlcReceiver::check_config(d).error() == ErrorCode::kInvalidArgument);
+    const PlcReceiver rx(c);
+    CHECK(rx.link().config().peer.can_id == c.link.peer.can_id);  // the const view of the endpoint
+}
+
 // verifies: SR-CAN-007
 TEST_CASE("plc receiver: the safe-state message stops, warns, faults, reduces speed and marks every configured zone") {
     const SafetyMessage m = safe_state_message(16U);

@@ -504,6 +504,27 @@ TEST_CASE("session link: each refusal of the channel, the configuration, the fra
     CHECK(e.on_peer(fields(4U, mine.sequence), 15U * kMs) == LinkFault::kEchoUnknown);
 }
 
+// verifies: SR-CAN-013, SR-CAN-015
+TEST_CASE("session link: the own sequence wraps from 65,535 to 1, and a clock that steps back leaves no reference "
+          "fresh") {
+    LinkConfig config = controller_link_config();
+    config.session = 9U;
+    config.watchdog_us = 100U * kMs;
+    LinkEndpoint e(config);
+    std::uint16_t last = 0U;
+    for (std::uint32_t k = 0U; k < kLinkSequenceMax; ++k) {
+        last = e.next(1U * kMs).sequence;
+    }
+    CHECK(last == kLinkSequenceMax);
+    const LinkFields wrapped = e.next(2U * kMs);
+    CHECK(wrapped.sequence == 1U);  // 0 is never sent
+    CHECK(e.on_peer(fields(10U, 1U), 3U * kMs) == LinkFault::kNone);  // the echo of the wrapped sequence
+    // A frame stamped before the reference (a clock stepped back): the reference is not fresh, so the older
+    // frame may move it; its echo is then checked against its own send time.
+    CHECK(e.on_peer(fields(9U, 1U), 2U * kMs + 500U) == LinkFault::kSequenceJump);
+    CHECK(e.on_peer(fields(10U, 1U), 2U * kMs + 600U) == LinkFault::kNone);
+}
+
 // verifies: SR-CAN-015
 TEST_CASE("session link: a replay cannot take the reference back across a fault, by sequence or by session") {
     LinkConfig config = controller_link_config();
