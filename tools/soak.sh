@@ -5,7 +5,7 @@
 # of the built-in demo by default, the person walking through the cell every
 # 60 cycles. Prints every 100,000 cycles, then the counts (missed deadlines,
 # allocating cycles, cycles over the work bound, faults) and the cycle time's
-# figures; exit status 1 when a check failed. CI runs 10^5 cycles
+# figures; exit status 1 when a check failed. CI runs 2x10^4 cycles
 # (.ci/run); this script is for the long run (about an hour on a 2-core
 # host: 3.3 ms a cycle, rendering included).
 # Usage: tools/soak.sh [BUILD_DIR] [CYCLES] [soak_monitor options...]
