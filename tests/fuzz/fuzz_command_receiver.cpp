@@ -61,8 +61,8 @@ bool ref_part_ok(const CanFrame& f, int part, const CommandChannelConfig& c) {
     if (ref_p01_crc(f.data, id, c.data_id_mode) != f.data[0]) {
         return false;
     }
-    if (part == 0 && ((f.data[2] & 0xC0U) != 0U || (f.data[3] & 0xF8U) != 0U)) {
-        return false;  // reserved bits of part A
+    if (part == 0 && ((f.data[2] & 0x80U) != 0U || (f.data[3] & 0xF8U) != 0U)) {
+        return false;  // reserved bits of part A: 23 and 27..31 (22 is ResetRequest)
     }
     for (int byte = (part == 0 ? 4 : 2); byte < (part == 2 ? 6 : 8); byte += 2) {
         if (ref_joint(f, byte) == -32768) {
@@ -89,6 +89,7 @@ RobotCommand ref_decode(const CanFrame& a, const CanFrame& b, const CanFrame& c)
     RobotCommand r;
     r.monitoring_case = static_cast<std::uint8_t>(a.data[2] & 0x0FU);
     r.speed_class = static_cast<std::uint8_t>((a.data[2] >> 4U) & 0x03U);
+    r.reset_request = (a.data[2] & 0x40U) != 0U;
     r.joint_count = static_cast<std::uint8_t>(a.data[3] & 0x07U);
     r.joint_raw[0] = ref_joint(a, 4);
     r.joint_raw[1] = ref_joint(a, 6);
@@ -160,6 +161,7 @@ RobotCommand fuzzed_command(FuzzedDataProvider& in) {
     for (std::size_t j = 0U; j < c.joint_count; ++j) {
         c.joint_raw[j] = in.ConsumeIntegralInRange<std::int16_t>(-32767, 32767);
     }
+    c.reset_request = in.ConsumeBool();
     return c;
 }
 

@@ -95,6 +95,33 @@ TEST_CASE("command frame: the encoder puts every field of the three parts at the
     CHECK(n.data[1] == 0x83);  // data ID 0x0862: nibble 8 in bits 12..15
 }
 
+// verifies: SR-CMD-001, SR-CMD-010
+TEST_CASE("command frame: ResetRequest is part A's bit 22, and a pressed reset decodes back as pressed") {
+    RobotCommand pressed = six_axis();
+    pressed.reset_request = true;
+    const CommandFrames s = encode_command_sample(pressed, 3U, channel()).value();
+    const CommandFrames r = encode_command_sample(six_axis(), 3U, channel()).value();
+    CHECK(s.frame[0].data[2] == 0x65);  // case 5, speed class 2 and bit 22 (0x40)
+    CHECK(r.frame[0].data[2] == 0x25);  // released: bit 22 clear
+    CHECK((s.frame[1].data[2] & 0x40U) == 0U);  // the copy carries it inverted
+    CHECK(get_signal(s.frame[0], command_layout::kResetRequest) == 1U);
+    for (std::size_t k = 3U; k < 8U; ++k) {
+        CHECK(s.frame[0].data[k] == r.frame[0].data[k]);  // nothing else of part A moved
+    }
+    CHECK(s.frame[2].data[2] == r.frame[2].data[2]);  // parts B and C unchanged (their CRCs too)
+    CHECK(s.frame[4].data[0] == r.frame[4].data[0]);
+    RobotCommand out;
+    for (std::size_t p = 0U; p < kCommandParts; ++p) {
+        const Result<CommandPartContent> c = decode_command_part(s.frame[2U * p], static_cast<CommandPart>(p), channel());
+        REQUIRE(c.ok());
+        merge_command_part(c.value(), out);
+    }
+    CHECK(out.reset_request);
+    CHECK(out == pressed);
+    CHECK(out != six_axis());  // equality sees the reset request
+    CHECK((command_layout::kPartAReservedBits & (std::uint64_t{1} << 22U)) == 0U);
+}
+
 // verifies: SR-CMD-001, SR-CMD-002
 TEST_CASE("command frame: every counter and every mode decodes back to the sample, part by part") {
     for (const E2eP01DataIdMode mode : kAllModes) {
@@ -152,7 +179,7 @@ TEST_CASE("command frame: each part is checked for ID, length, CRC, data ID, cou
         reprotect(f, c.data_id[p]);
         CHECK(check(f, part) == FrameCheck::kMalformedContent);
     }
-    for (const unsigned bit : {22U, 23U, 27U, 28U, 29U, 30U, 31U}) {  // part A's reserved bits
+    for (const unsigned bit : {23U, 27U, 28U, 29U, 30U, 31U}) {  // part A's reserved bits (22 is ResetRequest)
         CanFrame f = s.frame[0];
         f.data[bit / 8U] = static_cast<std::uint8_t>(f.data[bit / 8U] | (1U << (bit % 8U)));
         reprotect(f, c.data_id[0]);

@@ -320,6 +320,7 @@ std::vector<ExpectedFrame> expected_frames() {
     cmd.speed_class = 3U;
     cmd.joint_count = 7U;
     cmd.robot_id = 0xFEDCU;
+    cmd.reset_request = true;
     const std::int16_t joints[] = {-32767, 32767, -1, 0, 15708, -15708, 1234};
     for (std::size_t j = 0U; j < 7U; ++j) {
         cmd.joint_raw[j] = joints[j];
@@ -329,7 +330,8 @@ std::vector<ExpectedFrame> expected_frames() {
     add_header(a, 12U);
     a.values.insert(
         a.values.end(),
-        {{"MonitoringCase", 14}, {"SpeedClass", 3}, {"JointCount", 7}, {"Joint0", joints[0]}, {"Joint1", joints[1]}});
+        {{"MonitoringCase", 14}, {"SpeedClass", 3}, {"ResetRequest", 1}, {"JointCount", 7}, {"Joint0", joints[0]},
+         {"Joint1", joints[1]}});
     ExpectedFrame b{s.frame[2], {}};
     add_header(b, 12U);
     b.values.insert(b.values.end(), {{"Joint2", joints[2]}, {"Joint3", joints[3]}, {"Joint4", joints[4]}});
@@ -350,7 +352,7 @@ std::vector<ExpectedFrame> expected_frames() {
         out.push_back(link);
     }
     out.push_back(a);
-    out.push_back(inverted(a, {8U, 4U, 4U, 4U, 2U, 3U, 0U, 0U}));
+    out.push_back(inverted(a, {8U, 4U, 4U, 4U, 2U, 1U, 3U, 0U, 0U}));
     out.push_back(b);
     out.push_back(inverted(b, {8U, 4U, 4U, 0U, 0U, 0U}));
     out.push_back(c);

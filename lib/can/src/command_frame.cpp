@@ -91,6 +91,7 @@ Result<CanFrame> encode_command_part(const RobotCommand& command, CommandPart pa
     if (part == CommandPart::kA) {
         set_signal(frame, command_layout::kMonitoringCase, command.monitoring_case);
         set_signal(frame, command_layout::kSpeedClass, command.speed_class);
+        set_signal(frame, command_layout::kResetRequest, command.reset_request ? 1U : 0U);
         set_signal(frame, command_layout::kJointCount, command.joint_count);
     }
     if (part == CommandPart::kC) {
@@ -137,6 +138,7 @@ FrameCheck check_command_part(const CanFrame& frame, CommandPart part, const Com
         }
         content.fields.monitoring_case = static_cast<std::uint8_t>(get_signal(frame, command_layout::kMonitoringCase));
         content.fields.speed_class = static_cast<std::uint8_t>(get_signal(frame, command_layout::kSpeedClass));
+        content.fields.reset_request = get_signal(frame, command_layout::kResetRequest) != 0U;
         content.fields.joint_count = static_cast<std::uint8_t>(get_signal(frame, command_layout::kJointCount));
     }
     if (part == CommandPart::kC) {
@@ -169,6 +171,7 @@ void merge_command_part(const CommandPartContent& content, RobotCommand& command
     if (content.part == CommandPart::kA) {
         command.monitoring_case = content.fields.monitoring_case;
         command.speed_class = content.fields.speed_class;
+        command.reset_request = content.fields.reset_request;
         command.joint_count = content.fields.joint_count;
     }
     if (content.part == CommandPart::kC) {

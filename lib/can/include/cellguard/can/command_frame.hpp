@@ -14,7 +14,9 @@
 /// ID; all six frames of one sample carry the same counter, which binds the
 /// parts of a sample together. The counter advances by one per sample.
 ///
-/// - Part A: MonitoringCase (4 bits), SpeedClass (2), JointCount (3), Joint0, Joint1.
+/// - Part A: MonitoringCase (4 bits), SpeedClass (2), ResetRequest (1), JointCount (3), Joint0, Joint1.
+///   ResetRequest (bit 22, protocol 0.2; reserved and 0 before) is the level of the
+///   PLC's reset button, which the controller uses for its restart interlock.
 /// - Part B: Joint2, Joint3, Joint4.
 /// - Part C: Joint5, Joint6, RobotId (the low 16 bits of the robot image CRC).
 /// Joints are signed 16-bit raw values in the units of robot_command.hpp
@@ -53,6 +55,9 @@ inline constexpr SignalLayout kMonitoringCase{"MonitoringCase", 16U, 4U, ByteOrd
                                               Multiplex::kNone, 0U};
 /// Part A: the robot's current speed class, 0..3.
 inline constexpr SignalLayout kSpeedClass{"SpeedClass", 20U, 2U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kNone, 0U};
+/// Part A: the PLC's reset button is pressed, 0..1 (the level; bit 22 was reserved before protocol 0.2).
+inline constexpr SignalLayout kResetRequest{"ResetRequest", 22U, 1U, ByteOrder::kIntel, 1U, "", 1U,
+                                            Multiplex::kNone, 0U};
 /// Part A: joints carried, 0..7.
 inline constexpr SignalLayout kJointCount{"JointCount", 24U, 3U, ByteOrder::kIntel, 1U, "", 7U, Multiplex::kNone, 0U};
 /// A joint position: signed 16 bits, raw -32767..32767 (robot_command.hpp units).
@@ -77,8 +82,9 @@ inline constexpr SignalLayout kJoint6 = joint_signal("Joint6", 32U);
 inline constexpr SignalLayout kRobotId{"RobotId", 48U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
 
 /// Every signal of part A (and, with inverted raw values, of its copy).
-inline constexpr SignalLayout kPartASignals[] = {kCrc,        kCounter,    kDataIdNibble, kMonitoringCase,
-                                                 kSpeedClass, kJointCount, kJoint0,       kJoint1};
+inline constexpr SignalLayout kPartASignals[] = {kCrc,        kCounter,      kDataIdNibble, kMonitoringCase,
+                                                 kSpeedClass, kResetRequest, kJointCount,   kJoint0,
+                                                 kJoint1};
 /// Every signal of part B.
 inline constexpr SignalLayout kPartBSignals[] = {kCrc, kCounter, kDataIdNibble, kJoint2, kJoint3, kJoint4};
 /// Every signal of part C.
@@ -86,9 +92,9 @@ inline constexpr SignalLayout kPartCSignals[] = {kCrc, kCounter, kDataIdNibble, 
 static_assert(layout_is_consistent(kPartASignals) && layout_is_consistent(kPartBSignals) &&
                   layout_is_consistent(kPartCSignals),
               "command part layout overlaps or overflows");
-/// Reserved bits of part A (must be zero): 22, 23 and 27..31.
+/// Reserved bits of part A (must be zero): 23 and 27..31, room for later fields.
 inline constexpr std::uint64_t kPartAReservedBits = ~layout_used_bits(kPartASignals);
-static_assert(kPartAReservedBits == 0x0000'0000'F8C0'0000ULL, "part A reserves bits 22, 23 and 27..31");
+static_assert(kPartAReservedBits == 0x0000'0000'F880'0000ULL, "part A reserves bits 23 and 27..31");
 static_assert(layout_used_bits(kPartBSignals) == ~std::uint64_t{0} &&
                   layout_used_bits(kPartCSignals) == ~std::uint64_t{0},
               "parts B and C use every bit");
@@ -99,7 +105,7 @@ inline constexpr SignalLayout kJoints[kMaxCommandJoints] = {kJoint0, kJoint1, kJ
 
 /// The three parts of a command sample.
 enum class CommandPart : std::uint8_t {
-    kA = 0,  ///< case, speed class, joint count, joints 0 and 1
+    kA = 0,  ///< case, speed class, reset request, joint count, joints 0 and 1
     kB = 1,  ///< joints 2..4
     kC = 2,  ///< joints 5 and 6, robot ID
 };

@@ -3,7 +3,7 @@
 /// @file robot_command.hpp
 /// What the PLC tells the controller every cycle (the command message of
 /// certification/can-safety-protocol.md): the monitoring case to apply, the
-/// robot's speed class and its joint positions; and what the controller
+/// robot's speed class, its joint positions and the reset button; and what the controller
 /// answers about the robot (the speed request). A small interface header:
 /// the CAN command codec and the PLC-side sender use it without the grid.
 ///
@@ -42,10 +42,13 @@ struct RobotCommand {
     std::uint8_t joint_count = 0U;      ///< joints carried, 0..kMaxCommandJoints
     std::uint16_t robot_id = 0U;        ///< low 16 bits of the robot image CRC the PLC was commissioned with
     std::int16_t joint_raw[kMaxCommandJoints] = {};  ///< positions in joint units; unused entries 0
+    /// The PLC's reset button is pressed (the level; the controller takes a
+    /// rising edge between two valid samples as the restart interlock's reset).
+    bool reset_request = false;
     /// Field-wise equality (unused joints included).
     friend constexpr bool operator==(const RobotCommand& a, const RobotCommand& b) noexcept {
         if (a.monitoring_case != b.monitoring_case || a.speed_class != b.speed_class ||
-            a.joint_count != b.joint_count || a.robot_id != b.robot_id) {
+            a.joint_count != b.joint_count || a.robot_id != b.robot_id || a.reset_request != b.reset_request) {
             return false;
         }
         for (std::size_t j = 0U; j < kMaxCommandJoints; ++j) {
