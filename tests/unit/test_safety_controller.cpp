@@ -925,6 +925,58 @@ TEST_CASE("controller: a missing, stale or kept-too-long command stops within th
     CHECK(legacy.safety.stop_requested);
 }
 
+// verifies: SR-CMD-010
+TEST_CASE("controller: the PLC's ResetRequest ends the restart interlock only when pressed after a valid release") {
+    Workcell w;
+    test::SettableClock clock(10000000U);
+    RobotCell rc(w, -0.6, -0.5);
+    ControllerConfig config = rc.config(w);
+    config.logic.reset_required = true;  // no restart delay, recovery after 2 good cycles (the scenario's)
+    SafetyController c = w.controller(config, clock);
+    const auto cycle = [&](bool reset, bool valid = true) -> const CycleReport& {
+        clock.t += 100000U;
+        CommandInput in = arm_command(0U, clock.t);
+        in.valid = valid;
+        in.command.reset_request = reset;
+        const Frame f(w, rc.scene(), clock.t);
+        return c.run_cycle(f.span(), false, in);
+    };
+    // Start-up: the zones are clear, but the interlock holds the stop until the reset is pressed.
+    for (int k = 0; k < 3; ++k) {
+        const CycleReport& r = cycle(false);
+        CHECK(r.robot.command_valid);
+        CHECK_FALSE(r.robot.command_reset);
+        CHECK(r.safety.stop_requested);
+        CHECK(r.safety.interlock_holding);
+    }
+    const CycleReport& pressed = cycle(true);
+    CHECK(pressed.robot.command_reset);
+    CHECK_FALSE(pressed.safety.stop_requested);
+    CHECK_FALSE(cycle(true).safety.stop_requested);  // still pressed: still released
+    // A refused sample stops (kCommandInvalid) and holds the command's reset level high.
+    const CycleReport& refused = cycle(true, false);
+    CHECK(refused.safety.stop_requested);
+    CHECK(refused.robot.command_reset);
+    CHECK(cycle(false, false).robot.command_reset);  // released, but refused: still held high
+    // Pressed again as the samples come back: no edge after the refusal, so once the fault has
+    // recovered the interlock still holds.
+    for (int k = 0; k < 4; ++k) {
+        CHECK(cycle(true).safety.stop_requested);
+    }
+    CHECK(cycle(true).safety.interlock_holding);
+    // Released in a valid sample, then pressed: that edge ends the stop.
+    CHECK(cycle(false).safety.stop_requested);
+    CHECK_FALSE(cycle(true).safety.stop_requested);
+    // The caller's own reset input still works beside it (OR): a cell with a wired reset as well.
+    CHECK(cycle(false, false).safety.stop_requested);
+    for (int k = 0; k < 3; ++k) {
+        CHECK(cycle(false).safety.stop_requested);
+    }
+    clock.t += 100000U;
+    const Frame f(w, rc.scene(), clock.t);
+    CHECK_FALSE(c.run_cycle(f.span(), true, arm_command(0U, clock.t)).safety.stop_requested);
+}
+
 // verifies: SR-ROB-211
 TEST_CASE("controller: a command for another robot, with another joint count or outside the limits, stops") {
     Workcell w;

@@ -373,11 +373,14 @@ Span<const std::uint8_t> SafetyController::apply_command(const CommandInput& com
     limits.max_age_us = config_.max_command_age_us;
     const Result<CheckedCommand, CommandRefusal> checked = check_command(command, now, limits);
     if (!checked.ok()) {
-        // No pose this cycle, not even the last good one: no robot mask.
+        // No pose this cycle, not even the last good one: no robot mask. The reset level is
+        // held high: a press counts only after a valid sample has shown the button released.
         detected |= fault_bit(Fault::kCommandInvalid);
         report.command_check = static_cast<std::uint8_t>(checked.error());
+        report.command_reset = true;
         return {};
     }
+    report.command_reset = command.command.reset_request;
     active_case_ = checked.value().monitoring_case;
     speed_class_ = checked.value().speed_class;
     report.active_case = active_case_;
@@ -498,7 +501,8 @@ const CycleReport& SafetyController::run_cycle(Span<const SensorInput> sensors, 
     in.now_us = start;
     in.zones = zones_ok ? &r.zones : nullptr;
     in.detected_faults = detected;
-    in.reset_input = reset_input;
+    // The reset: the caller's input or the PLC's ResetRequest (robot cells); SafetyLogic takes the edge.
+    in.reset_input = reset_input || r.robot.command_reset;
     in.active_zones = scope.active_zones;
     in.speed_request = speed;
     r.safety = logic_.step(in);

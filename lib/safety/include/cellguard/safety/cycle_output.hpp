@@ -26,6 +26,10 @@ struct RobotReport {
     std::uint8_t command_counter = 0U;  ///< E2E counter of that command (0 when none)
     std::uint64_t command_age_us = 0U;  ///< cycle start minus the command's arrival
     std::uint8_t command_check = 0U;    ///< why the command was refused (JointCheck or a case error), 0 = none
+    /// The reset level the command gave the restart interlock: its ResetRequest when it
+    /// was used, held high when it was refused or missing (so only a press after a
+    /// valid release is an edge); false in a cell that expects no command.
+    bool command_reset = false;
     SpeedRequest speed_request = SpeedRequest::kFull;  ///< speed and separation monitoring's request
     std::uint16_t distance_mm = 65535U;                ///< separation distance (65535: nothing within range)
     std::uint16_t required_mm = 0U;   ///< protective separation distance S_p of the current speed class

@@ -65,7 +65,9 @@
 ///    storage, grown by mask_margin_m;
 /// 3. zone evaluation of the active case's zones, the robot's voxels left out;
 /// 4. compute_separation against the robot's capsules, in the command's speed class;
-/// 5. the safety logic (only the active case's zones; the separation's request).
+/// 5. the safety logic (only the active case's zones; the separation's request;
+///    the reset level: the caller's input OR the command's ResetRequest, held
+///    high while the command is refused or missing, RobotReport::command_reset).
 /// These steps run inside the kSubtractAndZones stage. The legacy
 /// run_cycle(sensors, reset) passes no command: fine for a cell that
 /// expects none, kCommandInvalid for one that does.
@@ -198,7 +200,8 @@ public:
     const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input) noexcept;
 
     /// Runs one cycle as above with the PLC's @p command as the receiver
-    /// holds it at the cycle's start (ignored by a cell that expects none).
+    /// holds it at the cycle's start (ignored by a cell that expects none);
+    /// its ResetRequest joins @p reset_input (step 5 of the file comment).
     const CycleReport& run_cycle(Span<const SensorInput> sensors, bool reset_input,
                                  const CommandInput& command) noexcept;
 
