@@ -293,7 +293,7 @@ TEST_CASE(
     };
     const std::vector<Shipped> shipped = {
         {"paper-cell.toml", {"reset_required", "watchdog_device"}},
-        {"robot-cell.toml", {"reset_required", "watchdog_device"}},
+        {"robot-cell.toml", {"watchdog_device"}},  // its PLC sends ResetRequest: the interlock stays on
         {"paper-cell-cameras.toml",
          {"reset_required", "frozen_sensor_check", "camera_stamp_tolerance", "watchdog_device"}},
         {"real-cell.toml", {"reset_required"}},
@@ -312,6 +312,7 @@ TEST_CASE(
     }
     const MonitorConfig robot = robot_cell_demo_config();
     CHECK(robot.can.clock_rate.nominal_period_us == 100000U);  // on: the PLC's period given
+    CHECK(robot.reset_required);                                // on: the PLC's command carries the reset
     CHECK(demo_config().opt_outs.size() == 2U);
 }
 

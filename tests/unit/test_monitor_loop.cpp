@@ -355,14 +355,19 @@ TEST_CASE("simulator: rendering into caller buffers gives render_frame's images 
 }
 
 // verifies: SR-CFG-018
-TEST_CASE("monitor: reset_required on is refused at start, since the monitor has no reset input") {
+TEST_CASE("monitor: reset_required on is refused at start in a cell without a PLC command, and kept in one with it") {
     cell::MonitorConfig cfg = cell::demo_config();
     CHECK_FALSE(cfg.reset_required);  // paper-cell.toml turns it off, with opt_out.reset_required
     CHECK_FALSE(monitor::check_start_settings(cfg).failed());
     cfg.reset_required = true;  // the loader's default
     const monitor::SetupError e = monitor::check_start_settings(cfg);
     CHECK(e.exit_status == 2);
-    CHECK(e.message.find("no reset input") != std::string::npos);
+    CHECK(e.message.find("no PLC command") != std::string::npos);
+    CHECK(e.message.find("ResetRequest") != std::string::npos);
     CHECK(e.message.find("reset_required = \"<reason>\"") != std::string::npos);
     CHECK(cell::MonitorConfig{}.reset_required);
+    // The robot cell: its PLC's command carries the reset request, so the interlock may wait for it.
+    cell::MonitorConfig robot = cell::robot_cell_demo_config();
+    CHECK(robot.reset_required);  // robot-cell.toml keeps the default
+    CHECK_FALSE(monitor::check_start_settings(robot).failed());
 }

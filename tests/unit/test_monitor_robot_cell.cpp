@@ -62,6 +62,7 @@ struct CycleRecord {
     std::uint8_t commanded_case = 0U;
     bool command_valid = false;
     bool protective_intruded = false;
+    bool reset = false;  ///< the reset level the command gave the restart interlock
     std::uint32_t faults = 0U;
 };
 
@@ -113,6 +114,7 @@ struct RobotCell {
             c.active_case = r.robot.active_case;
             c.commanded_case = demo->command().monitoring_case;
             c.command_valid = r.robot.command_valid;
+            c.reset = r.robot.command_reset;
             c.faults = r.safety.latched_faults;
             for (std::size_t z = 0U; z < 2U; ++z) {  // station-a, station-b
                 c.protective_intruded = c.protective_intruded || r.zones.zones[z].state == ZoneState::kIntruded;
@@ -188,6 +190,21 @@ TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced
         }
     }
     CHECK(first_valid == 3U);
+    // The configuration keeps reset_required on: the start-up stop ends in the cycle whose sample carries
+    // the simulated operator's press after a valid release (a rising edge of ResetRequest), not before.
+    std::size_t first_run = c.cycles.size();
+    for (std::size_t k = 0U; k < c.cycles.size() && first_run == c.cycles.size(); ++k) {
+        if (!c.cycles[k].stop) {
+            first_run = k;
+        }
+    }
+    REQUIRE(first_run > first_valid);
+    REQUIRE(first_run < 20U);
+    CHECK(c.cycles[first_run].reset);
+    CHECK(c.cycles[first_run].command_valid);
+    CHECK_FALSE(c.cycles[first_run - 1U].reset);
+    CHECK(c.cycles[first_run - 1U].command_valid);
+    MESSAGE("start-up stop released by the PLC's reset in cycle " << first_run);
     for (std::size_t k = 0U; k < c.cycles.size(); ++k) {
         INFO("cycle " << k);
         if (c.cycles[k].protective_intruded) {

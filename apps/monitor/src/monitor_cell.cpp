@@ -177,14 +177,15 @@ sim::SensorSpec to_spec(const cell::SensorSettings& s, bool simulated_background
 }
 
 SetupError check_start_settings(const cell::MonitorConfig& cfg) {
-    if (cfg.reset_required) {
+    const bool has_command = cfg.robot.enabled || !cfg.cases.empty();
+    if (cfg.reset_required && !has_command) {
         return SetupError{
             2,
-            "configuration error: restart_interlock.reset_required is true (the default), but cellguard-monitor "
-            "has no reset input (the PLC's command carries no reset request): its restart interlock would hold "
-            "the stop for good after the first one. Let the PLC hold the restart until its reset button is "
-            "pressed (safety manual, section 4.4), and set reset_required = false with [opt_out] "
-            "reset_required = \"<reason>\""};
+            "configuration error: restart_interlock.reset_required is true (the default), but this cell has no "
+            "PLC command (no [robot], no [[cases]]), and the reset request travels in the command (part A, "
+            "ResetRequest): its restart interlock would hold the stop for good after the first one. Give the cell "
+            "its command, or let the PLC hold the restart until its reset button is pressed (safety manual, "
+            "section 4.4) and set reset_required = false with [opt_out] reset_required = \"<reason>\""};
     }
     return {};
 }

@@ -21,14 +21,20 @@ void RobotCellDemo::before_cycle(int /*k*/, double t_s) noexcept {
     if (last_request_ == SpeedRequest::kReduced) {
         command_.speed_class = reduced_class_;  // the robot obeys: it moves at the reduced class
     }
+    command_.reset_request = press_reset_;
     plc_->set_command(command_);
 }
 
-void RobotCellDemo::after_cycle(const CycleReport& report) noexcept { last_request_ = report.robot.speed_request; }
+void RobotCellDemo::after_cycle(const CycleReport& report) noexcept {
+    last_request_ = report.robot.speed_request;
+    // The operator presses reset while the interlock holds, releasing it every other sample.
+    press_reset_ = report.safety.interlock_holding && !press_reset_;
+}
 
 void RobotCellDemo::describe(char* out, std::size_t capacity) const noexcept {
-    static_cast<void>(std::snprintf(out, capacity, "robot program %6.2fs cmd case %u class %u", clock_.time(),
-                                    command_.monitoring_case, command_.speed_class));
+    static_cast<void>(std::snprintf(out, capacity, "robot program %6.2fs cmd case %u class %u%s", clock_.time(),
+                                    command_.monitoring_case, command_.speed_class,
+                                    command_.reset_request ? " reset" : ""));
 }
 
 }  // namespace cellguard::monitor

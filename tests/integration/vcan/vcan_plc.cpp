@@ -11,6 +11,9 @@
 //   least jitter): the arm's pose over station A (the pose the scene
 //   vcan-robot-scene.toml holds), speed class 0, the commissioned robot ID,
 //   and monitoring case 0, then case 2 from the monitor's cycle SWITCH_AT;
+//   ResetRequest pressed in every other monitor cycle while the last valid pair
+//   showed a stop with every zone clear and seen and no fault (the PLC's
+//   "reset possible" lamp: the monitor's restart interlock waits for it);
 //   from cycle SILENT_AT it sends nothing more (a PLC that falls silent);
 // - it receives the monitor's frames with PlcReceiver (polled every 10 ms)
 //   and decodes the diagnostics and separation frames;
@@ -34,8 +37,8 @@
 //   kCommandInvalid in the diagnostics), and its echoed case (the safety
 //   and the separation frame's ActiveCase) is the case of the sample it names
 //   by counter (CommandCounter); both cases were echoed;
-// - the stop was released after the start-up and stayed released up to the
-//   silence;
+// - the stop was released after the start-up (by a ResetRequest edge: the
+//   configuration requires the reset) and stayed released up to the silence;
 // - when the PLC fell silent, the stop came within the stated response time,
 //   SCT + 2 T from the last sample (can-safety-protocol.md, "Response time";
 //   SCT = robot.max_command_age), with kCommandInvalid, and stayed, through
@@ -113,6 +116,7 @@ struct Sample {
     std::uint64_t burst_us = 0U;  ///< from before its first write to after its last
     std::uint8_t counter = 0U;
     std::uint8_t monitoring_case = 0U;
+    bool reset_request = false;
 };
 
 /// What arrived of one monitor cycle.
@@ -151,6 +155,8 @@ struct Run {
     int first_valid_pair = -1;  ///< the cycle whose pair first made the receiver valid
     std::uint32_t faults_at_valid = 0U;
     std::string receiver_fault_text;
+    bool reset_possible = false;  ///< the last valid pair: a stop with every zone clear and seen, no fault
+    bool press_reset = false;     ///< the operator's reset button in the next sample (pressed every other cycle)
 };
 
 /// As the monitor's simulated PLC: SRVT half a period, SCT three periods, the watchdog time three periods; a
@@ -213,8 +219,13 @@ bool build_sample(PlcCommandSender& sender, PlcReceiver& plc, Run& run, SampleFr
         cmd.joint_raw[j] = static_cast<std::int16_t>(std::lround(kPoseRad[j] / kRevoluteJointUnitRad));
     }
     cmd.robot_id = run.robot_id;
+    // The operator presses reset while the lamp is on, in every other monitor cycle (two samples go out per
+    // cycle: toggling per sample, every cycle would see the same level and no edge).
+    run.press_reset = run.reset_possible && run.cycles.size() % 2U == 1U;
+    cmd.reset_request = run.press_reset;
     s.counter = sender.counter();
     s.monitoring_case = cmd.monitoring_case;
+    s.reset_request = cmd.reset_request;
     const Result<LinkedCommandFrames> frames = sender.next_sample(cmd, plc.next_link(now_us()), plc.config().link.own);
     if (!frames.ok()) {
         std::printf("the PLC-side sender refused the command\n");
@@ -304,6 +315,11 @@ void on_frame(const CanFrame& f, std::uint64_t t, PlcReceiver& plc, Run& run) {
         run.cycles.back().copy = true;
     } else if (f.id == plc.config().link.peer.can_id) {
         run.cycles.back().receiver_valid = rs.communication_valid;
+        // The PLC's "reset possible" lamp: the controller holds a stop with every zone clear and seen and no
+        // fault, which after the restart delay is its restart interlock waiting for ResetRequest.
+        const SafetyMessage& m = rs.message;
+        run.reset_possible = rs.communication_valid && m.protective_stop && !m.fault && m.zone_intrusion == 0U &&
+                             m.zone_unseen == 0U;
         if (rs.communication_valid && run.first_valid_pair < 0) {
             run.first_valid_pair = static_cast<int>(run.cycles.size()) - 1;
             run.faults_at_valid = rs.fault_events;
@@ -385,13 +401,19 @@ bool exchange(int fd, Run& run) {
 }
 
 /// The case of the latest sample with counter @p counter sent before @p t_us (-1: none).
-int commanded_case(const Run& run, std::uint8_t counter, std::uint64_t t_us) {
+/// The latest sample with E2E counter @p counter sent by @p t_us, or nullptr.
+const Sample* sample_named(const Run& run, std::uint8_t counter, std::uint64_t t_us) {
     for (auto it = run.samples.rbegin(); it != run.samples.rend(); ++it) {
         if (it->counter == counter && it->t_us <= t_us) {
-            return it->monitoring_case;
+            return &*it;
         }
     }
-    return -1;
+    return nullptr;
+}
+
+int commanded_case(const Run& run, std::uint8_t counter, std::uint64_t t_us) {
+    const Sample* s = sample_named(run, counter, t_us);
+    return s != nullptr ? s->monitoring_case : -1;
 }
 
 /// Checks the cycles that used the PLC's commands; returns the first silent cycle.
@@ -426,6 +448,10 @@ std::size_t check_commands(const Run& run, int& first_ok, int& released) {
         }
         if (released < 0 && !c.safety.protective_stop) {
             released = static_cast<int>(k);
+            // reset_required is on: the release is the restart interlock's, on the press the cycle used.
+            const Sample* used = sample_named(run, c.sep.command_counter, c.t_us);
+            expect(used != nullptr && used->reset_request,
+                   where + "the start-up stop was released without the PLC's ResetRequest in the sample used");
         }
         expect(released < 0 || !c.safety.protective_stop,
                where + "stop while the commands are good, after the release");

@@ -43,11 +43,12 @@ struct SetupError {
 };
 
 /// The settings this monitor cannot honour, refused before anything starts
-/// (exit status 2): restart_interlock.reset_required = true, since the
-/// monitor has no reset input (the PLC's command carries none, and the
-/// cycle passes the controller a reset level that never rises), so its
-/// restart interlock would hold the stop for good after the first one; the
-/// message names opt_out.reset_required and the PLC's restart interlock.
+/// (exit status 2): restart_interlock.reset_required = true in a cell
+/// without a PLC command (no robot, no monitoring cases), since the reset
+/// request travels in the command (ResetRequest) and the monitor has no
+/// other reset input, so its restart interlock would hold the stop for good
+/// after the first one; the message names opt_out.reset_required and the
+/// PLC's restart interlock.
 SetupError check_start_settings(const cell::MonitorConfig& cfg);
 
 /// Prints each protection @p cfg turns off ([opt_out]) to @p out: its

@@ -7,7 +7,11 @@
 /// the robot program's time) and gives the simulated PLC the command of that
 /// moment; after it, the robot obeys the cycle's speed request (a
 /// TrajectoryClock: full rate, the reduced rate, or standing still), and the
-/// PLC reports the reduced speed class while the robot moves at it.
+/// PLC reports the reduced speed class while the robot moves at it. The
+/// cell's operator is simulated too: while the controller's restart
+/// interlock holds the stop (zones clear, waiting for the delay or a
+/// reset), the PLC's reset button is pressed for one sample and released
+/// for the next, so each press is a rising edge of ResetRequest.
 /// Nothing allocates per cycle.
 #ifndef CELLGUARD_MONITOR_ROBOT_CELL_DEMO_HPP
 #define CELLGUARD_MONITOR_ROBOT_CELL_DEMO_HPP
@@ -66,6 +70,7 @@ private:
     double last_t_s_ = 0.0;
     bool started_ = false;
     SpeedRequest last_request_ = SpeedRequest::kFull;
+    bool press_reset_ = false;  ///< the simulated operator presses the PLC's reset button in the next sample
     RobotCommand command_{};
 };
 
