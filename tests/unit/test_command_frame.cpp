@@ -101,8 +101,8 @@ TEST_CASE("command frame: ResetRequest is part A's bit 22, and a pressed reset d
     pressed.reset_request = true;
     const CommandFrames s = encode_command_sample(pressed, 3U, channel()).value();
     const CommandFrames r = encode_command_sample(six_axis(), 3U, channel()).value();
-    CHECK(s.frame[0].data[2] == 0x65);  // case 5, speed class 2 and bit 22 (0x40)
-    CHECK(r.frame[0].data[2] == 0x25);  // released: bit 22 clear
+    CHECK(s.frame[0].data[2] == 0x65);          // case 5, speed class 2 and bit 22 (0x40)
+    CHECK(r.frame[0].data[2] == 0x25);          // released: bit 22 clear
     CHECK((s.frame[1].data[2] & 0x40U) == 0U);  // the copy carries it inverted
     CHECK(get_signal(s.frame[0], command_layout::kResetRequest) == 1U);
     for (std::size_t k = 3U; k < 8U; ++k) {
@@ -112,7 +112,8 @@ TEST_CASE("command frame: ResetRequest is part A's bit 22, and a pressed reset d
     CHECK(s.frame[4].data[0] == r.frame[4].data[0]);
     RobotCommand out;
     for (std::size_t p = 0U; p < kCommandParts; ++p) {
-        const Result<CommandPartContent> c = decode_command_part(s.frame[2U * p], static_cast<CommandPart>(p), channel());
+        const Result<CommandPartContent> c = decode_command_part(s.frame[2U * p], static_cast<CommandPart>(p),
+                                                                 channel());
         REQUIRE(c.ok());
         merge_command_part(c.value(), out);
     }

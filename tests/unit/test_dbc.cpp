@@ -328,10 +328,12 @@ std::vector<ExpectedFrame> expected_frames() {
     const CommandFrames s = encode_command_sample(cmd, 12U, CommandChannelConfig{}).value();
     ExpectedFrame a{s.frame[0], {}};
     add_header(a, 12U);
-    a.values.insert(
-        a.values.end(),
-        {{"MonitoringCase", 14}, {"SpeedClass", 3}, {"ResetRequest", 1}, {"JointCount", 7}, {"Joint0", joints[0]},
-         {"Joint1", joints[1]}});
+    a.values.insert(a.values.end(), {{"MonitoringCase", 14},
+                                     {"SpeedClass", 3},
+                                     {"ResetRequest", 1},
+                                     {"JointCount", 7},
+                                     {"Joint0", joints[0]},
+                                     {"Joint1", joints[1]}});
     ExpectedFrame b{s.frame[2], {}};
     add_header(b, 12U);
     b.values.insert(b.values.end(), {{"Joint2", joints[2]}, {"Joint3", joints[3]}, {"Joint4", joints[4]}});

@@ -312,7 +312,7 @@ TEST_CASE(
     }
     const MonitorConfig robot = robot_cell_demo_config();
     CHECK(robot.can.clock_rate.nominal_period_us == 100000U);  // on: the PLC's period given
-    CHECK(robot.reset_required);                                // on: the PLC's command carries the reset
+    CHECK(robot.reset_required);                               // on: the PLC's command carries the reset
     CHECK(demo_config().opt_outs.size() == 2U);
 }
 

@@ -370,4 +370,7 @@ TEST_CASE("monitor: reset_required on is refused at start in a cell without a PL
     cell::MonitorConfig robot = cell::robot_cell_demo_config();
     CHECK(robot.reset_required);  // robot-cell.toml keeps the default
     CHECK_FALSE(monitor::check_start_settings(robot).failed());
+    // A cell with monitoring cases and no robot has a command too, so its reset.
+    cfg.cases.push_back(cell::CaseSettings{});
+    CHECK_FALSE(monitor::check_start_settings(cfg).failed());
 }

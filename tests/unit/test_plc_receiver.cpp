@@ -369,14 +369,15 @@ TEST_CASE("plc receiver: a configuration is checked, and an invalid one cannot b
 }
 
 // verifies: SR-CAN-015, SR-GEN-003
-TEST_CASE("plc receiver: a link whose peer channel is invalid or shares a safety, copy, diagnostics or separation ID is "
-          "refused") {
+TEST_CASE(
+    "plc receiver: a link whose peer channel is invalid or shares a safety, copy, diagnostics or separation ID is "
+    "refused") {
     PlcReceiverConfig c = receiver_config();
     c.link.enabled = true;
     REQUIRE(PlcReceiver::check_config(c).ok());
     const SafetyChannelConfig ch = c.channel;
-    for (const std::uint32_t taken : {ch.safety_can_id, inverted_can_id(ch), ch.diagnostics_can_id,
-                                      ch.separation_can_id, kCanMaxStandardId + 1U}) {
+    for (const std::uint32_t taken :
+         {ch.safety_can_id, inverted_can_id(ch), ch.diagnostics_can_id, ch.separation_can_id, kCanMaxStandardId + 1U}) {
         CAPTURE(taken);
         PlcReceiverConfig d = c;
         d.link.peer.can_id = taken;

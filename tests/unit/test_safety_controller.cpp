@@ -1109,6 +1109,42 @@ TEST_CASE(
     CHECK(b.safety.stop_requested);
 }
 
+// verifies: SR-CMD-010
+TEST_CASE(
+    "controller: a cell with cases and no robot takes the reset from the command too; one without cases ignores it") {
+    Workcell w;
+    TestClock clock;
+    const Frame f(w, sim::reference_scene(), clock.t);
+    const std::uint32_t masks[] = {0b11U};
+    const MonitoringCases cases = MonitoringCases::make(w.zones, masks).value();
+    ControllerConfig config = w.config();
+    config.cases = &cases;
+    config.logic.reset_required = true;
+    SafetyController c = w.controller(config, clock);
+    CommandInput in;  // joint-less: case 0, the reset released
+    in.valid = true;
+    in.received_us = clock.t;
+    const CycleReport& held = c.run_cycle(f.span(), false, in);
+    CHECK(held.robot.command_valid);
+    CHECK(held.safety.stop_requested);
+    CHECK(held.safety.interlock_holding);
+    in.command.reset_request = true;
+    in.received_us = clock.t;
+    const CycleReport& released = c.run_cycle(f.span(), false, in);
+    CHECK(released.robot.command_reset);
+    CHECK_FALSE(released.safety.stop_requested);
+    // A cell that expects no command: a pressed ResetRequest in whatever arrives adds nothing.
+    config.cases = nullptr;
+    SafetyController plain = w.controller(config, clock);
+    in.received_us = clock.t;
+    for (int k = 0; k < 3; ++k) {
+        const CycleReport& r = plain.run_cycle(f.span(), false, in);
+        CHECK_FALSE(r.robot.command_reset);
+        CHECK(r.safety.stop_requested);  // the interlock waits for the caller's reset input
+    }
+    CHECK_FALSE(plain.run_cycle(f.span(), true, in).safety.stop_requested);
+}
+
 // verifies: SR-ROB-210, SR-CASE-011, SR-ROB-211
 TEST_CASE("command check: each refusal, in order, and the names") {
     const RobotModel arm = test::make_test_arm();

@@ -505,8 +505,9 @@ TEST_CASE("session link: each refusal of the channel, the configuration, the fra
 }
 
 // verifies: SR-CAN-013, SR-CAN-015
-TEST_CASE("session link: the own sequence wraps from 65,535 to 1, and a clock that steps back leaves no reference "
-          "fresh") {
+TEST_CASE(
+    "session link: the own sequence wraps from 65,535 to 1, and a clock that steps back leaves no reference "
+    "fresh") {
     LinkConfig config = controller_link_config();
     config.session = 9U;
     config.watchdog_us = 100U * kMs;
@@ -517,7 +518,7 @@ TEST_CASE("session link: the own sequence wraps from 65,535 to 1, and a clock th
     }
     CHECK(last == kLinkSequenceMax);
     const LinkFields wrapped = e.next(2U * kMs);
-    CHECK(wrapped.sequence == 1U);  // 0 is never sent
+    CHECK(wrapped.sequence == 1U);                                    // 0 is never sent
     CHECK(e.on_peer(fields(10U, 1U), 3U * kMs) == LinkFault::kNone);  // the echo of the wrapped sequence
     // A frame stamped before the reference (a clock stepped back): the reference is not fresh, so the older
     // frame may move it; its echo is then checked against its own send time.

@@ -56,7 +56,7 @@ inline constexpr SignalLayout kMonitoringCase{"MonitoringCase", 16U, 4U, ByteOrd
 /// Part A: the robot's current speed class, 0..3.
 inline constexpr SignalLayout kSpeedClass{"SpeedClass", 20U, 2U, ByteOrder::kIntel, 1U, "", 3U, Multiplex::kNone, 0U};
 /// Part A: the PLC's reset button is pressed, 0..1 (the level; bit 22 was reserved before protocol 0.2).
-inline constexpr SignalLayout kResetRequest{"ResetRequest", 22U, 1U, ByteOrder::kIntel, 1U, "", 1U,
+inline constexpr SignalLayout kResetRequest{"ResetRequest",   22U, 1U, ByteOrder::kIntel, 1U, "", 1U,
                                             Multiplex::kNone, 0U};
 /// Part A: joints carried, 0..7.
 inline constexpr SignalLayout kJointCount{"JointCount", 24U, 3U, ByteOrder::kIntel, 1U, "", 7U, Multiplex::kNone, 0U};
@@ -82,9 +82,8 @@ inline constexpr SignalLayout kJoint6 = joint_signal("Joint6", 32U);
 inline constexpr SignalLayout kRobotId{"RobotId", 48U, 16U, ByteOrder::kIntel, 1U, "", 65535U, Multiplex::kNone, 0U};
 
 /// Every signal of part A (and, with inverted raw values, of its copy).
-inline constexpr SignalLayout kPartASignals[] = {kCrc,        kCounter,      kDataIdNibble, kMonitoringCase,
-                                                 kSpeedClass, kResetRequest, kJointCount,   kJoint0,
-                                                 kJoint1};
+inline constexpr SignalLayout kPartASignals[] = {
+    kCrc, kCounter, kDataIdNibble, kMonitoringCase, kSpeedClass, kResetRequest, kJointCount, kJoint0, kJoint1};
 /// Every signal of part B.
 inline constexpr SignalLayout kPartBSignals[] = {kCrc, kCounter, kDataIdNibble, kJoint2, kJoint3, kJoint4};
 /// Every signal of part C.
