@@ -1111,7 +1111,7 @@ TEST_CASE(
 
 // verifies: SR-CMD-010
 TEST_CASE(
-    "controller: a cell with cases and no robot takes the reset from the command too; one without cases ignores it") {
+    "controller: a cell with cases and no robot takes the reset from the command too, one without cases ignores it") {
     Workcell w;
     TestClock clock;
     const Frame f(w, sim::reference_scene(), clock.t);
