@@ -156,7 +156,6 @@ struct Run {
     std::uint32_t faults_at_valid = 0U;
     std::string receiver_fault_text;
     bool reset_possible = false;  ///< the last valid pair: a stop with every zone clear and seen, no fault
-    bool press_reset = false;     ///< the operator's reset button in the next sample (pressed every other cycle)
 };
 
 /// As the monitor's simulated PLC: SRVT half a period, SCT three periods, the watchdog time three periods; a
@@ -221,8 +220,7 @@ bool build_sample(PlcCommandSender& sender, PlcReceiver& plc, Run& run, SampleFr
     cmd.robot_id = run.robot_id;
     // The operator presses reset while the lamp is on, in every other monitor cycle (two samples go out per
     // cycle: toggling per sample, every cycle would see the same level and no edge).
-    run.press_reset = run.reset_possible && run.cycles.size() % 2U == 1U;
-    cmd.reset_request = run.press_reset;
+    cmd.reset_request = run.reset_possible && run.cycles.size() % 2U == 1U;
     s.counter = sender.counter();
     s.monitoring_case = cmd.monitoring_case;
     s.reset_request = cmd.reset_request;
