@@ -151,6 +151,13 @@ struct ChangeRun {
     bool stays_latched = true;
 };
 
+// The cycles a changed view is shown: the stated detection bound (BackgroundReference::changed_cycles'
+// default) and one more, so a fault found later than the bound fails the check, not the run's length.
+constexpr int kBound = 3;
+constexpr int kChangedCycles = kBound + 1;
+// The cycles of the empty cell after the change: the latch must hold through them.
+constexpr int kCyclesAfter = 2;
+
 // Two cycles of the empty cell, @p cycles of @p specs seeing @p scene, then the empty cell again.
 ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene& scene, int cycles) {
     Cell cell;
@@ -176,7 +183,7 @@ ChangeRun run_change(const std::vector<sim::SensorSpec>& specs, const sim::Scene
         }
     }
     out.changed_sensors = c.background_change().latched;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < kCyclesAfter; ++k) {
         const Inputs empty(cell, clock.t);
         const CycleReport& r = c.run_cycle(empty.span(), false);
         out.stays_latched = out.stays_latched && r.safety.stop_requested &&
@@ -198,8 +205,6 @@ std::vector<sim::SensorSpec> turned(std::vector<sim::SensorSpec> specs, std::siz
     specs[s].target = specs[s].position + Eigen::AngleAxisd(degrees * M_PI / 180.0, axis) * view;
     return specs;
 }
-
-constexpr int kBound = 3;  // BackgroundReference::changed_cycles' default
 
 // A one-bin-per-degree grid of 10 x 10 bins around the axis, with bin (5, 5)
 // (straight ahead, slightly right and up) at 2.0 .. 2.1 m, the rest no return.
@@ -317,7 +322,7 @@ TEST_CASE(
     for (const double dx : {0.1, -0.1}) {
         sim::Scene moved = sim::reference_scene();
         moved.boxes[0].center.x() += dx;
-        const ChangeRun r = run_change(sim::paper_sensors(), moved, 6);
+        const ChangeRun r = run_change(sim::paper_sensors(), moved, kChangedCycles);
         report(dx > 0.0 ? "box A moved +10 cm in x" : "box A moved -10 cm in x", r);
         CHECK(r.detected_cycle == kBound);
         CHECK(r.stop_after);
@@ -325,13 +330,13 @@ TEST_CASE(
     }
     sim::Scene moved = sim::reference_scene();
     moved.boxes[1].center.y() += 0.1;
-    const ChangeRun rb = run_change(sim::paper_sensors(), moved, 6);
+    const ChangeRun rb = run_change(sim::paper_sensors(), moved, kChangedCycles);
     report("box B moved +10 cm in y", rb);
     CHECK(rb.detected_cycle == kBound);
     for (std::size_t b = 0; b < 2U; ++b) {
         sim::Scene removed = sim::reference_scene();
         removed.boxes.erase(removed.boxes.begin() + static_cast<std::ptrdiff_t>(b));
-        const ChangeRun r = run_change(sim::paper_sensors(), removed, 6);
+        const ChangeRun r = run_change(sim::paper_sensors(), removed, kChangedCycles);
         report(b == 0U ? "box A removed" : "box B removed", r);
         CHECK(r.detected_cycle == kBound);
         CHECK(r.stays_latched);
@@ -343,7 +348,8 @@ TEST_CASE("point-set background change: a sensor turned by 1 degree latches the 
     for (std::size_t s = 0; s < 4U; ++s) {
         for (const double deg : {1.0, -1.0}) {
             for (const bool pitch : {true, false}) {
-                const ChangeRun r = run_change(turned(sim::paper_sensors(), s, deg, pitch), sim::reference_scene(), 6);
+                const ChangeRun r = run_change(turned(sim::paper_sensors(), s, deg, pitch), sim::reference_scene(),
+                                               kChangedCycles);
                 char what[64];
                 std::snprintf(what, sizeof what, "sensor %zu %s %+.0f degree", s, pitch ? "pitched" : "yawed", deg);
                 report(what, r);
