@@ -304,3 +304,42 @@ TEST_CASE("robot cell demo: unpaced, a slow host writes the same CAN log as a fa
     static_cast<void>(std::system(("rm -rf '" + std::string(dir) + "'").c_str()));
 }
 #endif
+
+// verifies: SR-CMD-010
+TEST_CASE(
+    "case cell demo: the simulated PLC sends its case without joints, the operator presses only while the "
+    "interlock holds") {
+    const MonitorConfig cfg = robot_cell_demo_config();
+    SimulatedPlcLink plc(command_receiver_config(cfg), plc_receiver_config(cfg), nullptr);
+    CaseCellDemo demo(3U, plc);
+    CycleReport holding;
+    holding.safety.interlock_holding = true;
+    CycleReport running;
+    running.safety.interlock_holding = false;
+    demo.before_cycle(0, 0.0);
+    CHECK(demo.command().monitoring_case == 3U);
+    CHECK(demo.command().joint_count == 0U);
+    CHECK_FALSE(demo.command().reset_request);  // nothing seen yet: released
+    // While the interlock holds: pressed for one sample, released for the next, so each press is a rising edge.
+    std::vector<bool> levels;
+    for (int k = 1; k <= 4; ++k) {
+        demo.after_cycle(holding);
+        demo.before_cycle(k, 0.0);
+        levels.push_back(demo.command().reset_request);
+        CHECK(demo.command().monitoring_case == 3U);
+    }
+    CHECK(levels == std::vector<bool>{true, false, true, false});
+    char text[96];
+    demo.after_cycle(holding);
+    demo.before_cycle(5, 0.0);
+    demo.describe("person (0.45, 0.60)", text, sizeof text);
+    CHECK(std::string(text) == "person (0.45, 0.60) reset");  // the status line shows the press
+    // Released (the run goes on, or the stop holds for another reason): never pressed.
+    for (int k = 6; k <= 8; ++k) {
+        demo.after_cycle(running);
+        demo.before_cycle(k, 0.0);
+        CHECK_FALSE(demo.command().reset_request);
+    }
+    demo.describe("live cameras", text, sizeof text);
+    CHECK(std::string(text) == "live cameras");
+}

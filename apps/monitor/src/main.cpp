@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -37,6 +38,7 @@
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/picture.hpp"
+#include "cellguard/monitor/robot_cell_demo.hpp"
 #include "cellguard/monitor/web_content.hpp"
 #ifdef CELLGUARD_MONITOR_HTTP
 #include <sys/stat.h>
@@ -451,6 +453,26 @@ CommandLink* choose_commands(const Options& opt, const MonitorCell& cell, const 
     return interface ? static_cast<CommandLink*>(&socket_commands) : &plc;
 }
 
+/// The simulated side around each cycle (nullptr: none). A demo scene with a
+/// robot keeps moving (people, the robot's program) whichever link brings the
+/// commands; a cell with monitoring cases and no robot, commanded by the
+/// simulated PLC (@p simulated_plc), gets that PLC's case and its operator,
+/// who presses reset while the restart interlock holds.
+CycleHook* choose_hook(const MonitorConfig& cfg, const MonitorCell& cell, bool simulated_plc, RobotCellDemo& robot,
+                       CaseCellDemo& cases) {
+    if (cell.has_scene && !cell.robot_image.empty()) {
+        return &robot;
+    }
+    if (!simulated_plc || cfg.robot.enabled || cfg.cases.empty()) {
+        return nullptr;
+    }
+    std::printf(
+        "commands: the simulated PLC selects case %d (%s); its operator presses reset while the restart "
+        "interlock holds\n",
+        cfg.cases.front().number, cfg.cases.front().name.c_str());
+    return &cases;
+}
+
 /// Footprint fusion's runner for fusion.threads (nullptr: one core).
 /// port/linux's WorkerPool for the fusion's sensor tasks when the
 /// configuration asks for more than one thread (made once, before the first
@@ -659,9 +681,8 @@ int run_monitor(int argc, char** argv) {
     // A cell without commands still has its PLC link: the PLC sends its link frame alone (command_link.hpp).
     SocketCanCommandLink socket_commands(receiver, can, clock_rate_config(cfg), !takes_commands(cfg));
     RobotCellDemo demo(cfg, cell, plc);
-    // A demo scene with a robot keeps moving (people, the robot's program)
-    // whichever link brings the commands.
-    const bool simulated_robot = cell.has_scene && !cell.robot_image.empty();
+    CaseCellDemo case_demo(cfg.cases.empty() ? std::uint8_t{0U} : static_cast<std::uint8_t>(cfg.cases.front().number),
+                           plc);
     CommandLink* const commands = choose_commands(opt, cell, can, plc, socket_commands, e);
     if (e.failed()) {
         return fail(e);
@@ -671,7 +692,7 @@ int run_monitor(int argc, char** argv) {
     }
     const std::unique_ptr<linux_port::WorkerPool> pool = fusion_pool(cfg);
     MonitorLoop loop(cfg, cell, sources, can, clock, opt.quiet ? nullptr : stdout, commands,
-                     simulated_robot ? &demo : nullptr, pool.get());
+                     choose_hook(cfg, cell, commands == &plc, demo, case_demo), pool.get());
     if (!loop.status().ok()) {
         static_cast<void>(
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));

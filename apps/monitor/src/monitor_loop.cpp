@@ -39,9 +39,9 @@ std::size_t status_line_capacity(const cell::MonitorConfig& cfg) {
     for (const ZoneState s : {ZoneState::kClear, ZoneState::kIntruded, ZoneState::kUnseen, ZoneState::kFault}) {
         longest_state = std::max(longest_state, std::strlen(to_string(s)));
     }
-    // "t=... cycle ... " with the 63-character scene text, stop and warning,
-    // cycle time, and the robot's case, request and distances.
-    std::size_t n = 320U;
+    // "t=... cycle ... " with the 63-character scene text (79 with a cycle
+    // hook's), stop and warning, cycle time, and the robot's case, request and distances.
+    std::size_t n = 336U;
     for (const cell::ZoneSettings& z : cfg.zones) {
         n += z.name.size() + 2U + longest_state;
     }
@@ -284,9 +284,7 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     line_[0] = '\0';
     // The scripted person exists only for simulated sensors: with recorded or live frames alone, say so instead.
     char scene_text[64];
-    if (hook_ != nullptr) {
-        hook_->describe(scene_text, sizeof scene_text);
-    } else if (show_person_) {
+    if (show_person_) {
         const cell::PersonPosition person = cell::demo_person(k);
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "person (%5.2f,%5.2f) %-17s", person.x, person.y,
                                         cell::demo_phase(k)));
@@ -296,7 +294,12 @@ void MonitorLoop::format_status(int k, const CycleReport& r) noexcept {
     } else {
         static_cast<void>(std::snprintf(scene_text, sizeof scene_text, "recorded frames %-18s", ""));
     }
-    append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k, scene_text);
+    char hook_text[sizeof scene_text + 16];
+    if (hook_ != nullptr) {
+        hook_->describe(scene_text, hook_text, sizeof hook_text);
+    }
+    append("t=%7.3fs cycle %3d %s|", static_cast<double>(clock_->base() - kSimStartUs) / 1e6, k,
+           hook_ != nullptr ? hook_text : scene_text);
     // As the CAN frame and the browser view show them: with a fault latched its Fault bit makes every
     // zone FAULT (a zone's own CLEAR would hide why the stop holds).
     for (std::size_t z = 0U; z < zone_count_; ++z) {
