@@ -296,7 +296,7 @@ TEST_CASE(
         {"robot-cell.toml", {"watchdog_device"}},  // its PLC sends ResetRequest: the interlock stays on
         {"paper-cell-cameras.toml",
          {"reset_required", "frozen_sensor_check", "camera_stamp_tolerance", "watchdog_device"}},
-        {"real-cell.toml", {"reset_required"}},
+        {"real-cell.toml", {}},  // its one monitoring case gives it the PLC's command and ResetRequest
     };
     for (const Shipped& s : shipped) {
         CAPTURE(s.file);
@@ -314,6 +314,13 @@ TEST_CASE(
     CHECK(robot.can.clock_rate.nominal_period_us == 100000U);  // on: the PLC's period given
     CHECK(robot.reset_required);                               // on: the PLC's command carries the reset
     CHECK(demo_config().opt_outs.size() == 2U);
+    const ConfigLoad real = load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) +
+                                                "/apps/monitor/config/real-cell.toml");
+    REQUIRE(real.ok);
+    CHECK(real.config.reset_required);      // on: the case's command carries the reset
+    CHECK(real.config.cases.size() == 1U);  // one case, both zones
+    CHECK(real.config.cases.front().zone_mask == 0b11U);
+    CHECK(real.config.can.clock_rate.nominal_period_us == 20000U);  // on: the PLC's period given
 }
 
 // verifies: SR-CFG-018
