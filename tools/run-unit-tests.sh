@@ -33,8 +33,13 @@ for (( s = 0; s < shards; s++ )); do
   first=$(( s * per + 1 ))
   last=$(( first + per - 1 ))
   [ "$first" -le "$count" ] || break
-  "${emulator[@]}" "$unit" --no-intro --no-version --order-by=rand --rand-seed=1 --first="$first" --last="$last" "$@" \
-    >"$logs/$s.log" 2>&1 &
+  # Each shard records its own wall time (an unbalanced split leaves a core idle at the end).
+  ( t=$(date +%s)
+    rc=0
+    "${emulator[@]}" "$unit" --no-intro --no-version --order-by=rand --rand-seed=1 --first="$first" --last="$last" "$@" \
+      >"$logs/$s.log" 2>&1 || rc=$?
+    echo $(( $(date +%s) - t )) >"$logs/$s.secs"
+    exit "$rc" ) &
   pids+=($!)
   ranges+=("cases $first to $(( last < count ? last : count ))")
 done
@@ -42,7 +47,7 @@ status=0
 for s in "${!pids[@]}"; do
   if wait "${pids[$s]}"; then
     # doctest's own case count includes the cases outside the shard's range.
-    echo "shard $((s + 1)): ${ranges[$s]}: $(grep -E '^\[doctest\] assertions:' "$logs/$s.log" | sed 's/^\[doctest\] //')"
+    echo "shard $((s + 1)): ${ranges[$s]}, $(cat "$logs/$s.secs") s: $(grep -E '^\[doctest\] assertions:' "$logs/$s.log" | sed 's/^\[doctest\] //')"
   else
     echo "run-unit-tests: shard $((s + 1)) of ${#pids[@]} FAILED:"
     cat "$logs/$s.log"
