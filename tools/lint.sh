@@ -51,16 +51,19 @@ lib_includes=()
 for d in lib/*/include lib/*/*/include; do lib_includes+=(-I "$d"); done
 
 echo "== cppcheck $(cppcheck --version)"
+# lib/ and port/ beside apps/: two single-threaded runs, one per core.
 cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portability \
   --inline-suppr --error-exitcode=1 --quiet \
   --suppressions-list=tools/cppcheck-suppressions.txt \
   "${lib_includes[@]}" -I port/linux/include -D__GNUC__ -DEIGEN_NO_MALLOC \
-  "${sources[@]}"
+  "${sources[@]}" &
+cppcheck_lib=$!
 cppcheck --std=c++17 --language=c++ --enable=warning,style,performance,portability \
   --inline-suppr --error-exitcode=1 --quiet \
   --suppressions-list=tools/cppcheck-suppressions.txt \
   "${lib_includes[@]}" -I port/linux/include "${app_includes[@]}" -I "$build/apps/host/include" -D__GNUC__ \
   "${app_sources[@]}"
+wait "$cppcheck_lib"
 
 echo "== clang-tidy $(clang-tidy --version | head -n 2 | tail -n 1)"
 # One clang-tidy per file, as many at once as there are cores; any finding fails. The largest
