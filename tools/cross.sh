@@ -116,7 +116,8 @@ configure "$bdir/build-m7" cortex-m7 -DCMAKE_C_COMPILER_LAUNCHER= -DCMAKE_CXX_CO
 cmake --build "$bdir/build-m7" -j "$jobs" >/dev/null
 cp "$bdir/build-m7/size-report.md" "$root/certification/size-report.md"
 stamp "cortex-m7: ELF checks, then the firmware on qemu-system-arm -M mps2-an500 (timeout 60 s)"
-ctest --test-dir "$bdir/build-m7/apps/firmware" --output-on-failure >"$bdir/build-m7/ctest.log" 2>&1 ||
+# The ELF checks and the three qemu runs (each single-threaded) one per core.
+ctest --test-dir "$bdir/build-m7/apps/firmware" -j "$jobs" --output-on-failure >"$bdir/build-m7/ctest.log" 2>&1 ||
   { cat "$bdir/build-m7/ctest.log"; echo "cross: firmware checks or run failed" >&2; exit 1; }
 d_m7=$(digest_of "$bdir/build-m7/firmware-qemu.log")
 r_m7=$(robot_digest_of "$bdir/build-m7/firmware-qemu.log")
