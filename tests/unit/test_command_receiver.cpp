@@ -557,3 +557,80 @@ TEST_CASE(
     CHECK(s.good_samples == 276U);
     CHECK(s.fault_events == 0U);
 }
+
+namespace {
+
+/// The receiver's defaults with the session link on, its watchdog time below the SCT (120 ms).
+CommandReceiverConfig linked_config() {
+    CommandReceiverConfig c;
+    c.link.watchdog_us = 60000U;
+    return c;
+}
+
+/// A PLC with the session link and the controller's receiver; the controller's link
+/// fields reach the PLC when it makes a sample.
+struct LinkedPlc {
+    explicit LinkedPlc(const CommandReceiverConfig& c)
+        : config(c), sender(c.channel), endpoint(plc_link_config()), receiver(c) {}
+
+    /// The seven frames of the next sample, made at @p at, after the controller's link fields reached the PLC.
+    LinkedCommandFrames next(std::uint64_t at) {
+        (void)endpoint.on_peer(receiver.link().next(at), at);
+        return sender.next_sample(command(), endpoint.next(at), endpoint.config().own).value();
+    }
+    /// Delivers frames [0, count) of @p s, kGapUs apart from @p at (the link frame is index 6).
+    CommandStatus deliver(const LinkedCommandFrames& s, std::size_t count, std::uint64_t at) {
+        CommandStatus st = receiver.status();
+        for (std::size_t i = 0U; i < count; ++i) {
+            st = receiver.on_frame(i < kCommandFramesPerSample ? s.sample.frame[i] : s.link, at + i * kGapUs);
+        }
+        return st;
+    }
+
+    CommandReceiverConfig config;
+    PlcCommandSender sender;
+    LinkEndpoint endpoint;
+    CommandReceiver receiver;
+};
+
+}  // namespace
+
+// verifies: SR-CAN-016
+TEST_CASE("command receiver: with the session link, a poll after the watchdog time ends a valid command") {
+    LinkedPlc plc(linked_config());
+    std::uint64_t t = 1000000U;
+    CommandStatus s;
+    for (int k = 0; k < 3; ++k) {  // the reference and the two recovery samples
+        t += kPeriodUs;
+        s = plc.deliver(plc.next(t), 7U, t);
+    }
+    REQUIRE(s.valid);
+    // The sample's link frame echoes the controller's sequence sent at t: its data is that old.
+    CHECK(plc.receiver.poll(t + plc.config.link.watchdog_us).status.valid);
+    const CommandPoll p = plc.receiver.poll(t + plc.config.link.watchdog_us + 1U);
+    REQUIRE(t + plc.config.link.watchdog_us + 1U < t + 6U * kGapUs + plc.config.sct_us);  // within the SCT
+    check_invalid(p.status, CommandFault::kWatchdogExpired);
+    CHECK_FALSE(p.input.valid);
+}
+
+// verifies: SR-CAN-014
+TEST_CASE("command receiver: with the session link, a link frame after the sample window is missing") {
+    LinkedPlc plc(linked_config());
+    const std::uint64_t t = 1000000U;
+    const LinkedCommandFrames s = plc.next(t);
+    const std::uint64_t window_end = t + plc.config.sample_window_us;
+    SUBCASE("the link frame arrives late, with no poll in between") {
+        CHECK(plc.deliver(s, 6U, t).fault_events == 0U);
+        check_invalid(plc.receiver.on_frame(s.link, window_end + 1U), CommandFault::kLinkFrameMissing);
+    }
+    SUBCASE("a poll after the window finds the link frame missing") {
+        (void)plc.deliver(s, 6U, t);
+        CHECK(plc.receiver.poll(window_end).status.fault_events == 0U);
+        check_invalid(plc.receiver.poll(window_end + 1U).status, CommandFault::kLinkFrameMissing);
+    }
+    SUBCASE("a poll after the window finds part B missing") {
+        (void)plc.deliver(s, 2U, t);
+        check_invalid(plc.receiver.poll(window_end + 1U).status, CommandFault::kSampleIncomplete);
+    }
+    CHECK(plc.receiver.status().fault_events == 1U);
+}

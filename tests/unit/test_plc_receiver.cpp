@@ -489,3 +489,33 @@ TEST_CASE(
     CHECK(s.stop_requested);
     CHECK(s.fault == ReceiverFault::kWatchdogExpired);
 }
+
+// verifies: SR-CAN-014
+TEST_CASE("plc receiver: with the session link, a pair waits for its link frame up to the SRVT and no longer") {
+    PlcReceiverConfig c = receiver_config();
+    c.link.enabled = true;
+    Link link(c);
+    const std::uint8_t counter = link.counter;
+    const CanFrame f = link.next_frame();
+    const std::uint64_t sent = link.now + kPeriodUs;
+    (void)link.deliver(f, sent);
+    CHECK(link.deliver(inverted_copy(f), sent + kGapUs).fault_events == 0U);
+    // Polled while the link frame is still due: no fault yet.
+    const ReceiverStatus waiting = link.receiver.poll(sent + c.srvt_us);
+    CHECK(waiting.fault == ReceiverFault::kNoFrameYet);
+    CHECK(waiting.fault_events == 0U);
+    SUBCASE("the next safety frame comes before the link frame") {
+        const ReceiverStatus s = link.deliver(link.next_frame(), sent + c.srvt_us);
+        check_safe_state(s, ReceiverFault::kLinkFrameMissing);
+        CHECK(s.fault_events == 1U);
+    }
+    SUBCASE("the link frame comes after the SRVT, with no poll in between") {
+        LinkEndpoint controller(controller_link_config());
+        const CanFrame bound[1] = {f};
+        const CanFrame late =
+            encode_link_frame(controller.next(sent), counter, c.link.peer, Span<const CanFrame>(bound)).value();
+        const ReceiverStatus s = link.deliver(late, sent + c.srvt_us + 1U);
+        check_safe_state(s, ReceiverFault::kLinkFrameMissing);
+        CHECK(s.fault_events == 1U);
+    }
+}

@@ -326,3 +326,20 @@ TEST_CASE(
     CHECK(sender.frames[0].id == kDefaultSafetyCanId);
     CHECK(out.encoder().safety_counter() == 1U);
 }
+
+// verifies: SR-CAN-006, SR-CAN-014
+TEST_CASE("safety output: with the session link, a failing send of the link frame stops the cycle before diagnostics") {
+    RecordingSender sender;
+    SafetyOutputConfig c = output_config();
+    c.session_link = true;
+    LinkEndpoint link(controller_link_config());
+    CanSafetyOutput out(c, sender, &link);
+    REQUIRE(out.status().ok());
+    sender.fail_at = 2;  // safety frame, inverted copy, then the link frame
+    CHECK_FALSE(out.publish(report_with(false, 0U, 0U)));
+    REQUIRE(sender.frames.size() == 3U);  // no diagnostics frame after the failed send
+    CHECK(sender.frames[2].id == link.config().own.can_id);
+    CHECK(link.sequence() == 1U);  // the link frame was made: its sequence is used
+    CHECK(out.publish(report_with(false, 0U, 0U)));
+    CHECK(sender.frames.size() == 7U);  // the next cycle: all four
+}

@@ -18,20 +18,15 @@ CommandFault fault_of(FrameCheck check) noexcept {
     return CommandFault::kMalformedContent;
 }
 
-CommandFault fault_of(LinkFault fault) noexcept {
-    switch (fault) {
-        case LinkFault::kNone:  // not a fault; never passed here
-        case LinkFault::kNoEchoYet: return CommandFault::kNoEchoYet;
-        case LinkFault::kSessionChanged: return CommandFault::kSessionChanged;
-        case LinkFault::kRepeatedSequence: return CommandFault::kRepeatedSequence;
-        case LinkFault::kSequenceJump: return CommandFault::kSequenceJump;
-        case LinkFault::kWrongEchoSession: return CommandFault::kWrongEchoSession;
-        case LinkFault::kEchoUnknown: return CommandFault::kEchoUnknown;
-        case LinkFault::kEchoBackwards: return CommandFault::kEchoBackwards;
-        case LinkFault::kWatchdogExpired: return CommandFault::kWatchdogExpired;
-    }
-    return CommandFault::kWatchdogExpired;
-}
+// CommandFault lists the link faults in LinkFault's order (link_fault_as).
+static_assert(link_fault_as(LinkFault::kNoEchoYet, CommandFault::kNoEchoYet) == CommandFault::kNoEchoYet);
+static_assert(link_fault_as(LinkFault::kSessionChanged, CommandFault::kNoEchoYet) == CommandFault::kSessionChanged);
+static_assert(link_fault_as(LinkFault::kRepeatedSequence, CommandFault::kNoEchoYet) == CommandFault::kRepeatedSequence);
+static_assert(link_fault_as(LinkFault::kSequenceJump, CommandFault::kNoEchoYet) == CommandFault::kSequenceJump);
+static_assert(link_fault_as(LinkFault::kWrongEchoSession, CommandFault::kNoEchoYet) == CommandFault::kWrongEchoSession);
+static_assert(link_fault_as(LinkFault::kEchoUnknown, CommandFault::kNoEchoYet) == CommandFault::kEchoUnknown);
+static_assert(link_fault_as(LinkFault::kEchoBackwards, CommandFault::kNoEchoYet) == CommandFault::kEchoBackwards);
+static_assert(link_fault_as(LinkFault::kWatchdogExpired, CommandFault::kNoEchoYet) == CommandFault::kWatchdogExpired);
 
 /// The endpoint's config: the given one when the link is enabled, else a valid placeholder (never used).
 LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? link : controller_link_config(); }
@@ -227,7 +222,7 @@ void CommandReceiver::on_link(const CanFrame& frame, std::uint64_t now_us) noexc
     }
     const LinkFault link_fault = link_.on_peer(fields, now_us);
     if (link_fault != LinkFault::kNone) {
-        enter_safe_state(fault_of(link_fault));
+        enter_safe_state(link_fault_as(link_fault, CommandFault::kNoEchoYet));
         return;
     }
     complete_sample(now_us);

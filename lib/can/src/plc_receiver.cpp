@@ -18,20 +18,17 @@ ReceiverFault fault_of(FrameCheck check) noexcept {
     return ReceiverFault::kMalformedContent;
 }
 
-ReceiverFault fault_of(LinkFault fault) noexcept {
-    switch (fault) {
-        case LinkFault::kNone:  // not a fault; never passed here
-        case LinkFault::kNoEchoYet: return ReceiverFault::kNoEchoYet;
-        case LinkFault::kSessionChanged: return ReceiverFault::kSessionChanged;
-        case LinkFault::kRepeatedSequence: return ReceiverFault::kRepeatedSequence;
-        case LinkFault::kSequenceJump: return ReceiverFault::kSequenceJump;
-        case LinkFault::kWrongEchoSession: return ReceiverFault::kWrongEchoSession;
-        case LinkFault::kEchoUnknown: return ReceiverFault::kEchoUnknown;
-        case LinkFault::kEchoBackwards: return ReceiverFault::kEchoBackwards;
-        case LinkFault::kWatchdogExpired: return ReceiverFault::kWatchdogExpired;
-    }
-    return ReceiverFault::kWatchdogExpired;
-}
+// ReceiverFault lists the link faults in LinkFault's order (link_fault_as).
+static_assert(link_fault_as(LinkFault::kNoEchoYet, ReceiverFault::kNoEchoYet) == ReceiverFault::kNoEchoYet);
+static_assert(link_fault_as(LinkFault::kSessionChanged, ReceiverFault::kNoEchoYet) == ReceiverFault::kSessionChanged);
+static_assert(link_fault_as(LinkFault::kRepeatedSequence, ReceiverFault::kNoEchoYet) ==
+              ReceiverFault::kRepeatedSequence);
+static_assert(link_fault_as(LinkFault::kSequenceJump, ReceiverFault::kNoEchoYet) == ReceiverFault::kSequenceJump);
+static_assert(link_fault_as(LinkFault::kWrongEchoSession, ReceiverFault::kNoEchoYet) ==
+              ReceiverFault::kWrongEchoSession);
+static_assert(link_fault_as(LinkFault::kEchoUnknown, ReceiverFault::kNoEchoYet) == ReceiverFault::kEchoUnknown);
+static_assert(link_fault_as(LinkFault::kEchoBackwards, ReceiverFault::kNoEchoYet) == ReceiverFault::kEchoBackwards);
+static_assert(link_fault_as(LinkFault::kWatchdogExpired, ReceiverFault::kNoEchoYet) == ReceiverFault::kWatchdogExpired);
 
 /// The endpoint's config: the given one when the link is enabled, else a valid placeholder (never used).
 LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? link : plc_link_config(); }
@@ -211,7 +208,7 @@ void PlcReceiver::on_link_frame(const CanFrame& frame, std::uint64_t now_us) noe
     }
     const LinkFault link_fault = link_.on_peer(fields, now_us);
     if (link_fault != LinkFault::kNone) {
-        enter_safe_state(fault_of(link_fault));
+        enter_safe_state(link_fault_as(link_fault, ReceiverFault::kNoEchoYet));
         return;
     }
     accept_pair(now_us);

@@ -174,6 +174,15 @@ enum class LinkFault : std::uint8_t {
 /// A short, static name for @p fault (never nullptr).
 [[nodiscard]] const char* to_string(LinkFault fault) noexcept;
 
+/// A receiver's own fault value for link fault @p fault (not kNone): @p Fault
+/// lists the eight link faults in LinkFault's order, @p no_echo_yet (kNoEchoYet's
+/// counterpart) first, as CommandFault and ReceiverFault do (static_asserts where used).
+template <typename Fault>
+[[nodiscard]] constexpr Fault link_fault_as(LinkFault fault, Fault no_echo_yet) noexcept {
+    return static_cast<Fault>(static_cast<unsigned>(no_echo_yet) + static_cast<unsigned>(fault) -
+                              static_cast<unsigned>(LinkFault::kNoEchoYet));
+}
+
 /// One side's session, sequence, echo and round-trip watchdog; see the file comment.
 class LinkEndpoint {
 public:
