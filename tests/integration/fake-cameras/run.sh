@@ -326,8 +326,12 @@ run_case() {
         stop_fakes views-empty
         grep '^background views' views-rec.txt
         [[ $status -eq 0 && -s "$out/views.cgbv" ]] || { cat views-rec.txt; fail "recording exited $status"; return; }
-        sed "s|^file = \"$out/views-prior/prior.cgprior\"|&\nbackground_file = \"$out/views.cgbv\"|" \
-            views-rec.toml >views.toml
+        # This case is about the recorded views (loaded, used, no fault from them); frame age has its own
+        # case (stopped). Frames up to 1 s old are accepted here: at load 9 to 12 (tools/load-test.sh) late
+        # frames latched 'sensor stale' with the 200 ms limit in one run of two.
+        sed -e "s|^file = \"$out/views-prior/prior.cgprior\"|&\nbackground_file = \"$out/views.cgbv\"|" \
+            -e 's/^max_frame_age_ms = 200.*/max_frame_age_ms = 1000/' views-rec.toml >views.toml
+        grep -q '^max_frame_age_ms = 1000$' views.toml || { fail "cannot set max_frame_age_ms"; return; }
         start_fakes views --dither || return
         run_monitor views views.toml --cycles 40
         stop_fakes views
