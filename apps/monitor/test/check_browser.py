@@ -416,8 +416,13 @@ def run(url, dt, mon, rest, log, out_dir, snaps):
         problems.append("the stop history never showed a stop")
     if checkpoint == 0:
         problems.append("the page received no event-stream message")
-    if "clear" not in shots or ("intruded" not in shots and len(kinds) >= 2):
+    intruded_shown = any("INTRUDED" in k for k in kinds)
+    if "clear" not in shots or ("intruded" not in shots and intruded_shown):
         problems.append(f"screenshots missing: taken {sorted(shots)}")
+    elif not intruded_shown and len(kinds) >= 2:
+        # Seen at load 12: the monitor latched a fault for the whole intrusion, and page and CAN log
+        # agree on FAULT (compared above); there was no INTRUDED cycle to draw.
+        print("note: neither the page nor the CAN log had a zone INTRUDED (a fault held): no intrusion screenshot")
     if problems:
         fail("; ".join(problems))
     print("PASS")

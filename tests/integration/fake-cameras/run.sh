@@ -215,6 +215,13 @@ run_case() {
         start_fakes same || return
         run_monitor same "$config" --cycles 60
         stop_fakes same
+        if [[ "$(faults_latched same.txt)" == "sensor stale" && $attempt -eq 1 ]]; then
+            # A frame older than max_frame_age_ms on an overloaded host (load 12 here, 2026-12-06): the
+            # fault held the stop and shifted the zone states. Once more; twice is a failure.
+            echo "the run latched only 'sensor stale' (a late frame on this loaded host): once more"
+            again=1
+            return
+        fi
         [[ $status -eq 0 ]] || fail "the monitor exited with $status"
         read -r offset mismatches < <(best_shift sim.txt same.txt)
         cam_stop=$(first_stop same.txt)
