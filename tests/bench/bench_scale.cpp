@@ -26,7 +26,7 @@
 //              sensor, in the empty cell (max-range elsewhere): the worst
 //              occlusion, most of sensor 0's image ends near the sensor.
 // Paths:
-// - footprint: fuse_frame_footprint, default FootprintParams, one workspace
+// - footprint: fuse_frame_footprint, one workspace
 //              per sensor (as a threaded runner needs), SequentialRunner;
 // - per-ray:   fuse_frame (exact), the reference; fewer cycles in the real
 //              cells (about a second a frame);
@@ -40,7 +40,9 @@
 // scheduler gave to other processes). The goals are judged on the thread's
 // CPU time; the wall clock is printed beside it.
 //
-// Usage: bench_scale [--cycles N] [--quick] [--threads N] [--case NAME]
+// Usage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--case NAME]
+//   --exact-max N footprint fusion's exact_footprint_max (default 64; 0: no exact
+//               step, the same work in every frame)
 //   --threads N footprint fusion on the Linux port's WorkerPool with N workers
 //               (default 1: SequentialRunner, the reference); the goals are
 //               then judged on the wall clock
@@ -294,39 +296,40 @@ Timing time_cycles(int cycles, int warmup, Body body) {
 /// Footprint fusion's figures on one case and pattern.
 struct FootprintRun {
     Timing t;
-    FootprintStats most;            ///< the largest counts of any cycle (field by field)
-    std::uint64_t bound = 0U;       ///< footprint_work_bound summed over the sensors
-    std::uint64_t measured = 0U;    ///< the most work units of a cycle: 2 x pixels + boxes + pixel tests
-    std::size_t memory_bytes = 0U;  ///< pyramids + opinions of every workspace
+    FootprintStats most;                      ///< the largest counts of any cycle (field by field)
+    std::uint64_t bound = 0U;                 ///< footprint_work_bound summed over the sensors
+    std::uint64_t measured = 0U;              ///< the most work units of a cycle (FootprintStats::work_units)
+    std::uint64_t least = ~std::uint64_t{0};  ///< the fewest work units of a cycle
+    std::size_t memory_bytes = 0U;            ///< pyramids + opinions of every workspace
 };
 
-FootprintRun run_footprint(const Case& c, const Frame& f, int cycles, TaskRunner& runner) {
+FootprintRun run_footprint(const Case& c, const Frame& f, int cycles, TaskRunner& runner,
+                           const FootprintParams& params) {
     OwnedGrid g(c.grid);
     const host::OwnedFootprintWorkspaces w(c.grid, f.readings);
     const SensorModelTable model;
-    const FootprintParams params;
     FootprintRun run;
     run.memory_bytes = w.bytes();
     for (const SensorReading& r : f.readings) {
-        const auto pixels = static_cast<std::uint64_t>(r.intrinsics.width) *
-                            static_cast<std::uint64_t>(r.intrinsics.height);
-        run.bound += footprint_work_bound(c.grid, pixels, params);
+        run.bound += footprint_work_bound(c.grid, r, params);
     }
     const Span<const SensorReading> sensors(f.readings.data(), f.readings.size());
     const Span<const FootprintWorkspace> spaces = w.spans();
     run.t = time_cycles(cycles, kWarmupCycles, [&] {
         g.grid.clear();
         FootprintStats st;
-        const Result<FusionStats> r = fuse_frame_footprint(g.grid, sensors, model, params, spaces, runner, &st);
+        const Result<FusionStats> r = fuse_frame_footprint(g.grid, sensors, model, spaces, runner, &st, params);
         if (!r.ok()) {
             fail("fuse_frame_footprint", r.error());
         }
-        run.most.boxes = std::max(run.most.boxes, st.boxes);
+        run.most.pixels = std::max(run.most.pixels, st.pixels);
+        run.most.voxels_visited = std::max(run.most.voxels_visited, st.voxels_visited);
         run.most.voxels_filled = std::max(run.most.voxels_filled, st.voxels_filled);
-        run.most.voxels_exact = std::max(run.most.voxels_exact, st.voxels_exact);
         run.most.voxels_safe_side = std::max(run.most.voxels_safe_side, st.voxels_safe_side);
+        run.most.voxels_exact = std::max(run.most.voxels_exact, st.voxels_exact);
         run.most.pixel_tests = std::max(run.most.pixel_tests, st.pixel_tests);
-        run.measured = std::max(run.measured, 2U * f.pixels + st.boxes + st.pixel_tests);
+        run.measured = std::max(run.measured, st.work_units());
+        run.least = std::min(run.least, st.work_units());
     });
     return run;
 }
@@ -467,14 +470,15 @@ struct Options {
     int exact_real_frames = 5;
     int octomap_frames = 3;
     bool quick = false;
-    std::string only;  ///< --case NAME: only that case (paper, real-5cm, real-2.5cm); its goals alone
+    std::string only;          ///< --case NAME: only that case (paper, real-5cm, real-2.5cm); its goals alone
+    FootprintParams params{};  ///< --exact-max N: FootprintParams::exact_footprint_max
 };
 
 [[noreturn]] void usage(const char* why) {
-    std::fprintf(
-        stderr,
-        "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--case paper|real-5cm|real-2.5cm]\n",
-        why);
+    std::fprintf(stderr,
+                 "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] "
+                 "[--case paper|real-5cm|real-2.5cm]\n",
+                 why);
     std::exit(2);
 }
 
@@ -500,6 +504,12 @@ Options parse(int argc, char** argv) {
                 usage("--threads: built without the Linux port's WorkerPool, only 1");
             }
 #endif
+        } else if (a == "--exact-max" && i + 1 < argc) {
+            const int n = std::atoi(argv[++i]);
+            if (n < 0 || n > 65536) {
+                usage("--exact-max expects 0 to 65536");
+            }
+            o.params.exact_footprint_max = static_cast<std::uint32_t>(n);
         } else if (a == "--quick") {
             o.quick = true;
         } else if (a == "--case" && i + 1 < argc) {
@@ -536,12 +546,12 @@ void print_row(const Row& r) {
 
 void print_work(const Row& r) {
     const FootprintStats& s = r.fp.most;
-    std::printf("  %-11s %-10s %11llu %11llu %9llu %9llu %9llu %9llu %10llu %12.1f\n", r.c->name,
+    std::printf("  %-11s %-10s %11llu %11llu %11llu %9llu %9llu %9llu %9llu %10llu %12.1f\n", r.c->name,
                 pattern_name(r.pattern), static_cast<unsigned long long>(r.fp.bound),
-                static_cast<unsigned long long>(r.fp.measured), static_cast<unsigned long long>(s.boxes),
-                static_cast<unsigned long long>(s.voxels_filled), static_cast<unsigned long long>(s.voxels_exact),
-                static_cast<unsigned long long>(s.voxels_safe_side), static_cast<unsigned long long>(s.pixel_tests),
-                static_cast<double>(r.exact.voxel_updates) / 1e6);
+                static_cast<unsigned long long>(r.fp.least), static_cast<unsigned long long>(r.fp.measured),
+                static_cast<unsigned long long>(s.voxels_visited), static_cast<unsigned long long>(s.voxels_filled),
+                static_cast<unsigned long long>(s.voxels_exact), static_cast<unsigned long long>(s.voxels_safe_side),
+                static_cast<unsigned long long>(s.pixel_tests), static_cast<double>(r.exact.voxel_updates) / 1e6);
 }
 
 }  // namespace
@@ -600,7 +610,7 @@ int main(int argc, char** argv) {
             Row r;
             r.c = &c;
             r.pattern = p;
-            r.fp = run_footprint(c, f, opt.cycles, runner);
+            r.fp = run_footprint(c, f, opt.cycles, runner, opt.params);
             r.exact = run_exact(c, f, c.real ? opt.exact_real_frames : opt.cycles);
 #ifdef CELLGUARD_HAVE_OCTOMAP
             r.octomap = c.real ? run_octomap_whole(c, f, opt.octomap_frames)
@@ -623,15 +633,22 @@ int main(int argc, char** argv) {
     std::printf("  OctoMap not found at configure time: no OctoMap rows (install liboctomap-dev)\n");
 #endif
 
-    std::printf("\nwork per cycle (footprint: the most of any cycle; units = 2 x pixels + boxes + pixel tests)\n");
-    std::printf("  %-11s %-10s %11s %11s %9s %9s %9s %9s %10s %12s\n", "case", "pattern", "bound", "measured", "boxes",
-                "filled", "exact", "safe side", "pix tests", "per-ray Mupd");
+    std::printf(
+        "\nwork per cycle (footprint; units = 2 x pixels + voxels in view; the fewest and the most of any "
+        "cycle; voxel counts: the most)\n");
+    std::printf("  exact-max %u (voxels with a footprint of at most this many pixels evaluated ray by ray)\n",
+                opt.params.exact_footprint_max);
+    std::printf("  %-11s %-10s %11s %11s %11s %9s %9s %9s %9s %10s %12s\n", "case", "pattern", "bound", "fewest",
+                "most", "in view", "filled", "exact", "safe side", "pix tests", "per-ray Mupd");
     bool bound_held = true;
+    bool bound_tight = true;
     for (const Row& r : rows) {
         print_work(r);
         bound_held = bound_held && r.fp.measured <= r.fp.bound;
+        bound_tight = bound_tight && static_cast<double>(r.fp.least) >= 0.95 * static_cast<double>(r.fp.bound);
     }
     std::printf("  measured <= bound in every cycle: %s\n", bound_held ? "yes" : "NO (bound violated)");
+    std::printf("  measured >= 95 %% of the bound in every cycle: %s\n", bound_tight ? "yes" : "NO (bound not tight)");
 
     std::printf("\nmemory, MiB (footprint: pyramids + opinions of one workspace per sensor; the grid itself apart)\n");
     double largest_mib = 0.0;

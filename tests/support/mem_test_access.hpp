@@ -77,7 +77,6 @@ struct SafetyControllerTestAccess {
             test::field("config.rasterization", k.rasterization),
             test::field("config.footprint.method", k.footprint.method),
             test::field("config.footprint.params.exact_footprint_max", k.footprint.params.exact_footprint_max),
-            test::field("config.footprint.params.exact_pixel_budget", k.footprint.params.exact_pixel_budget),
             test::field("config.footprint.workspaces", k.footprint.workspaces),
             test::field("config.footprint.runner", k.footprint.runner),
             test::field("config.cases", k.cases),

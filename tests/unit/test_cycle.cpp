@@ -151,7 +151,9 @@ TEST_CASE("cycle: with footprint fusion, depth images cost footprint units inste
     const std::uint64_t pixels = 320U * 240U;
     CHECK(b.rays == rays.rays);
     CHECK(b.voxel_steps == rays.voxel_steps - pixels * max_voxels_per_segment(g));
-    CHECK(b.footprint_units == footprint_work_bound(g, pixels, params) + 2U * footprint_work_bound(g, 0U, params));
+    CHECK(b.footprint_units == footprint_work_bound(g, cam, params));  // the images without pixels: no work
+    CHECK(footprint_work_bound(g, empty_cam) == 0U);
+    CHECK(footprint_work_bound(g, flat_cam) == 0U);
     CHECK(b.footprint_units > 0U);
     CHECK(b.grid_voxels == rays.grid_voxels + 3U * g.voxel_count());  // one pass per depth image
 }

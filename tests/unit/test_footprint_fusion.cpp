@@ -98,19 +98,17 @@ TEST_CASE("footprint fusion: the paper's simulated sensors give the exact hits a
     // The paper's own grid puts the floor on voxel faces (the hit pass's exact fallback); the lowered one does not.
     for (const GridGeometry& g : {lowered_paper_grid(), paper_grid_geometry()}) {
         const SensorModelTable model;
-        const FootprintParams params;
         for (const SensorReading& r : frame.readings) {
             OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
             FootprintStats fs;
-            const Result<FusionStats> s = footprint_opinions(g, r, model, params, w.ws, &fs);
+            const Result<FusionStats> s = footprint_opinions(g, r, model, w.ws, &fs);
             REQUIRE(s.ok());
             const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
             const Comparison c = compare(exact, w.opinions(), model);
             MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
                             << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
-                            << c.hits_lost << "/added " << c.hits_added << "; boxes " << fs.boxes << ", filled "
-                            << fs.voxels_filled << ", exact " << fs.voxels_exact << ", safe side "
-                            << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
+                            << c.hits_lost << "/added " << c.hits_added << "; in view " << fs.voxels_visited
+                            << ", filled " << fs.voxels_filled << ", safe side " << fs.voxels_safe_side);
             CHECK(c.hits_lost == 0U);
             CHECK(c.hits_added == 0U);
             // Float rounding where a ray grazes an edge: bounded, not zero.
@@ -135,20 +133,18 @@ TEST_CASE("footprint fusion: random depths keep every hit and call nothing free 
         SensorReading r = base;
         r.depth = {d.data(), d.size()};
         OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
-        FootprintParams params;
-        params.exact_pixel_budget = 1000U;  // mostly the safe-side rule
         FootprintStats fs;
-        REQUIRE(footprint_opinions(g, r, model, params, w.ws, &fs).ok());
+        REQUIRE(footprint_opinions(g, r, model, w.ws, &fs).ok());
         const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
         const Comparison c = compare(exact, w.opinions(), model);
         MESSAGE("random: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
                                 << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
-                                << ", safe side " << fs.voxels_safe_side << ", pixel tests " << fs.pixel_tests);
+                                << ", safe side " << fs.voxels_safe_side << ", in view " << fs.voxels_visited);
         CHECK(c.hits_lost == 0U);
         CHECK(c.hits_added == 0U);
         CHECK(c.free_stronger <= g.voxel_count() / 1000U);
         CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
-        CHECK(fs.pixel_tests <= params.exact_pixel_budget);
+        CHECK(fs.work_units() <= footprint_work_bound(g, r));
     }
 }
 
@@ -166,10 +162,9 @@ TEST_CASE("footprint fusion: a frame allocates nothing and pools like fuse_frame
     OwnedGrid sequential(g);
     SequentialRunner runner;
     const Span<const SensorReading> sensors(frame.readings.data(), frame.readings.size());
-    const FootprintParams params;
     const std::uint64_t before = test::allocation_count();
-    const auto a = fuse_frame_footprint(parallel.grid, sensors, model, params, ws, runner);
-    const auto b = fuse_frame_footprint(sequential.grid, sensors, model, params, ws.subspan(0U, 1U), runner);
+    const auto a = fuse_frame_footprint(parallel.grid, sensors, model, ws, runner);
+    const auto b = fuse_frame_footprint(sequential.grid, sensors, model, ws.subspan(0U, 1U), runner);
     CHECK(test::allocation_count() == before);
     REQUIRE(a.ok());
     REQUIRE(b.ok());
@@ -187,22 +182,20 @@ TEST_CASE("footprint fusion: bad input is refused and leaves the grid untouched"
     OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
     OwnedGrid grid(g);
     SequentialRunner runner;
-    const FootprintParams params;
     SUBCASE("a point set") {
         SensorReading p;
         p.kind = SensorDataKind::kPointSet;
-        const Result<FusionStats> s = fuse_frame_footprint(grid.grid, {&p, 1U}, model, params, {&w.ws, 1U}, runner);
+        const Result<FusionStats> s = fuse_frame_footprint(grid.grid, {&p, 1U}, model, {&w.ws, 1U}, runner);
         CHECK(s.error() == ErrorCode::kInvalidArgument);
     }
     SUBCASE("a short pyramid") {
         FootprintWorkspace shorter = w.ws;
         shorter.pyramid_max = shorter.pyramid_max.subspan(0U, 10U);
-        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, {&shorter, 1U}, runner).error() ==
               ErrorCode::kStorageTooSmall);
     }
     SUBCASE("no workspace") {
-        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {}, runner).error() ==
-              ErrorCode::kStorageTooSmall);
+        CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, {}, runner).error() == ErrorCode::kStorageTooSmall);
     }
     CHECK(grid.grid.observed_count() == 0U);
 }
@@ -216,60 +209,91 @@ TEST_CASE("footprint fusion: each short span, a bad reading and too many sensors
     OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
     OwnedGrid grid(g);
     SequentialRunner runner;
-    const FootprintParams params;
     SensorReading bad = r;
     bad.intrinsics.width = 0;  // fails validate_sensor_reading
     SensorReading points;
     points.kind = SensorDataKind::kPointSet;
     // One sensor's opinions.
-    CHECK(footprint_opinions(g, bad, model, params, w.ws, nullptr).error() != ErrorCode::kOk);
-    CHECK(footprint_opinions(g, points, model, params, w.ws, nullptr).error() == ErrorCode::kInvalidArgument);
+    CHECK(footprint_opinions(g, bad, model, w.ws, nullptr).error() != ErrorCode::kOk);
+    CHECK(footprint_opinions(g, points, model, w.ws, nullptr).error() == ErrorCode::kInvalidArgument);
     FootprintWorkspace shorter = w.ws;
     shorter.opinions = shorter.opinions.subspan(0U, g.voxel_count() - 1U);
-    CHECK(footprint_opinions(g, r, model, params, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
+    CHECK(footprint_opinions(g, r, model, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
     shorter = w.ws;
     shorter.pyramid_invalid = shorter.pyramid_invalid.subspan(0U, 10U);
-    CHECK(footprint_opinions(g, r, model, params, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
+    CHECK(footprint_opinions(g, r, model, shorter, nullptr).error() == ErrorCode::kStorageTooSmall);
     // The frame.
-    CHECK(fuse_frame_footprint(grid.grid, {&bad, 1U}, model, params, {&w.ws, 1U}, runner).error() != ErrorCode::kOk);
+    CHECK(fuse_frame_footprint(grid.grid, {&bad, 1U}, model, {&w.ws, 1U}, runner).error() != ErrorCode::kOk);
     shorter = w.ws;
     shorter.opinions = shorter.opinions.subspan(0U, g.voxel_count() - 1U);
-    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, {&shorter, 1U}, runner).error() ==
           ErrorCode::kStorageTooSmall);
     shorter = w.ws;
     shorter.pyramid_min = shorter.pyramid_min.subspan(0U, 10U);
-    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, {&shorter, 1U}, runner).error() ==
           ErrorCode::kStorageTooSmall);
     shorter = w.ws;
     shorter.pyramid_invalid = shorter.pyramid_invalid.subspan(0U, 10U);
-    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, params, {&shorter, 1U}, runner).error() ==
+    CHECK(fuse_frame_footprint(grid.grid, {&r, 1U}, model, {&shorter, 1U}, runner).error() ==
           ErrorCode::kStorageTooSmall);
     std::vector<SensorReading> many(kMaxSensors + 1U, r);
-    CHECK(fuse_frame_footprint(grid.grid, {many.data(), many.size()}, model, params, {&w.ws, 1U}, runner).error() ==
+    CHECK(fuse_frame_footprint(grid.grid, {many.data(), many.size()}, model, {&w.ws, 1U}, runner).error() ==
           ErrorCode::kCapacityExceeded);
     CHECK(grid.grid.observed_count() == 0U);
 }
 
 // verifies: SR-FUSE-011
-TEST_CASE("footprint fusion: the box count of the full subdivision, whichever axis is longest, 0 for no grid") {
-    CHECK(footprint_box_count(GridGeometry{}) == 0U);
-    const auto count = [](std::int32_t nx, std::int32_t ny, std::int32_t nz) {
-        return footprint_box_count(GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{nx, ny, nz}).value());
-    };
-    CHECK(count(1, 1, 1) == 1U);
-    // 4 along one axis: 1 box, 2 halves, 4 single voxels.
-    CHECK(count(4, 1, 1) == 7U);
-    CHECK(count(1, 4, 1) == 7U);
-    CHECK(count(1, 1, 4) == 7U);
-    // The count does not depend on which axis is the longest.
-    const std::uint64_t c = count(5, 3, 2);
-    for (const GridDims& d :
-         {GridDims{5, 2, 3}, GridDims{3, 5, 2}, GridDims{3, 2, 5}, GridDims{2, 5, 3}, GridDims{2, 3, 5}}) {
-        CAPTURE(d.nx);
-        CAPTURE(d.ny);
-        CHECK(count(d.nx, d.ny, d.nz) == c);
+TEST_CASE(
+    "footprint fusion: without the exact step its work is the bound from the geometry alone, whatever the "
+    "cameras see, with it at most the bound") {
+    const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
+    const GridGeometry g = lowered_paper_grid();
+    const SensorModelTable model;
+    std::mt19937 rng(11U);
+    FootprintParams fixed;
+    fixed.exact_footprint_max = 0U;
+    const FootprintParams exact;  // the default limit
+    for (const SensorReading& base : frame.readings) {
+        const std::uint64_t bound = footprint_work_bound(g, base, fixed);
+        CHECK(footprint_work_bound(g, base, exact) > bound);  // the exact step's most ray tests
+        const auto pixels = static_cast<std::uint64_t>(base.intrinsics.width) *
+                            static_cast<std::uint64_t>(base.intrinsics.height);
+        CHECK(bound > 2U * pixels);                     // some voxels in view
+        CHECK(bound <= 2U * pixels + g.voxel_count());  // never more than the grid
+        // The paper's readings, random depths, no reading at all, every reading at 1 mm: the same work.
+        std::vector<float> d(base.depth.size());
+        for (int pattern = 0; pattern < 4; ++pattern) {
+            std::uniform_real_distribution<float> any(0.3F, 4.0F);
+            for (std::size_t i = 0; i < d.size(); ++i) {
+                d[i] = pattern == 0   ? base.depth[i]
+                       : pattern == 1 ? any(rng)
+                       : pattern == 2 ? std::numeric_limits<float>::quiet_NaN()
+                                      : 0.001F;
+            }
+            SensorReading r = base;
+            r.depth = {d.data(), d.size()};
+            OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+            FootprintStats fs;
+            REQUIRE(footprint_opinions(g, r, model, w.ws, &fs, fixed).ok());
+            CAPTURE(pattern);
+            CHECK(fs.pixels == pixels);
+            CHECK(fs.pixel_tests == 0U);
+            CHECK(fs.work_units() == bound);
+            FootprintStats with_exact;
+            REQUIRE(footprint_opinions(g, r, model, w.ws, &with_exact, exact).ok());
+            CHECK(with_exact.work_units() <= footprint_work_bound(g, r, exact));
+        }
     }
-    CHECK(c > 5U * 3U * 2U);  // every voxel on the last level, plus the whole grid on the first
+    // A camera that looks away from the grid has no voxel in view; a point set and an empty grid no work.
+    SensorReading away = frame.readings[0];
+    away.pose = Eigen::Isometry3d::Identity();  // above the grid, looking up (+z)
+    away.pose.translation() = Eigen::Vector3d(0.0, 0.0, 5.0);
+    CHECK(footprint_work_bound(g, away) ==
+          2U * static_cast<std::uint64_t>(away.intrinsics.width) * static_cast<std::uint64_t>(away.intrinsics.height));
+    SensorReading points = frame.readings[0];
+    points.kind = SensorDataKind::kPointSet;
+    CHECK(footprint_work_bound(g, points) == 0U);
+    CHECK(footprint_work_bound(GridGeometry{}, frame.readings[0]) == 0U);
 }
 
 // verifies: SR-FUSE-009
@@ -277,16 +301,15 @@ TEST_CASE("footprint fusion: the statistics are optional, the opinions the same 
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     const GridGeometry g = lowered_paper_grid();
     const SensorModelTable model;
-    const FootprintParams params;
     const SensorReading& r = frame.readings[0];
     OwnedWorkspace with(g, r.intrinsics.width, r.intrinsics.height);
     OwnedWorkspace without(g, r.intrinsics.width, r.intrinsics.height);
     FootprintStats fs;
-    const Result<FusionStats> a = footprint_opinions(g, r, model, params, with.ws, &fs);
-    const Result<FusionStats> b = footprint_opinions(g, r, model, params, without.ws, nullptr);
+    const Result<FusionStats> a = footprint_opinions(g, r, model, with.ws, &fs);
+    const Result<FusionStats> b = footprint_opinions(g, r, model, without.ws, nullptr);
     REQUIRE(a.ok());
     REQUIRE(b.ok());
-    CHECK(fs.boxes > 0U);
+    CHECK(fs.voxels_visited > 0U);
     CHECK(a.value().rays_fused == b.value().rays_fused);
     CHECK(std::equal(with.opinions().begin(), with.opinions().end(), without.opinions().begin()));
 }
@@ -356,10 +379,9 @@ TEST_CASE("footprint fusion: wide pixels over a tall grid give the exact hits an
         cam.depth[137] = cam.r.max_range / right * 1.000002F;  // just beyond max_range (within the exact band)
         cam.depth[138] = cam.r.max_range / std::sqrt(1.0F + 4.0F / 64.0F) * 0.999998F;  // just within max_range
         const SensorModelTable model;
-        const FootprintParams params;
         OwnedWorkspace w(cam.g, 16, 16);
         FootprintStats fs;
-        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, params, w.ws, &fs);
+        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, w.ws, &fs);
         REQUIRE(s.ok());
         OwnedGrid direct(cam.g);
         std::vector<std::int16_t> scratch(cam.g.voxel_count());
@@ -373,8 +395,8 @@ TEST_CASE("footprint fusion: wide pixels over a tall grid give the exact hits an
         const Comparison c = compare(scratch, w.opinions(), model);
         MESSAGE("coarse: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
                                 << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
-                                << "; exact " << fs.voxels_exact << ", safe side " << fs.voxels_safe_side << ", filled "
-                                << fs.voxels_filled);
+                                << "; in view " << fs.voxels_visited << ", safe side " << fs.voxels_safe_side
+                                << ", filled " << fs.voxels_filled);
         CHECK(c.hits_lost == 0U);
         CHECK(c.hits_added == 0U);
         CHECK(c.free_stronger == 0U);
@@ -404,9 +426,8 @@ TEST_CASE("footprint fusion: a camera a billion voxels from the grid places its 
         CoarseCamera cam;
         cam.r.pose.translation() = Eigen::Vector3d(x, 0.19, -0.4);
         const SensorModelTable model;
-        const FootprintParams params;
         OwnedWorkspace w(cam.g, 16, 16);
-        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, params, w.ws, nullptr);
+        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, w.ws, nullptr);
         REQUIRE(s.ok());
         OwnedGrid direct(cam.g);
         std::vector<std::int16_t> scratch(cam.g.voxel_count());

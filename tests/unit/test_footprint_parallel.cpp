@@ -107,12 +107,11 @@ Fused fuse_with(TaskRunner& runner, const std::vector<const std::vector<SensorRe
     const GridGeometry g = paper_grid_geometry();
     OwnedGrid owned(g);
     const SensorModelTable model;
-    const FootprintParams params;
     Fused out;
     for (const std::vector<SensorReading>* readings : frames) {
         Workspaces work(*readings, g.voxel_count());
         const Result<FusionStats> st = fuse_frame_footprint(
-            owned.grid, Span<const SensorReading>(readings->data(), readings->size()), model, params,
+            owned.grid, Span<const SensorReading>(readings->data(), readings->size()), model,
             Span<const FootprintWorkspace>(work.spans.data(), work.spans.size()), runner, &out.stats);
         REQUIRE(st.ok());
         out.rays += st.value().rays_fused;
@@ -127,10 +126,11 @@ void check_same(const Fused& reference, const Fused& other) {
     CHECK(std::memcmp(reference.lo.data(), other.lo.data(), reference.lo.size() * sizeof(std::int16_t)) == 0);
     CHECK(std::memcmp(reference.ob.data(), other.ob.data(), reference.ob.size()) == 0);
     CHECK(reference.rays == other.rays);
-    CHECK(reference.stats.boxes == other.stats.boxes);
+    CHECK(reference.stats.pixels == other.stats.pixels);
+    CHECK(reference.stats.voxels_visited == other.stats.voxels_visited);
     CHECK(reference.stats.voxels_filled == other.stats.voxels_filled);
-    CHECK(reference.stats.voxels_exact == other.stats.voxels_exact);
     CHECK(reference.stats.voxels_safe_side == other.stats.voxels_safe_side);
+    CHECK(reference.stats.voxels_exact == other.stats.voxels_exact);
     CHECK(reference.stats.pixel_tests == other.stats.pixel_tests);
 }
 
@@ -171,13 +171,12 @@ TEST_CASE("footprint fusion: a frame fused on four worker threads allocates noth
     OwnedGrid owned(g);
     Workspaces work(frames.person.readings, g.voxel_count());
     const SensorModelTable model;
-    const FootprintParams params;
     linux_port::WorkerPool pool(4U);
     const Span<const SensorReading> readings(frames.person.readings.data(), frames.person.readings.size());
     const Span<const FootprintWorkspace> spans(work.spans.data(), work.spans.size());
-    REQUIRE(fuse_frame_footprint(owned.grid, readings, model, params, spans, pool).ok());  // warm
+    REQUIRE(fuse_frame_footprint(owned.grid, readings, model, spans, pool).ok());  // warm
     const test::AllocationScope scope;
-    const Result<FusionStats> st = fuse_frame_footprint(owned.grid, readings, model, params, spans, pool);
+    const Result<FusionStats> st = fuse_frame_footprint(owned.grid, readings, model, spans, pool);
     const std::size_t allocations = scope.allocations();
     REQUIRE(st.ok());
     CHECK(allocations == 0U);
@@ -189,7 +188,6 @@ TEST_CASE("footprint fusion: fewer workspaces than sensors give the same grid on
     const TwoFrames frames;
     const GridGeometry g = paper_grid_geometry();
     const SensorModelTable model;
-    const FootprintParams params;
     const Span<const SensorReading> readings(frames.person.readings.data(), frames.person.readings.size());
     // One workspace big enough for the largest image: the sensors run one after another through it.
     Workspaces all(frames.person.readings, g.voxel_count());
@@ -204,9 +202,9 @@ TEST_CASE("footprint fusion: fewer workspaces than sensors give the same grid on
     OwnedGrid a(g);
     OwnedGrid b(g);
     OwnedGrid c(g);
-    REQUIRE(fuse_frame_footprint(a.grid, readings, model, params, four, sequential).ok());
-    REQUIRE(fuse_frame_footprint(b.grid, readings, model, params, one, pool).ok());
-    REQUIRE(fuse_frame_footprint(c.grid, readings, model, params, four, pool).ok());
+    REQUIRE(fuse_frame_footprint(a.grid, readings, model, four, sequential).ok());
+    REQUIRE(fuse_frame_footprint(b.grid, readings, model, one, pool).ok());
+    REQUIRE(fuse_frame_footprint(c.grid, readings, model, four, pool).ok());
     CHECK(a.lo == b.lo);
     CHECK(a.ob == b.ob);
     CHECK(a.lo == c.lo);

@@ -215,7 +215,6 @@ TEST_CASE("monitor loop: the status line shows the scripted person for simulated
 TEST_CASE("monitor loop: with footprint fusion the demo's and the real cell's cycles allocate nothing") {
     MonitorConfig paper = demo_config();
     paper.fusion.method = FusionMethod::kFootprint;
-    paper.fusion.params.exact_pixel_budget = 20000U;  // this test's time; the demo's decisions are the same
     Monitor m(paper);
     const int cycles = 30;
     const std::vector<std::size_t> allocations = m.run(cycles);

@@ -104,24 +104,20 @@ TEST_CASE("real cell: real-cell.toml loads: four 640 x 480 cameras, the whole ce
 }
 
 // verifies: SR-CFG-001
-TEST_CASE("real cell: the fusion table is optional and ray by default, footprint takes its limits and threads") {
+TEST_CASE("real cell: the fusion table is optional and ray by default, footprint takes its limit and threads") {
     CHECK(demo_config().fusion.method == FusionMethod::kRay);
     CHECK(robot_cell_demo_config().fusion.method == FusionMethod::kRay);
     const ConfigLoad ray = with_fusion("method = \"ray\"");
     REQUIRE_MESSAGE(ray.ok, ray.error);
     CHECK(ray.config.fusion.method == FusionMethod::kRay);
-    const ConfigLoad fp = with_fusion(
-        "method = \"footprint\"\nexact_footprint_max = 16\nexact_pixel_budget = 1000\n"
-        "threads = 4");
+    const ConfigLoad fp = with_fusion("method = \"footprint\"\nexact_footprint_max = 16\nthreads = 4");
     REQUIRE_MESSAGE(fp.ok, fp.error);
     CHECK(fp.config.fusion.method == FusionMethod::kFootprint);
     CHECK(fp.config.fusion.params.exact_footprint_max == 16U);
-    CHECK(fp.config.fusion.params.exact_pixel_budget == 1000U);
     CHECK(fp.config.fusion.threads == 4);
     const ConfigLoad defaults = with_fusion("method = \"footprint\"");
     REQUIRE(defaults.ok);
     CHECK(defaults.config.fusion.params.exact_footprint_max == FootprintParams{}.exact_footprint_max);
-    CHECK(defaults.config.fusion.params.exact_pixel_budget == FootprintParams{}.exact_pixel_budget);
     CHECK(defaults.config.fusion.threads == 1);
 }
 
@@ -137,9 +133,11 @@ TEST_CASE("real cell: the fusion table refuses bad values and unknown keys, nami
         {"method = \"footprint\"\nthreads = 65", "fusion.threads"},
         {"method = \"footprint\"\nthreads = 1.5", "fusion.threads"},
         {"method = \"footprint\"\nexact_footprint_max = -1", "fusion.exact_footprint_max"},
-        {"method = \"footprint\"\nexact_pixel_budget = 100000001", "fusion.exact_pixel_budget"},
+        {"method = \"footprint\"\nexact_footprint_max = 65537", "fusion.exact_footprint_max"},
+        {"exact_footprint_max = 10", R"(fusion.exact_footprint_max: applies only to method = "footprint")"},
+        // The per-frame budget is gone: a file that sets it is told so.
+        {"method = \"footprint\"\nexact_pixel_budget = 200000", "fusion.exact_pixel_budget: no longer exists"},
         {"method = \"footprint\"\nthread = 2", "thread"},
-        {"exact_pixel_budget = 10", R"(fusion.exact_pixel_budget: applies only to method = "footprint")"},
         {"method = \"ray\"\nthreads = 2", R"(fusion.threads: applies only to method = "footprint")"},
     };
     for (const Case& k : cases) {
@@ -184,7 +182,7 @@ TEST_CASE("real cell: culled rendering with rays computed once gives every objec
 
 // verifies: SR-SYS-001
 TEST_CASE("real cell: with footprint fusion the start-up builds no ray table, one workspace per sensor") {
-    ConfigLoad load = with_fusion("method = \"footprint\"\nexact_pixel_budget = 5000");
+    ConfigLoad load = with_fusion("method = \"footprint\"\nexact_footprint_max = 5");
     REQUIRE(load.ok);
     monitor::MonitorCell cell;
     REQUIRE_FALSE(cell.configure(load.config).failed());
@@ -205,7 +203,7 @@ TEST_CASE("real cell: with footprint fusion the start-up builds no ray table, on
     ControllerConfig cc = monitor::controller_config(load.config);
     monitor::attach_fusion(cc, load.config, cell, nullptr);
     CHECK(cc.footprint.method == FusionMethod::kFootprint);
-    CHECK(cc.footprint.params.exact_pixel_budget == 5000U);
+    CHECK(cc.footprint.params.exact_footprint_max == 5U);
     CHECK(cc.footprint.workspaces.size() == 4U);
     CHECK(cc.footprint.runner == nullptr);
     // The ray method: tables, no workspaces, the controller left on kRay.

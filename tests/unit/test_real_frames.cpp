@@ -20,10 +20,12 @@
 #include <vector>
 
 #include "cellguard/grid/evidence_grid.hpp"
+#include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/scenario.hpp"
 #include "cellguard/host/io/pcd.hpp"
+#include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/prior/accessibility.hpp"
@@ -315,5 +317,58 @@ TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted
         CHECK(bg.zones[1].state == ZoneState::kClear);
         CHECK(in.zones[0].state == ZoneState::kIntruded);  // the protective zone
         CHECK(in.zones[1].state == ZoneState::kIntruded);  // the warning zone around it
+    }
+}
+
+// verifies: SR-FUSE-009, SR-FUSE-010
+TEST_CASE(
+    "real frames: footprint fusion keeps every hit, calls nothing free the exact path does not, and "
+    "leaves at most 17 % of its free voxels unknown") {
+    const GridGeometry g = grid_geometry();
+    const sim::SensorSpec c = camera();
+    const SensorModelTable model;
+    for (const char* path : kFrames) {
+        CAPTURE(std::string(path));
+        const std::vector<Eigen::Vector3f> points = read_frame(path);
+        std::vector<float> depth(points.size());
+        std::transform(points.begin(), points.end(), depth.begin(), [](const Eigen::Vector3f& p) { return p.z(); });
+        SensorReading r;
+        r.kind = SensorDataKind::kDepthImage;
+        r.pose = c.pose();
+        r.intrinsics = c.intrinsics();
+        r.depth = Span<const float>(depth.data(), depth.size());
+        r.max_range = c.max_range;
+        Grid direct(g);
+        REQUIRE(fuse_sensor(direct.grid, r, model, direct.fusion_scratch()).ok());
+        host::OwnedFootprintWorkspaces owned(g, 1U, 640, 480);
+        const FootprintWorkspace ws = owned.spans()[0];
+        REQUIRE(footprint_opinions(g, r, model, ws, nullptr).ok());
+        std::size_t exact_free = 0;
+        std::size_t unknown = 0;
+        std::size_t weaker = 0;
+        std::size_t wrong = 0;  // a hit lost or added, free where the exact path has none, or stronger
+        for (std::size_t v = 0; v < g.voxel_count(); ++v) {
+            const std::int16_t e = direct.scratch[v];
+            const std::int16_t f = ws.opinions[v];
+            const bool e_hit = e == model.reading_evidence();
+            const bool f_hit = f == model.reading_evidence();
+            wrong += (e_hit != f_hit || (e == kNoOpinion && f != kNoOpinion) || (!e_hit && f != kNoOpinion && f < e))
+                         ? 1U
+                         : 0U;
+            if (e != kNoOpinion && !e_hit) {
+                ++exact_free;
+                unknown += f == kNoOpinion ? 1U : 0U;
+                weaker += (f != kNoOpinion && f > e) ? 1U : 0U;
+            }
+        }
+        const double lost = static_cast<double>(unknown) / static_cast<double>(exact_free);
+        MESSAGE("exact free " << exact_free << ", unknown here " << unknown << " (" << 100.0 * lost << " %), weaker "
+                              << weaker << ", wrong " << wrong);
+        CHECK(exact_free > 2000U);
+        CHECK(wrong == 0U);
+        // 2026-12-06: 16.3 to 16.6 % on the three frames, the same voxels as the box subdivision
+        // with its exact per-ray step gave before it (whose budget never reached these footprints
+        // of more than 64 pixels): the voxels that only rays outside the inner square cross.
+        CHECK(lost <= 0.17);
     }
 }

@@ -45,12 +45,12 @@ std::size_t OwnedFootprintWorkspaces::bytes() const noexcept {
 
 Result<FusionStats> fuse_frame_by(EvidenceGrid& grid, Span<const SensorReading> readings, const SensorModelTable& model,
                                   Span<std::int16_t> scratch, Rasterization rasterization,
-                                  const OwnedFootprintWorkspaces* footprint, const FootprintParams& params) {
+                                  const OwnedFootprintWorkspaces* footprint) {
     if (footprint == nullptr) {
         return fuse_frame(grid, readings, model, scratch, rasterization);
     }
     SequentialRunner runner;
-    return fuse_frame_footprint(grid, readings, model, params, footprint->spans(), runner);
+    return fuse_frame_footprint(grid, readings, model, footprint->spans(), runner);
 }
 
 }  // namespace cellguard::host

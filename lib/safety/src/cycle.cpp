@@ -48,7 +48,7 @@ CycleWorkBound with_footprint_fusion(CycleWorkBound b, const GridGeometry& grid,
                                                static_cast<std::uint64_t>(s.intrinsics.height)
                                          : 0U;
         b.voxel_steps -= pixels * per_ray;
-        b.footprint_units += footprint_work_bound(grid, pixels, params);
+        b.footprint_units += footprint_work_bound(grid, s, params);
         b.grid_voxels += static_cast<std::uint64_t>(grid.voxel_count());
     }
     return b;

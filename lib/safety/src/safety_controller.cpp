@@ -38,7 +38,6 @@ void add_config(Crc32& crc, const ControllerConfig& c) noexcept {
     seal_add(crc, c.rasterization);
     seal_add(crc, c.footprint.method);
     seal_add(crc, c.footprint.params.exact_footprint_max);
-    seal_add(crc, c.footprint.params.exact_pixel_budget);
     seal_add(crc, c.footprint.workspaces.data());
     seal_add(crc, c.footprint.workspaces.size());
     seal_add(crc, c.footprint.runner);
@@ -339,8 +338,8 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
             runner = &sequential_;  // one core, the reference
         }
         const Result<FusionStats> r = fuse_frame_footprint(
-            *grid_, Span<const SensorReading>(images.data(), image_count), *model_, config_.footprint.params,
-            config_.footprint.workspaces, *runner);
+            *grid_, Span<const SensorReading>(images.data(), image_count), *model_, config_.footprint.workspaces,
+            *runner, nullptr, config_.footprint.params);
         if (!r.ok()) {
             faults |= fault_bit(Fault::kFrameInconsistent);  // none of them fused: the grid is untouched
         } else {

@@ -213,14 +213,21 @@ void load_prior(const Loader& L, const toml::table& root, MonitorConfig& c, cons
 }
 
 /// The [fusion] table (optional): the fusion method of depth images and
-/// footprint fusion's limits and cores.
+/// footprint fusion's exact step and cores.
 void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
     if (!root.contains("fusion")) {
         return;
     }
     const std::string p = "fusion";
     const toml::table& t = L.table(root, "", "fusion");
-    L.check_keys(t, p, {"method", "exact_footprint_max", "exact_pixel_budget", "threads"});
+    // Footprint fusion's per-frame budget is gone (its work is bounded by the cameras and the grid
+    // now): a file that still sets it is told so, not silently changed.
+    if (t.contains("exact_pixel_budget")) {
+        L.fail(t.get("exact_pixel_budget")->source(), Loader::join(p, "exact_pixel_budget"),
+               "no longer exists: footprint fusion has no per-frame budget (its work is bounded by the cameras and "
+               "the grid, exact_footprint_max per voxel); delete the key");
+    }
+    L.check_keys(t, p, {"method", "exact_footprint_max", "threads"});
     FusionSettings& f = c.fusion;
     f.line = static_cast<int>(t.source().begin.line);
     const std::string method = L.string_or(t, p, "method", "ray");
@@ -231,16 +238,14 @@ void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
     } else {
         L.fail(t.get("method")->source(), "fusion.method", R"(expected "ray" or "footprint", got ")" + method + "\"");
     }
-    // The limits and the cores are footprint fusion's: given with "ray" they would silently do nothing.
-    for (const char* key : {"exact_footprint_max", "exact_pixel_budget", "threads"}) {
+    // The exact step's limit and the cores are footprint fusion's: given with "ray" they would silently do nothing.
+    for (const char* key : {"exact_footprint_max", "threads"}) {
         if (f.method == FusionMethod::kRay && t.contains(key)) {
             L.fail(t.get(key)->source(), Loader::join(p, key), R"(applies only to method = "footprint")");
         }
     }
     f.params.exact_footprint_max = static_cast<std::uint32_t>(
         L.integer_or(t, p, "exact_footprint_max", 0, 65536, f.params.exact_footprint_max));
-    f.params.exact_pixel_budget = static_cast<std::uint32_t>(
-        L.integer_or(t, p, "exact_pixel_budget", 0, 100000000, f.params.exact_pixel_budget));
     f.threads = static_cast<int>(L.integer_or(t, p, "threads", 1, kMaxFusionThreads, 1));
 }
 

@@ -43,8 +43,7 @@ private:
 /// @p rasterization through @p scratch): the one switch of host programs.
 [[nodiscard]] Result<FusionStats> fuse_frame_by(EvidenceGrid& grid, Span<const SensorReading> readings,
                                                 const SensorModelTable& model, Span<std::int16_t> scratch,
-                                                Rasterization rasterization, const OwnedFootprintWorkspaces* footprint,
-                                                const FootprintParams& params = FootprintParams{});
+                                                Rasterization rasterization, const OwnedFootprintWorkspaces* footprint);
 
 }  // namespace cellguard::host
 

@@ -70,8 +70,10 @@ struct CycleWorkBound {
 
 /// The bound @p b for a cycle that fuses its depth images by footprint
 /// fusion with @p params: their rays leave voxel_steps (point sets stay),
-/// and footprint_units gets footprint_work_bound per depth image, plus one
-/// pass over the grid each (the pooling of its opinions).
+/// and footprint_units gets footprint_work_bound per depth image (from its
+/// pose and intrinsics: the most work footprint fusion does, and exactly
+/// its work with exact_footprint_max 0), plus one pass over the grid each
+/// (the pooling of its opinions).
 [[nodiscard]] CycleWorkBound with_footprint_fusion(CycleWorkBound b, const GridGeometry& grid,
                                                    Span<const SensorReading> sensors,
                                                    const FootprintParams& params) noexcept;

@@ -137,7 +137,7 @@ enum class FusionMethod : std::uint8_t {
 /// Footprint fusion's settings and working memory for the cycle.
 struct FootprintFusionConfig {
     FusionMethod method = FusionMethod::kRay;  ///< kFootprint turns it on
-    FootprintParams params{};                  ///< its exact-evaluation limits
+    FootprintParams params{};                  ///< its exact step's limit (0: none, the same work every frame)
     /// One workspace per sensor lets the sensors run as parallel tasks; one
     /// suffices (sensor after sensor). Empty: every depth image is refused
     /// (kFrameInconsistent) while the method is kFootprint.

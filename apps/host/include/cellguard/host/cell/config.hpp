@@ -194,7 +194,7 @@ struct CanSettings {
 /// How the cycle fuses its depth images ([fusion], optional).
 struct FusionSettings {
     FusionMethod method = FusionMethod::kRay;  ///< fusion.method: "ray" (default) or "footprint"
-    FootprintParams params{};                  ///< fusion.exact_footprint_max, fusion.exact_pixel_budget
+    FootprintParams params{};                  ///< fusion.exact_footprint_max
     /// fusion.threads: cores for footprint fusion; 1 (default): the calling
     /// thread alone, no worker pool.
     int threads = 1;
