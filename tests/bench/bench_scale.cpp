@@ -41,7 +41,7 @@
 // CPU time; the wall clock is printed beside it.
 //
 // Usage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--case NAME]
-//   --exact-max N footprint fusion's exact_footprint_max (default 64; 0: no exact
+//   --exact-max N footprint fusion's exact_footprint_max (default 0: no exact
 //               step, the same work in every frame)
 //   --threads N footprint fusion on the Linux port's WorkerPool with N workers
 //               (default 1: SequentialRunner, the reference); the goals are

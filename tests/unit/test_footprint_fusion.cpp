@@ -96,24 +96,32 @@ GridGeometry lowered_paper_grid() {
 TEST_CASE("footprint fusion: the paper's simulated sensors give the exact hits and safe-side free values") {
     const sim::SimulatedFrame frame = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
     // The paper's own grid puts the floor on voxel faces (the hit pass's exact fallback); the lowered one does not.
-    for (const GridGeometry& g : {lowered_paper_grid(), paper_grid_geometry()}) {
-        const SensorModelTable model;
-        for (const SensorReading& r : frame.readings) {
-            OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
-            FootprintStats fs;
-            const Result<FusionStats> s = footprint_opinions(g, r, model, w.ws, &fs);
-            REQUIRE(s.ok());
-            const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
-            const Comparison c = compare(exact, w.opinions(), model);
-            MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker << ", stronger "
-                            << c.free_stronger << ", free where unobserved " << c.free_unobserved << ", hits lost "
-                            << c.hits_lost << "/added " << c.hits_added << "; in view " << fs.voxels_visited
-                            << ", filled " << fs.voxels_filled << ", safe side " << fs.voxels_safe_side);
-            CHECK(c.hits_lost == 0U);
-            CHECK(c.hits_added == 0U);
-            // Float rounding where a ray grazes an edge: bounded, not zero.
-            CHECK(c.free_stronger <= g.voxel_count() / 1000U);
-            CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+    // Without the exact step (the default) and with it for footprints of up to 64 pixels.
+    for (const std::uint32_t limit : {0U, 64U}) {
+        CAPTURE(limit);
+        FootprintParams params;
+        params.exact_footprint_max = limit;
+        for (const GridGeometry& g : {lowered_paper_grid(), paper_grid_geometry()}) {
+            const SensorModelTable model;
+            for (const SensorReading& r : frame.readings) {
+                OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+                FootprintStats fs;
+                const Result<FusionStats> s = footprint_opinions(g, r, model, w.ws, &fs, params);
+                REQUIRE(s.ok());
+                const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+                const Comparison c = compare(exact, w.opinions(), model);
+                MESSAGE("same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
+                                << ", stronger " << c.free_stronger << ", free where unobserved " << c.free_unobserved
+                                << ", hits lost " << c.hits_lost << "/added " << c.hits_added << "; in view "
+                                << fs.voxels_visited << ", filled " << fs.voxels_filled << ", safe side "
+                                << fs.voxels_safe_side);
+                CHECK(c.hits_lost == 0U);
+                CHECK(c.hits_added == 0U);
+                // Float rounding where a ray grazes an edge: bounded, not zero.
+                CHECK(c.free_stronger <= g.voxel_count() / 1000U);
+                CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+                CHECK((limit == 0U || fs.voxels_exact > 0U));
+            }
         }
     }
 }
@@ -132,19 +140,25 @@ TEST_CASE("footprint fusion: random depths keep every hit and call nothing free 
         }
         SensorReading r = base;
         r.depth = {d.data(), d.size()};
-        OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
-        FootprintStats fs;
-        REQUIRE(footprint_opinions(g, r, model, w.ws, &fs).ok());
-        const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
-        const Comparison c = compare(exact, w.opinions(), model);
-        MESSAGE("random: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
-                                << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
-                                << ", safe side " << fs.voxels_safe_side << ", in view " << fs.voxels_visited);
-        CHECK(c.hits_lost == 0U);
-        CHECK(c.hits_added == 0U);
-        CHECK(c.free_stronger <= g.voxel_count() / 1000U);
-        CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
-        CHECK(fs.work_units() <= footprint_work_bound(g, r));
+        for (const std::uint32_t limit : {0U, 64U}) {
+            CAPTURE(limit);
+            FootprintParams params;
+            params.exact_footprint_max = limit;
+            OwnedWorkspace w(g, r.intrinsics.width, r.intrinsics.height);
+            FootprintStats fs;
+            REQUIRE(footprint_opinions(g, r, model, w.ws, &fs, params).ok());
+            const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+            const Comparison c = compare(exact, w.opinions(), model);
+            MESSAGE("random: same " << c.same << ", lost free " << c.lost_free << ", weaker " << c.free_weaker
+                                    << ", stronger " << c.free_stronger << ", unobserved->free " << c.free_unobserved
+                                    << ", safe side " << fs.voxels_safe_side << ", in view " << fs.voxels_visited);
+            CHECK(c.hits_lost == 0U);
+            CHECK(c.hits_added == 0U);
+            CHECK(c.free_stronger <= g.voxel_count() / 1000U);
+            CHECK(c.free_unobserved <= g.voxel_count() / 1000U);
+            CHECK(fs.work_units() <= footprint_work_bound(g, r, params));
+            CHECK((limit != 0U || fs.work_units() == footprint_work_bound(g, r, params)));
+        }
     }
 }
 
@@ -252,10 +266,12 @@ TEST_CASE(
     std::mt19937 rng(11U);
     FootprintParams fixed;
     fixed.exact_footprint_max = 0U;
-    const FootprintParams exact;  // the default limit
+    FootprintParams exact;
+    exact.exact_footprint_max = 64U;
     for (const SensorReading& base : frame.readings) {
         const std::uint64_t bound = footprint_work_bound(g, base, fixed);
         CHECK(footprint_work_bound(g, base, exact) > bound);  // the exact step's most ray tests
+        CHECK(footprint_work_bound(g, base) == bound);        // the default: no exact step
         const auto pixels = static_cast<std::uint64_t>(base.intrinsics.width) *
                             static_cast<std::uint64_t>(base.intrinsics.height);
         CHECK(bound > 2U * pixels);                     // some voxels in view
@@ -381,7 +397,9 @@ TEST_CASE("footprint fusion: wide pixels over a tall grid give the exact hits an
         const SensorModelTable model;
         OwnedWorkspace w(cam.g, 16, 16);
         FootprintStats fs;
-        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, w.ws, &fs);
+        FootprintParams params;
+        params.exact_footprint_max = 64U;  // the exact step's face-column rule (below)
+        const Result<FusionStats> s = footprint_opinions(cam.g, cam.r, model, w.ws, &fs, params);
         REQUIRE(s.ok());
         OwnedGrid direct(cam.g);
         std::vector<std::int16_t> scratch(cam.g.voxel_count());

@@ -94,9 +94,11 @@ namespace cellguard {
 /// The exact step (step 3 of the file comment).
 struct FootprintParams {
     /// Largest footprint (pixels of the rectangle of a voxel's eight projected
-    /// corners) of an undecided voxel that is evaluated ray by ray; 0: none, every
-    /// undecided voxel takes the safe-side rule and the work is the same in every frame.
-    std::uint32_t exact_footprint_max = 64U;
+    /// corners) of an undecided voxel that is evaluated ray by ray. 0 (the
+    /// default): none, every undecided voxel takes the safe-side rule and the
+    /// work is the same in every frame. 64 gives the exact path's figures on the
+    /// paper's experiments, at a cost that grows with the undecided voxels.
+    std::uint32_t exact_footprint_max = 0U;
 };
 
 /// What footprint passes did (for diagnostics, benchmarks and the tests).
