@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "cellguard/base/saturating.hpp"
 #include "cellguard/robot/robot_mask.hpp"
 
 namespace cellguard {
@@ -267,7 +268,7 @@ bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& inpu
     // the age limit covers it.
     if (h.seen && input.captured_us != h.captured_us) {
         const bool same = fingerprint == h.fingerprint;
-        h.repeats = !same ? 0U : (h.repeats == UINT32_MAX ? h.repeats : h.repeats + 1U);
+        h.repeats = same ? saturating_increment(h.repeats) : 0U;
     }
     h.seen = true;
     h.captured_us = input.captured_us;
