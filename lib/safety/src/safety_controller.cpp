@@ -221,7 +221,9 @@ std::uint32_t SafetyController::step_integrity_checks(Span<const SensorInput> se
     const bool robot_failed = robot_check_.step(config_.robot_check_slice_bytes);
     const bool crc_tables_failed = crc_table_check_.step(config_.crc_table_check_values);
     const bool stack_failed = config_.stack != nullptr && !config_.stack->guard_intact();
-    memory_failed_ = memory_failed_ || crc_tables_failed || stack_failed;
+    if (crc_tables_failed || stack_failed) {
+        memory_failed_ = true;  // latched: only a new controller clears it (the caller skips these checks once set)
+    }
     if (table_failed || zones_failed || robot_failed || memory_failed_) {
         faults |= fault_bit(Fault::kInternalCheck);
     }
