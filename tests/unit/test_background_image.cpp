@@ -217,6 +217,9 @@ TEST_CASE("background view: the per-pixel median of noisy frames, a pixel withou
     const std::vector<float> two = {1.0F, 1.0F};
     wrong.depth = Span<const float>(two.data(), two.size());
     CHECK_FALSE(b.add(wrong));
+    SensorReading points;
+    points.kind = SensorDataKind::kPointSet;  // no depth image: a point-set sensor's view is a direction grid
+    CHECK_FALSE(b.add(points));
     CHECK(b.frames() == 5U);
     const std::vector<float> m = b.median();
     CHECK(m[0] == 2.01F);  // the outlier 5.00 does not move it

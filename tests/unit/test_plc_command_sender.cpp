@@ -1,6 +1,6 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Requirements: the PLC-side command sender: six frames per sample in the order A, A', B, B', C, C', one counter per sample advancing by one and wrapping, a command that is not well formed refused without advancing.
+// Requirements: the PLC-side command sender: six frames per sample in the order A, A', B, B', C, C', one counter per sample advancing by one and wrapping, a command that is not well formed refused without advancing, and so is a linked sample whose link fields or channel are invalid.
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -109,4 +109,36 @@ TEST_CASE("plc command sender: a command that is not well formed is refused and 
     invalid.base_can_id = 0x800U;
     CHECK(PlcCommandSender::check_config(invalid).error() == ErrorCode::kInvalidArgument);
     CHECK(test::violates_contract([&] { const PlcCommandSender s(invalid); }));
+}
+
+// verifies: SR-CMD-007
+TEST_CASE(
+    "plc command sender: a linked sample with a bad command, link fields or link channel is refused, the counter stays") {
+    PlcCommandSender sender{CommandChannelConfig{}};
+    LinkFields link;
+    link.sequence = 1U;
+    link.session = 7U;
+    const LinkedCommandFrames first = sender.next_sample(seven_axis(0), link, kDefaultPlcLinkChannel).value();
+    CHECK(first.link.id == kDefaultPlcLinkChannel.can_id);
+    CHECK(sender.counter() == 1U);
+
+    RobotCommand bad = seven_axis(0);
+    bad.joint_raw[2] = kJointRawInvalid;  // the command itself does not encode
+    CHECK(sender.next_sample(bad, link, kDefaultPlcLinkChannel).error() == ErrorCode::kInvalidArgument);
+    LinkFields no_sequence = link;
+    no_sequence.sequence = 0U;  // the link frame does not encode: sequence 0 is never sent
+    CHECK(sender.next_sample(seven_axis(0), no_sequence, kDefaultPlcLinkChannel).error() ==
+          ErrorCode::kInvalidArgument);
+    LinkFields no_session = link;
+    no_session.session = 0U;
+    CHECK(sender.next_sample(seven_axis(0), no_session, kDefaultPlcLinkChannel).error() == ErrorCode::kInvalidArgument);
+    LinkChannel wide = kDefaultPlcLinkChannel;
+    wide.can_id = 0x800U;  // not an 11-bit ID
+    CHECK(sender.next_sample(seven_axis(0), link, wide).error() == ErrorCode::kInvalidArgument);
+    CHECK(sender.counter() == 1U);  // no refused sample advanced it
+
+    link.sequence = 2U;
+    const LinkedCommandFrames second = sender.next_sample(seven_axis(0), link, kDefaultPlcLinkChannel).value();
+    CHECK(get_signal(second.sample.frame[0], command_layout::kCounter) == 1U);
+    CHECK(sender.counter() == 2U);
 }

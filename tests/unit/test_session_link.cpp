@@ -453,6 +453,10 @@ TEST_CASE("session link: each refusal of the channel, the configuration, the fra
     nibble.data_id_mode = E2eP01DataIdMode::kNibble;
     nibble.data_id = 0x1000U;
     CHECK_FALSE(check_link_channel(nibble).ok());
+    LinkChannel unknown_mode = kDefaultControllerLinkChannel;
+    unknown_mode.data_id_mode = static_cast<E2eP01DataIdMode>(4);  // a corrupted or hand-edited configuration
+    CHECK_FALSE(check_link_channel(unknown_mode).ok());
+    CHECK_FALSE(encode_link_frame(fields(1U, 1U), 0U, unknown_mode, {}).ok());
     // Configurations: either channel invalid, a step bound above the history.
     LinkConfig bad = controller_link_config();
     bad.own = wide;
@@ -801,4 +805,38 @@ TEST_CASE("iec 61784-3 addressing: a link frame for another channel (another dat
     };
     CHECK(output_mutant(once(kFirst, readdress(2U, 0U, 1U, 1U))).invalid_polls > 0);
     CHECK(command_mutant(once(kFirstCommand, readdress(6U, 0U, 2U, 3U))).invalid_polls > 0);
+}
+
+// verifies: SR-CAN-013
+TEST_CASE(
+    "session link: an echo of a sequence sent 32 or more frames ago is unknown, also across the sequence's wrap") {
+    // The send history has kLinkHistory (32) slots, slot = sequence % 32. The sequence runs 1..65535 and
+    // skips 0, so at the wrap 65535 -> 1 slot 0 is not written: it still holds 65504, sent 32 frames before
+    // sequence 1. That slot's sequence matches an echo of 65504, and only the distance refuses it.
+    LinkConfig config = controller_link_config();
+    config.session = 9U;
+    REQUIRE(LinkEndpoint::check_config(config).ok());
+    LinkEndpoint e(config);
+    std::uint64_t now = 0U;
+    while (e.sequence() != kLinkSequenceMax) {
+        (void)e.next(++now);  // one frame a microsecond, all within the watchdog time
+    }
+    {
+        LinkEndpoint before_wrap = e;  // 65504 was sent 31 frames before 65535: still known
+        CHECK(before_wrap.on_peer(fields(1U, 65504U), now) == LinkFault::kNone);
+    }
+    CHECK(e.next(++now).sequence == 1U);
+    {
+        LinkEndpoint stale = e;
+        CHECK(stale.on_peer(fields(1U, 65504U), now) == LinkFault::kEchoUnknown);  // 32 frames before 1
+    }
+    {
+        LinkEndpoint overwritten = e;  // 65505's slot (1) now holds sequence 1
+        CHECK(overwritten.on_peer(fields(1U, 65505U), now) == LinkFault::kEchoUnknown);
+    }
+    {
+        LinkEndpoint oldest = e;
+        CHECK(oldest.on_peer(fields(1U, 65506U), now) == LinkFault::kNone);  // 30 frames before 1
+    }
+    CHECK(e.on_peer(fields(1U, 1U), now) == LinkFault::kNone);  // the frame just sent
 }

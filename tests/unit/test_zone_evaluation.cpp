@@ -126,6 +126,17 @@ TEST_CASE("zone evaluation: zones of another grid or a short prior are refused")
     other.frame = EvidenceGrid::make(other.g, {other.lo.data(), 1000U}, {other.ob.data(), 1000U}).value();
     CHECK(evaluate_zones(other.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
           ErrorCode::kGeometryMismatch);
+    // The same origin with another voxel size, and the same origin and voxel size with other dimensions.
+    Fixture coarse;
+    coarse.g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.2, GridDims{10, 10, 10}).value();
+    coarse.frame = EvidenceGrid::make(coarse.g, {coarse.lo.data(), 1000U}, {coarse.ob.data(), 1000U}).value();
+    CHECK(evaluate_zones(coarse.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
+          ErrorCode::kGeometryMismatch);
+    Fixture flat;
+    flat.g = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{10, 10, 9}).value();
+    flat.frame = EvidenceGrid::make(flat.g, {flat.lo.data(), 900U}, {flat.ob.data(), 900U}).value();
+    CHECK(evaluate_zones(flat.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e).error() ==
+          ErrorCode::kGeometryMismatch);
     // An output array for the subtracted grid that is given but too short.
     std::vector<std::int16_t> subtracted(999U);
     CHECK(evaluate_zones(f.frame, {f.prior.data(), 1000U}, f.zones, ZoneEvaluationParams{}, e,

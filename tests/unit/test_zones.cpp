@@ -3,6 +3,7 @@
 // Requirements: zone configuration checks and compilation into voxel sets.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -87,6 +88,10 @@ TEST_CASE("zones: invalid zones are rejected with the zone's index and a reason"
     CHECK(rejected(prism({{0, 0}, {1.5, 0}, {0, 1}}, 0, 0.5), ErrorCode::kOutOfGrid));
     // A pentagram turns the same way at every vertex but is not convex.
     CHECK(rejected(prism({{0.5, 1.0}, {0.2, 0.0}, {1.0, 0.65}, {0.0, 0.65}, {0.8, 0.0}}, 0, 0.5),
+                   ErrorCode::kInvalidArgument));
+    // A sliver: by rounding every turn is counter-clockwise (each cross product 2.8e-17), but the shoelace
+    // sum of its area is exactly 0 and its exterior angles add up to one turn; the area check refuses it.
+    CHECK(rejected(prism({{0.2, 0.2}, {0.8, 0.8}, {0.4, std::nextafter(0.4, 1.0)}}, 0, 0.5),
                    ErrorCode::kInvalidArgument));
     ZoneConfig zero_threshold = box(0, 0, 0, 0.5, 0.5, 0.5);
     zero_threshold.min_foreground_voxels = 0U;

@@ -6,12 +6,11 @@
 #include <cstdint>
 
 #include "cellguard/base/contract.hpp"
+#include "cellguard/base/saturating.hpp"
 #include "cellguard/can/e2e_crc.hpp"
 
 namespace cellguard {
 namespace {
-
-constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 constexpr std::uint64_t kMinPeriodUs = 1000U;
 constexpr std::uint64_t kMaxPeriodUs = 10000000U;

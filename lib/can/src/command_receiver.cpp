@@ -2,6 +2,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/can/command_receiver.hpp"
 
+#include "cellguard/base/saturating.hpp"
+
 namespace cellguard {
 namespace {
 
@@ -33,8 +35,6 @@ LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? 
 
 /// Index of the link frame in a sample: after A, A', B, B', C, C'.
 constexpr std::size_t kLinkIndex = kCommandFramesPerSample;
-
-constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 /// True when @p copy is the bitwise inverse of @p frame with the same DLC.
 bool is_inverse(const CanFrame& copy, const CanFrame& frame) noexcept {
@@ -247,9 +247,7 @@ void CommandReceiver::complete_sample(std::uint64_t now_us) noexcept {
             enter_safe_state(CommandFault::kCounterJump);
             return;
         }
-        if (good_samples_ < UINT8_MAX) {
-            ++good_samples_;
-        }
+        good_samples_ = saturating_increment(good_samples_);
     }
     have_reference_ = true;
     reference_counter_ = sample_counter_;

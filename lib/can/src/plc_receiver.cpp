@@ -2,6 +2,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/can/plc_receiver.hpp"
 
+#include "cellguard/base/saturating.hpp"
+
 namespace cellguard {
 namespace {
 
@@ -32,8 +34,6 @@ static_assert(link_fault_as(LinkFault::kWatchdogExpired, ReceiverFault::kNoEchoY
 
 /// The endpoint's config: the given one when the link is enabled, else a valid placeholder (never used).
 LinkConfig usable_link(const LinkConfig& link) noexcept { return link.enabled ? link : plc_link_config(); }
-
-constexpr std::uint32_t saturating_increment(std::uint32_t n) noexcept { return n == UINT32_MAX ? n : n + 1U; }
 
 }  // namespace
 
@@ -229,9 +229,7 @@ void PlcReceiver::accept_pair(std::uint64_t now_us) noexcept {
             enter_safe_state(ReceiverFault::kCounterJump);
             return;
         }
-        if (good_pairs_ < UINT8_MAX) {
-            ++good_pairs_;
-        }
+        good_pairs_ = saturating_increment(good_pairs_);
     }
     have_reference_ = true;
     reference_counter_ = pending_content_.counter;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "cellguard/base/saturating.hpp"
+
 namespace cellguard {
 
 namespace {
@@ -17,8 +19,6 @@ bool span_inside(float min, float bin, std::uint32_t bins, double limit) noexcep
     const double hi = lo + static_cast<double>(bins) * static_cast<double>(bin);
     return lo >= -limit - kEdgeSlack && hi <= limit + kEdgeSlack;
 }
-
-std::uint32_t saturating_increment(std::uint32_t v) noexcept { return v == UINT32_MAX ? v : v + 1U; }
 
 }  // namespace
 

@@ -249,14 +249,11 @@ Result<RayTable> RayTable::build(const GridGeometry& grid, const SensorReading& 
     for (std::int32_t v = 0; v < sensor.intrinsics.height; ++v) {
         for (std::int32_t u = 0; u < sensor.intrinsics.width; ++u, ++pixel) {
             const PixelRay ray = pixel_ray(sensor, u, v);
-            if (n > std::numeric_limits<std::uint32_t>::max()) {
+            n = add_pixel_entries(grid, storage, format, rasterization, origin, pixel, ray, n);
+            if (n > std::numeric_limits<std::uint32_t>::max()) {  // the next pixel_begin and the total are uint32
                 return ErrorCode::kCapacityExceeded;
             }
-            n = add_pixel_entries(grid, storage, format, rasterization, origin, pixel, ray, n);
         }
-    }
-    if (n > std::numeric_limits<std::uint32_t>::max()) {
-        return ErrorCode::kCapacityExceeded;
     }
     if (n > format.capacity) {
         return ErrorCode::kStorageTooSmall;

@@ -158,6 +158,12 @@ void fill_outside_work_box(const Layout& l, Span<T> buffer, T value) noexcept {
     }
 }
 
+// Whole log-odds units @p units (a rounded value <= 0 here) as int16 log-odds, clamped to
+// [kLogOddsMin, kLogOddsMax]; at or below kLogOddsMin without the int32 cast, which could overflow.
+std::int16_t log_odds_from_units(double units) noexcept {
+    return units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin : clamp_log_odds(static_cast<std::int32_t>(units));
+}
+
 // Smallest log-odds l such that P(occ) = probability_from_log_odds(l) >= t
 // (32768 when there is none): P(occ) < t exactly when l < the result.
 std::int32_t first_log_odds_at_or_above(double t) noexcept {
@@ -177,8 +183,7 @@ std::int32_t first_log_odds_at_or_above(double t) noexcept {
 // ln(P(fore) / (1 - P(fore))) for P(fore) = exp(-g) / 2, g >= 0 nats, in units.
 std::int16_t fore_log_odds_from_cost(double g) noexcept {
     const double nats = -g - std::log(2.0 - std::exp(-g));
-    const double units = std::nearbyint(nats * static_cast<double>(kLogOddsScale));
-    return units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin : clamp_log_odds(static_cast<std::int32_t>(units));
+    return log_odds_from_units(std::nearbyint(nats * static_cast<double>(kLogOddsScale)));
 }
 
 // -ln(1 - P(occ)) = ln(1 + e^x) for log-odds x in nats, without rounding
@@ -219,9 +224,7 @@ void probabilistic_baseline(const EvidenceGrid& g, Span<std::int16_t> prior, Spa
                 const double x = static_cast<double>(l) / static_cast<double>(kLogOddsScale);
                 const double units = std::nearbyint(-std::log1p(2.0 * std::exp(x)) *
                                                     static_cast<double>(kLogOddsScale));
-                memo_prior = units <= static_cast<double>(kLogOddsMin)
-                                 ? kLogOddsMin
-                                 : clamp_log_odds(static_cast<std::int32_t>(units));
+                memo_prior = log_odds_from_units(units);
                 memo_p = static_cast<float>(1.0 / (1.0 + std::exp(x)));
             }
         }
@@ -795,8 +798,8 @@ std::int16_t fore_log_odds_from_accessibility(double p_acc) noexcept {
     if (p_acc >= 1.0) {
         return kLogOddsUnknown;
     }
-    const double units = std::nearbyint((std::log(p_acc) - std::log(2.0 - p_acc)) * static_cast<double>(kLogOddsScale));
-    return units <= static_cast<double>(kLogOddsMin) ? kLogOddsMin : clamp_log_odds(static_cast<std::int32_t>(units));
+    return log_odds_from_units(
+        std::nearbyint((std::log(p_acc) - std::log(2.0 - p_acc)) * static_cast<double>(kLogOddsScale)));
 }
 
 double accessibility_cost_error_bound(double t_e) noexcept {

@@ -83,10 +83,10 @@ bool grid_ok(const BackgroundSensorIdentity& id) noexcept {
            check_direction_grid(g).ok();
 }
 
-/// The size (of its kind) and grid of @p id are writable or readable.
-bool layout_ok(const BackgroundSensorIdentity& id) noexcept {
-    return payload_bytes(id.kind, id.width, id.height) != 0U &&
-           (id.kind != kBackgroundViewDirectionGrid || grid_ok(id));
+/// The grid of @p id is writable or readable: a direction grid's is valid, the
+/// other kinds have none. The callers check the size (payload_bytes) first.
+bool grid_layout_ok(const BackgroundSensorIdentity& id) noexcept {
+    return id.kind != kBackgroundViewDirectionGrid || grid_ok(id);
 }
 
 /// The values of a view of @p kind are valid: each finite and >= 0, and
@@ -178,7 +178,7 @@ BackgroundImageError check_record(Span<const std::uint8_t> image, std::size_t at
     }
     const BackgroundSensorIdentity id = read_identity(rec);
     const std::size_t length = payload_bytes(id.kind, id.width, id.height);
-    if (length == 0U || !layout_ok(id) || load_le_u32(rec, kPayloadLengthAt) != length ||
+    if (length == 0U || !grid_layout_ok(id) || load_le_u32(rec, kPayloadLengthAt) != length ||
         load_le_u32(rec, kRecordReserved2At) != 0U) {
         return BackgroundImageError::kBadRecord;
     }
@@ -300,7 +300,7 @@ Result<std::size_t> write_background_image(Span<const BackgroundViewRecord> view
     }
     for (const BackgroundViewRecord& v : views) {
         const std::size_t payload = payload_bytes(v.identity.kind, v.identity.width, v.identity.height);
-        if (payload == 0U || !layout_ok(v.identity) || v.depth.size() != payload / 4U ||
+        if (payload == 0U || !grid_layout_ok(v.identity) || v.depth.size() != payload / 4U ||
             !values_ok(v.identity.kind, v.depth.size(), [&v](std::size_t i) { return v.depth[i]; })) {
             return ErrorCode::kInvalidArgument;
         }

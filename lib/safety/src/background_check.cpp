@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "cellguard/base/saturating.hpp"
+
 namespace cellguard {
 
 namespace {
@@ -87,10 +89,6 @@ BackgroundMatch match_pixels(const Live& live, std::size_t n, const BackgroundRe
         m.longer += referenced & is_reading(d) & static_cast<std::uint32_t>(d - r > reference.tolerance_m);
     }
     return m;
-}
-
-std::uint32_t saturating_add(std::uint32_t a, std::uint32_t b) noexcept {
-    return a > UINT32_MAX - b ? UINT32_MAX : a + b;
 }
 
 bool tolerance_ok(const BackgroundReference& reference) noexcept {
@@ -176,7 +174,7 @@ void BackgroundChangeTracker::track(std::size_t slot, const BackgroundMatch& mat
         run = 0U;  // a frame that shows the commissioned background ends the run
         return;
     }
-    run = run == UINT32_MAX ? run : run + 1U;
+    run = saturating_increment(run);
     if (run >= reference.changed_cycles) {
         latched |= 1U << slot;  // only a restart (and recommissioning) clears it
     }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "cellguard/base/saturating.hpp"
 #include "cellguard/robot/robot_mask.hpp"
 
 namespace cellguard {
@@ -219,7 +220,9 @@ std::uint32_t SafetyController::step_integrity_checks(Span<const SensorInput> se
     const bool robot_failed = robot_check_.step(config_.robot_check_slice_bytes);
     const bool crc_tables_failed = crc_table_check_.step(config_.crc_table_check_values);
     const bool stack_failed = config_.stack != nullptr && !config_.stack->guard_intact();
-    memory_failed_ = memory_failed_ || crc_tables_failed || stack_failed;
+    if (crc_tables_failed || stack_failed) {
+        memory_failed_ = true;  // latched: only a new controller clears it (the caller skips these checks once set)
+    }
     if (table_failed || zones_failed || robot_failed || memory_failed_) {
         faults |= fault_bit(Fault::kInternalCheck);
     }
@@ -266,7 +269,7 @@ bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& inpu
     // the age limit covers it.
     if (h.seen && input.captured_us != h.captured_us) {
         const bool same = fingerprint == h.fingerprint;
-        h.repeats = !same ? 0U : (h.repeats == UINT32_MAX ? h.repeats : h.repeats + 1U);
+        h.repeats = same ? saturating_increment(h.repeats) : 0U;
     }
     h.seen = true;
     h.captured_us = input.captured_us;

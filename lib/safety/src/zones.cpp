@@ -35,7 +35,7 @@ int polygon_orientation(const ZoneConfig& z) noexcept {
             return 0;
         }
     }
-    // A star polygon turns the same way at every vertex but winds more than once.
+    // A sliver whose turns all round to one sign can still sum to no area (a star: polygon_simple_winding).
     return (area2 * sign > 0.0) ? sign : 0;
 }
 
