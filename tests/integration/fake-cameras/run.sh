@@ -349,6 +349,12 @@ run_case() {
         grep -q "^background views: $out/views.cgbv (4 sensors" views.txt || fail "the recorded views were not loaded"
         echo "demo scene against the recorded views: stop cycles $(grep -c '| STOP' views.txt)," \
             "faults latched: $(faults_latched views.txt)"
+        if late_only "$(faults_latched views.txt)" && [[ $attempt -eq 1 ]]; then
+            # Seen at load 8.6 (2026-12-06): 'frame inconsistent' from a late or torn frame. Once more.
+            echo "the run latched only $(faults_latched views.txt) (a late frame on this loaded host): once more"
+            again=1
+            return
+        fi
         grep -q '| STOP' views.txt || fail "the person never stopped the robot"
         [[ "$(faults_latched views.txt)" == "-" ]] || fail "faults latched: $(faults_latched views.txt)"
         ;;
