@@ -126,6 +126,14 @@ public:
         side_[1] = {-fx_, 0.0, static_cast<double>(k.width) - cx_};
         side_[2] = {0.0, fy_, cy_ + 1.0};
         side_[3] = {0.0, -fy_, static_cast<double>(k.height) - cy_};
+        // The row spans' constants: a voxel's bounding sphere with a little to spare, and per side
+        // that sphere's reach along the side's normal and the normal's change per voxel along x.
+        sphere_margin_ = radius_ * (1.0 + 1e-9) + 1e-9;
+        for (std::size_t i = 0U; i < kSides; ++i) {
+            const std::array<double, 3>& n = side_[i];
+            side_reach_[i] = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * sphere_margin_;
+            side_step_[i] = n[0] * axis_[0][0] + n[1] * axis_[0][1] + n[2] * axis_[0][2];
+        }
     }
 
     /// The voxels [lo, hi) of row (y, z) whose bounding sphere lies in front of the
@@ -174,6 +182,9 @@ private:
     std::array<std::array<double, 3>, 3> axis_{};       ///< one voxel along each grid axis, in the camera frame
     std::array<double, 3> half_{};                      ///< a voxel's half extent along each camera axis
     std::array<std::array<double, 3>, kSides> side_{};  ///< inward normals (x, y, z) of the image's sides
+    std::array<double, kSides> side_reach_{};           ///< |normal| x sphere_margin_, per side
+    std::array<double, kSides> side_step_{};            ///< normal . (one voxel along x), per side
+    double sphere_margin_ = 0.0;                        ///< a voxel's bounding sphere, widened for rounding
     /// The camera's voxel coordinate per axis, floor((position - origin) / size) as
     /// ray traversal takes it (a double: the camera may lie any distance outside the grid).
     std::array<double, 3> camera_voxel_{};
@@ -208,12 +219,10 @@ void SensorPass::row_span(std::int32_t y, std::int32_t z, std::int32_t& lo, std:
     for (std::size_t a = 0U; a < 3U; ++a) {
         c0[a] = centre(a, 0.0, y, z);
     }
-    const double margin = radius_ * (1.0 + 1e-9) + 1e-9;
-    limit(c0[2] + margin - kMinCornerDepth, axis_[0][2]);  // in front of the image plane
-    for (const std::array<double, 3>& n : side_) {
-        const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        limit(n[0] * c0[0] + n[1] * c0[1] + n[2] * c0[2] + norm * margin,
-              n[0] * axis_[0][0] + n[1] * axis_[0][1] + n[2] * axis_[0][2]);
+    limit(c0[2] + sphere_margin_ - kMinCornerDepth, axis_[0][2]);  // in front of the image plane
+    for (std::size_t i = 0U; i < kSides; ++i) {
+        const std::array<double, 3>& n = side_[i];
+        limit(n[0] * c0[0] + n[1] * c0[1] + n[2] * c0[2] + side_reach_[i], side_step_[i]);
     }
     // One voxel more on each side, for the rounding of the bounds.
     lo = none ? 0 : static_cast<std::int32_t>(clamp(std::floor(first) - 1.0, 0.0, static_cast<double>(nx)));
