@@ -77,6 +77,25 @@ SensorReading point_reading(const std::vector<Eigen::Vector3f>& points) {
     return r;
 }
 
+/// A frame's depth image: each point's z (NaN stays NaN).
+std::vector<float> depth_of(const std::vector<Eigen::Vector3f>& points) {
+    std::vector<float> depth(points.size());
+    std::transform(points.begin(), points.end(), depth.begin(), [](const Eigen::Vector3f& p) { return p.z(); });
+    return depth;
+}
+
+/// The camera's depth-image reading of @p depth (640 x 480, issue 24's intrinsics).
+SensorReading depth_reading(const std::vector<float>& depth) {
+    const sim::SensorSpec c = camera();
+    SensorReading r;
+    r.kind = SensorDataKind::kDepthImage;
+    r.pose = c.pose();
+    r.intrinsics = c.intrinsics();
+    r.depth = Span<const float>(depth.data(), depth.size());
+    r.max_range = c.max_range;
+    return r;
+}
+
 /// A grid with its storage and fusion scratch.
 struct Grid {
     std::vector<std::int16_t> lo, scratch;
@@ -216,18 +235,10 @@ TEST_CASE("real frames: shuffled readings give the identical grid") {
 // verifies: SR-FUSE-006
 TEST_CASE("real frames: the ray table gives the grid of on-the-fly fusion, voxel for voxel") {
     const GridGeometry g = grid_geometry();
-    const sim::SensorSpec c = camera();
     for (const char* path : kFrames) {
         CAPTURE(std::string(path));
-        const std::vector<Eigen::Vector3f> points = read_frame(path);
-        std::vector<float> depth(points.size());
-        std::transform(points.begin(), points.end(), depth.begin(), [](const Eigen::Vector3f& p) { return p.z(); });
-        SensorReading r;
-        r.kind = SensorDataKind::kDepthImage;
-        r.pose = c.pose();
-        r.intrinsics = c.intrinsics();
-        r.depth = Span<const float>(depth.data(), depth.size());
-        r.max_range = c.max_range;
+        const std::vector<float> depth = depth_of(read_frame(path));
+        const SensorReading r = depth_reading(depth);
         host::OwnedRayTable table;
         REQUIRE(table.build(g, r).ok());
         Grid direct(g);
@@ -325,19 +336,11 @@ TEST_CASE(
     "real frames: footprint fusion keeps every hit, calls nothing free the exact path does not, and "
     "leaves at most 17 % of its free voxels unknown") {
     const GridGeometry g = grid_geometry();
-    const sim::SensorSpec c = camera();
     const SensorModelTable model;
     for (const char* path : kFrames) {
         CAPTURE(std::string(path));
-        const std::vector<Eigen::Vector3f> points = read_frame(path);
-        std::vector<float> depth(points.size());
-        std::transform(points.begin(), points.end(), depth.begin(), [](const Eigen::Vector3f& p) { return p.z(); });
-        SensorReading r;
-        r.kind = SensorDataKind::kDepthImage;
-        r.pose = c.pose();
-        r.intrinsics = c.intrinsics();
-        r.depth = Span<const float>(depth.data(), depth.size());
-        r.max_range = c.max_range;
+        const std::vector<float> depth = depth_of(read_frame(path));
+        const SensorReading r = depth_reading(depth);
         Grid direct(g);
         REQUIRE(fuse_sensor(direct.grid, r, model, direct.fusion_scratch()).ok());
         host::OwnedFootprintWorkspaces owned(g, 1U, 640, 480);
