@@ -39,7 +39,18 @@ Result<DepthPyramid> DepthPyramid::make(std::int32_t width, std::int32_t height,
     if (min_storage.size() < cells || max_storage.size() < cells || invalid_storage.size() < cells) {
         return ErrorCode::kStorageTooSmall;
     }
+    DepthPyramid p = layout_of(width, height);
+    p.min_ = min_storage.subspan(0U, cells);
+    p.max_ = max_storage.subspan(0U, cells);
+    p.invalid_ = invalid_storage.subspan(0U, cells);
+    return p;
+}
+
+DepthPyramid DepthPyramid::layout_of(std::int32_t width, std::int32_t height) noexcept {
     DepthPyramid p;
+    if (depth_pyramid_cells(width, height) == 0U) {
+        return p;
+    }
     p.width_ = width;
     p.height_ = height;
     std::int32_t w = width;
@@ -57,9 +68,6 @@ Result<DepthPyramid> DepthPyramid::make(std::int32_t width, std::int32_t height,
         w = halve_up(w);
         h = halve_up(h);
     }
-    p.min_ = min_storage.subspan(0U, cells);
-    p.max_ = max_storage.subspan(0U, cells);
-    p.invalid_ = invalid_storage.subspan(0U, cells);
     return p;
 }
 
@@ -95,7 +103,7 @@ void DepthPyramid::build_levels() noexcept {
     }
 }
 
-DepthRange DepthPyramid::query(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept {
+PyramidCells DepthPyramid::cells_of(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept {
     CG_ASSERT(u0 >= 0 && v0 >= 0 && u0 <= u1 && v0 <= v1 && u1 < width_ && v1 < height_, "pyramid query outside");
     // The lowest level whose cells are at least as large as the rectangle:
     // the rectangle then spans at most two cells per axis.
@@ -108,22 +116,17 @@ DepthRange DepthPyramid::query(std::int32_t u0, std::int32_t v0, std::int32_t u1
     level = level < levels_ - 1 ? level : levels_ - 1;
     // Cell indices: the pixel coordinates (>= 0) shifted by the level.
     const auto shift = static_cast<std::uint32_t>(level);
-    const auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(u0) >> shift);
-    const auto i1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(u1) >> shift);
-    const auto j0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(v0) >> shift);
-    const auto j1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(v1) >> shift);
-    const std::size_t base = level_offset_[level];
-    const auto w = static_cast<std::size_t>(level_width_[level]);
-    DepthRange r{kInfinity, -kInfinity, false};
-    for (std::int32_t j = j0; j <= j1; ++j) {
-        for (std::int32_t i = i0; i <= i1; ++i) {
-            const std::size_t c = base + static_cast<std::size_t>(j) * w + static_cast<std::size_t>(i);
-            r.min = min_[c] < r.min ? min_[c] : r.min;
-            r.max = max_[c] > r.max ? max_[c] : r.max;
-            r.any_invalid = r.any_invalid || invalid_[c] != 0U;
-        }
-    }
-    return r;
+    const std::uint32_t i0 = static_cast<std::uint32_t>(u0) >> shift;
+    const std::uint32_t i1 = static_cast<std::uint32_t>(u1) >> shift;
+    const std::uint32_t j0 = static_cast<std::uint32_t>(v0) >> shift;
+    const std::uint32_t j1 = static_cast<std::uint32_t>(v1) >> shift;
+    const auto w = static_cast<std::uint32_t>(level_width_[level]);
+    PyramidCells c;
+    // At most 4096 x 4096 pixels: fewer than 2^25 cells, a level at most 4096 wide.
+    c.first = static_cast<std::uint32_t>(level_offset_[level]) + j0 * w + i0;
+    c.col_step = static_cast<std::uint8_t>(i1 - i0);             // 0 or 1
+    c.row_step = static_cast<std::uint16_t>(j1 != j0 ? w : 0U);  // one row down, or none
+    return c;
 }
 
 }  // namespace cellguard

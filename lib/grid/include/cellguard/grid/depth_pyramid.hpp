@@ -43,6 +43,17 @@ struct DepthRange {
     [[nodiscard]] bool empty() const noexcept { return !(min <= max); }
 };
 
+/// The at most 2 x 2 cells a query reads (see DepthPyramid::cells_of): the
+/// first cell's index into the storage, and the steps to the cell on its
+/// right (0 or 1) and below it (0 or its level's width). A function of the
+/// rectangle and the image size, not of the depths: footprint tables
+/// (footprint_fusion.hpp) keep it per voxel.
+struct PyramidCells {
+    std::uint32_t first = 0U;     ///< storage index of the top-left cell
+    std::uint16_t row_step = 0U;  ///< to the cell below: 0 (one row) or the level's width
+    std::uint8_t col_step = 0U;   ///< to the cell on the right: 0 (one column) or 1
+};
+
 /// Cells of all levels of a pyramid over a @p width x @p height image: the
 /// size of each of the three storage spans (0 for a non-positive size).
 [[nodiscard]] std::size_t depth_pyramid_cells(std::int32_t width, std::int32_t height) noexcept;
@@ -59,6 +70,11 @@ public:
     static Result<DepthPyramid> make(std::int32_t width, std::int32_t height, Span<float> min_storage,
                                      Span<float> max_storage, Span<std::uint8_t> invalid_storage) noexcept;
 
+    /// The level layout of a @p width x @p height image without storage: only
+    /// cells_of(), width() and height() may be called on it (footprint tables
+    /// are made from it). A placeholder for an invalid size.
+    [[nodiscard]] static DepthPyramid layout_of(std::int32_t width, std::int32_t height) noexcept;
+
     /// Level 0, written by the caller: pixel (u, v) holds depth @p d (valid
     /// reading) or none (@p valid false).
     void set_pixel(std::int32_t u, std::int32_t v, float d, bool valid) noexcept {
@@ -74,7 +90,29 @@ public:
     /// Min, max and the invalid flag over a superset of pixel rectangle
     /// [u0, u1] x [v0, v1] (inclusive, 0 <= u0 <= u1 < width, same for v:
     /// checked by CG_ASSERT). Constant time: at most four cells.
-    [[nodiscard]] DepthRange query(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept;
+    [[nodiscard]] DepthRange query(std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) const noexcept {
+        return query(cells_of(u0, v0, u1, v1));
+    }
+    /// The cells query() reads for pixel rectangle [u0, u1] x [v0, v1] (same
+    /// precondition): those of the lowest level whose cells are at least as
+    /// large as the rectangle.
+    [[nodiscard]] PyramidCells cells_of(std::int32_t u0, std::int32_t v0, std::int32_t u1,
+                                        std::int32_t v1) const noexcept;
+    /// Min, max and the invalid flag over @p c (from cells_of() of a pyramid of
+    /// the same image size). Four cell reads, no branch.
+    [[nodiscard]] DepthRange query(const PyramidCells& c) const noexcept {
+        const std::size_t a = c.first;
+        const std::size_t b = a + c.col_step;
+        const std::size_t e = a + c.row_step;
+        const std::size_t f = e + c.col_step;
+        const float mn0 = min_[a] < min_[b] ? min_[a] : min_[b];
+        const float mn1 = min_[e] < min_[f] ? min_[e] : min_[f];
+        const float mx0 = max_[a] > max_[b] ? max_[a] : max_[b];
+        const float mx1 = max_[e] > max_[f] ? max_[e] : max_[f];
+        const unsigned any = static_cast<unsigned>(invalid_[a]) | static_cast<unsigned>(invalid_[b]) |
+                             static_cast<unsigned>(invalid_[e]) | static_cast<unsigned>(invalid_[f]);
+        return DepthRange{mn0 < mn1 ? mn0 : mn1, mx0 > mx1 ? mx0 : mx1, any != 0U};
+    }
 
     /// Level-0 depth of pixel (u, v), or +inf when it has no valid reading.
     [[nodiscard]] float depth(std::int32_t u, std::int32_t v) const noexcept {
