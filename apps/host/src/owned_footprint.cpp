@@ -36,11 +36,25 @@ std::int32_t largest(const std::vector<SensorReading>& readings, bool width) {
 }  // namespace
 
 OwnedFootprintWorkspaces::OwnedFootprintWorkspaces(const GridGeometry& grid, const std::vector<SensorReading>& readings)
-    : OwnedFootprintWorkspaces(grid, readings.size(), largest(readings, true), largest(readings, false)) {}
+    : OwnedFootprintWorkspaces(grid, readings.size(), largest(readings, true), largest(readings, false)) {
+    std::size_t total = 0U;
+    for (const SensorReading& r : readings) {
+        total += footprint_table_entries(grid, r);
+    }
+    entries_.resize(total);
+    tables_.resize(readings.size());
+    std::size_t at = 0U;
+    for (std::size_t i = 0U; i < readings.size(); ++i) {
+        const std::size_t n = footprint_table_entries(grid, readings[i]);
+        tables_[i] = FootprintTable(Span<FootprintEntry>(entries_.data() + at, n));
+        spans_[i].table = &tables_[i];
+        at += n;
+    }
+}
 
 std::size_t OwnedFootprintWorkspaces::bytes() const noexcept {
     return min_.size() * sizeof(float) + max_.size() * sizeof(float) + invalid_.size() +
-           opinions_.size() * sizeof(std::int16_t);
+           opinions_.size() * sizeof(std::int16_t) + entries_.size() * sizeof(FootprintEntry);
 }
 
 Result<FusionStats> fuse_frame_by(EvidenceGrid& grid, Span<const SensorReading> readings, const SensorModelTable& model,

@@ -597,6 +597,7 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
         stack.high_water_bytes(), stack.region_bytes(), stack.guard_bytes(),
         stack.guard_intact() ? "intact" : "REACHED");
     daemon.write_summary(stdout);
+    cell.write_footprint_summary(stdout);
     return loop.exit_status(stderr, log_ok);
 }
 

@@ -400,7 +400,10 @@ SetupError MonitorCell::build_tables(const cell::MonitorConfig& cfg, std::FILE* 
     // The worst-case work of one cycle (cycle.hpp); tests/bench/bench_cycle turns it into time.
     work = compute_work_bound(grid, readings, zones);
     if (footprint) {
-        allocate_footprint_workspaces(out);
+        SetupError made = allocate_footprint_workspaces(out);
+        if (made.failed()) {
+            return made;
+        }
         work = with_footprint_fusion(work, grid, readings, cfg.fusion.params);
     } else {
         say(out, "ray tables: %zu sensors, %zu steps (%.1f MB)\n", specs.size(), total_steps,
@@ -482,7 +485,7 @@ SetupError MonitorCell::attach_backgrounds(const cell::MonitorConfig& cfg, std::
     return {};
 }
 
-void MonitorCell::allocate_footprint_workspaces(std::FILE* out) {
+SetupError MonitorCell::allocate_footprint_workspaces(std::FILE* out) {
     // One workspace per sensor (the sensors can then run as parallel tasks),
     // allocated here once: the cycle allocates nothing.
     footprint_storage.clear();
@@ -507,8 +510,44 @@ void MonitorCell::allocate_footprint_workspaces(std::FILE* out) {
                                                  {st.opinions.data(), st.opinions.size()}};
         bytes += cells * (2U * sizeof(float) + 1U) + st.opinions.size() * sizeof(std::int16_t);
     }
-    say(out, "footprint fusion: %zu sensors, no ray tables; workspaces %.1f MB\n", specs.size(),
-        static_cast<double>(bytes) / 1e6);
+    // Footprint tables, made here from the cameras' poses (the cycle reads them): only when every
+    // sensor is a camera, so that sensor i is fused through workspace i, whose table is its own.
+    bool all_cameras = true;
+    for (const SensorReading& r : layout.readings) {
+        all_cameras = all_cameras && is_depth_image(r.kind);
+    }
+    std::size_t entries = 0U;
+    for (std::size_t s = 0U; s < specs.size() && all_cameras; ++s) {
+        FootprintStorage& st = footprint_storage[s];
+        st.entries.resize(footprint_table_entries(grid, layout.readings[s]));
+        st.table = FootprintTable(Span<FootprintEntry>(st.entries.data(), st.entries.size()));
+        const Status made = st.table.make(grid, layout.readings[s], model);
+        if (!made.ok()) {
+            return failure(1, "sensor '%s': footprint table: %s", specs[s].name.c_str(), to_string(made.error()));
+        }
+        footprint_spaces[s].table = &st.table;
+        entries += st.entries.size();
+    }
+    say(out,
+        "footprint fusion: %zu sensors, no ray tables; workspaces %.1f MB, footprint tables %.1f MB (%zu voxels in "
+        "view)%s\n",
+        specs.size(), static_cast<double>(bytes) / 1e6, static_cast<double>(entries * sizeof(FootprintEntry)) / 1e6,
+        entries, all_cameras ? "" : "; none: not every sensor is a camera");
+    return {};
+}
+
+void MonitorCell::write_footprint_summary(std::FILE* out) const {
+    std::uint64_t makes = 0U;
+    std::size_t made_tables = 0U;
+    for (const FootprintStorage& st : footprint_storage) {
+        makes += st.table.makes();
+        made_tables += st.table.entries().empty() ? 0U : 1U;
+    }
+    if (made_tables > 0U) {
+        static_cast<void>(std::fprintf(out, "summary: footprint tables: %zu, made %llu times (%s)\n", made_tables,
+                                       static_cast<unsigned long long>(makes),
+                                       makes == made_tables ? "once each, at start" : "again during the run"));
+    }
 }
 
 }  // namespace cellguard::monitor

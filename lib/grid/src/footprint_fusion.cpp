@@ -17,9 +17,15 @@ void FootprintStats::add(const FootprintStats& other) noexcept {
     voxels_exact += other.voxels_exact;
     voxels_safe_side += other.voxels_safe_side;
     pixel_tests += other.pixel_tests;
+    table_makes += other.table_makes;
 }
 
 namespace {
+
+/// The index of voxel (x, y, z) in a grid of @p nx x @p ny x ... voxels (GridGeometry::index_of).
+std::size_t index_of(std::int32_t x, std::int32_t y, std::int32_t z, std::size_t nx, std::size_t ny) noexcept {
+    return static_cast<std::size_t>(x) + nx * (static_cast<std::size_t>(y) + ny * static_cast<std::size_t>(z));
+}
 
 /// A voxel whose nearest point lies nearer the image plane than this (metres
 /// along the optical axis) is "crossed by the image plane": no opinion.
@@ -143,9 +149,16 @@ public:
 
     /// Steps 2 and 3 of the file comment over every voxel of every row's span.
     void run(const SensorModelTable& model, const DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept;
-    /// Work units of the worst frame: the voxels run() visits (the sum of the row
-    /// spans) and, for those whose corner rectangle has at most exact_footprint_max
-    /// pixels, those pixels (the exact step's most tests), without running it.
+    /// The same as run(), over the voxels of a table made for this geometry.
+    void run(Span<const FootprintEntry> table, const SensorModelTable& model, const DepthPyramid& pyramid,
+             Span<std::int16_t> opinions) noexcept;
+    /// The table's entries into @p out, in run()'s order, with @p layout's cells;
+    /// false when @p out is too short. @p count gets the voxels in view either way.
+    [[nodiscard]] bool make_table(const DepthPyramid& layout, double ramp, Span<FootprintEntry> out,
+                                  std::size_t& count) const noexcept;
+    /// Work units of the worst frame: the voxels in view (those run() visits) and,
+    /// for those whose corner rectangle has at most exact_footprint_max pixels,
+    /// those pixels (the exact step's most tests), without running it.
     [[nodiscard]] std::uint64_t voxel_work_bound() const noexcept;
     [[nodiscard]] const FootprintStats& stats() const noexcept { return stats_; }
 
@@ -156,7 +169,16 @@ private:
     }
     /// The voxel centred at camera-frame @p c; false when it is crossed by the image plane or no pixel centre lies in its rectangle.
     [[nodiscard]] bool view_of(const std::array<double, 3>& c, VoxelView& out) const noexcept;
-    void visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept;
+    /// The table entry of the voxel at @p index, centred at @p c, in view as @p f.
+    [[nodiscard]] FootprintEntry entry_of(const DepthPyramid& layout, double ramp, const VoxelCoord& v,
+                                          const std::array<double, 3>& c, const VoxelView& f) const noexcept;
+    /// Steps 2 and 3 for one voxel; false when it is not in view.
+    bool visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept;
+    /// The rest of step 2 and step 3 for a voxel in view, centred at @p c, whose
+    /// query @p q neither left it without an opinion nor filled it.
+    void settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
+                const DepthRange& q) noexcept;
+
     /// The rectangle of pixel centres in the bounding box of the voxel's eight projected
     /// corners, clipped to the image; false when a corner lies at or behind the image plane.
     [[nodiscard]] bool corner_rect(const std::array<double, 3>& c, VoxelView& out) const noexcept;
@@ -238,9 +260,16 @@ std::uint64_t SensorPass::voxel_work_bound() const noexcept {
             std::int32_t lo = 0;
             std::int32_t hi = 0;
             row_span(y, z, lo, hi);
-            n += static_cast<std::uint64_t>(hi - lo);
-            for (std::int32_t x = lo; x < hi && exact_max_ > 0; ++x) {
+            for (std::int32_t x = lo; x < hi; ++x) {
                 const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
+                VoxelView f;
+                if (!view_of(c, f)) {
+                    continue;
+                }
+                ++n;
+                if (exact_max_ <= 0) {
+                    continue;
+                }
                 VoxelView tight;
                 const std::int64_t area = corner_rect(c, tight) ? static_cast<std::int64_t>(tight.u1 - tight.u0 + 1) *
                                                                       static_cast<std::int64_t>(tight.v1 - tight.v0 + 1)
@@ -284,14 +313,14 @@ bool SensorPass::view_of(const std::array<double, 3>& c, VoxelView& out) const n
     return out.u0 <= out.u1 && out.v0 <= out.v1;
 }
 
-void SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept {
+bool SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept {
     VoxelView f;
     if (!view_of(c, f)) {
-        return;  // no pixel ray can cross the voxel
+        return false;  // no pixel ray can cross the voxel
     }
     const DepthRange q = pyramid_->query(f.u0, f.v0, f.u1, f.v1);
     if (q.empty() || static_cast<double>(q.max) < f.z_min - kDepthSlack) {
-        return;  // no valid reading, or every ray ends in front of the voxel: no opinion
+        return true;  // no valid reading, or every ray ends in front of the voxel: no opinion
     }
     const double beyond = static_cast<double>(q.min) - f.z_max;
     const double dist2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
@@ -301,8 +330,14 @@ void SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::ar
         // it passes it by at least the ramp: the constant free value, exactly.
         raise(index, model_->constant_free_evidence());
         ++stats_.voxels_filled;
-        return;
+        return true;
     }
+    settle(voxel, index, c, f.z_max, q);
+    return true;
+}
+
+void SensorPass::settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
+                        const DepthRange& q) noexcept {
     if (opinions_[index] == model_->reading_evidence()) {
         return;  // a hit wins over every free value
     }
@@ -318,15 +353,15 @@ void SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::ar
         }
     }
     ++stats_.voxels_safe_side;
-    if (static_cast<double>(q.max) <= f.z_max + kDepthSlack) {
+    if (static_cast<double>(q.max) <= z_max + kDepthSlack) {
         return;  // no reading of the footprint (a superset of the inner square's) lies beyond the voxel
     }
-    const bool all_beyond = static_cast<double>(q.min) > f.z_max + kDepthSlack;
+    const bool all_beyond = static_cast<double>(q.min) > z_max + kDepthSlack;
     // When every pixel of the footprint has a reading beyond the voxel, a pixel centre in the
     // inner square suffices; else one of its probed pixels must hold a reading beyond it.
     VoxelView square;
-    if (inner_square(c, square) && ((all_beyond && !q.any_invalid) || probe_beyond(square, f.z_max))) {
-        raise(index, model_->free_evidence(all_beyond ? beyond : 0.0));
+    if (inner_square(c, square) && ((all_beyond && !q.any_invalid) || probe_beyond(square, z_max))) {
+        raise(index, model_->free_evidence(all_beyond ? static_cast<double>(q.min) - z_max : 0.0));
     }
 }
 
@@ -403,18 +438,17 @@ bool SensorPass::inner_square(const std::array<double, 3>& c, VoxelView& out) co
     const double half = 0.5 * grid_.voxel_size() / (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) * pixel_angle_);
     const double uc = k.fx * c[0] / c[2] + k.cx;
     const double vc = k.fy * c[1] / c[2] + k.cy;
-    const double iu0 = std::fmax(std::ceil(uc - half), 0.0);
-    const double iu1 = std::fmin(std::floor(uc + half), static_cast<double>(k.width - 1));
-    const double iv0 = std::fmax(std::ceil(vc - half), 0.0);
-    const double iv1 = std::fmin(std::floor(vc + half), static_cast<double>(k.height - 1));
-    if (!(iu0 <= iu1 && iv0 <= iv1)) {
-        return false;
-    }
-    out.u0 = static_cast<std::int32_t>(iu0);
-    out.v0 = static_cast<std::int32_t>(iv0);
-    out.u1 = static_cast<std::int32_t>(iu1);
-    out.v1 = static_cast<std::int32_t>(iv1);
-    return true;
+    // ceil and floor in integers (no library call), clipped to the image; the
+    // clamp to +-1e9 changes nothing that can lie in the image.
+    const std::int32_t iu0 = ceil_to_int(clamp(uc - half, -1e9, 1e9));
+    const std::int32_t iu1 = floor_to_int(clamp(uc + half, -1e9, 1e9));
+    const std::int32_t iv0 = ceil_to_int(clamp(vc - half, -1e9, 1e9));
+    const std::int32_t iv1 = floor_to_int(clamp(vc + half, -1e9, 1e9));
+    out.u0 = iu0 > 0 ? iu0 : 0;
+    out.v0 = iv0 > 0 ? iv0 : 0;
+    out.u1 = iu1 < k.width - 1 ? iu1 : k.width - 1;
+    out.v1 = iv1 < k.height - 1 ? iv1 : k.height - 1;
+    return out.u0 <= out.u1 && out.v0 <= out.v1;
 }
 
 bool SensorPass::probe_beyond(const VoxelView& square, double z_max) const noexcept {
@@ -449,11 +483,111 @@ void SensorPass::run(const SensorModelTable& model, const DepthPyramid& pyramid,
                                      static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
             for (std::int32_t x = lo; x < hi; ++x) {
                 const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
-                visit(VoxelCoord{x, y, z}, row + static_cast<std::size_t>(x), c);
+                stats_.voxels_visited += visit(VoxelCoord{x, y, z}, row + static_cast<std::size_t>(x), c) ? 1U : 0U;
             }
-            stats_.voxels_visited += static_cast<std::uint64_t>(hi - lo);
         }
     }
+}
+
+void SensorPass::run(Span<const FootprintEntry> table, const SensorModelTable& model, const DepthPyramid& pyramid,
+                     Span<std::int16_t> opinions) noexcept {
+    model_ = &model;
+    pyramid_ = &pyramid;
+    opinions_ = opinions;
+    stats_.pixels += static_cast<std::uint64_t>(pyramid.width()) * static_cast<std::uint64_t>(pyramid.height());
+    stats_.voxels_visited += table.size();
+    const std::int16_t fill = model.constant_free_evidence();
+    const GridDims d = grid_.dims();
+    const auto nx = static_cast<std::size_t>(d.nx);
+    const auto ny = static_cast<std::size_t>(d.ny);
+    for (const FootprintEntry& e : table) {
+        const DepthRange q = pyramid.query(e.cells);
+        if (q.max < e.front) {
+            continue;  // no valid reading, or every ray ends in front of the voxel (front is finite)
+        }
+        if (!q.any_invalid && q.min >= e.fill) {
+            raise(index_of(e.x, e.y, e.z, nx, ny), fill);
+            ++stats_.voxels_filled;
+            continue;
+        }
+        // Open: the rest of step 2 and step 3, as without a table (the query is the same:
+        // the entry's cells are those of the voxel's footprint).
+        const std::int32_t x = e.x;
+        const std::int32_t y = e.y;
+        const std::int32_t z = e.z;
+        const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
+        settle(VoxelCoord{x, y, z}, index_of(x, y, z, nx, ny), c, c[2] + half_[2], q);
+    }
+}
+
+namespace {
+
+/// The smallest float f for which @p holds(f) is true, for a predicate that is
+/// false below some float and true from it on, starting the search at @p guess.
+template <typename Pred>
+float smallest_float_where(float guess, Pred&& holds) noexcept {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    float f = guess;
+    while (!holds(f) && f < kInf) {
+        f = std::nextafter(f, kInf);
+    }
+    while (f > -kInf && holds(std::nextafter(f, -kInf))) {
+        f = std::nextafter(f, -kInf);
+    }
+    return f;
+}
+
+}  // namespace
+
+bool SensorPass::make_table(const DepthPyramid& layout, double ramp, Span<FootprintEntry> out,
+                            std::size_t& count) const noexcept {
+    count = 0U;
+    const GridDims d = grid_.dims();
+    for (std::int32_t z = 0; z < d.nz; ++z) {
+        for (std::int32_t y = 0; y < d.ny; ++y) {
+            std::int32_t lo = 0;
+            std::int32_t hi = 0;
+            row_span(y, z, lo, hi);
+            for (std::int32_t x = lo; x < hi; ++x) {
+                const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
+                VoxelView f;
+                if (!view_of(c, f)) {
+                    continue;
+                }
+                if (count < out.size()) {
+                    out[count] = entry_of(layout, ramp, VoxelCoord{x, y, z}, c, f);
+                }
+                ++count;
+            }
+        }
+    }
+    return count <= out.size();
+}
+
+FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, const VoxelCoord& v,
+                                    const std::array<double, 3>& c, const VoxelView& f) const noexcept {
+    // Grid sides are at most kMaxDimension (4096, checked by GridGeometry::make): they fit 16 bits.
+    const std::int32_t x = v.x;
+    const std::int32_t y = v.y;
+    const std::int32_t z = v.z;
+    FootprintEntry e;
+    e.x = static_cast<std::uint16_t>(x);
+    e.y = static_cast<std::uint16_t>(y);
+    e.z = static_cast<std::uint16_t>(z);
+    e.cells = layout.cells_of(f.u0, f.v0, f.u1, f.v1);
+    // visit()'s tests in double on a float reading r: (double) r < front_d, and
+    // (double) r - z_max >= ramp + slack; each is a threshold on the float r.
+    const double front_d = f.z_min - kDepthSlack;
+    e.front = smallest_float_where(static_cast<float>(front_d),
+                                   [front_d](float r) { return static_cast<double>(r) >= front_d; });
+    const double dist2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    const double need = ramp + kDepthSlack;
+    const double z_max = f.z_max;
+    e.fill = (f.in_image && dist2 <= resolved_dist2_)
+                 ? smallest_float_where(static_cast<float>(z_max + need),
+                                        [z_max, need](float r) { return static_cast<double>(r) - z_max >= need; })
+                 : std::numeric_limits<float>::infinity();
+    return e;
 }
 
 /// Step 1's placement of a reading in its voxel, by the arithmetic of
@@ -479,11 +613,23 @@ public:
         min2_hi_ = lo * lo * (1.0 + 1e-5);
         max2_lo_ = hi * hi * (1.0 - 1e-5);
         max2_hi_ = hi * hi * (1.0 + 1e-5);
+        // |frac - 0.5| <= half_band_ keeps frac in [margin_, 1 - margin_] (1e-12 to spare for the rounding).
+        half_band_ = 0.5 - margin_ - 1e-12;
+        // The short form's coordinates lie within +-1e9 voxels for every reading within the range
+        // limit when |b| + |row of m|_1 x max range does: then floor() by truncation after an offset
+        // of 2^30 needs no clamp. Else (a camera absurdly far from the grid) every reading goes the long way.
+        short_form_ = true;
+        for (Eigen::Index a = 0; a < 3; ++a) {
+            const double reach = std::fabs(b_[a]) +
+                                 (std::fabs(m_(a, 0)) + std::fabs(m_(a, 1)) + std::fabs(m_(a, 2))) * hi * (1.0 + 1e-5);
+            short_form_ = short_form_ && reach < 1e9;
+        }
     }
 
     /// Starts image row @p v: the rays of its pixels (place() takes them in any order).
     void begin_row(std::int32_t v) noexcept {
         yn_ = (static_cast<double>(v) - r_.intrinsics.cy) * inv_fy_;
+        row_range_ = yn_ * yn_ + 1.0;
         for (Eigen::Index a = 0; a < 3; ++a) {
             row_[static_cast<std::size_t>(a)] = m_(a, 1) * yn_ + m_(a, 2);  // m (0, yn, 1): the row's axis
         }
@@ -491,42 +637,48 @@ public:
 
     /// The class of the reading of pixel (u, v) of the row begun last at raw
     /// depth @p d, and its voxel when valid.
-    detail::ReadingClass place(std::int32_t u, std::int32_t v, float d, VoxelCoord& voxel) const noexcept {
-        if (!(d > 0.0F && d <= kMaxSensorRange)) {
+    [[gnu::always_inline]] detail::ReadingClass place(std::int32_t u, std::int32_t v, float d,
+                                                      VoxelCoord& voxel) const noexcept {
+        if (!(d > 0.0F && d <= kMaxSensorRange) || !short_form_) {
             return place_exactly(u, v, d, voxel);
         }
         const double xn = (static_cast<double>(u) - r_.intrinsics.cx) * inv_fx_;
         const auto dd = static_cast<double>(d);
-        const double range2 = dd * dd * (xn * xn + yn_ * yn_ + 1.0);
-        if ((range2 > min2_lo_ && range2 < min2_hi_) || (range2 > max2_lo_ && range2 < max2_hi_)) {
+        const double range2 = dd * dd * (xn * xn + row_range_);
+        if (!(range2 > min2_hi_ && range2 < max2_lo_)) {  // not clearly inside the range limits
+            if (range2 <= min2_lo_ || range2 >= max2_hi_) {
+                return detail::ReadingClass::kOutOfRange;
+            }
             return place_exactly(u, v, d, voxel);  // near a range limit
         }
-        if (range2 <= min2_lo_ || range2 >= max2_hi_) {
-            return detail::ReadingClass::kOutOfRange;
-        }
-        std::array<std::int32_t, 3> c{};
-        bool near_face = false;
-        for (std::size_t a = 0U; a < 3U; ++a) {
-            // m (xn d, yn d, d) + b, as (m (0, yn, 1) + xn m e_x) d + b: the same point within rounding.
-            const double q = (row_[a] + xn * m_(static_cast<Eigen::Index>(a), 0)) * dd +
-                             b_[static_cast<Eigen::Index>(a)];
-            const double clamped = clamp(q, -1e9, 1e9);
-            const std::int32_t f = floor_to_int(clamped);
-            const double frac = q - static_cast<double>(f);
-            // Near a face, NaN or beyond 1e9 (bitwise: no branch per axis).
-            near_face = static_cast<bool>(static_cast<unsigned>(near_face) | static_cast<unsigned>(!(frac >= margin_)) |
-                                          static_cast<unsigned>(!(frac <= 1.0 - margin_)));
-            c[a] = f;
-        }
-        if (near_face) {
+        // m (xn d, yn d, d) + b, as (m (0, yn, 1) + xn m e_x) d + b: the same point within rounding.
+        // Each coordinate lies within +-1e9 (short_form_); its floor is taken by truncation after
+        // an offset of 2^30, which may round it to the neighbouring integer next to a face: the
+        // test below then fails, as it does for any coordinate whose fraction lies within margin_
+        // of a face. Bitwise and: no branch per axis.
+        const double qx = (row_[0] + xn * m_(0, 0)) * dd + b_[0];
+        const double qy = (row_[1] + xn * m_(1, 0)) * dd + b_[1];
+        const double qz = (row_[2] + xn * m_(2, 0)) * dd + b_[2];
+        const std::int32_t fx = static_cast<std::int32_t>(qx + kFloorOffset) - kFloorOffsetInt;
+        const std::int32_t fy = static_cast<std::int32_t>(qy + kFloorOffset) - kFloorOffsetInt;
+        const std::int32_t fz = static_cast<std::int32_t>(qz + kFloorOffset) - kFloorOffsetInt;
+        const unsigned clear = static_cast<unsigned>(std::fabs(qx - static_cast<double>(fx) - 0.5) <= half_band_) &
+                               static_cast<unsigned>(std::fabs(qy - static_cast<double>(fy) - 0.5) <= half_band_) &
+                               static_cast<unsigned>(std::fabs(qz - static_cast<double>(fz) - 0.5) <= half_band_);
+        if (clear == 0U) {
             return place_exactly(u, v, d, voxel);
         }
-        voxel = VoxelCoord{c[0], c[1], c[2]};
+        voxel = VoxelCoord{fx, fy, fz};
         return detail::ReadingClass::kValid;
     }
 
 private:
-    detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d, VoxelCoord& voxel) const noexcept {
+    static constexpr double kFloorOffset = 1073741824.0;      ///< 2^30
+    static constexpr std::int32_t kFloorOffsetInt = 1 << 30;  ///< the same, as an integer
+
+    /// Out of line: the rare path, kept out of the pixel loop's code.
+    [[gnu::noinline]] detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d,
+                                                         VoxelCoord& voxel) const noexcept {
         detail::ReadingClass c = detail::classify_depth(d);
         if (c != detail::ReadingClass::kValid) {
             return c;
@@ -546,6 +698,9 @@ private:
     double inv_fx_ = 0.0;
     double inv_fy_ = 0.0;
     double yn_ = 0.0;              ///< the current row's normalised image coordinate
+    double row_range_ = 0.0;       ///< yn^2 + 1 of the current row
+    double half_band_ = 0.0;       ///< 0.5 - margin_, less a little
+    bool short_form_ = false;      ///< the short form's coordinates fit +-1e9 voxels
     std::array<double, 3> row_{};  ///< m (0, yn, 1) of the current row
     double margin_ = 0.0;
     double min2_lo_ = 0.0;
@@ -554,17 +709,22 @@ private:
     double max2_hi_ = 0.0;
 };
 
-/// Step 1: the hits, exactly as fuse_sensor places them, and level 0 of the pyramid.
-FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
-                     DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept {
+/// Step 1 over every pixel, reading depths through @p depth_at (i: the pixel's index).
+template <typename DepthAt>
+FusionStats hit_rows(const GridGeometry& g, const SensorReading& r, std::int16_t hit, DepthPyramid& pyramid,
+                     Span<std::int16_t> opinions, DepthAt&& depth_at) noexcept {
     FusionStats s;
     HitPlacer placer(g, r);
-    const std::int16_t hit = model.reading_evidence();
+    const GridDims dims = g.dims();
+    const auto nx = static_cast<std::uint32_t>(dims.nx);
+    const auto ny = static_cast<std::uint32_t>(dims.ny);
+    const auto nz = static_cast<std::uint32_t>(dims.nz);
+    std::int16_t* const out = opinions.data();
     std::size_t i = 0U;
     for (std::int32_t v = 0; v < r.intrinsics.height; ++v) {
         placer.begin_row(v);
         for (std::int32_t u = 0; u < r.intrinsics.width; ++u, ++i) {
-            const float d = depth_value(r, i);
+            const float d = depth_at(i);
             VoxelCoord vc;
             const detail::ReadingClass c = placer.place(u, v, d, vc);
             if (c != detail::ReadingClass::kValid) {
@@ -574,13 +734,28 @@ FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const Sensor
             }
             pyramid.set_pixel(u, v, d, true);
             ++s.rays_fused;
-            if (g.contains(vc)) {
-                opinions[g.index_of(vc)] = hit;
+            // In the grid: each coordinate in [0, n) (a negative one is a large unsigned value).
+            const auto x = static_cast<std::uint32_t>(vc.x);
+            const auto y = static_cast<std::uint32_t>(vc.y);
+            const auto z = static_cast<std::uint32_t>(vc.z);
+            if (x < nx && y < ny && z < nz) {
+                out[x + static_cast<std::size_t>(nx) * (y + static_cast<std::size_t>(ny) * z)] = hit;
                 ++s.readings_in_grid;
             }
         }
     }
     return s;
+}
+
+/// Step 1: the hits, exactly as fuse_sensor places them, and level 0 of the pyramid.
+FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
+                     DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept {
+    const std::int16_t hit = model.reading_evidence();
+    if (r.kind == SensorDataKind::kDepthImageU16) {
+        return hit_rows(g, r, hit, pyramid, opinions, [&r](std::size_t i) { return depth_value(r, i); });
+    }
+    const float* const depth = r.depth.data();
+    return hit_rows(g, r, hit, pyramid, opinions, [depth](std::size_t i) { return depth[i]; });
 }
 
 }  // namespace
@@ -594,6 +769,69 @@ std::uint64_t footprint_work_bound(const GridGeometry& grid, const SensorReading
     const std::uint64_t pixels = static_cast<std::uint64_t>(reading.intrinsics.width) *
                                  static_cast<std::uint64_t>(reading.intrinsics.height);
     return 2U * pixels + SensorPass(grid, reading, params).voxel_work_bound();
+}
+
+namespace {
+
+/// The checks of validate_sensor_reading that concern a table: a depth image
+/// of a valid size, finite positive intrinsics, a finite rotation.
+Status check_table_geometry(const GridGeometry& grid, const SensorReading& r) noexcept {
+    const PinholeIntrinsics& k = r.intrinsics;
+    if (!is_depth_image(r.kind) || grid.voxel_count() == 0U || depth_pyramid_cells(k.width, k.height) == 0U ||
+        !(k.fx > 0.0 && k.fy > 0.0) || !std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) ||
+        !std::isfinite(k.cy)) {
+        return ErrorCode::kInvalidArgument;
+    }
+    const Eigen::Matrix3d rot = r.pose.linear();
+    if (!r.pose.matrix().allFinite() ||
+        (rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6) {
+        return ErrorCode::kInvalidArgument;
+    }
+    return Status{};
+}
+
+}  // namespace
+
+std::size_t footprint_table_entries(const GridGeometry& grid, const SensorReading& reading) noexcept {
+    if (!check_table_geometry(grid, reading).ok()) {
+        return 0U;
+    }
+    return static_cast<std::size_t>(SensorPass(grid, reading, FootprintParams{}).voxel_work_bound());
+}
+
+Status FootprintTable::make(const GridGeometry& grid, const SensorReading& reading,
+                            const SensorModelTable& model) noexcept {
+    made_ = false;
+    count_ = 0U;
+    const Status ok = check_table_geometry(grid, reading);
+    if (!ok.ok()) {
+        return ok;
+    }
+    const DepthPyramid layout = DepthPyramid::layout_of(reading.intrinsics.width, reading.intrinsics.height);
+    std::size_t count = 0U;
+    if (!SensorPass(grid, reading, FootprintParams{}).make_table(layout, model.ramp_length(), storage_, count)) {
+        return ErrorCode::kStorageTooSmall;
+    }
+    count_ = count;
+    made_ = true;
+    ++makes_;
+    origin_ = grid.origin();
+    voxel_size_ = grid.voxel_size();
+    dims_ = grid.dims();
+    pose_ = reading.pose.matrix().topRows<3>();
+    intrinsics_ = reading.intrinsics;
+    ramp_ = model.ramp_length();
+    return Status{};
+}
+
+bool FootprintTable::matches(const GridGeometry& grid, const SensorReading& reading,
+                             const SensorModelTable& model) const noexcept {
+    const PinholeIntrinsics& k = reading.intrinsics;
+    const GridDims d = grid.dims();
+    return made_ && is_depth_image(reading.kind) && grid.origin() == origin_ && grid.voxel_size() == voxel_size_ &&
+           d.nx == dims_.nx && d.ny == dims_.ny && d.nz == dims_.nz && reading.pose.matrix().topRows<3>() == pose_ &&
+           k.fx == intrinsics_.fx && k.fy == intrinsics_.fy && k.cx == intrinsics_.cx && k.cy == intrinsics_.cy &&
+           k.width == intrinsics_.width && k.height == intrinsics_.height && model.ramp_length() == ramp_;
 }
 
 Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorReading& reading,
@@ -623,9 +861,22 @@ Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorRea
     const FusionStats s = hit_pass(grid, reading, model, pyramid, opinions);
     pyramid.build_levels();
     SensorPass pass(grid, reading, params);
-    pass.run(model, pyramid, opinions);
+    std::uint64_t makes = 0U;
+    if (work.table == nullptr) {
+        pass.run(model, pyramid, opinions);
+    } else {
+        if (!work.table->matches(grid, reading, model)) {
+            const Status made_table = work.table->make(grid, reading, model);
+            if (!made_table.ok()) {
+                return made_table.error();
+            }
+            makes = 1U;
+        }
+        pass.run(work.table->entries(), model, pyramid, opinions);
+    }
     if (stats != nullptr) {
         stats->add(pass.stats());
+        stats->table_makes += makes;
     }
     return s;
 }
@@ -644,14 +895,14 @@ struct FrameJob {
     EvidenceGrid* target = nullptr;
     std::array<FusionStats, kMaxSensors> fusion{};
     std::array<FootprintStats, kMaxSensors> footprint{};
-    std::array<bool, kMaxSensors> ok{};
+    std::array<ErrorCode, kMaxSensors> error{};  ///< kOk, or the sensor's error (a table too small)
 };
 
 void sensor_task(void* context, std::size_t i) noexcept {
     auto& job = *static_cast<FrameJob*>(context);
     const Result<FusionStats> r = footprint_opinions(*job.grid, job.sensors[i], *job.model, job.workspaces[i],
                                                      &job.footprint[i], *job.params);
-    job.ok[i] = r.ok();
+    job.error[i] = r.ok() ? ErrorCode::kOk : r.error();
     if (r.ok()) {
         job.fusion[i] = r.value();
     }
@@ -717,16 +968,19 @@ Result<FusionStats> fuse_frame_footprint(EvidenceGrid& grid, Span<const SensorRe
         job.target = &grid;
         runner.run(sensors.size(), &sensor_task, &job);
         for (std::size_t i = 0U; i < sensors.size(); ++i) {
-            if (!job.ok[i]) {
-                return ErrorCode::kInvalidArgument;  // unreachable: checked above, before any evidence
+            if (job.error[i] != ErrorCode::kOk) {
+                return job.error[i];  // a table that does not fit its storage; no evidence added yet
             }
             total.add(job.fusion[i]);
             fp.add(job.footprint[i]);
         }
         runner.run((grid.voxel_count() + kPoolChunk - 1U) / kPoolChunk, &pool_task, &job);
     } else {
+        // One workspace for every sensor: no table (it would be made again for each sensor).
+        FootprintWorkspace shared = workspaces[0];
+        shared.table = nullptr;
         for (const SensorReading& r : sensors) {
-            const Result<FusionStats> s = footprint_opinions(grid.geometry(), r, model, workspaces[0], &fp, params);
+            const Result<FusionStats> s = footprint_opinions(grid.geometry(), r, model, shared, &fp, params);
             if (!s.ok()) {         // GCOVR_EXCL_BR_LINE: checked above
                 return s.error();  // unreachable: checked above GCOVR_EXCL_BR_LINE
             }

@@ -22,12 +22,13 @@ class OwnedFootprintWorkspaces {
 public:
     /// Allocates @p sensors workspaces (at least one).
     OwnedFootprintWorkspaces(const GridGeometry& grid, std::size_t sensors, std::int32_t width, std::int32_t height);
-    /// Workspaces for every depth image of @p readings (their largest image).
+    /// Workspaces for every depth image of @p readings (their largest image),
+    /// each with a footprint table for its sensor (made on its first frame).
     OwnedFootprintWorkspaces(const GridGeometry& grid, const std::vector<SensorReading>& readings);
 
     /// The workspaces, as fuse_frame_footprint and the controller take them.
     [[nodiscard]] Span<const FootprintWorkspace> spans() const noexcept { return {spans_.data(), spans_.size()}; }
-    /// Bytes held (pyramids and opinions), for the memory figures.
+    /// Bytes held (pyramids, opinions and tables), for the memory figures.
     [[nodiscard]] std::size_t bytes() const noexcept;
 
 private:
@@ -35,6 +36,8 @@ private:
     std::vector<float> max_;
     std::vector<std::uint8_t> invalid_;
     std::vector<std::int16_t> opinions_;
+    std::vector<FootprintEntry> entries_;
+    std::vector<FootprintTable> tables_;
     std::vector<FootprintWorkspace> spans_;
 };
 

@@ -123,6 +123,8 @@ public:
         std::vector<float> pyramid_max;             ///< the same
         std::vector<std::uint8_t> pyramid_invalid;  ///< the same
         std::vector<std::int16_t> opinions;         ///< one per voxel
+        std::vector<FootprintEntry> entries;        ///< the sensor's footprint table's storage
+        FootprintTable table;                       ///< over entries, made at start
     };
     std::vector<FootprintStorage> footprint_storage;   ///< per sensor, with footprint fusion
     std::vector<FootprintWorkspace> footprint_spaces;  ///< per sensor, over footprint_storage
@@ -144,10 +146,14 @@ public:
     /// cell come from: the scene file's static boxes, or the paper's reference scene.
     [[nodiscard]] sim::Scene background_scene() const;
 
+    /// With footprint tables: how often they were made (once per camera at
+    /// start; more means a reading's geometry differed from the configuration's).
+    void write_footprint_summary(std::FILE* out) const;
+
 private:
     SetupError configure_robot_model(const cell::MonitorConfig& cfg, std::FILE* out);
     SetupError attach_backgrounds(const cell::MonitorConfig& cfg, std::FILE* out);
-    void allocate_footprint_workspaces(std::FILE* out);
+    SetupError allocate_footprint_workspaces(std::FILE* out);
 };
 
 }  // namespace cellguard::monitor

@@ -68,6 +68,13 @@
 /// A voxel crossed by the sensor's image plane (a corner at depth <= 1 mm)
 /// gets no opinion from it: the camera's own voxel is unknown to itself.
 ///
+/// Footprint tables (FootprintTable): the cameras do not move, so what step 2
+/// needs of each voxel in view (the pyramid cells over its footprint, and the
+/// depths at which a query leaves it without an opinion or fills it) is made
+/// once from the configuration and read every frame; a voxel the table's
+/// thresholds leave open is projected and settled as without a table. The
+/// opinions are the same bit for bit.
+///
 /// Work per sensor is at most footprint_work_bound, and equal to it with
 /// exact_footprint_max 0: twice the pixels (hit pass and pyramid) and the
 /// voxels in view, each visited once in a fixed order with at most one
@@ -104,16 +111,80 @@ struct FootprintParams {
 /// What footprint passes did (for diagnostics, benchmarks and the tests).
 struct FootprintStats {
     std::uint64_t pixels = 0U;            ///< pixels of the hit pass (step 1)
-    std::uint64_t voxels_visited = 0U;    ///< voxels in view, visited by step 2
+    std::uint64_t voxels_visited = 0U;    ///< voxels in view (a pixel centre in the footprint), step 2
     std::uint64_t voxels_filled = 0U;     ///< voxels given the constant free value
     std::uint64_t voxels_exact = 0U;      ///< voxels evaluated ray by ray (step 3)
     std::uint64_t voxels_safe_side = 0U;  ///< voxels decided by the safe-side rule
     std::uint64_t pixel_tests = 0U;       ///< ray-voxel tests of step 3
+    std::uint64_t table_makes = 0U;       ///< footprint tables made (not counted as work units)
     /// The work units: 2 x pixels + voxels visited + ray-voxel tests (at most footprint_work_bound, summed).
     [[nodiscard]] std::uint64_t work_units() const noexcept { return 2U * pixels + voxels_visited + pixel_tests; }
     /// Adds another pass's counts.
     void add(const FootprintStats& other) noexcept;
 };
+
+/// One voxel in a sensor's view as its footprint table keeps it (24 bytes):
+/// step 2's fast decisions, taken from one pyramid query and two float
+/// comparisons. Each threshold is the float for which the comparison with a
+/// float reading gives exactly the answer of step 2's double comparison.
+struct FootprintEntry {
+    PyramidCells cells{};  ///< the pyramid cells over its footprint
+    std::uint16_t x = 0U;  ///< the voxel (a grid side is at most kMaxDimension)
+    std::uint16_t y = 0U;  ///< the voxel's row
+    std::uint16_t z = 0U;  ///< the voxel's layer
+    /// No opinion when every reading of the footprint is nearer than this.
+    float front = 0.0F;
+    /// The constant free value when every reading is at least this far and no
+    /// pixel lacks one; +inf for a voxel that may not be filled (not resolved,
+    /// or its footprint leaves the image).
+    float fill = 0.0F;
+};
+
+/// A sensor's footprint table, over caller storage: its voxels in view in the
+/// order step 2 visits them, made from the grid, the sensor's pose and
+/// intrinsics and the model's ramp length (the configuration, not a frame).
+/// Read every frame in place of step 2's projection; a voxel that the fast
+/// decisions leave open is projected as without a table, so the opinions
+/// are the same bit for bit.
+class FootprintTable {
+public:
+    /// An empty table (footprint fusion then projects every voxel).
+    FootprintTable() noexcept = default;
+    /// A table over @p storage, not yet made.
+    explicit FootprintTable(Span<FootprintEntry> storage) noexcept : storage_(storage) {}
+
+    /// Makes the table for @p grid, the pose, intrinsics and image size of
+    /// @p reading (its depths are not read) and @p model's ramp length.
+    /// Errors: kInvalidArgument for a point set or an invalid reading,
+    /// kStorageTooSmall when the storage holds fewer entries than
+    /// footprint_table_entries(); the table is then empty.
+    [[nodiscard]] Status make(const GridGeometry& grid, const SensorReading& reading,
+                              const SensorModelTable& model) noexcept;
+    /// True when made for exactly this grid, the reading's pose, intrinsics and
+    /// image size and this model's ramp length.
+    [[nodiscard]] bool matches(const GridGeometry& grid, const SensorReading& reading,
+                               const SensorModelTable& model) const noexcept;
+    /// The entries made last (empty before make()).
+    [[nodiscard]] Span<const FootprintEntry> entries() const noexcept { return {storage_.data(), count_}; }
+    /// How often make() filled the table (fusion makes it when it does not match).
+    [[nodiscard]] std::uint64_t makes() const noexcept { return makes_; }
+
+private:
+    Span<FootprintEntry> storage_{};
+    std::size_t count_ = 0U;
+    std::uint64_t makes_ = 0U;
+    bool made_ = false;
+    Eigen::Vector3d origin_{Eigen::Vector3d::Zero()};
+    double voxel_size_ = 0.0;
+    GridDims dims_{};
+    Eigen::Matrix<double, 3, 4> pose_{Eigen::Matrix<double, 3, 4>::Zero()};
+    PinholeIntrinsics intrinsics_{};
+    double ramp_ = 0.0;
+};
+
+/// Entries of a footprint table for @p reading's geometry over @p grid: its
+/// voxels in view (0 for a point set or an empty grid).
+[[nodiscard]] std::size_t footprint_table_entries(const GridGeometry& grid, const SensorReading& reading) noexcept;
 
 /// Working memory of one sensor's footprint pass: its pyramid (three spans of
 /// depth_pyramid_cells(width, height)) and its opinions (one int16 per voxel).
@@ -122,6 +193,10 @@ struct FootprintWorkspace {
     Span<float> pyramid_max{};             ///< max pyramid storage
     Span<std::uint8_t> pyramid_invalid{};  ///< invalid-flag pyramid storage
     Span<std::int16_t> opinions{};         ///< the sensor's opinion per voxel (kNoOpinion: none)
+    /// The sensor's table, or none (every voxel projected each frame). Made
+    /// on first use, and again whenever it does not match the reading; with
+    /// fewer workspaces than sensors, fuse_frame_footprint uses no table.
+    FootprintTable* table = nullptr;
 };
 
 /// One sensor's work units in a frame: 2 x its pixels (hit pass, pyramid)
