@@ -301,7 +301,7 @@ struct FootprintRun {
     std::uint64_t bound = 0U;                 ///< footprint_work_bound summed over the sensors
     std::uint64_t measured = 0U;              ///< the most work units of a cycle (FootprintStats::work_units)
     std::uint64_t least = ~std::uint64_t{0};  ///< the fewest work units of a cycle
-    std::size_t memory_bytes = 0U;            ///< pyramids + opinions of every workspace
+    std::size_t memory_bytes = 0U;            ///< pyramids, opinions and footprint table of every workspace
 };
 
 FootprintRun run_footprint(const Case& c, const Frame& f, int cycles, TaskRunner& runner,
@@ -659,7 +659,8 @@ int main(int argc, char** argv) {
     std::printf("  measured <= bound in every cycle: %s\n", bound_held ? "yes" : "NO (bound violated)");
     std::printf("  measured >= 95 %% of the bound in every cycle: %s\n", bound_tight ? "yes" : "NO (bound not tight)");
 
-    std::printf("\nmemory, MiB (footprint: pyramids + opinions of one workspace per sensor; the grid itself apart)\n");
+    std::printf(
+        "\nmemory, MiB (footprint: pyramids, opinions and footprint table of one workspace per sensor; the grid itself apart)\n");
     double largest_mib = 0.0;
     for (const Row& r : rows) {
         if (r.pattern != Pattern::kMaxRange) {

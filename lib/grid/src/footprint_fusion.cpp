@@ -618,11 +618,10 @@ public:
         // The short form's coordinates lie within +-1e9 voxels for every reading within the range
         // limit when |b| + |row of m|_1 x max range does: then floor() by truncation after an offset
         // of 2^30 needs no clamp. Else (a camera absurdly far from the grid) every reading goes the long way.
-        short_form_ = true;
         for (Eigen::Index a = 0; a < 3; ++a) {
             const double reach = std::fabs(b_[a]) +
                                  (std::fabs(m_(a, 0)) + std::fabs(m_(a, 1)) + std::fabs(m_(a, 2))) * hi * (1.0 + 1e-5);
-            short_form_ = short_form_ && reach < 1e9;
+            far_ = far_ || !(reach < 1e9);
         }
     }
 
@@ -639,7 +638,7 @@ public:
     /// depth @p d, and its voxel when valid.
     [[gnu::always_inline]] detail::ReadingClass place(std::int32_t u, std::int32_t v, float d,
                                                       VoxelCoord& voxel) const noexcept {
-        if (!(d > 0.0F && d <= kMaxSensorRange) || !short_form_) {
+        if (!(d > 0.0F && d <= kMaxSensorRange) || far_) {
             return place_exactly(u, v, d, voxel);
         }
         const double xn = (static_cast<double>(u) - r_.intrinsics.cx) * inv_fx_;
@@ -652,7 +651,7 @@ public:
             return place_exactly(u, v, d, voxel);  // near a range limit
         }
         // m (xn d, yn d, d) + b, as (m (0, yn, 1) + xn m e_x) d + b: the same point within rounding.
-        // Each coordinate lies within +-1e9 (short_form_); its floor is taken by truncation after
+        // Each coordinate lies within +-1e9 (unless far_); its floor is taken by truncation after
         // an offset of 2^30, which may round it to the neighbouring integer next to a face: the
         // test below then fails, as it does for any coordinate whose fraction lies within margin_
         // of a face. Bitwise and: no branch per axis.
@@ -673,8 +672,8 @@ public:
     }
 
 private:
-    static constexpr double kFloorOffset = 1073741824.0;      ///< 2^30
-    static constexpr std::int32_t kFloorOffsetInt = 1 << 30;  ///< the same, as an integer
+    static constexpr double kFloorOffset = 1073741824.0;         ///< 2^30
+    static constexpr std::int32_t kFloorOffsetInt = 1073741824;  ///< the same, as an integer
 
     /// Out of line: the rare path, kept out of the pixel loop's code.
     [[gnu::noinline]] detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d,
@@ -700,7 +699,7 @@ private:
     double yn_ = 0.0;              ///< the current row's normalised image coordinate
     double row_range_ = 0.0;       ///< yn^2 + 1 of the current row
     double half_band_ = 0.0;       ///< 0.5 - margin_, less a little
-    bool short_form_ = false;      ///< the short form's coordinates fit +-1e9 voxels
+    bool far_ = false;             ///< the short form's coordinates may leave +-1e9 voxels: not used
     std::array<double, 3> row_{};  ///< m (0, yn, 1) of the current row
     double margin_ = 0.0;
     double min2_lo_ = 0.0;
