@@ -255,7 +255,7 @@ TEST_CASE("footprint table: too small, or for a point set or a bad camera, it is
 }
 
 // verifies: SR-FUSE-014, SR-FUSE-012
-TEST_CASE("footprint table: one workspace for all sensors uses none; the grid is the same either way") {
+TEST_CASE("footprint table: one workspace for all sensors uses none, and the grid is the same either way") {
     const GridGeometry g = paper_grid_geometry();
     const sim::SimulatedFrame frame = person_frame();
     const SensorModelTable model;
