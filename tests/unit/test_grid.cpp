@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "cellguard/grid/grid.hpp"
 #include "contract_capture.hpp"
@@ -85,4 +86,29 @@ TEST_CASE("grid: voxel coordinates and dimensions are equal exactly when every c
     CHECK_FALSE(GridDims{4, 5, 6} == GridDims{5, 5, 6});
     CHECK_FALSE(GridDims{4, 5, 6} == GridDims{4, 6, 6});
     CHECK_FALSE(GridDims{4, 5, 6} == GridDims{4, 5, 7});
+}
+
+// verifies: SR-GRID-001
+TEST_CASE("grid: world_to_voxel_unchecked takes the floor of every scaled coordinate, faces and negatives included") {
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.85, -0.75, 0.0), 0.05, GridDims{34, 30, 30}).value();
+    std::uint64_t state = 0x9E3779B97F4A7C15ULL;
+    const auto next = [&state]() {
+        state ^= state << 13U;
+        state ^= state >> 7U;
+        state ^= state << 17U;
+        return static_cast<double>(state >> 11U) * 0x1.0p-53;  // [0, 1)
+    };
+    std::vector<double> xs{0.0, -0.0, 0.05, -0.05, 1e-17, -1e-17, 0.049999999999999996, 1e6, -1e6, 0.25, -0.85};
+    for (int i = 0; i < 20000; ++i) {
+        const double r = (next() - 0.5) * 20.0;                                               // metres, +-10 m
+        xs.push_back(i % 2 == 0 ? r : std::round(r * 20.0) / 20.0 + (next() - 0.5) * 1e-15);  // near faces
+    }
+    for (const double x : xs) {
+        const Eigen::Vector3d p(x, -x, x + 0.5);
+        const Eigen::Vector3d scaled = (p - g.origin()) / g.voxel_size();
+        const VoxelCoord c = g.world_to_voxel_unchecked(p);
+        CHECK(c.x == static_cast<std::int32_t>(std::floor(scaled.x())));
+        CHECK(c.y == static_cast<std::int32_t>(std::floor(scaled.y())));
+        CHECK(c.z == static_cast<std::int32_t>(std::floor(scaled.z())));
+    }
 }
