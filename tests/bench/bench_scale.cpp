@@ -24,7 +24,11 @@
 // - person:    a 0.5 x 0.3 x 1.8 m box standing on the floor 1 m
 //              (horizontally) in front of sensor 0, its wide face to the
 //              sensor, in the empty cell (max-range elsewhere): the worst
-//              occlusion, most of sensor 0's image ends near the sensor.
+//              occlusion, most of sensor 0's image ends near the sensor;
+// - faces:     the empty cell, each reading where its ray leaves the cell:
+//              on the floor or a wall, which lie on voxel faces (as a
+//              noise-free render of a floor at a face does): the hit pass's
+//              worst case, every reading placed by the exact arithmetic.
 // Paths:
 // - footprint: fuse_frame_footprint, one workspace
 //              per sensor (as a threaded runner needs), SequentialRunner;
@@ -163,14 +167,15 @@ std::vector<Case> make_cases() {
     return cases;
 }
 
-enum class Pattern { kMaxRange, kRandom, kPerson };
-constexpr Pattern kPatterns[] = {Pattern::kMaxRange, Pattern::kRandom, Pattern::kPerson};
+enum class Pattern { kMaxRange, kRandom, kPerson, kFaces };
+constexpr Pattern kPatterns[] = {Pattern::kMaxRange, Pattern::kRandom, Pattern::kPerson, Pattern::kFaces};
 
 const char* pattern_name(Pattern p) {
     switch (p) {
         case Pattern::kMaxRange: return "max-range";
         case Pattern::kRandom: return "random";
         case Pattern::kPerson: return "person";
+        case Pattern::kFaces: return "faces";
     }
     return "?";
 }
@@ -230,7 +235,8 @@ Frame make_frame(const Case& c, Pattern pattern) {
             for (std::int32_t u = 0; u < k.width; ++u) {
                 const Eigen::Vector3d ray_cam((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
                 const Eigen::Vector3d dir = (pose.linear() * ray_cam).normalized();
-                double t = exit_distance(spec.position, dir, c.cell_lo, c.cell_hi) - 0.001;
+                const double exit = exit_distance(spec.position, dir, c.cell_lo, c.cell_hi);
+                double t = pattern == Pattern::kFaces ? exit : exit - 0.001;
                 if (pattern == Pattern::kRandom) {
                     const double x = static_cast<double>(rng() >> 8U) / 16777216.0;  // [0, 1), 24 bits
                     t = 0.1 + x * (t - 0.1);

@@ -193,6 +193,26 @@ TEST_CASE("footprint table: made from the geometry once, again when the camera, 
     const GridGeometry shifted =
         GridGeometry::make(g.origin() + Eigen::Vector3d(0.01, 0.0, 0.0), g.voxel_size(), g.dims()).value();
     CHECK_FALSE(work.table.matches(shifted, r, model));
+    const GridGeometry finer = GridGeometry::make(g.origin(), 0.5 * g.voxel_size(), g.dims()).value();
+    CHECK_FALSE(work.table.matches(finer, r, model));
+    const GridGeometry taller =
+        GridGeometry::make(g.origin(), g.voxel_size(), GridDims{g.dims().nx, g.dims().ny, g.dims().nz + 1}).value();
+    CHECK_FALSE(work.table.matches(taller, r, model));
+    for (int field = 0; field < 5; ++field) {  // each other number of the camera
+        CAPTURE(field);
+        SensorReading other = r;
+        PinholeIntrinsics& k = other.intrinsics;
+        (field == 0 ? k.fy : field == 1 ? k.cx : k.cy) += field < 3 ? 0.5 : 0.0;
+        k.width += field == 3 ? 2 : 0;
+        k.height += field == 4 ? 2 : 0;
+        CHECK_FALSE(work.table.matches(g, other, model));
+    }
+    SensorReading turned = r;  // the same position, turned by 1 mrad
+    turned.pose.linear() = turned.pose.linear() * Eigen::AngleAxisd(1e-3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    CHECK_FALSE(work.table.matches(g, turned, model));
+    SensorReading points = r;
+    points.kind = SensorDataKind::kPointSet;
+    CHECK_FALSE(work.table.matches(g, points, model));
 
     // Fusing the moved camera makes the table again (its size may differ: room was left).
     Work roomy(g, r, g.voxel_count());
@@ -245,9 +265,26 @@ TEST_CASE("footprint table: too small, or for a point set or a bad camera, it is
     SensorReading tilted = frame.readings[1];
     tilted.pose.linear() *= 1.01;  // not a rotation
     CHECK(t.make(g, tilted, model).error() == ErrorCode::kInvalidArgument);
-    SensorReading unfocused = frame.readings[1];
-    unfocused.intrinsics.fx = std::nan("");
-    CHECK(t.make(g, unfocused, model).error() == ErrorCode::kInvalidArgument);
+    for (int bad = 0; bad < 9; ++bad) {  // each number of the camera made unusable in turn
+        CAPTURE(bad);
+        SensorReading cam = frame.readings[1];
+        PinholeIntrinsics& k = cam.intrinsics;
+        const double nan = std::nan("");
+        switch (bad) {
+            case 0: k.fx = nan; break;
+            case 1: k.fy = nan; break;
+            case 2: k.cx = nan; break;
+            case 3: k.cy = nan; break;
+            case 4: k.fx = 0.0; break;
+            case 5: k.fy = -1.0; break;
+            case 6: k.width = 5000; break;  // wider than a pyramid may be
+            case 7: k.height = 0; break;
+            default: cam.pose.translation().x() = nan; break;
+        }
+        CHECK(t.make(g, cam, model).error() == ErrorCode::kInvalidArgument);
+        CHECK(footprint_table_entries(g, cam) == 0U);
+    }
+    CHECK(t.make(GridGeometry{}, frame.readings[1], model).error() == ErrorCode::kInvalidArgument);
     CHECK(footprint_table_entries(g, points) == 0U);
     CHECK(footprint_table_entries(GridGeometry{}, frame.readings[1]) == 0U);
     CHECK_FALSE(t.matches(g, frame.readings[1], model));

@@ -523,15 +523,16 @@ void SensorPass::run(Span<const FootprintEntry> table, const SensorModelTable& m
 namespace {
 
 /// The smallest float f for which @p holds(f) is true, for a predicate that is
-/// false below some float and true from it on, starting the search at @p guess.
+/// false below some float and true from it on, true at +inf and false at -inf
+/// (so both searches end), starting at @p guess (within a few floats of it).
 template <typename Pred>
 float smallest_float_where(float guess, Pred&& holds) noexcept {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     float f = guess;
-    while (!holds(f) && f < kInf) {
+    while (!holds(f)) {
         f = std::nextafter(f, kInf);
     }
-    while (f > -kInf && holds(std::nextafter(f, -kInf))) {
+    while (holds(std::nextafter(f, -kInf))) {
         f = std::nextafter(f, -kInf);
     }
     return f;
@@ -583,10 +584,11 @@ FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, con
     const double dist2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
     const double need = ramp + kDepthSlack;
     const double z_max = f.z_max;
-    e.fill = (f.in_image && dist2 <= resolved_dist2_)
-                 ? smallest_float_where(static_cast<float>(z_max + need),
-                                        [z_max, need](float r) { return static_cast<double>(r) - z_max >= need; })
-                 : std::numeric_limits<float>::infinity();
+    // Both tests always evaluated (no branch between them).
+    const bool fillable = (static_cast<unsigned>(f.in_image) & static_cast<unsigned>(dist2 <= resolved_dist2_)) != 0U;
+    e.fill = fillable ? smallest_float_where(static_cast<float>(z_max + need),
+                                             [z_max, need](float r) { return static_cast<double>(r) - z_max >= need; })
+                      : std::numeric_limits<float>::infinity();
     return e;
 }
 
@@ -776,17 +778,46 @@ namespace {
 /// of a valid size, finite positive intrinsics, a finite rotation.
 Status check_table_geometry(const GridGeometry& grid, const SensorReading& r) noexcept {
     const PinholeIntrinsics& k = r.intrinsics;
-    if (!is_depth_image(r.kind) || grid.voxel_count() == 0U || depth_pyramid_cells(k.width, k.height) == 0U ||
-        !(k.fx > 0.0 && k.fy > 0.0) || !std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) ||
-        !std::isfinite(k.cy)) {
-        return ErrorCode::kInvalidArgument;
-    }
+    // Every test evaluated (bitwise and of 0 or 1): one decision, whichever test fails.
+    const auto bit = [](bool b) { return static_cast<unsigned>(b); };
     const Eigen::Matrix3d rot = r.pose.linear();
-    if (!r.pose.matrix().allFinite() ||
-        (rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6) {
-        return ErrorCode::kInvalidArgument;
+    const unsigned finite = bit(r.pose.matrix().allFinite()) & bit(std::isfinite(k.fx)) & bit(std::isfinite(k.fy)) &
+                            bit(std::isfinite(k.cx)) & bit(std::isfinite(k.cy));
+    const unsigned ok = finite & bit(is_depth_image(r.kind)) & bit(grid.voxel_count() != 0U) &
+                        bit(depth_pyramid_cells(k.width, k.height) != 0U) & bit(k.fx > 0.0) & bit(k.fy > 0.0) &
+                        bit((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-6);
+    return ok != 0U ? Status{} : Status{ErrorCode::kInvalidArgument};
+}
+
+/// What a footprint table depends on, as numbers (integers exactly): the grid's
+/// origin, voxel size and dimensions, the pose's 3 x 4 matrix, the intrinsics
+/// and image size, the model's ramp length.
+std::array<double, kFootprintKeySize> footprint_key(const GridGeometry& grid, const SensorReading& r,
+                                                    const SensorModelTable& model) noexcept {
+    std::array<double, kFootprintKeySize> key{};
+    std::size_t n = 0U;
+    const auto put = [&key, &n](double v) { key[n++] = v; };
+    for (Eigen::Index a = 0; a < 3; ++a) {
+        put(grid.origin()[a]);
     }
-    return Status{};
+    put(grid.voxel_size());
+    put(grid.dims().nx);
+    put(grid.dims().ny);
+    put(grid.dims().nz);
+    for (Eigen::Index row = 0; row < 3; ++row) {
+        for (Eigen::Index col = 0; col < 4; ++col) {
+            put(r.pose.matrix()(row, col));
+        }
+    }
+    const PinholeIntrinsics& k = r.intrinsics;
+    put(k.fx);
+    put(k.fy);
+    put(k.cx);
+    put(k.cy);
+    put(k.width);
+    put(k.height);
+    put(model.ramp_length());
+    return key;
 }
 
 }  // namespace
@@ -814,23 +845,14 @@ Status FootprintTable::make(const GridGeometry& grid, const SensorReading& readi
     count_ = count;
     made_ = true;
     ++makes_;
-    origin_ = grid.origin();
-    voxel_size_ = grid.voxel_size();
-    dims_ = grid.dims();
-    pose_ = reading.pose.matrix().topRows<3>();
-    intrinsics_ = reading.intrinsics;
-    ramp_ = model.ramp_length();
+    key_ = footprint_key(grid, reading, model);
     return Status{};
 }
 
 bool FootprintTable::matches(const GridGeometry& grid, const SensorReading& reading,
                              const SensorModelTable& model) const noexcept {
-    const PinholeIntrinsics& k = reading.intrinsics;
-    const GridDims d = grid.dims();
-    return made_ && is_depth_image(reading.kind) && grid.origin() == origin_ && grid.voxel_size() == voxel_size_ &&
-           d.nx == dims_.nx && d.ny == dims_.ny && d.nz == dims_.nz && reading.pose.matrix().topRows<3>() == pose_ &&
-           k.fx == intrinsics_.fx && k.fy == intrinsics_.fy && k.cx == intrinsics_.cx && k.cy == intrinsics_.cy &&
-           k.width == intrinsics_.width && k.height == intrinsics_.height && model.ramp_length() == ramp_;
+    // Every number equal: a table made for a pose 1 ulp away is another camera's.
+    return made_ && is_depth_image(reading.kind) && footprint_key(grid, reading, model) == key_;
 }
 
 Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorReading& reading,

@@ -86,6 +86,7 @@
 #ifndef CELLGUARD_FOOTPRINT_FUSION_HPP
 #define CELLGUARD_FOOTPRINT_FUSION_HPP
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -140,6 +141,11 @@ struct FootprintEntry {
     float fill = 0.0F;
 };
 
+/// Numbers a footprint table is made from: the grid's origin (3), voxel size,
+/// dimensions (3), the pose's 3 x 4 matrix (12), intrinsics (4), image size
+/// (2) and the model's ramp length.
+constexpr std::size_t kFootprintKeySize = 26U;
+
 /// A sensor's footprint table, over caller storage: its voxels in view in the
 /// order step 2 visits them, made from the grid, the sensor's pose and
 /// intrinsics and the model's ramp length (the configuration, not a frame).
@@ -174,12 +180,7 @@ private:
     std::size_t count_ = 0U;
     std::uint64_t makes_ = 0U;
     bool made_ = false;
-    Eigen::Vector3d origin_{Eigen::Vector3d::Zero()};
-    double voxel_size_ = 0.0;
-    GridDims dims_{};
-    Eigen::Matrix<double, 3, 4> pose_{Eigen::Matrix<double, 3, 4>::Zero()};
-    PinholeIntrinsics intrinsics_{};
-    double ramp_ = 0.0;
+    std::array<double, kFootprintKeySize> key_{};  ///< what it was made for (footprint_fusion.cpp's footprint_key)
 };
 
 /// Entries of a footprint table for @p reading's geometry over @p grid: its
