@@ -4,6 +4,7 @@
 // refusals (each short span, each bad side), and a query over a small image.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <vector>
 
 #include "cellguard/grid/depth_pyramid.hpp"
@@ -55,4 +56,31 @@ TEST_CASE("depth pyramid: each span shorter than its cells is refused") {
     const DepthRange one = p.query(1, 1, 1, 1);
     CHECK(one.min <= 6.0F);
     CHECK(one.max >= 6.0F);
+}
+
+// verifies: SR-FUSE-014
+TEST_CASE("depth pyramid: a layout without storage has the levels' cells, and none for an invalid size") {
+    const DepthPyramid layout = DepthPyramid::layout_of(13, 7);
+    CHECK(layout.width() == 13);
+    CHECK(layout.height() == 7);
+    std::vector<float> mn(depth_pyramid_cells(13, 7));
+    std::vector<float> mx(mn.size());
+    std::vector<std::uint8_t> inv(mn.size());
+    const DepthPyramid real =
+        DepthPyramid::make(13, 7, {mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()}).value();
+    for (std::int32_t v0 = 0; v0 < 7; ++v0) {
+        for (std::int32_t u0 = 0; u0 < 13; u0 += 3) {
+            const PyramidCells a = layout.cells_of(u0, v0, 12, 6);
+            const PyramidCells b = real.cells_of(u0, v0, 12, 6);
+            CHECK(a.first == b.first);
+            CHECK(a.row_step == b.row_step);
+            CHECK(a.col_step == b.col_step);
+        }
+    }
+    for (const auto& size : {std::array<std::int32_t, 2>{0, 7}, std::array<std::int32_t, 2>{13, -1},
+                             std::array<std::int32_t, 2>{5000, 7}}) {
+        const DepthPyramid none = DepthPyramid::layout_of(size[0], size[1]);
+        CHECK(none.width() == 0);
+        CHECK(none.height() == 0);
+    }
 }

@@ -124,6 +124,17 @@ TEST_CASE("footprint table: the opinions and counts of fusion without a table, b
             SensorReading r = frame.readings[s];
             r.depth = Span<const float>(d.data(), d.size());
             check_same_opinions(g, r);
+            // The same depths as uint16 millimetres (NaN: raw 0, no reading).
+            std::vector<std::uint16_t> raw(d.size());
+            for (std::size_t i = 0U; i < d.size(); ++i) {
+                raw[i] = std::isnan(d[i]) ? std::uint16_t{0U} : static_cast<std::uint16_t>(d[i] * 1000.0F);
+            }
+            SensorReading u16 = r;
+            u16.kind = SensorDataKind::kDepthImageU16;
+            u16.depth = {};
+            u16.depth_u16 = Span<const std::uint16_t>(raw.data(), raw.size());
+            u16.depth_scale = 0.001F;
+            check_same_opinions(g, u16);
         }
     }
 }

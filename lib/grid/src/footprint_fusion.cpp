@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/grid/footprint_fusion.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -191,7 +192,7 @@ private:
     [[nodiscard]] bool probe_beyond(const VoxelView& square, double z_max) const noexcept;
     void raise(std::size_t index, std::int16_t value) noexcept {
         std::int16_t& o = opinions_[index];
-        o = value > o ? value : o;
+        o = std::max(value, o);
     }
 
     const GridGeometry& grid_;
@@ -523,17 +524,19 @@ void SensorPass::run(Span<const FootprintEntry> table, const SensorModelTable& m
 namespace {
 
 /// The smallest float f for which @p holds(f) is true, for a predicate that is
-/// false below some float and true from it on, true at +inf and false at -inf
-/// (so both searches end), starting at @p guess (within a few floats of it).
+/// false below some float and true from it on (and at +inf), when @p guess lies
+/// within 4 floats of it: the search starts 4 floats below the guess, where the
+/// predicate must be false (checked by CG_ASSERT), and steps up.
 template <typename Pred>
 float smallest_float_where(float guess, Pred&& holds) noexcept {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     float f = guess;
+    for (int i = 0; i < 4; ++i) {
+        f = std::nextafter(f, -kInf);
+    }
+    CG_ASSERT(!holds(f), "footprint table: a threshold more than 4 floats below its guess");
     while (!holds(f)) {
         f = std::nextafter(f, kInf);
-    }
-    while (holds(std::nextafter(f, -kInf))) {
-        f = std::nextafter(f, -kInf);
     }
     return f;
 }
@@ -640,14 +643,19 @@ public:
     /// depth @p d, and its voxel when valid.
     [[gnu::always_inline]] detail::ReadingClass place(std::int32_t u, std::int32_t v, float d,
                                                       VoxelCoord& voxel) const noexcept {
-        if (!(d > 0.0F && d <= kMaxSensorRange) || far_) {
+        // One decision each (bitwise and of 0 or 1): a positive finite depth the short form may take.
+        const unsigned usable = static_cast<unsigned>(d > 0.0F) & static_cast<unsigned>(d <= kMaxSensorRange) &
+                                static_cast<unsigned>(!far_);
+        if (usable == 0U) {
             return place_exactly(u, v, d, voxel);
         }
         const double xn = (static_cast<double>(u) - r_.intrinsics.cx) * inv_fx_;
         const auto dd = static_cast<double>(d);
         const double range2 = dd * dd * (xn * xn + row_range_);
-        if (!(range2 > min2_hi_ && range2 < max2_lo_)) {  // not clearly inside the range limits
-            if (range2 <= min2_lo_ || range2 >= max2_hi_) {
+        const unsigned inside = static_cast<unsigned>(range2 > min2_hi_) & static_cast<unsigned>(range2 < max2_lo_);
+        if (inside == 0U) {  // not clearly inside the range limits
+            const unsigned out = static_cast<unsigned>(range2 <= min2_lo_) | static_cast<unsigned>(range2 >= max2_hi_);
+            if (out != 0U) {
                 return detail::ReadingClass::kOutOfRange;
             }
             return place_exactly(u, v, d, voxel);  // near a range limit
