@@ -2,7 +2,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/grid/footprint_fusion.hpp"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -192,7 +191,9 @@ private:
     [[nodiscard]] bool probe_beyond(const VoxelView& square, double z_max) const noexcept;
     void raise(std::size_t index, std::int16_t value) noexcept {
         std::int16_t& o = opinions_[index];
-        o = std::max(value, o);
+        // The larger of the two, without a branch (pick is 0 or 1).
+        const auto pick = static_cast<std::int32_t>(value > o);
+        o = static_cast<std::int16_t>(pick * value + (1 - pick) * o);
     }
 
     const GridGeometry& grid_;
