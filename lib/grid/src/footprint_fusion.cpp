@@ -172,8 +172,32 @@ private:
     /// The table entry of the voxel at @p index, centred at @p c, in view as @p f.
     [[nodiscard]] FootprintEntry entry_of(const DepthPyramid& layout, double ramp, const VoxelCoord& v,
                                           const std::array<double, 3>& c, const VoxelView& f) const noexcept;
-    /// Steps 2 and 3 for one voxel; false when it is not in view.
-    bool visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept;
+    /// Calls @p fn(voxel, index, centre, view) for every voxel in view (a pixel
+    /// centre in its footprint), row by row over the rows' spans: the voxels and
+    /// the order of run(), of a table and of voxel_work_bound().
+    template <typename Fn>
+    void for_each_in_view(Fn&& fn) const noexcept {
+        const GridDims d = grid_.dims();
+        for (std::int32_t z = 0; z < d.nz; ++z) {
+            for (std::int32_t y = 0; y < d.ny; ++y) {
+                std::int32_t lo = 0;
+                std::int32_t hi = 0;
+                row_span(y, z, lo, hi);
+                const std::size_t row = static_cast<std::size_t>(d.nx) *
+                                        (static_cast<std::size_t>(y) +
+                                         static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
+                for (std::int32_t x = lo; x < hi; ++x) {
+                    const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
+                    VoxelView f;
+                    if (view_of(c, f)) {
+                        fn(VoxelCoord{x, y, z}, row + static_cast<std::size_t>(x), c, f);
+                    }
+                }
+            }
+        }
+    }
+    /// Steps 2 and 3 for one voxel in view as @p f.
+    void visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, const VoxelView& f) noexcept;
     /// The rest of step 2 and step 3 for a voxel in view, centred at @p c, whose
     /// query @p q neither left it without an opinion nor filled it.
     void settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
@@ -255,31 +279,16 @@ void SensorPass::row_span(std::int32_t y, std::int32_t z, std::int32_t& lo, std:
 }
 
 std::uint64_t SensorPass::voxel_work_bound() const noexcept {
-    const GridDims d = grid_.dims();
     std::uint64_t n = 0U;
-    for (std::int32_t z = 0; z < d.nz; ++z) {
-        for (std::int32_t y = 0; y < d.ny; ++y) {
-            std::int32_t lo = 0;
-            std::int32_t hi = 0;
-            row_span(y, z, lo, hi);
-            for (std::int32_t x = lo; x < hi; ++x) {
-                const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
-                VoxelView f;
-                if (!view_of(c, f)) {
-                    continue;
-                }
-                ++n;
-                if (exact_max_ <= 0) {
-                    continue;
-                }
-                VoxelView tight;
-                const std::int64_t area = corner_rect(c, tight) ? static_cast<std::int64_t>(tight.u1 - tight.u0 + 1) *
-                                                                      static_cast<std::int64_t>(tight.v1 - tight.v0 + 1)
-                                                                : 0;
-                n += area <= exact_max_ ? static_cast<std::uint64_t>(area) : 0U;
-            }
+    for_each_in_view([this, &n](const VoxelCoord&, std::size_t, const std::array<double, 3>& c, const VoxelView&) {
+        ++n;
+        VoxelView tight;
+        if (exact_max_ > 0 && corner_rect(c, tight)) {
+            const std::int64_t area = static_cast<std::int64_t>(tight.u1 - tight.u0 + 1) *
+                                      static_cast<std::int64_t>(tight.v1 - tight.v0 + 1);
+            n += area <= exact_max_ ? static_cast<std::uint64_t>(area) : 0U;
         }
-    }
+    });
     return n;
 }
 
@@ -315,14 +324,11 @@ bool SensorPass::view_of(const std::array<double, 3>& c, VoxelView& out) const n
     return out.u0 <= out.u1 && out.v0 <= out.v1;
 }
 
-bool SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c) noexcept {
-    VoxelView f;
-    if (!view_of(c, f)) {
-        return false;  // no pixel ray can cross the voxel
-    }
+void SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c,
+                       const VoxelView& f) noexcept {
     const DepthRange q = pyramid_->query(f.u0, f.v0, f.u1, f.v1);
     if (q.empty() || static_cast<double>(q.max) < f.z_min - kDepthSlack) {
-        return true;  // no valid reading, or every ray ends in front of the voxel: no opinion
+        return;  // no valid reading, or every ray ends in front of the voxel: no opinion
     }
     const double beyond = static_cast<double>(q.min) - f.z_max;
     const double dist2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
@@ -332,10 +338,9 @@ bool SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::ar
         // it passes it by at least the ramp: the constant free value, exactly.
         raise(index, model_->constant_free_evidence());
         ++stats_.voxels_filled;
-        return true;
+        return;
     }
     settle(voxel, index, c, f.z_max, q);
-    return true;
 }
 
 void SensorPass::settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
@@ -474,21 +479,11 @@ void SensorPass::run(const SensorModelTable& model, const DepthPyramid& pyramid,
     pyramid_ = &pyramid;
     opinions_ = opinions;
     stats_.pixels += static_cast<std::uint64_t>(pyramid.width()) * static_cast<std::uint64_t>(pyramid.height());
-    const GridDims d = grid_.dims();
-    for (std::int32_t z = 0; z < d.nz; ++z) {
-        for (std::int32_t y = 0; y < d.ny; ++y) {
-            std::int32_t lo = 0;
-            std::int32_t hi = 0;
-            row_span(y, z, lo, hi);
-            const std::size_t row = static_cast<std::size_t>(d.nx) *
-                                    (static_cast<std::size_t>(y) +
-                                     static_cast<std::size_t>(d.ny) * static_cast<std::size_t>(z));
-            for (std::int32_t x = lo; x < hi; ++x) {
-                const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
-                stats_.voxels_visited += visit(VoxelCoord{x, y, z}, row + static_cast<std::size_t>(x), c) ? 1U : 0U;
-            }
-        }
-    }
+    for_each_in_view(
+        [this](const VoxelCoord& v, std::size_t index, const std::array<double, 3>& c, const VoxelView& f) {
+            ++stats_.voxels_visited;
+            visit(v, index, c, f);
+        });
 }
 
 void SensorPass::run(Span<const FootprintEntry> table, const SensorModelTable& model, const DepthPyramid& pyramid,
@@ -546,27 +541,15 @@ float smallest_float_where(float guess, Pred&& holds) noexcept {
 
 bool SensorPass::make_table(const DepthPyramid& layout, double ramp, Span<FootprintEntry> out,
                             std::size_t& count) const noexcept {
-    count = 0U;
-    const GridDims d = grid_.dims();
-    for (std::int32_t z = 0; z < d.nz; ++z) {
-        for (std::int32_t y = 0; y < d.ny; ++y) {
-            std::int32_t lo = 0;
-            std::int32_t hi = 0;
-            row_span(y, z, lo, hi);
-            for (std::int32_t x = lo; x < hi; ++x) {
-                const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
-                VoxelView f;
-                if (!view_of(c, f)) {
-                    continue;
-                }
-                if (count < out.size()) {
-                    out[count] = entry_of(layout, ramp, VoxelCoord{x, y, z}, c, f);
-                }
-                ++count;
-            }
+    std::size_t n = 0U;
+    for_each_in_view([&](const VoxelCoord& v, std::size_t, const std::array<double, 3>& c, const VoxelView& f) {
+        if (n < out.size()) {
+            out[n] = entry_of(layout, ramp, v, c, f);
         }
-    }
-    return count <= out.size();
+        ++n;
+    });
+    count = n;
+    return n <= out.size();
 }
 
 FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, const VoxelCoord& v,
