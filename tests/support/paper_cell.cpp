@@ -50,4 +50,15 @@ const PaperCellCommissioning& paper_cell_commissioning() {
     return c;
 }
 
+sim::SimulatedFrame paper_person_frame() {
+    sim::Scene scene = sim::reference_scene();
+    sim::Box box;
+    box.center = Eigen::Vector3d(0.3, -0.2, 0.9);
+    box.size = Eigen::Vector3d(0.4, 0.3, 1.8);
+    box.yaw = 0.4;
+    box.background = false;
+    scene.boxes.push_back(box);
+    return sim::render_frame(sim::paper_sensors(), scene);
+}
+
 }  // namespace cellguard::test

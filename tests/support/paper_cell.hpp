@@ -34,6 +34,10 @@ struct PaperCellCommissioning {
 /// shared, read-only, by every later call in the process.
 const PaperCellCommissioning& paper_cell_commissioning();
 
+/// The paper's sensors rendering the reference scene with a person-sized
+/// foreground box (0.4 x 0.3 x 1.8 m, yaw 0.4) near the cell's centre.
+sim::SimulatedFrame paper_person_frame();
+
 }  // namespace cellguard::test
 
 #endif  // CELLGUARD_TESTS_PAPER_CELL_HPP

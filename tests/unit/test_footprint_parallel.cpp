@@ -14,6 +14,7 @@
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/port/worker_pool.hpp"
+#include "paper_cell.hpp"
 
 using namespace cellguard;
 
@@ -63,17 +64,7 @@ struct OwnedGrid {
 /// box near the centre: two frames, so evidence accumulates.
 struct TwoFrames {
     sim::SimulatedFrame empty = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-    sim::SimulatedFrame person;
-    TwoFrames() {
-        sim::Scene scene = sim::reference_scene();
-        sim::Box box;
-        box.center = Eigen::Vector3d(0.3, -0.2, 0.9);
-        box.size = Eigen::Vector3d(0.4, 0.3, 1.8);
-        box.yaw = 0.4;
-        box.background = false;
-        scene.boxes.push_back(box);
-        person = sim::render_frame(sim::paper_sensors(), scene);
-    }
+    sim::SimulatedFrame person = test::paper_person_frame();
 };
 
 /// The four sensors' frame, one of them as uint16 millimetres (kDepthImageU16).

@@ -16,6 +16,7 @@
 #include "cellguard/grid/depth_pyramid.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "paper_cell.hpp"
 
 using namespace cellguard;
 
@@ -71,18 +72,6 @@ void check_same_opinions(const GridGeometry& g, const SensorReading& r, const Fo
     CHECK((params.exact_footprint_max != 0U || a.work_units() == footprint_work_bound(g, r, params)));
 }
 
-/// The paper's sensors on the reference scene with a person-sized box.
-sim::SimulatedFrame person_frame() {
-    sim::Scene scene = sim::reference_scene();
-    sim::Box box;
-    box.center = Eigen::Vector3d(0.3, -0.2, 0.9);
-    box.size = Eigen::Vector3d(0.4, 0.3, 1.8);
-    box.yaw = 0.4;
-    box.background = false;
-    scene.boxes.push_back(box);
-    return sim::render_frame(sim::paper_sensors(), scene);
-}
-
 /// A constant depth image of @p r's size.
 struct ConstantImage {
     std::vector<float> depth;
@@ -101,7 +90,7 @@ TEST_CASE("footprint table: the opinions and counts of fusion without a table, b
     const GridGeometry g = paper_grid_geometry();
     SUBCASE("the paper's sensors, reference scene and a person") {
         const sim::SimulatedFrame empty = sim::render_frame(sim::paper_sensors(), sim::reference_scene());
-        const sim::SimulatedFrame person = person_frame();
+        const sim::SimulatedFrame person = test::paper_person_frame();
         for (std::size_t s = 0U; s < empty.readings.size(); ++s) {
             CAPTURE(s);
             check_same_opinions(g, empty.readings[s]);
@@ -112,7 +101,7 @@ TEST_CASE("footprint table: the opinions and counts of fusion without a table, b
         }
     }
     SUBCASE("random depths, some pixels without a reading") {
-        const sim::SimulatedFrame frame = person_frame();
+        const sim::SimulatedFrame frame = test::paper_person_frame();
         std::mt19937 rng(34U);
         std::uniform_real_distribution<float> depth(0.2F, 4.0F);
         for (std::size_t s = 0U; s < frame.readings.size(); ++s) {
@@ -175,7 +164,7 @@ TEST_CASE("footprint table: a reading at a voxel's thresholds, and one float eit
 // verifies: SR-FUSE-014
 TEST_CASE("footprint table: made from the geometry once, again when the camera, the grid or the ramp changes") {
     const GridGeometry g = paper_grid_geometry();
-    const sim::SimulatedFrame frame = person_frame();
+    const sim::SimulatedFrame frame = test::paper_person_frame();
     const SensorReading& r = frame.readings[1];
     const std::size_t n = footprint_table_entries(g, r);
     REQUIRE(n > 0U);
@@ -237,7 +226,7 @@ TEST_CASE("footprint table: made from the geometry once, again when the camera, 
 // verifies: SR-FUSE-014, SR-FUSE-011
 TEST_CASE("footprint table: too small, or for a point set or a bad camera, it is refused and nothing is fused") {
     const GridGeometry g = paper_grid_geometry();
-    const sim::SimulatedFrame frame = person_frame();
+    const sim::SimulatedFrame frame = test::paper_person_frame();
     const SensorModelTable model;
     const std::size_t n = footprint_table_entries(g, frame.readings[0]);
     std::vector<Work> works;
@@ -305,7 +294,7 @@ TEST_CASE("footprint table: too small, or for a point set or a bad camera, it is
 // verifies: SR-FUSE-014, SR-FUSE-012
 TEST_CASE("footprint table: one workspace for all sensors uses none, and the grid is the same either way") {
     const GridGeometry g = paper_grid_geometry();
-    const sim::SimulatedFrame frame = person_frame();
+    const sim::SimulatedFrame frame = test::paper_person_frame();
     const SensorModelTable model;
     const Span<const SensorReading> readings(frame.readings.data(), frame.readings.size());
     std::vector<Work> works;
