@@ -37,15 +37,18 @@ std::int32_t largest(const std::vector<SensorReading>& readings, bool width) {
 
 OwnedFootprintWorkspaces::OwnedFootprintWorkspaces(const GridGeometry& grid, const std::vector<SensorReading>& readings)
     : OwnedFootprintWorkspaces(grid, readings.size(), largest(readings, true), largest(readings, false)) {
+    // Each count is a pass over the grid's voxels in view: taken once per sensor.
+    std::vector<std::size_t> counts(readings.size());
     std::size_t total = 0U;
-    for (const SensorReading& r : readings) {
-        total += footprint_table_entries(grid, r);
+    for (std::size_t i = 0U; i < readings.size(); ++i) {
+        counts[i] = footprint_table_entries(grid, readings[i]);
+        total += counts[i];
     }
     entries_.resize(total);
     tables_.resize(readings.size());
     std::size_t at = 0U;
     for (std::size_t i = 0U; i < readings.size(); ++i) {
-        const std::size_t n = footprint_table_entries(grid, readings[i]);
+        const std::size_t n = counts[i];
         tables_[i] = FootprintTable(Span<FootprintEntry>(entries_.data() + at, n));
         spans_[i].table = &tables_[i];
         at += n;
