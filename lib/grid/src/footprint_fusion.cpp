@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "placement.hpp"
 #include "reading_class.hpp"
 
 namespace cellguard {
@@ -579,55 +580,47 @@ FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, con
     return e;
 }
 
-/// Step 1's placement of a reading in its voxel, by the arithmetic of
-/// fuse_sensor (depth_pixel_point, reading_in_cell, world_to_voxel_unchecked)
-/// where it matters and by a shorter one where it cannot differ: the short
-/// form skips the point's rounding to float, which moves it by at most
-/// 2^-24 of its coordinates; a reading whose short-form position lies within
-/// `margin_` voxels of a face, or whose range lies within 1e-5 of a range
-/// limit, is placed and classified the long way. So both give the same voxel
-/// and the same class for every reading.
+/// Step 1's placement of a reading in its voxel: fuse_sensor's own rule
+/// (placement.hpp, inlined: the same point, the same voxel, bit for bit).
+/// The class of the reading is decided by a test on its range in double
+/// where that cannot differ from classify_point's in float: a reading whose
+/// range lies within 1e-5 of a range limit, or that is not a positive finite
+/// depth the short test may take, is classified the long way.
 class HitPlacer {
 public:
     HitPlacer(const GridGeometry& g, const SensorReading& r) noexcept
         : g_(g), r_(r), inv_fx_(1.0 / r.intrinsics.fx), inv_fy_(1.0 / r.intrinsics.fy) {
-        const double s = g.voxel_size();
-        m_ = r.pose.linear() / s;
-        b_ = (r.pose.translation() - g.origin()) / s;
-        // Float rounding of a point within kMaxSensorRange of the sensor, in voxels, with a factor 16 to spare.
-        margin_ = 1e-9 + 16.0 * 0x1.0p-24 * static_cast<double>(kMaxSensorRange) / s;
         const auto lo = static_cast<double>(r.min_range);
         const auto hi = static_cast<double>(r.max_range);
         min2_lo_ = lo * lo * (1.0 - 1e-5);
         min2_hi_ = lo * lo * (1.0 + 1e-5);
         max2_lo_ = hi * hi * (1.0 - 1e-5);
         max2_hi_ = hi * hi * (1.0 + 1e-5);
-        // |frac - 0.5| <= half_band_ keeps frac in [margin_, 1 - margin_] (1e-12 to spare for the rounding).
-        half_band_ = 0.5 - margin_ - 1e-12;
-        // The short form's coordinates lie within +-1e9 voxels for every reading within the range
-        // limit when |b| + |row of m|_1 x max range does: then floor() by truncation after an offset
-        // of 2^30 needs no clamp. Else (a camera absurdly far from the grid) every reading goes the long way.
+        // A reading within the range limit lies within +-1e9 voxels when |b| + |row of m|_1 x max
+        // range does (m, b: the pose in voxels): then GridGeometry::floor_index's conversion to
+        // int32 is defined. Else (a camera absurdly far from the grid) every reading goes the long
+        // way, as fuse_sensor places it.
+        const double s = g.voxel_size();
+        const Eigen::Matrix3d m = r.pose.linear() / s;
+        const Eigen::Vector3d b = (r.pose.translation() - g.origin()) / s;
         for (Eigen::Index a = 0; a < 3; ++a) {
-            const double reach = std::fabs(b_[a]) +
-                                 (std::fabs(m_(a, 0)) + std::fabs(m_(a, 1)) + std::fabs(m_(a, 2))) * hi * (1.0 + 1e-5);
+            const double reach = std::fabs(b[a]) +
+                                 (std::fabs(m(a, 0)) + std::fabs(m(a, 1)) + std::fabs(m(a, 2))) * hi * (1.0 + 1e-5);
             far_ = far_ || !(reach < 1e9);
         }
     }
 
     /// Starts image row @p v: the rays of its pixels (place() takes them in any order).
     void begin_row(std::int32_t v) noexcept {
-        yn_ = (static_cast<double>(v) - r_.intrinsics.cy) * inv_fy_;
-        row_range_ = yn_ * yn_ + 1.0;
-        for (Eigen::Index a = 0; a < 3; ++a) {
-            row_[static_cast<std::size_t>(a)] = m_(a, 1) * yn_ + m_(a, 2);  // m (0, yn, 1): the row's axis
-        }
+        const double yn = (static_cast<double>(v) - r_.intrinsics.cy) * inv_fy_;
+        row_range_ = yn * yn + 1.0;
     }
 
     /// The class of the reading of pixel (u, v) of the row begun last at raw
     /// depth @p d, and its voxel when valid.
     [[gnu::always_inline]] detail::ReadingClass place(std::int32_t u, std::int32_t v, float d,
                                                       VoxelCoord& voxel) const noexcept {
-        // One decision each (bitwise and of 0 or 1): a positive finite depth the short form may take.
+        // One decision each (bitwise and of 0 or 1): a positive finite depth the short test may take.
         const unsigned usable = static_cast<unsigned>(d > 0.0F) & static_cast<unsigned>(d <= kMaxSensorRange) &
                                 static_cast<unsigned>(!far_);
         if (usable == 0U) {
@@ -644,31 +637,12 @@ public:
             }
             return place_exactly(u, v, d, voxel);  // near a range limit
         }
-        // m (xn d, yn d, d) + b, as (m (0, yn, 1) + xn m e_x) d + b: the same point within rounding.
-        // Each coordinate lies within +-1e9 (unless far_); its floor is taken by truncation after
-        // an offset of 2^30, which may round it to the neighbouring integer next to a face: the
-        // test below then fails, as it does for any coordinate whose fraction lies within margin_
-        // of a face. Bitwise and: no branch per axis.
-        const double qx = (row_[0] + xn * m_(0, 0)) * dd + b_[0];
-        const double qy = (row_[1] + xn * m_(1, 0)) * dd + b_[1];
-        const double qz = (row_[2] + xn * m_(2, 0)) * dd + b_[2];
-        const std::int32_t fx = static_cast<std::int32_t>(qx + kFloorOffset) - kFloorOffsetInt;
-        const std::int32_t fy = static_cast<std::int32_t>(qy + kFloorOffset) - kFloorOffsetInt;
-        const std::int32_t fz = static_cast<std::int32_t>(qz + kFloorOffset) - kFloorOffsetInt;
-        const unsigned clear = static_cast<unsigned>(std::fabs(qx - static_cast<double>(fx) - 0.5) <= half_band_) &
-                               static_cast<unsigned>(std::fabs(qy - static_cast<double>(fy) - 0.5) <= half_band_) &
-                               static_cast<unsigned>(std::fabs(qz - static_cast<double>(fz) - 0.5) <= half_band_);
-        if (clear == 0U) {
-            return place_exactly(u, v, d, voxel);
-        }
-        voxel = VoxelCoord{fx, fy, fz};
+        voxel = g_.world_to_voxel_unchecked(
+            detail::cell_point(r_.pose, detail::pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d)));
         return detail::ReadingClass::kValid;
     }
 
 private:
-    static constexpr double kFloorOffset = 1073741824.0;         ///< 2^30
-    static constexpr std::int32_t kFloorOffsetInt = 1073741824;  ///< the same, as an integer
-
     /// Out of line: the rare path, kept out of the pixel loop's code.
     [[gnu::noinline]] detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d,
                                                          VoxelCoord& voxel) const noexcept {
@@ -676,26 +650,20 @@ private:
         if (c != detail::ReadingClass::kValid) {
             return c;
         }
-        const Eigen::Vector3f p = depth_pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d);
+        const Eigen::Vector3f p = detail::pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d);
         c = detail::classify_point(p, r_.min_range, r_.max_range);
         if (c == detail::ReadingClass::kValid) {
-            voxel = g_.world_to_voxel_unchecked(reading_in_cell(r_.pose, p));
+            voxel = g_.world_to_voxel_unchecked(detail::cell_point(r_.pose, p));
         }
         return c;
     }
 
     const GridGeometry& g_;
     const SensorReading& r_;
-    Eigen::Matrix3d m_;
-    Eigen::Vector3d b_;
     double inv_fx_ = 0.0;
     double inv_fy_ = 0.0;
-    double yn_ = 0.0;              ///< the current row's normalised image coordinate
-    double row_range_ = 0.0;       ///< yn^2 + 1 of the current row
-    double half_band_ = 0.0;       ///< 0.5 - margin_, less a little
-    bool far_ = false;             ///< the short form's coordinates may leave +-1e9 voxels: not used
-    std::array<double, 3> row_{};  ///< m (0, yn, 1) of the current row
-    double margin_ = 0.0;
+    double row_range_ = 0.0;  ///< yn^2 + 1 of the current row
+    bool far_ = false;        ///< readings may lie beyond +-1e9 voxels: all go the long way
     double min2_lo_ = 0.0;
     double min2_hi_ = 0.0;
     double max2_lo_ = 0.0;

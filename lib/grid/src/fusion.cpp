@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "placement.hpp"
 #include "reading_class.hpp"
 
 namespace cellguard {
@@ -94,13 +95,11 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
 
 Eigen::Vector3f depth_pixel_point(const PinholeIntrinsics& k, double inv_fx, double inv_fy, std::int32_t u,
                                   std::int32_t v, float d) noexcept {
-    const double rx = (static_cast<double>(u) - k.cx) * inv_fx;
-    const double ry = (static_cast<double>(v) - k.cy) * inv_fy;
-    return {static_cast<float>(rx * static_cast<double>(d)), static_cast<float>(ry * static_cast<double>(d)), d};
+    return detail::pixel_point(k, inv_fx, inv_fy, u, v, d);
 }
 
 Eigen::Vector3d reading_in_cell(const Eigen::Isometry3d& pose, const Eigen::Vector3f& p) noexcept {
-    return pose * p.cast<double>();
+    return detail::cell_point(pose, p);
 }
 
 // cppcheck-suppress constParameter ; the grid is written through its views: const would hide that
@@ -131,7 +130,7 @@ void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const Sensor
         return;
     }
     bool in_grid = false;
-    s.voxel_updates += trace_ray_opinions(opinions, g, r.pose.translation(), reading_in_cell(r.pose, p), model,
+    s.voxel_updates += trace_ray_opinions(opinions, g, r.pose.translation(), detail::cell_point(r.pose, p), model,
                                           rasterization, &in_grid);
     ++s.rays_fused;
     s.readings_in_grid += in_grid ? 1U : 0U;
@@ -160,7 +159,7 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
                 count_skipped(s, raw);
                 continue;
             }
-            fuse_point(opinions, g, reading, depth_pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);
+            fuse_point(opinions, g, reading, detail::pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);
         }
     }
     return s;

@@ -38,15 +38,6 @@ VoxelCoord GridGeometry::coord_of(std::size_t index) const noexcept {
     return c;
 }
 
-VoxelCoord GridGeometry::world_to_voxel_unchecked(const Eigen::Vector3d& p) const noexcept {
-    const Eigen::Vector3d scaled = (p - origin_) / voxel_size_;
-    VoxelCoord c;
-    c.x = static_cast<std::int32_t>(std::floor(scaled.x()));
-    c.y = static_cast<std::int32_t>(std::floor(scaled.y()));
-    c.z = static_cast<std::int32_t>(std::floor(scaled.z()));
-    return c;
-}
-
 Result<VoxelCoord> GridGeometry::world_to_voxel(const Eigen::Vector3d& p) const noexcept {
     if (!p.allFinite()) {
         return ErrorCode::kNonFiniteValue;

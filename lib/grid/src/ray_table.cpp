@@ -12,6 +12,7 @@
 #include "cellguard/base/contract.hpp"
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "placement.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -601,7 +602,8 @@ std::uint32_t settle_reading(const Entries& entries, const FuseView& t, std::siz
     const auto width = static_cast<std::size_t>(p.intrinsics.width);
     const auto u = static_cast<std::int32_t>(pixel % width);
     const auto v = static_cast<std::int32_t>(pixel / width);
-    const Eigen::Vector3d point = reading_in_cell(p.pose, depth_pixel_point(p.intrinsics, p.inv_fx, p.inv_fy, u, v, d));
+    const Eigen::Vector3d point = detail::cell_point(p.pose,
+                                                     detail::pixel_point(p.intrinsics, p.inv_fx, p.inv_fy, u, v, d));
     const VoxelCoord c = p.grid.world_to_voxel_unchecked(point);
     if (!p.grid.contains(c)) {
         return end;

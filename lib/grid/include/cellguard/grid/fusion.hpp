@@ -90,17 +90,18 @@ constexpr std::int16_t kNoOpinion = -32768;
                                              Rasterization rasterization = Rasterization::kExact) noexcept;
 
 /// The point of depth pixel (@p u, @p v) at depth @p d in the sensor frame,
-/// as fusion computes it: x = (u - cx) * inv_fx * d and y = (v - cy) *
-/// inv_fy * d in double, rounded to float, z = d. Not inlined: fuse_sensor
-/// and the ray table (ray_table.hpp) run the same instructions, so a reading
-/// on a voxel face lands in the same voxel on both paths (no contraction of
-/// the arithmetic can differ between them).
-[[gnu::noinline]] Eigen::Vector3f depth_pixel_point(const PinholeIntrinsics& k, double inv_fx, double inv_fy,
-                                                    std::int32_t u, std::int32_t v, float d) noexcept;
+/// as every fusion path computes it: x = (u - cx) * inv_fx * d and y =
+/// (v - cy) * inv_fy * d in double, rounded to float, z = d. The paths run
+/// one inline definition of it (lib/grid/src/placement.hpp, compiled
+/// without floating-point contraction); this is that definition, for tests
+/// and tools.
+[[nodiscard]] Eigen::Vector3f depth_pixel_point(const PinholeIntrinsics& k, double inv_fx, double inv_fy,
+                                                std::int32_t u, std::int32_t v, float d) noexcept;
 
-/// A sensor-frame reading @p p in the cell frame (@p pose * p in double);
-/// not inlined, for the same reason as depth_pixel_point.
-[[gnu::noinline]] Eigen::Vector3d reading_in_cell(const Eigen::Isometry3d& pose, const Eigen::Vector3f& p) noexcept;
+/// A sensor-frame reading @p p in the cell frame (@p pose * p in double,
+/// each coordinate summed left to right, the translation last), as every
+/// fusion path computes it (the same inline definition as depth_pixel_point).
+[[nodiscard]] Eigen::Vector3d reading_in_cell(const Eigen::Isometry3d& pose, const Eigen::Vector3f& p) noexcept;
 
 /// Writes one ray's opinions, from @p origin to @p reading (workcell frame,
 /// metres), into a sensor's @p opinions over the voxels of @p grid (each

@@ -105,9 +105,20 @@ public:
     /// or kNonFiniteValue for NaN/infinite input.
     [[nodiscard]] Result<VoxelCoord> world_to_voxel(const Eigen::Vector3d& p) const noexcept;
     /// The voxel coordinate of @p p without a range check (floor of the
-    /// scaled position); the caller checks contains(). p must be finite and
-    /// within +-2^30 voxels of the origin.
-    [[nodiscard]] VoxelCoord world_to_voxel_unchecked(const Eigen::Vector3d& p) const noexcept;
+    /// scaled position (p - origin) / voxel size); the caller checks
+    /// contains(). p must be finite and within +-2^30 voxels of the origin.
+    /// Inline: every fusion path places its readings with it, per pixel.
+    [[nodiscard]] VoxelCoord world_to_voxel_unchecked(const Eigen::Vector3d& p) const noexcept {
+        return VoxelCoord{floor_index((p.x() - origin_.x()) / voxel_size_),
+                          floor_index((p.y() - origin_.y()) / voxel_size_),
+                          floor_index((p.z() - origin_.z()) / voxel_size_)};
+    }
+    /// std::floor of @p s as an integer, for |s| < 2^31: truncation, one
+    /// less where truncation rounded up (a negative non-integer); no call.
+    [[nodiscard]] static std::int32_t floor_index(double s) noexcept {
+        const auto t = static_cast<std::int32_t>(s);
+        return t - static_cast<std::int32_t>(static_cast<double>(t) > s);
+    }
     /// World position of the centre of voxel @p c (c need not be inside).
     [[nodiscard]] Eigen::Vector3d voxel_center(const VoxelCoord& c) const noexcept {
         return origin_ + voxel_size_ * (Eigen::Vector3d(c.x, c.y, c.z) + Eigen::Vector3d::Constant(0.5));
