@@ -459,3 +459,61 @@ TEST_CASE("footprint fusion: a camera a billion voxels from the grid places its 
               static_cast<std::ptrdiff_t>(cam.g.voxel_count()));
     }
 }
+
+// verifies: SR-FUSE-009, SR-FUSE-003
+TEST_CASE(
+    "footprint fusion: readings on voxel faces, at and away from the grid's first face, land in fuse_sensor's voxels") {
+    // A tilted camera over planes z = 0, 0.15 and 0.35 (voxel faces of a 5 cm grid at
+    // origin z 0, or at negative voxel coordinates for the grid at origin z 0.2), each
+    // reading's depth the ray's intersection rounded to float, and one float either side.
+    // Sparse images (one pixel in 7 valid), so that each reading's voxel shows in the hits.
+    const std::int32_t w = 64;
+    const std::int32_t h = 48;
+    SensorReading r;
+    r.kind = SensorDataKind::kDepthImage;
+    r.intrinsics = PinholeIntrinsics{50.0, 50.0, 31.5, 23.5, w, h};
+    r.pose.linear() = (Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) *
+                       Eigen::AngleAxisd(3.14159265358979 + 0.3, Eigen::Vector3d::UnitX()))
+                          .toRotationMatrix();
+    r.pose.translation() = Eigen::Vector3d(0.3, 0.25, 1.6);
+    r.min_range = 0.1F;
+    r.max_range = 5.0F;
+    std::vector<float> plane_depth(static_cast<std::size_t>(w * h));
+    std::size_t on_face = 0U;
+    for (std::int32_t v = 0; v < h; ++v) {
+        for (std::int32_t u = 0; u < w; ++u) {
+            const auto i = static_cast<std::size_t>(v * w + u);
+            const Eigen::Vector3d dir = r.pose.linear() * Eigen::Vector3d((u - 31.5) / 50.0, (v - 23.5) / 50.0, 1.0);
+            const double plane = std::array<double, 3>{0.0, 0.15, 0.35}[i % 3U];
+            auto d = static_cast<float>((plane - 1.6) / dir.z());
+            d = (i % 5U == 1U) ? std::nextafter(d, 0.0F) : (i % 5U == 2U) ? std::nextafter(d, 9.0F) : d;
+            plane_depth[i] = d;
+            const Eigen::Vector3d q = reading_in_cell(r.pose,
+                                                      depth_pixel_point(r.intrinsics, 1.0 / 50.0, 1.0 / 50.0, u, v, d));
+            on_face += std::fabs(q.z() / 0.05 - std::round(q.z() / 0.05)) < 1e-5 ? 1U : 0U;
+        }
+    }
+    CHECK(on_face > 1000U);  // most readings within 1e-5 voxels of a face (float depths)
+    const SensorModelTable model;
+    for (const double oz : {0.0, 0.2}) {
+        const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.6, -0.7, oz), 0.05, GridDims{30, 30, 12}).value();
+        OwnedWorkspace ws(g, w, h);
+        for (std::size_t j = 0; j < 7U; ++j) {
+            CAPTURE(oz);
+            CAPTURE(j);
+            std::vector<float> depth(plane_depth.size(), 0.0F);
+            for (std::size_t i = j; i < depth.size(); i += 7U) {
+                depth[i] = plane_depth[i];
+            }
+            r.depth = {depth.data(), depth.size()};
+            const Result<FusionStats> s = footprint_opinions(g, r, model, ws.ws, nullptr);
+            REQUIRE(s.ok());
+            const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
+            const Comparison c = compare(exact, ws.opinions(), model);
+            CHECK(c.hits_lost == 0U);
+            CHECK(c.hits_added == 0U);
+            CHECK(c.free_stronger == 0U);
+            CHECK(s.value().readings_in_grid > 0U);
+        }
+    }
+}

@@ -2,6 +2,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/grid/depth_pyramid.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
+
 namespace cellguard {
 
 namespace {
@@ -71,6 +77,90 @@ DepthPyramid DepthPyramid::layout_of(std::int32_t width, std::int32_t height) no
     return p;
 }
 
+namespace {
+
+/// The rows of one level's cell row and of the two source rows below it.
+struct RowSet {
+    const float* min0;
+    const float* min1;
+    const float* max0;
+    const float* max1;
+    const std::uint8_t* inv0;
+    const std::uint8_t* inv1;
+    float* min_out;
+    float* max_out;
+    std::uint8_t* inv_out;
+};
+
+/// Cells [@p first, @p pairs) of a row, each from source columns 2i and
+/// 2i + 1 of both source rows: min, max, and the or of the invalid flags
+/// (each 0 or 1). The reference for the vector forms below.
+void reduce_pairs_scalar(const RowSet& r, std::int32_t first, std::int32_t pairs) noexcept {
+    for (std::int32_t i = first; i < pairs; ++i) {
+        const std::int32_t c0 = 2 * i;
+        const std::int32_t c1 = c0 + 1;
+        const float mn0 = r.min0[c0] < r.min0[c1] ? r.min0[c0] : r.min0[c1];
+        const float mn1 = r.min1[c0] < r.min1[c1] ? r.min1[c0] : r.min1[c1];
+        const float mx0 = r.max0[c0] > r.max0[c1] ? r.max0[c0] : r.max0[c1];
+        const float mx1 = r.max1[c0] > r.max1[c1] ? r.max1[c0] : r.max1[c1];
+        r.min_out[i] = mn0 < mn1 ? mn0 : mn1;
+        r.max_out[i] = mx0 > mx1 ? mx0 : mx1;
+        r.inv_out[i] = static_cast<std::uint8_t>(r.inv0[c0] | r.inv0[c1] | r.inv1[c0] | r.inv1[c1]);
+    }
+}
+
+#if defined(__SSE2__) || defined(__ARM_NEON)
+/// The or of the invalid flags of columns 2i and 2i + 1 (i = 0..3) of both
+/// source rows, into @p out [0..3].
+void reduce_flags4(const std::uint8_t* row0, const std::uint8_t* row1, std::uint8_t* out) noexcept {
+    for (std::size_t i = 0U; i < 4U; ++i) {
+        out[i] = static_cast<std::uint8_t>(row0[2U * i] | row0[2U * i + 1U] | row1[2U * i] | row1[2U * i + 1U]);
+    }
+}
+#endif
+
+/// reduce_pairs_scalar over [0, @p pairs), four cells at a time in vector
+/// registers where the target has them (SSE2 on x86-64, NEON on aarch64).
+/// min and max of floats that are never NaN (depths or +-inf): the vector
+/// instructions give the scalar form's values, bit for bit.
+void reduce_pairs(const RowSet& r, std::int32_t pairs) noexcept {
+    std::int32_t i = 0;
+#if defined(__SSE2__)
+    for (; i + 4 <= pairs; i += 4) {
+        const std::int32_t c = 2 * i;
+        const auto pair_min = [c](const float* p) {
+            const __m128 a = _mm_loadu_ps(p + c);
+            const __m128 b = _mm_loadu_ps(p + c + 4);
+            return _mm_min_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)),
+                              _mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)));
+        };
+        const auto pair_max = [c](const float* p) {
+            const __m128 a = _mm_loadu_ps(p + c);
+            const __m128 b = _mm_loadu_ps(p + c + 4);
+            return _mm_max_ps(_mm_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)),
+                              _mm_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)));
+        };
+        _mm_storeu_ps(r.min_out + i, _mm_min_ps(pair_min(r.min0), pair_min(r.min1)));
+        _mm_storeu_ps(r.max_out + i, _mm_max_ps(pair_max(r.max0), pair_max(r.max1)));
+        reduce_flags4(r.inv0 + c, r.inv1 + c, r.inv_out + i);
+    }
+#elif defined(__ARM_NEON)
+    for (; i + 4 <= pairs; i += 4) {
+        const std::int32_t c = 2 * i;
+        const float32x4x2_t mn0 = vld2q_f32(r.min0 + c);  // even and odd columns
+        const float32x4x2_t mn1 = vld2q_f32(r.min1 + c);
+        const float32x4x2_t mx0 = vld2q_f32(r.max0 + c);
+        const float32x4x2_t mx1 = vld2q_f32(r.max1 + c);
+        vst1q_f32(r.min_out + i, vminq_f32(vminq_f32(mn0.val[0], mn0.val[1]), vminq_f32(mn1.val[0], mn1.val[1])));
+        vst1q_f32(r.max_out + i, vmaxq_f32(vmaxq_f32(mx0.val[0], mx0.val[1]), vmaxq_f32(mx1.val[0], mx1.val[1])));
+        reduce_flags4(r.inv0 + c, r.inv1 + c, r.inv_out + i);
+    }
+#endif
+    reduce_pairs_scalar(r, i, pairs);
+}
+
+}  // namespace
+
 void DepthPyramid::build_levels() noexcept {
     for (std::int32_t level = 1; level < levels_; ++level) {
         const std::int32_t sw = level_width_[level - 1];
@@ -79,25 +169,22 @@ void DepthPyramid::build_levels() noexcept {
         const std::size_t dst = level_offset_[level];
         const std::int32_t w = level_width_[level];
         const std::int32_t h = level_height_[level];
+        const std::int32_t pairs = sw / 2;  // cells with two source columns; an odd width's last has one
         for (std::int32_t j = 0; j < h; ++j) {
             const std::int32_t r0 = 2 * j;
             const std::int32_t r1 = (r0 + 1 < sh) ? r0 + 1 : r0;
             const std::size_t row0 = src + static_cast<std::size_t>(r0) * static_cast<std::size_t>(sw);
             const std::size_t row1 = src + static_cast<std::size_t>(r1) * static_cast<std::size_t>(sw);
             const std::size_t out = dst + static_cast<std::size_t>(j) * static_cast<std::size_t>(w);
-            for (std::int32_t i = 0; i < w; ++i) {
-                const auto c0 = static_cast<std::size_t>(i) * 2U;
-                const std::size_t c1 = (2 * i + 1 < sw) ? c0 + 1U : c0;
-                const float mn0 = min_[row0 + c0] < min_[row0 + c1] ? min_[row0 + c0] : min_[row0 + c1];
-                const float mn1 = min_[row1 + c0] < min_[row1 + c1] ? min_[row1 + c0] : min_[row1 + c1];
-                const float mx0 = max_[row0 + c0] > max_[row0 + c1] ? max_[row0 + c0] : max_[row0 + c1];
-                const float mx1 = max_[row1 + c0] > max_[row1 + c1] ? max_[row1 + c0] : max_[row1 + c1];
-                const std::size_t o = out + static_cast<std::size_t>(i);
-                min_[o] = mn0 < mn1 ? mn0 : mn1;
-                max_[o] = mx0 > mx1 ? mx0 : mx1;
-                const bool any = invalid_[row0 + c0] != 0U || invalid_[row0 + c1] != 0U || invalid_[row1 + c0] != 0U ||
-                                 invalid_[row1 + c1] != 0U;
-                invalid_[o] = static_cast<std::uint8_t>(any ? 1U : 0U);
+            const RowSet r{&min_[row0],     &min_[row1], &max_[row0], &max_[row1],   &invalid_[row0],
+                           &invalid_[row1], &min_[out],  &max_[out],  &invalid_[out]};
+            reduce_pairs(r, pairs);
+            if (pairs < w) {  // the last source column alone (an odd width)
+                const auto c = static_cast<std::size_t>(2 * pairs);
+                const auto o = static_cast<std::size_t>(pairs);
+                r.min_out[o] = r.min0[c] < r.min1[c] ? r.min0[c] : r.min1[c];
+                r.max_out[o] = r.max0[c] > r.max1[c] ? r.max0[c] : r.max1[c];
+                r.inv_out[o] = static_cast<std::uint8_t>(r.inv0[c] | r.inv1[c]);
             }
         }
     }
