@@ -1,10 +1,13 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 // Requirements: the depth pyramid over caller storage: its size checks and
-// refusals (each short span, each bad side), and a query over a small image.
+// refusals (each short span, each bad side), a query over a small image, and
+// queries against a scan of the pixels (the levels' vector forms included).
 #include <doctest/doctest.h>
 
 #include <array>
+#include <limits>
+#include <random>
 #include <vector>
 
 #include "cellguard/grid/depth_pyramid.hpp"
@@ -82,5 +85,71 @@ TEST_CASE("depth pyramid: a layout without storage has the levels' cells, and no
         const DepthPyramid none = DepthPyramid::layout_of(size[0], size[1]);
         CHECK(none.width() == 0);
         CHECK(none.height() == 0);
+    }
+}
+
+// verifies: SR-FUSE-010
+TEST_CASE("depth pyramid: every query covers its rectangle's min, max and gaps; an aligned block gives them exactly") {
+    // Sizes with odd sides at several levels (the last column or row of a level alone),
+    // and one wider than the vector forms' four cells; a third of the pixels without a reading.
+    std::mt19937 rng(34U);
+    std::uniform_real_distribution<float> depth(0.3F, 9.0F);
+    for (const auto& size :
+         {std::array<std::int32_t, 2>{37, 23}, std::array<std::int32_t, 2>{64, 48}, std::array<std::int32_t, 2>{13, 1},
+          std::array<std::int32_t, 2>{1, 9}, std::array<std::int32_t, 2>{97, 31}}) {
+        const std::int32_t w = size[0];
+        const std::int32_t h = size[1];
+        CAPTURE(w);
+        CAPTURE(h);
+        std::vector<float> mn(depth_pyramid_cells(w, h));
+        std::vector<float> mx(mn.size());
+        std::vector<std::uint8_t> inv(mn.size());
+        DepthPyramid p =
+            DepthPyramid::make(w, h, {mn.data(), mn.size()}, {mx.data(), mx.size()}, {inv.data(), inv.size()}).value();
+        std::vector<float> image(static_cast<std::size_t>(w * h));
+        for (std::int32_t v = 0; v < h; ++v) {
+            for (std::int32_t u = 0; u < w; ++u) {
+                const bool valid = rng() % 3U != 0U;
+                const float d = depth(rng);
+                image[static_cast<std::size_t>(v * w + u)] = valid ? d : -1.0F;
+                p.set_pixel(u, v, d, valid);
+            }
+        }
+        p.build_levels();
+        const auto truth = [&](std::int32_t u0, std::int32_t v0, std::int32_t u1, std::int32_t v1) {
+            DepthRange t{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), false};
+            for (std::int32_t v = v0; v <= v1; ++v) {
+                for (std::int32_t u = u0; u <= u1; ++u) {
+                    const float d = image[static_cast<std::size_t>(v * w + u)];
+                    t.any_invalid = t.any_invalid || d < 0.0F;
+                    t.min = d >= 0.0F && d < t.min ? d : t.min;
+                    t.max = d >= 0.0F && d > t.max ? d : t.max;
+                }
+            }
+            return t;
+        };
+        for (int k = 0; k < 400; ++k) {
+            const auto u0 = static_cast<std::int32_t>(rng() % static_cast<unsigned>(w));
+            const auto v0 = static_cast<std::int32_t>(rng() % static_cast<unsigned>(h));
+            const auto u1 = u0 + static_cast<std::int32_t>(rng() % static_cast<unsigned>(w - u0));
+            const auto v1 = v0 + static_cast<std::int32_t>(rng() % static_cast<unsigned>(h - v0));
+            const DepthRange q = p.query(u0, v0, u1, v1);
+            const DepthRange t = truth(u0, v0, u1, v1);
+            CHECK(q.min <= t.min);
+            CHECK(q.max >= t.max);
+            CHECK((q.any_invalid || !t.any_invalid));
+        }
+        // A block of 2^L x 2^L pixels aligned to level L is one cell of that level: exactly its values.
+        for (std::int32_t side = 1; side <= w && side <= h; side *= 2) {
+            for (std::int32_t v0 = 0; v0 + side <= h; v0 += side) {
+                for (std::int32_t u0 = 0; u0 + side <= w; u0 += side) {
+                    const DepthRange q = p.query(u0, v0, u0 + side - 1, v0 + side - 1);
+                    const DepthRange t = truth(u0, v0, u0 + side - 1, v0 + side - 1);
+                    CHECK(q.min == t.min);
+                    CHECK(q.max == t.max);
+                    CHECK(q.any_invalid == t.any_invalid);
+                }
+            }
+        }
     }
 }
