@@ -262,6 +262,38 @@ TEST_CASE("controller: fusing by footprint gives the ray path's zone states, and
     CHECK(r.safety.stop_requested);
 }
 
+// verifies: SR-FUSE-014
+TEST_CASE("controller: by footprint, a camera refused in a cycle leaves every other camera its own table, made once") {
+    Workcell w;
+    const Frame empty(w, sim::reference_scene(), 0U);
+    std::vector<SensorReading> readings;
+    for (const SensorInput& in : empty.inputs) {
+        readings.push_back(in.reading);
+    }
+    host::OwnedFootprintWorkspaces ws(w.g, readings);
+    ControllerConfig fc = w.config();
+    fc.footprint.method = FusionMethod::kFootprint;
+    fc.footprint.workspaces = ws.spans();
+    TestClock clock;
+    SafetyController c = w.controller(fc, clock);
+    CHECK(c.run_cycle(Frame(w, with_person(0.2, 0.4), clock.t).span(), false).detected_faults == 0U);
+    for (std::size_t slot = 0; slot < readings.size(); ++slot) {
+        CAPTURE(slot);
+        Frame f(w, with_person(0.2, 0.4), clock.t);
+        f.inputs[slot].captured_us = clock.t - 300000U;  // older than the 200 ms limit: refused
+        const CycleReport r = c.run_cycle(f.span(), false);
+        CHECK((r.detected_faults & fault_bit(Fault::kSensorStale)) != 0U);
+        Frame quiet(w, with_person(0.2, 0.4), clock.t);
+        quiet.inputs[slot].present = false;
+        CHECK((c.run_cycle(quiet.span(), false).detected_faults & fault_bit(Fault::kSensorMissing)) != 0U);
+    }
+    CHECK(c.run_cycle(Frame(w, with_person(0.2, 0.4), clock.t).span(), false).detected_faults == 0U);
+    for (const FootprintWorkspace& space : ws.spans()) {
+        REQUIRE(space.table != nullptr);
+        CHECK(space.table->makes() == 1U);  // on its camera's first frame, never again
+    }
+}
+
 // verifies: SR-CTRL-002, SR-LOGIC-002, SR-LOGIC-005
 TEST_CASE("controller: a sensor that goes quiet or delivers a stale frame gives a fault and the stop") {
     Workcell w;

@@ -316,6 +316,13 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
     }
     const bool footprint = config_.footprint.method == FusionMethod::kFootprint;
     std::array<SensorReading, kMaxSensors> images{};
+    // With a workspace per sensor, each image keeps its slot's workspace (and footprint table),
+    // whichever slots before it were refused this cycle: else a stale camera would hand the next
+    // camera's image to its own table, which would then be made again for that camera (and again
+    // when the camera comes back), each time a whole table's work inside the cycle.
+    const Span<const FootprintWorkspace> all_spaces = config_.footprint.workspaces;
+    const bool own_spaces = all_spaces.size() >= sensors.size();
+    std::array<FootprintWorkspace, kMaxSensors> spaces{};
     std::size_t image_count = 0U;
     for (std::size_t slot = 0U; slot < sensors.size(); ++slot) {
         const SensorInput& s = sensors[slot];
@@ -323,6 +330,9 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
             continue;
         }
         if (footprint && is_depth_image(s.reading.kind) && image_count < images.size()) {
+            if (own_spaces) {
+                spaces[image_count] = all_spaces[slot];
+            }
             images[image_count++] = s.reading;  // fused together below
             continue;
         }
@@ -340,9 +350,12 @@ std::uint32_t SafetyController::fuse_sensors(Span<const SensorInput> sensors, st
         if (runner == nullptr) {
             runner = &sequential_;  // one core, the reference
         }
+        const Span<const FootprintWorkspace> image_spaces = own_spaces ? Span<const FootprintWorkspace>(spaces.data(),
+                                                                                                        image_count)
+                                                                       : all_spaces;
         const Result<FusionStats> r = fuse_frame_footprint(
-            *grid_, Span<const SensorReading>(images.data(), image_count), *model_, config_.footprint.workspaces,
-            *runner, nullptr, config_.footprint.params);
+            *grid_, Span<const SensorReading>(images.data(), image_count), *model_, image_spaces, *runner, nullptr,
+            config_.footprint.params);
         if (!r.ok()) {
             faults |= fault_bit(Fault::kFrameInconsistent);  // none of them fused: the grid is untouched
         } else {
