@@ -3,7 +3,8 @@
 // Requirements: the fake cameras serve the monitor's simulated frame of each
 // scenario cycle (cell::SimulatedFrameSource) as raw depth at the configured
 // scale and offset; the scenario starts when every camera streams; --dither
-// makes consecutive frames differ in one pixel by one unit.
+// makes consecutive frames differ in one pixel by one unit; --prerender serves
+// cycles rendered at start.
 #if defined(CELLGUARD_HAVE_FAKE_GIGE)
 #include <doctest/doctest.h>
 
@@ -79,6 +80,24 @@ TEST_CASE("demo frames: another size renders the same view over its pixels, an u
     std::vector<std::uint16_t> odd(100U, 9U);
     frames.render(15U, 10, 10, odd.data());
     CHECK(odd == std::vector<std::uint16_t>(100U, 0U));
+}
+
+// verifies: SR-CAM-008
+TEST_CASE("demo frames: prerendered cycles are served as rendered, the last one for every later cycle") {
+    const sim::SensorSpec spec = sim::paper_sensors()[2];
+    const std::size_t n = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
+    DemoFrames frames(spec, {{64, 48}}, 0.001, 0.0);
+    frames.prerender(17U);
+    CHECK(frames.renders() == 17U);
+    std::vector<std::uint16_t> image(n, 7U);
+    frames.render(15U, spec.width, spec.height, image.data());
+    CHECK(image == expected(spec, 15U, 0.001, 0.0));
+    frames.render(400U, spec.width, spec.height, image.data());
+    CHECK(image == expected(spec, 16U, 0.001, 0.0));  // after the prerendered cycles: the last one
+    CHECK(frames.renders() == 17U);                   // copied, never cast again
+    std::vector<std::uint16_t> small(64U * 48U, 0U);  // another size is rendered as before
+    frames.render(15U, 64, 48, small.data());
+    CHECK(frames.renders() == 18U);
 }
 
 // verifies: SR-CAM-008

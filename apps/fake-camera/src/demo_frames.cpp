@@ -44,6 +44,12 @@ void DemoFrames::render(std::uint64_t cycle, int width, int height, std::uint16_
         std::fill(image, image + n, std::uint16_t{0U});
         return;
     }
+    if (k == 0 && !prerendered_.empty()) {
+        const std::vector<std::uint16_t>& frame =
+            prerendered_[std::min<std::uint64_t>(cycle, prerendered_.size() - 1U)];
+        std::copy(frame.begin(), frame.end(), image);
+        return;
+    }
     if (cycle != cached_cycle_ || k != cached_source_) {
         SensorReading reading;
         cell::FrameStatus status;
@@ -58,6 +64,16 @@ void DemoFrames::render(std::uint64_t cycle, int width, int height, std::uint16_
         cached_source_ = k;
     }
     std::copy(cached_.begin(), cached_.end(), image);
+}
+
+void DemoFrames::prerender(std::uint64_t cycles) {
+    const sim::SensorSpec& spec = specs_.front();
+    const std::size_t n = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
+    std::vector<std::vector<std::uint16_t>> frames(cycles, std::vector<std::uint16_t>(n));
+    for (std::uint64_t c = 0U; c < cycles; ++c) {
+        render(c, spec.width, spec.height, frames[c].data());
+    }
+    prerendered_ = std::move(frames);
 }
 
 void dither(std::uint64_t frame, std::size_t pixels, std::uint16_t* image) noexcept {

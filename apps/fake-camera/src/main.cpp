@@ -51,6 +51,7 @@ struct Options {
     double clock_offset_ms = 0.0;            ///< --clock-offset-ms
     bool dither = false;                     ///< --dither
     bool empty = false;                      ///< --empty
+    long prerender = 0;                      ///< --prerender: scenario cycles rendered at start (0: none)
     std::string scenario_start = "all";      ///< --scenario-start
 };
 
@@ -149,6 +150,11 @@ int parse_args(int argc, char** argv, Options& o) {
               [&o](const std::string& v) { o.frames = host::integer_value("--frames", v, 1, 1000000000L); });
     cli.value("--duration", "S", "stop after S seconds",
               [&o](const std::string& v) { o.duration_s = number_value("--duration", v, 0.001, 1e6); });
+    cli.value("--prerender", "N",
+              "render scenario cycles 0..N-1 of every camera at start and serve those, the last one for\n"
+              "every later cycle (for a still scene from cycle N-1 on: the real cell's person stops at\n"
+              "cycle 50): the camera threads then only copy, so that timing runs measure the monitor",
+              [&o](const std::string& v) { o.prerender = host::integer_value("--prerender", v, 1, 100000L); });
     cli.flag("--empty", o.empty,
              "serve the empty cell (the reference scene without the demo's person), as at commissioning:\n"
              "for recording the background views (cellguard-monitor --write-background)");
@@ -255,6 +261,9 @@ bool make_served(const Options& o, const cell::MonitorConfig& cfg, fake_camera::
         served->frames = std::make_unique<fake_camera::DemoFrames>(
             spec, sizes, c.coordinate_scale / 1000.0, c.coordinate_offset / 1000.0,
             o.empty ? cell::FrameScene::kEmpty : cell::FrameScene::kDemo);
+        if (o.prerender > 0) {
+            served->frames->prerender(static_cast<std::uint64_t>(o.prerender));
+        }
         Served* p = served.get();
         const bool dithered = o.dither;
         served->camera = std::make_unique<FakeGigeCamera>(

@@ -69,6 +69,12 @@ public:
     /// cycle once and copies it for the frames of the same cycle. Not
     /// thread-safe: one camera thread calls it.
     void render(std::uint64_t cycle, int width, int height, std::uint16_t* image);
+    /// Renders scenario cycles 0 .. @p cycles - 1 at the configured size
+    /// now; render() then copies them, and serves the last for every later
+    /// cycle (for scenes that are still from then on: the demo scenes after
+    /// their person's path ends). So a camera thread only copies while
+    /// the monitor runs beside it. Allocates @p cycles images.
+    void prerender(std::uint64_t cycles);
     /// Images rendered so far.
     [[nodiscard]] std::uint64_t renders() const noexcept { return renders_; }
 
@@ -80,6 +86,7 @@ private:
     std::uint64_t cached_cycle_ = ~std::uint64_t{0U};
     int cached_source_ = -1;
     std::vector<std::uint16_t> cached_;
+    std::vector<std::vector<std::uint16_t>> prerendered_;  ///< cycles 0.. at the configured size
     std::uint64_t renders_ = 0U;
 };
 
