@@ -89,7 +89,8 @@ TEST_CASE("depth pyramid: a layout without storage has the levels' cells, and no
 }
 
 // verifies: SR-FUSE-010
-TEST_CASE("depth pyramid: every query covers its rectangle's min, max and gaps; an aligned block gives them exactly") {
+TEST_CASE(
+    "depth pyramid: every query covers its rectangle's min, max and gaps, and an aligned block gives them exactly") {
     // Sizes with odd sides at several levels (the last column or row of a level alone),
     // and one wider than the vector forms' four cells; a third of the pixels without a reading.
     std::mt19937 rng(34U);
