@@ -79,6 +79,12 @@ DepthPyramid DepthPyramid::layout_of(std::int32_t width, std::int32_t height) no
 
 namespace {
 
+/// The or of four invalid flags (each 0 or 1).
+std::uint8_t any_of4(std::uint8_t a, std::uint8_t b, std::uint8_t c, std::uint8_t d) noexcept {
+    return static_cast<std::uint8_t>(static_cast<unsigned>(a) | static_cast<unsigned>(b) | static_cast<unsigned>(c) |
+                                     static_cast<unsigned>(d));
+}
+
 /// The rows of one level's cell row and of the two source rows below it.
 struct RowSet {
     const float* min0;
@@ -105,7 +111,7 @@ void reduce_pairs_scalar(const RowSet& r, std::int32_t first, std::int32_t pairs
         const float mx1 = r.max1[c0] > r.max1[c1] ? r.max1[c0] : r.max1[c1];
         r.min_out[i] = mn0 < mn1 ? mn0 : mn1;
         r.max_out[i] = mx0 > mx1 ? mx0 : mx1;
-        r.inv_out[i] = static_cast<std::uint8_t>(r.inv0[c0] | r.inv0[c1] | r.inv1[c0] | r.inv1[c1]);
+        r.inv_out[i] = any_of4(r.inv0[c0], r.inv0[c1], r.inv1[c0], r.inv1[c1]);
     }
 }
 
@@ -114,7 +120,7 @@ void reduce_pairs_scalar(const RowSet& r, std::int32_t first, std::int32_t pairs
 /// source rows, into @p out [0..3].
 void reduce_flags4(const std::uint8_t* row0, const std::uint8_t* row1, std::uint8_t* out) noexcept {
     for (std::size_t i = 0U; i < 4U; ++i) {
-        out[i] = static_cast<std::uint8_t>(row0[2U * i] | row0[2U * i + 1U] | row1[2U * i] | row1[2U * i + 1U]);
+        out[i] = any_of4(row0[2U * i], row0[2U * i + 1U], row1[2U * i], row1[2U * i + 1U]);
     }
 }
 #endif
@@ -180,11 +186,11 @@ void DepthPyramid::build_levels() noexcept {
                            &invalid_[row1], &min_[out],  &max_[out],  &invalid_[out]};
             reduce_pairs(r, pairs);
             if (pairs < w) {  // the last source column alone (an odd width)
-                const auto c = static_cast<std::size_t>(2 * pairs);
+                const std::size_t c = 2U * static_cast<std::size_t>(pairs);
                 const auto o = static_cast<std::size_t>(pairs);
                 r.min_out[o] = r.min0[c] < r.min1[c] ? r.min0[c] : r.min1[c];
                 r.max_out[o] = r.max0[c] > r.max1[c] ? r.max0[c] : r.max1[c];
-                r.inv_out[o] = static_cast<std::uint8_t>(r.inv0[c] | r.inv1[c]);
+                r.inv_out[o] = any_of4(r.inv0[c], r.inv1[c], 0U, 0U);
             }
         }
     }
