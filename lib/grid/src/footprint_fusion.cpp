@@ -47,12 +47,10 @@ double clamp(double x, double lo, double hi) noexcept {
     const double t = x > lo ? x : lo;
     return t < hi ? t : hi;
 }
-/// floor and ceil of a value in [-2^30, 2^30], without a library call.
-/// (Branch-free: the comparison's 0 or 1 corrects the truncation.)
-std::int32_t floor_to_int(double x) noexcept {
-    const auto t = static_cast<std::int32_t>(x);
-    return t - static_cast<std::int32_t>(static_cast<double>(t) > x);
-}
+/// floor of a value in [-2^30, 2^30], without a library call: the grid's own
+/// (the comparison's 0 or 1 corrects the truncation, no branch).
+std::int32_t floor_to_int(double x) noexcept { return GridGeometry::floor_index(x); }
+/// ceil of a value in [-2^30, 2^30], the same way.
 std::int32_t ceil_to_int(double x) noexcept {
     const auto t = static_cast<std::int32_t>(x);
     return t + static_cast<std::int32_t>(static_cast<double>(t) < x);
