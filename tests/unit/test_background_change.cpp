@@ -20,6 +20,7 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "paper_cell.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -194,7 +195,8 @@ TEST_CASE("background change: a removed background box latches the prior fault a
 }
 
 // verifies: SR-BKG-004
-TEST_CASE("background change: a sensor tilted or turned by 1 degree latches the prior fault within 3 cycles") {
+TEST_CASE("background change: a sensor tilted or turned by 1 degree latches the prior fault within 3 cycles" *
+          CELLGUARD_LONG_REPLAY) {
     for (std::size_t s = 0; s < 4U; ++s) {
         for (const double deg : {1.0, -1.0}) {
             for (const bool pitch : {true, false}) {
@@ -213,7 +215,7 @@ TEST_CASE("background change: a sensor tilted or turned by 1 degree latches the 
 }
 
 // verifies: SR-BKG-004
-TEST_CASE("background change: the empty cell and the demo's walking person never trip it") {
+TEST_CASE("background change: the empty cell and the demo's walking person never trip it" * CELLGUARD_LONG_REPLAY) {
     Cell cell;
     StepClock clock;
     SafetyController c = cell.controller(clock);

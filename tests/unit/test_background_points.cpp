@@ -34,6 +34,7 @@
 #include "cellguard/prior_tool/prior_tool.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "paper_cell.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -313,7 +314,8 @@ TEST_CASE("point-set view: commissioning frames widen each bin to their nearest 
 // verifies: SR-BKG-008
 TEST_CASE(
     "point-set background change: the empty cell gives no deeper point, moved and removed boxes latch in 3 "
-    "cycles") {
+    "cycles" *
+    CELLGUARD_LONG_REPLAY) {
     // The empty cell: run_change checks 0 deeper points in the two empty cycles; here a whole run of it.
     const ChangeRun none = run_change(sim::paper_sensors(), sim::reference_scene(), 6);
     report("empty cell", none);
@@ -344,7 +346,8 @@ TEST_CASE(
 }
 
 // verifies: SR-BKG-008
-TEST_CASE("point-set background change: a sensor turned by 1 degree latches the prior fault within 3 cycles") {
+TEST_CASE("point-set background change: a sensor turned by 1 degree latches the prior fault within 3 cycles" *
+          CELLGUARD_LONG_REPLAY) {
     for (std::size_t s = 0; s < 4U; ++s) {
         for (const double deg : {1.0, -1.0}) {
             for (const bool pitch : {true, false}) {
@@ -363,7 +366,7 @@ TEST_CASE("point-set background change: a sensor turned by 1 degree latches the 
 }
 
 // verifies: SR-BKG-008
-TEST_CASE("point-set background change: the demo's walking person never trips it") {
+TEST_CASE("point-set background change: the demo's walking person never trips it" * CELLGUARD_LONG_REPLAY) {
     Cell cell;
     StepClock clock;
     SafetyController c = cell.controller(clock);

@@ -29,6 +29,7 @@
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "monitor_test_doubles.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -158,7 +159,8 @@ int cycles_that_allocated(const std::vector<std::size_t>& allocations) {
 }  // namespace
 
 // verifies: SR-GEN-002, SR-SYS-001
-TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and load each frame once per cycle") {
+TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and load each frame once per cycle" *
+          CELLGUARD_LONG_REPLAY) {
     Monitor m(demo_config());
     const int cycles = 1000;
     const std::vector<std::size_t> allocations = m.run(cycles);
@@ -212,7 +214,8 @@ TEST_CASE("monitor loop: the status line shows the scripted person for simulated
 }
 
 // verifies: SR-GEN-002, SR-SYS-001
-TEST_CASE("monitor loop: with footprint fusion the demo's and the real cell's cycles allocate nothing") {
+TEST_CASE("monitor loop: with footprint fusion the demo's and the real cell's cycles allocate nothing" *
+          CELLGUARD_LONG_REPLAY) {
     MonitorConfig paper = demo_config();
     paper.fusion.method = FusionMethod::kFootprint;
     Monitor m(paper);

@@ -29,6 +29,7 @@
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
 #include "monitor_test_doubles.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -143,7 +144,8 @@ struct RobotCell {
 }  // namespace
 
 // verifies: SR-SSM-010, SR-CMD-020, SR-CASE-010, SR-GEN-002
-TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced speed then the stop below S_p") {
+TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced speed then the stop below S_p" *
+          CELLGUARD_LONG_REPLAY) {
     RobotCell c;
     c.run();
     REQUIRE(c.cycles.size() == 170U);
@@ -228,7 +230,7 @@ TEST_CASE("robot cell demo: the arm alone never stops, the person brings reduced
 }
 
 // verifies: SR-CMD-021
-TEST_CASE("robot cell demo: a PLC that falls silent stops the robot within the command age") {
+TEST_CASE("robot cell demo: a PLC that falls silent stops the robot within the command age" * CELLGUARD_LONG_REPLAY) {
     RobotCell c;
     for (int k = 0; k < 30; ++k) {
         static_cast<void>(c.loop->run_cycle(k));
@@ -275,7 +277,8 @@ std::string file_text(const std::string& path) {
 // time in the CAN log. Unpaced time is simulated only: a host that takes
 // 40 ms per clock reading (cycles of several periods) writes the same log.
 // verifies: SR-SYS-001, SR-SYS-006, SR-CMD-008
-TEST_CASE("robot cell demo: unpaced, a slow host writes the same CAN log as a fast one, and the log check passes") {
+TEST_CASE("robot cell demo: unpaced, a slow host writes the same CAN log as a fast one, and the log check passes" *
+          CELLGUARD_LONG_REPLAY) {
     char dir[] = "/tmp/cellguard-robot-log-test-XXXXXX";
     REQUIRE(::mkdtemp(dir) != nullptr);
     const std::string fast = std::string(dir) + "/fast.log";

@@ -19,6 +19,7 @@
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/sim/experiment.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -116,7 +117,8 @@ InteriorCount count_foreground(const std::vector<std::uint8_t>& mask, const sim:
 // verifies: SR-EVAL-002
 TEST_CASE(
     "paper claim 1: on the large object both methods score well and beat their baselines, which keep the "
-    "interiors of background boxes below t_f = 0.5") {
+    "interiors of background boxes below t_f = 0.5" *
+    CELLGUARD_LONG_REPLAY) {
     sim::SceneResult r(config().geometry);
     run("large", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);
@@ -188,7 +190,8 @@ TEST_CASE(
 // verifies: SR-EVAL-002, SR-FUSE-002
 TEST_CASE(
     "paper claim 2, changed by the per-sensor model: on the small object only the probabilistic method's "
-    "recall goes past the thresholded one's, and no longer at a useful precision") {
+    "recall goes past the thresholded one's, and no longer at a useful precision" *
+    CELLGUARD_LONG_REPLAY) {
     sim::SceneResult r(config().geometry);
     run("small", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);
@@ -232,7 +235,8 @@ TEST_CASE("evaluation: fewer background frames than the probabilistic method nee
 }
 
 // verifies: SR-EVAL-002
-TEST_CASE("paper claim 3: with no foreground, no voxel inside a background box is foreground after subtraction") {
+TEST_CASE("paper claim 3: with no foreground, no voxel inside a background box is foreground after subtraction" *
+          CELLGUARD_LONG_REPLAY) {
     sim::SceneResult r(config().geometry);
     run("empty", r);
     const sim::MethodResult& thr = method(r, PriorMethod::kThresholded);

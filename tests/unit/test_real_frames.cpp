@@ -31,6 +31,7 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/zone_evaluation.hpp"
 #include "cellguard/safety/zones.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -287,7 +288,8 @@ TEST_CASE(
 }
 
 // verifies: SR-FUSE-002, SR-EVAL-003
-TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted person detected, with both methods") {
+TEST_CASE("simulated cell at 640 x 480: the background is CLEAR and the scripted person detected, with both methods" *
+          CELLGUARD_LONG_REPLAY) {
     // The paper's cell with its four sensors at a real camera's resolution
     // (four times the stereo cameras' pixels, eleven times the lidars').
     std::vector<sim::SensorSpec> sensors = sim::paper_sensors();

@@ -30,6 +30,7 @@
 #include "ray_table_vectors.hpp"
 #include "settable_clock.hpp"
 #include "test_robot.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -397,7 +398,7 @@ TEST_CASE(
 }
 
 // verifies: SR-CTRL-003, SR-PRIOR-012, SR-LOGIC-006
-TEST_CASE("controller: a corrupted prior is caught while running within one check pass") {
+TEST_CASE("controller: a corrupted prior is caught while running within one check pass" * CELLGUARD_LONG_REPLAY) {
     Workcell w;
     TestClock clock;
     const Frame f(w, sim::reference_scene(), clock.t);
@@ -464,7 +465,8 @@ TEST_CASE("controller: a ray table corrupted in RAM is caught while running with
 
 // verifies: SR-CTRL-007, SR-LOGIC-006
 TEST_CASE(
-    "controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or limits changed is caught at its next turn") {
+    "controller: a sensor slot's table check starts afresh on another table, and a table object whose regions or limits changed is caught at its next turn" *
+    CELLGUARD_LONG_REPLAY) {
     Workcell w;
     TestClock clock;
     ControllerConfig config = w.config();

@@ -26,6 +26,7 @@
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/robot/kinematics.hpp"
 #include "test_robot.hpp"
+#include "test_tags.hpp"
 
 using namespace cellguard;
 
@@ -693,7 +694,8 @@ ArmAlone fuse_arm_alone(double step, bool noisy, ArmAlone* empty = nullptr) {
 }  // namespace
 
 // verifies: SR-SIM-006
-TEST_CASE("simulator robot: the arm alone, fused and subtracted, is foreground only next to its capsules") {
+TEST_CASE("simulator robot: the arm alone, fused and subtracted, is foreground only next to its capsules" *
+          CELLGUARD_LONG_REPLAY) {
     const double half_diagonal = 0.5 * std::sqrt(3.0) * 0.1;
     const ArmAlone ideal = fuse_arm_alone(0.5, false);
     MESSAGE("arm alone, ideal sensors: " << ideal.foreground << " foreground voxels in 25 frames, the farthest centre "
