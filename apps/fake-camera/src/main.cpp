@@ -82,8 +82,8 @@ void size_value(const std::string& name, const std::string& text, int& w, int& h
     h = static_cast<int>(lh);
 }
 
-CLI::Option* frame_option(host::CommandLine& cli, const std::string& name, std::int64_t& target,
-                          const std::string& help) {
+host::OptionRef frame_option(host::CommandLine& cli, const std::string& name, std::int64_t& target,
+                             const std::string& help) {
     return cli.value(name, "N", help,
                      [&target, name](const std::string& v) { target = host::integer_value(name, v, 0, 1000000000L); });
 }
@@ -100,11 +100,9 @@ void add_fault_options(host::CommandLine& cli, Options& o) {
         f.stamp_jump_ms = host::integer_value("--stamp-jump-ms", v, -3600000L, 3600000L);
     });
     frame_option(cli, "--stop-at", f.stop_at_frame, "from frame N on, send nothing (see --stop-mode)");
-    cli.app()
-        .add_option("--stop-mode", o.stop_mode,
-                    "silent (stream stops, control still answers; the default) or power-off (the\n"
-                    "camera disappears: no control either)")
-        ->check(CLI::IsMember({"silent", "power-off"}));
+    cli.choice("--stop-mode", o.stop_mode, {"silent", "power-off"},
+               "silent (stream stops, control still answers; the default) or power-off (the\n"
+               "camera disappears: no control either)");
     cli.value(
         "--restart-after-ms", "MS", "after a power-off stop, come back as a new camera at its defaults",
         [&f](const std::string& v) { f.restart_after_ms = host::integer_value("--restart-after-ms", v, 0, 3600000L); });
@@ -131,9 +129,10 @@ int parse_args(int argc, char** argv, Options& o) {
                           "SIGINT / SIGTERM stop it and print the frame counts.\n"
                           "Exit status: 0 done, 1 a camera could not start, 2 bad command line or configuration.");
     o.faults.stamp_jump_ms = 1000;
-    CLI::Option* demo = cli.app().add_flag("--demo", "the built-in paper demo's sensors (the default)");
-    CLI::Option* config = cli.text("--config", o.config_path, "FILE", "a monitor configuration (TOML)");
-    demo->excludes(config);
+    bool demo_flag = false;  // the default anyway: the flag only excludes --config
+    const host::OptionRef demo = cli.flag("--demo", demo_flag, "the built-in paper demo's sensors (the default)");
+    const host::OptionRef config = cli.text("--config", o.config_path, "FILE", "a monitor configuration (TOML)");
+    demo.excludes(config);
     cli.value("--sensor", "NAME", "serve this sensor (repeatable; default all)",
               [&o](const std::string& v) { o.sensors.push_back(v); });
     cli.value("--address", "A", "address of the next served sensor (repeatable, in order; 127.0.0.0/8)",
@@ -162,14 +161,12 @@ int parse_args(int argc, char** argv, Options& o) {
              "odd frames: one pixel 1 raw unit deeper, so that no two frames are bit-identical\n"
              "(a real sensor's noise; for the monitor's frozen-image check, which the simulator's\n"
              "still scenes would otherwise trip)");
-    cli.app()
-        .add_option("--scenario-start", o.scenario_start,
-                    "when scenario cycle 0 starts: all (the first frame after every served camera\n"
-                    "streams; the default), first (the first frame of any camera) or signal (at\n"
-                    "SIGUSR1, which also arms the faults: their frames count from it; until then\n"
-                    "every camera serves cycle 0. For tests that start the scene when the monitor\n"
-                    "runs its first cycle, whatever its start-up took)")
-        ->check(CLI::IsMember({"all", "first", "signal"}));
+    cli.choice("--scenario-start", o.scenario_start, {"all", "first", "signal"},
+               "when scenario cycle 0 starts: all (the first frame after every served camera\n"
+               "streams; the default), first (the first frame of any camera) or signal (at\n"
+               "SIGUSR1, which also arms the faults: their frames count from it; until then\n"
+               "every camera serves cycle 0. For tests that start the scene when the monitor\n"
+               "runs its first cycle, whatever its start-up took)");
     add_fault_options(cli, o);
     return cli.parse(argc, argv);
 }

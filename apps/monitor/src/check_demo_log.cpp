@@ -57,10 +57,8 @@ int main(int argc, char** argv) {
     int cycles = 0;
     std::string config_path;
     int budget_ms = 0;
-    CLI::Option* demo_opt = cli.app()
-                                .add_option("--demo", demo,
-                                            "the demo that wrote the log: paper-cell (the default) or robot-cell")
-                                ->check(CLI::IsMember({"paper-cell", "robot-cell"}));
+    const host::OptionRef demo_opt = cli.choice("--demo", demo, {"paper-cell", "robot-cell"},
+                                                "the demo that wrote the log: paper-cell (the default) or robot-cell");
     cli.text("--config", config_path, "FILE", "the configuration file of the run that wrote the log (not with --demo)");
     cli.integer("--budget-ms", budget_ms, 1, 60000, "MS",
                 "the run's --budget-ms, if it had one: the session link's watchdog time is two periods plus the "
@@ -73,7 +71,7 @@ int main(int argc, char** argv) {
     if (const int status = cli.parse(argc, argv); status >= 0) {
         return status;
     }
-    if (demo_opt->count() > 0U && !config_path.empty()) {
+    if (demo_opt.count() > 0U && !config_path.empty()) {
         static_cast<void>(std::fprintf(stderr, "%s: --demo and --config exclude each other\n", kProgram));
         return host::kExitUsage;
     }

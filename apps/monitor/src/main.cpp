@@ -146,38 +146,33 @@ int parse_args(int argc, char** argv, Options& o) {
                           "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
                           "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
                           "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
-    CLI::Option* demo = cli.app()
-                            .add_option("--demo", o.demo_name,
-                                        "a built-in demo: paper-cell (the default, also with no arguments) or\n"
-                                        "robot-cell (a 6-axis arm, its PLC and a person walking up to it)")
-                            ->expected(0, 1)
-                            ->check(CLI::IsMember({"", "paper-cell", "robot-cell"}));
-    CLI::Option* config = cli.text("--config", o.config_path, "FILE",
-                                   "load the configuration from a TOML file\n"
-                                   "(example: apps/monitor/config/paper-cell.toml)");
-    demo->excludes(config);
-    CLI::Option* cycles = cli.integer("--cycles", o.cycles, 1, 1000000, "N",
-                                      "run N cycles (default: the config's demo.cycles, 60)");
+    const host::OptionRef demo = cli.choice("--demo", o.demo_name, {"", "paper-cell", "robot-cell"},
+                                            "a built-in demo: paper-cell (the default, also with no arguments) or\n"
+                                            "robot-cell (a 6-axis arm, its PLC and a person walking up to it)",
+                                            true);
+    const host::OptionRef config = cli.text("--config", o.config_path, "FILE",
+                                            "load the configuration from a TOML file\n"
+                                            "(example: apps/monitor/config/paper-cell.toml)");
+    demo.excludes(config);
+    const host::OptionRef cycles = cli.integer("--cycles", o.cycles, 1, 1000000, "N",
+                                               "run N cycles (default: the config's demo.cycles, 60)");
     cli.flag("--forever", o.forever,
              "run until SIGINT or SIGTERM (as a service; the summary's cycle-time figures\n"
              "cover the first demo.cycles cycles, the longest cycle all of them)")
-        ->excludes(cycles);
-    CLI::Option* log = cli.text("--log", o.log_file, "FILE", "candump log path (default: the config's can.log_file)");
-    CLI::Option* can = cli.text("--can-interface", o.can_interface, "IF",
-                                "send on SocketCAN interface IF instead of the log");
-    log->excludes(can);
-    cli.app()
-        .add_option("--commands", o.commands,
-                    "where the PLC's command comes from: sim (the simulated PLC of a demo scene\n"
-                    "with a robot) or can (the frames on the SocketCAN interface, --can-interface;\n"
-                    "with a demo scene the scene stays simulated: an external PLC, as in the vcan\n"
-                    "test); default: sim with a demo scene and a robot, else can on an interface")
-        ->check(CLI::IsMember({"sim", "can"}));
-    cli.app()
-        .add_option("--fusion", o.fusion,
-                    "how depth images are fused, overriding the config's fusion.method: ray (per\n"
-                    "ray, the reference) or footprint (footprint fusion, for dense cameras)")
-        ->check(CLI::IsMember({"ray", "footprint"}));
+        .excludes(cycles);
+    const host::OptionRef log = cli.text("--log", o.log_file, "FILE",
+                                         "candump log path (default: the config's can.log_file)");
+    const host::OptionRef can = cli.text("--can-interface", o.can_interface, "IF",
+                                         "send on SocketCAN interface IF instead of the log");
+    log.excludes(can);
+    cli.choice("--commands", o.commands, {"sim", "can"},
+               "where the PLC's command comes from: sim (the simulated PLC of a demo scene\n"
+               "with a robot) or can (the frames on the SocketCAN interface, --can-interface;\n"
+               "with a demo scene the scene stays simulated: an external PLC, as in the vcan\n"
+               "test); default: sim with a demo scene and a robot, else can on an interface");
+    cli.choice("--fusion", o.fusion, {"ray", "footprint"},
+               "how depth images are fused, overriding the config's fusion.method: ray (per\n"
+               "ray, the reference) or footprint (footprint fusion, for dense cameras)");
     cli.flag("--paced", o.paced,
              "one cycle per period on the real clock (default: as fast as possible, on\n"
              "simulated time: the decisions, the budget and the CAN log's times do not\n"
@@ -190,7 +185,7 @@ int parse_args(int argc, char** argv, Options& o) {
     add_output_options(cli, o);
     add_http_option(cli, o);
     const int status = cli.parse(argc, argv);
-    o.demo = demo->count() > 0U;
+    o.demo = demo.count() > 0U;
     if (o.config_path.empty()) {
         o.demo = true;  // no arguments, or options only: the built-in demo configuration
     }

@@ -121,69 +121,67 @@ struct Options {  // fields ordered by alignment (no padding between them)
 
 /// The INPUT options' --background-npy, and those of recorded frames (the GRID options refer to them).
 struct InputOptions {
-    CLI::Option* npy;
-    std::vector<CLI::Option*> recorded;
+    host::OptionRef npy;
+    std::vector<host::OptionRef> recorded;
 };
 
 /// INPUT: --simulated, --background-npy (with --observed), or recorded frames (--frames, --frame, --config-frames).
 InputOptions add_input_options(host::CommandLine& cli, Options& o, bool& simulated) {
-    CLI::App& app = cli.app();
     using host::reject;
-    app.option_defaults()->group("INPUT, one of (default: --simulated)");
-    CLI::Option* simulated_opt = cli.flag("--simulated", simulated,
-                                          "the simulated paper cell's empty background: its four\n"
-                                          "sensors looking at the reference scene (a demo)");
-    CLI::Option* npy = cli.text("--background-npy", o.npy, "FILE",
-                                "a background grid, shape (nz, ny, nx): int16 log-odds\n"
-                                "('<i2', 1/256 nat, as the npy exporter writes) or\n"
-                                "float32 probability ('<f4', in [0, 1])");
+    cli.group("INPUT, one of (default: --simulated)");
+    host::OptionRef simulated_opt = cli.flag("--simulated", simulated,
+                                             "the simulated paper cell's empty background: its four\n"
+                                             "sensors looking at the reference scene (a demo)");
+    host::OptionRef npy = cli.text("--background-npy", o.npy, "FILE",
+                                   "a background grid, shape (nz, ny, nx): int16 log-odds\n"
+                                   "('<i2', 1/256 nat, as the npy exporter writes) or\n"
+                                   "float32 probability ('<f4', in [0, 1])");
     cli.text("--observed", o.observed, "FILE",
              "uint8 observed flags for --background-npy (default: the\n"
              "sibling *_observed.npy of a *_log_odds.npy if it exists,\n"
              "else voxels without evidence count as unobserved)")
-        ->needs(npy);
-    CLI::Option* frames = cli.value("--frames", "DIR",
-                                    "recorded frames of the empty cell: DIR/<sensor>/*.pcd,\n"
-                                    "one folder per sensor of --config, points in the sensor\n"
-                                    "frame; frame k is the k-th file (by name) of each sensor",
-                                    [&o](const std::string& v) {
-                                        if (!o.frames_dir.empty()) {
-                                            reject("--frames given twice");
-                                        }
-                                        o.frames_dir = v;
-                                    });
-    CLI::Option* frame = cli.value("--frame", "SENSOR=FILE", "one more recorded .pcd of SENSOR (repeatable)",
-                                   [&o](const std::string& v) {
-                                       const std::size_t eq = v.find('=');
-                                       if (eq == std::string::npos || eq == 0U || eq + 1U == v.size()) {
-                                           reject("--frame expects SENSOR=FILE.pcd, got '" + v + "'");
-                                       }
-                                       o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
-                                   });
-    CLI::Option* config_frames = cli.flag("--config-frames", o.config_frames,
-                                          "the `pcd_files` of --config's sensors as recorded frames\n"
-                                          "(as the monitor replays them; combines with --frames)");
+        .needs(npy);
+    host::OptionRef frames = cli.value("--frames", "DIR",
+                                       "recorded frames of the empty cell: DIR/<sensor>/*.pcd,\n"
+                                       "one folder per sensor of --config, points in the sensor\n"
+                                       "frame; frame k is the k-th file (by name) of each sensor",
+                                       [&o](const std::string& v) {
+                                           if (!o.frames_dir.empty()) {
+                                               reject("--frames given twice");
+                                           }
+                                           o.frames_dir = v;
+                                       });
+    host::OptionRef frame = cli.value("--frame", "SENSOR=FILE", "one more recorded .pcd of SENSOR (repeatable)",
+                                      [&o](const std::string& v) {
+                                          const std::size_t eq = v.find('=');
+                                          if (eq == std::string::npos || eq == 0U || eq + 1U == v.size()) {
+                                              reject("--frame expects SENSOR=FILE.pcd, got '" + v + "'");
+                                          }
+                                          o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
+                                      });
+    host::OptionRef config_frames = cli.flag("--config-frames", o.config_frames,
+                                             "the `pcd_files` of --config's sensors as recorded frames\n"
+                                             "(as the monitor replays them; combines with --frames)");
     InputOptions options{npy, {frames, frame, config_frames}};
-    for (CLI::Option* r : options.recorded) {
-        simulated_opt->excludes(r);
-        npy->excludes(r);
+    for (const host::OptionRef r : options.recorded) {
+        simulated_opt.excludes(r);
+        npy.excludes(r);
     }
-    simulated_opt->excludes(npy);
+    simulated_opt.excludes(npy);
     return options;
 }
 
 /// GRID: --config, --origin, --voxel-size, --dims, --background-frames.
 void add_grid_options(host::CommandLine& cli, Options& o, const InputOptions& input) {
-    CLI::App& app = cli.app();
     using host::reject;
-    app.option_defaults()->group("GRID");
-    CLI::Option* config = cli.text("--config", o.config, "FILE",
-                                   "a monitor configuration (apps/monitor/config/*.toml):\n"
-                                   "[grid] and, for --frames, the sensors' names and poses;\n"
-                                   "--simulated takes [grid] and [prior] background_frames\n"
-                                   "(its sensors stay the simulated paper cell's)");
-    for (CLI::Option* r : input.recorded) {
-        r->needs(config);
+    cli.group("GRID");
+    host::OptionRef config = cli.text("--config", o.config, "FILE",
+                                      "a monitor configuration (apps/monitor/config/*.toml):\n"
+                                      "[grid] and, for --frames, the sensors' names and poses;\n"
+                                      "--simulated takes [grid] and [prior] background_frames\n"
+                                      "(its sensors stay the simulated paper cell's)");
+    for (const host::OptionRef r : input.recorded) {
+        r.needs(config);
     }
     cli.value("--origin", "X,Y,Z", "grid minimum corner, metres", [&o](const std::string& v) {
         double t[3];
@@ -221,19 +219,18 @@ void add_grid_options(host::CommandLine& cli, Options& o, const InputOptions& in
                   o.dims = GridDims{static_cast<std::int32_t>(d[0]), static_cast<std::int32_t>(d[1]),
                                     static_cast<std::int32_t>(d[2])};
               });
-    CLI::Option* background_frames = cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
-                                                 "frames --simulated accumulates (default: --config's, or 8)");
-    background_frames->excludes(input.npy);
-    for (CLI::Option* r : input.recorded) {
-        background_frames->excludes(r);
+    host::OptionRef background_frames = cli.integer("--background-frames", o.background_frames, 1, 100000, "N",
+                                                    "frames --simulated accumulates (default: --config's, or 8)");
+    background_frames.excludes(input.npy);
+    for (const host::OptionRef r : input.recorded) {
+        background_frames.excludes(r);
     }
 }
 
 /// ANALYSIS: --method, --tb, --te, --radius, --open-faces.
 void add_analysis_options(host::CommandLine& cli, Options& o) {
-    CLI::App& app = cli.app();
     using host::reject;
-    app.option_defaults()->group("ANALYSIS (defaults: the paper's)");
+    cli.group("ANALYSIS (defaults: the paper's)");
     cli.value("--method", "M",
               "probabilistic | thresholded | thresholded-baseline |\n"
               "probabilistic-baseline            (default probabilistic)",
@@ -272,10 +269,9 @@ void add_analysis_options(host::CommandLine& cli, Options& o) {
 }
 
 /// OUTPUT: --out, --namespace, --config-header, --progress; returns the --progress option.
-CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progress) {
-    CLI::App& app = cli.app();
+host::OptionRef add_output_options(host::CommandLine& cli, Options& o, bool& progress) {
     using host::reject;
-    app.option_defaults()->group("OUTPUT");
+    cli.group("OUTPUT");
     cli.value("--out", "DIR", "output directory, created if missing (required)",
               [&o](const std::string& v) {
                   if (v.empty()) {
@@ -283,7 +279,7 @@ CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progre
                   }
                   o.out_dir = v;
               })
-        ->required();
+        .required();
     cli.text("--namespace", o.name_space, "NS", "namespace of prior_flash.hpp (cellguard_prior)");
     cli.text("--config-header", o.config_header, "H",
              "header prior_flash.hpp includes first, e.g. the one that\n"
@@ -300,9 +296,9 @@ CLI::Option* add_output_options(host::CommandLine& cli, Options& o, bool& progre
                   }
                   o.background_file = v;
               });
-    CLI::Option* progress_opt = cli.flag("--progress,!--no-progress", progress,
-                                         "progress bar on stderr, or none (default: on a\n"
-                                         "terminal, for frames and grids of 2^20 voxels or more)");
+    host::OptionRef progress_opt = cli.flag("--progress,!--no-progress", progress,
+                                            "progress bar on stderr, or none (default: on a\n"
+                                            "terminal, for frames and grids of 2^20 voxels or more)");
     return progress_opt;
 }
 
@@ -316,7 +312,7 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     add_grid_options(cli, o, input);
     add_analysis_options(cli, o);
     bool progress = false;
-    CLI::Option* progress_opt = add_output_options(cli, o, progress);
+    host::OptionRef progress_opt = add_output_options(cli, o, progress);
 
     const int status = cli.parse(args, out, err);
     if (!o.npy.empty()) {
@@ -324,7 +320,7 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     } else if (!o.frames_dir.empty() || !o.frame_files.empty() || o.config_frames) {
         o.input = InputKind::kFrames;
     }
-    if (progress_opt->count() > 0U) {
+    if (progress_opt.count() > 0U) {
         o.progress = progress ? ProgressMode::kOn : ProgressMode::kOff;
     }
     return status;

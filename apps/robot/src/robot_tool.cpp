@@ -107,16 +107,16 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     static_assert(kExitInputError == host::kExitUsage, "a bad command line is a bad input");
     host::CommandLine cli(kToolName, "cellguard-robot --urdf FILE --joints A,B,... --base X,Y,Z[,YAW] --out FILE",
                           kDescription, kFooter);
-    cli.text("--urdf", o.urdf, "FILE", "the robot's URDF (required)")->required();
+    cli.text("--urdf", o.urdf, "FILE", "the robot's URDF (required)").required();
     cli.value("--joints", "A,B,...", "the PLC's joint order: every movable joint, once (required)",
               [&o](const std::string& v) { take_joints(v, o); })
-        ->required();
+        .required();
     cli.value("--base", "X,Y,Z[,YAW]",
               "the root link's position in the cell, metres, and its\n"
               "rotation about the cell's z axis, degrees (required)",
               [&o](const std::string& v) { take_base(v, o); })
-        ->required();
-    cli.text("--out", o.out, "FILE", "the robot image to write, e.g. robot.cgrobot (required)")->required();
+        .required();
+    cli.text("--out", o.out, "FILE", "the robot image to write, e.g. robot.cgrobot (required)").required();
     cli.value("--package", "NAME=DIR", "resolve package://NAME/... in DIR (repeatable)",
               [&o](const std::string& v) { take_package(v, o); });
     return cli.parse(args, out, err);

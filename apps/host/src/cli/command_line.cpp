@@ -4,6 +4,8 @@
 // the value checks and the one-line usage errors. See command_line.hpp.
 #include "cellguard/host/command_line.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <cstdlib>
 #include <iostream>
@@ -108,18 +110,30 @@ long integer_value(const std::string& name, const std::string& text, long lo, lo
     return v;
 }
 
+void OptionRef::needs(OptionRef other) const { option_->needs(other.option_); }
+
+void OptionRef::excludes(OptionRef other) const { option_->excludes(other.option_); }
+
+void OptionRef::required() const { option_->required(); }
+
+std::size_t OptionRef::count() const { return option_->count(); }
+
 CommandLine::CommandLine(std::string program, std::string usage, const std::string& description,
                          const std::string& footer)
-    : program_(std::move(program)), app_(description, program_) {
-    app_.formatter(std::make_shared<HelpFormatter>(std::move(usage)));
-    app_.footer(footer);
-    app_.set_help_flag();  // replaced in parse() by one that answers where it stands
-    app_.allow_extras();   // unknown arguments are reported by parse(), in this program's words
-    app_.option_defaults()->group("options");
+    : program_(std::move(program)), app_(std::make_unique<CLI::App>(description, program_)) {
+    app_->formatter(std::make_shared<HelpFormatter>(std::move(usage)));
+    app_->footer(footer);
+    app_->set_help_flag();  // replaced in parse() by one that answers where it stands
+    app_->allow_extras();   // unknown arguments are reported by parse(), in this program's words
+    app_->option_defaults()->group("options");
 }
 
-CLI::Option* CommandLine::value(const std::string& name, const std::string& value_name, const std::string& help,
-                                Take take) {
+CommandLine::~CommandLine() = default;
+
+void CommandLine::group(const std::string& name) { app_->option_defaults()->group(name); }
+
+OptionRef CommandLine::value(const std::string& name, const std::string& value_name, const std::string& help,
+                             Take take) {
     auto each = [name, take = std::move(take)](const std::vector<std::string>& values) {
         for (const std::string& v : values) {
             if (v.rfind("--", 0U) == 0U) {
@@ -129,53 +143,62 @@ CLI::Option* CommandLine::value(const std::string& name, const std::string& valu
         }
     };
     // One value per occurrence (allow_extra_args(false)); every occurrence kept, in order.
-    return app_.add_option_function<std::vector<std::string>>(name, each, help)
-        ->allow_extra_args(false)
-        ->option_text(value_name);
+    return OptionRef(app_->add_option_function<std::vector<std::string>>(name, each, help)
+                         ->allow_extra_args(false)
+                         ->option_text(value_name));
 }
 
-CLI::Option* CommandLine::text(const std::string& name, std::string& target, const std::string& value_name,
-                               const std::string& help) {
+OptionRef CommandLine::text(const std::string& name, std::string& target, const std::string& value_name,
+                            const std::string& help) {
     return value(name, value_name, help, [&target](const std::string& v) { target = v; });
 }
 
-CLI::Option* CommandLine::integer(const std::string& name, int& target, long lo, long hi, const std::string& value_name,
-                                  const std::string& help) {
+OptionRef CommandLine::integer(const std::string& name, int& target, long lo, long hi, const std::string& value_name,
+                               const std::string& help) {
     return value(name, value_name, help, [&target, name, lo, hi](const std::string& v) {
         target = static_cast<int>(integer_value(name, v, lo, hi));
     });
 }
 
-CLI::Option* CommandLine::flag(const std::string& names, bool& target, const std::string& help) {
-    return app_.add_flag(names, target, help);
+OptionRef CommandLine::choice(const std::string& name, std::string& target, const std::vector<std::string>& allowed,
+                              const std::string& help, bool value_optional) {
+    CLI::Option* o = app_->add_option(name, target, help);
+    if (value_optional) {
+        o->expected(0, 1);
+    }
+    return OptionRef(o->check(CLI::IsMember(allowed)));
 }
 
-CLI::Option* CommandLine::argument(const std::string& name, const std::string& help, const Take& take, bool required) {
-    CLI::Option* o = app_.add_option_function<std::string>(name, take, help)->group("arguments");
-    return required ? o->required() : o;
+OptionRef CommandLine::flag(const std::string& names, bool& target, const std::string& help) {
+    return OptionRef(app_->add_flag(names, target, help));
+}
+
+OptionRef CommandLine::argument(const std::string& name, const std::string& help, const Take& take, bool required) {
+    CLI::Option* o = app_->add_option_function<std::string>(name, take, help)->group("arguments");
+    return OptionRef(required ? o->required() : o);
 }
 
 int CommandLine::parse(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-    if (app_.get_option_no_throw("--help") == nullptr) {
+    if (app_->get_option_no_throw("--help") == nullptr) {
         // Listed last, in the current default group; answered as soon as parsed.
-        app_.add_flag_callback(
+        app_->add_flag_callback(
                 "-h,--help", [] { throw CLI::CallForHelp(); }, "print this help and exit")
             ->trigger_on_parse();
-        app_.set_version_flag("--version", version_text(program_), "print the version and exit")->trigger_on_parse();
+        app_->set_version_flag("--version", version_text(program_), "print the version and exit")->trigger_on_parse();
     }
     // An unknown argument is reported first: it is the likely cause of the other errors.
     auto refuse = [this, &err](const std::string& message) {
-        const std::vector<std::string> unknown = app_.remaining();
+        const std::vector<std::string> unknown = app_->remaining();
         err << usage_error_line(program_, unknown.empty() ? message : "unknown argument '" + unknown.front() + "'")
             << std::flush;
         return kExitUsage;
     };
     try {
         std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes the last argument first
-        app_.parse(reversed);
-        return app_.remaining().empty() ? -1 : refuse("");
+        app_->parse(reversed);
+        return app_->remaining().empty() ? -1 : refuse("");
     } catch (const CLI::CallForHelp&) {
-        out << app_.help() << std::flush;
+        out << app_->help() << std::flush;
         return 0;
     } catch (const CLI::CallForVersion& e) {
         out << e.what() << "\n" << std::flush;
