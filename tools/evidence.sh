@@ -188,12 +188,14 @@ if [ "${CELLGUARD_COV_MODE:-og}" = o0 ]; then
     [ -f "$cov_build/CMakeCache.txt" ] || cmake --preset coverage-o0 -B "$cov_build" >/dev/null
 fi
 if [ ! -f "$cov_build/CMakeCache.txt" ]; then
-    # The coverage preset (CMakePresets.json): RelWithDebInfo with "-Og -g -DNDEBUG",
-    # --coverage -fprofile-update=atomic in the C, C++ flags (the worker pool's
-    # tests run lib/ code on several threads), --coverage in the link flags, no benchmarks.
+    # The coverage preset (CMakePresets.json): RelWithDebInfo with "-Og -g -DNDEBUG";
+    # CELLGUARD_LIB_COVERAGE puts --coverage -fprofile-update=atomic (the worker pool's
+    # tests run lib/ code on several threads) on lib/'s modules and the unit tests only:
+    # the host code the tests run (simulator, monitor) is not measured and runs
+    # uninstrumented; --coverage in the link flags, no benchmarks.
     cmake --preset coverage -B "$cov_build" >/dev/null
 fi
-grep -q -e '--coverage' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
+grep -q -e 'CELLGUARD_LIB_COVERAGE:BOOL=ON' -e 'CELLGUARD_COVERAGE:BOOL=ON' "$cov_build/CMakeCache.txt" || { echo "evidence: $cov_build is not a coverage build" >&2; exit 2; }
 cmake --build "$cov_build" -j "$jobs" --target cellguard_unit_tests >/dev/null
 find "$cov_build" -name '*.gcda' -delete
 unit=$(find "$cov_build/tests" -maxdepth 1 -name cellguard_unit_tests -type f | head -n 1)
