@@ -21,9 +21,19 @@ target_compile_options(cellguard_warnings INTERFACE
 add_library(cellguard_strict_warnings INTERFACE)
 target_link_libraries(cellguard_strict_warnings INTERFACE cellguard_warnings)
 target_compile_options(cellguard_strict_warnings INTERFACE -Wconversion -Wsign-conversion -Wold-style-cast -Wdouble-promotion)
-if(CELLGUARD_COVERAGE)
-  # atomic counters: the worker pool's tests run lib/ code on several threads,
-  # and plain counters then race (gcov reads negative branch counts).
-  add_compile_options(--coverage -fprofile-update=atomic -O0)
+# Coverage instrumentation. Atomic counters: the worker pool's tests run lib/
+# code on several threads, and plain counters then race (gcov reads negative
+# branch counts).
+set(cellguard_coverage_flags --coverage -fprofile-update=atomic)
+if(CELLGUARD_COVERAGE)  # everything, at -O0 (the coverage-o0 preset)
+  add_compile_options(${cellguard_coverage_flags} -O0)
   add_link_options(--coverage)
+endif()
+# lib/ only (CELLGUARD_LIB_COVERAGE, the coverage preset, tools/evidence.sh):
+# linked by lib/'s modules (cellguard_lib_flags) and the unit tests, which
+# compile lib/'s inline header functions; the host code the tests also run
+# (the simulator, the monitor) is not instrumented. Empty otherwise.
+add_library(cellguard_lib_coverage INTERFACE)
+if(CELLGUARD_LIB_COVERAGE)
+  target_compile_options(cellguard_lib_coverage INTERFACE ${cellguard_coverage_flags})
 endif()
