@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -84,6 +85,9 @@ Comparison compare(const std::vector<std::int16_t>& exact, Span<const std::int16
     }
     return c;
 }
+
+/// The hit pass's kernels, the reference first (those this CPU lacks resolve to the next).
+constexpr std::array<PixelKernel, 2> kPixelKernels{PixelKernel::kScalar, PixelKernel::kAvx2};
 
 GridGeometry lowered_paper_grid() {
     // The paper's grid lowered by half a voxel, so the simulated floor does not lie on a face.
@@ -498,15 +502,18 @@ TEST_CASE(
     for (const double oz : {0.0, 0.2}) {
         const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.6, -0.7, oz), 0.05, GridDims{30, 30, 12}).value();
         OwnedWorkspace ws(g, w, h);
-        for (std::size_t j = 0; j < 7U; ++j) {
+        for (std::size_t j = 0; j < 7U * kPixelKernels.size(); ++j) {
+            // Each pixel kernel in turn (the vector ones place four readings at a time).
+            FootprintParams params;
+            params.pixel_kernel = kPixelKernels[j / 7U];
             CAPTURE(oz);
             CAPTURE(j);
             std::vector<float> depth(plane_depth.size(), 0.0F);
-            for (std::size_t i = j; i < depth.size(); i += 7U) {
+            for (std::size_t i = j % 7U; i < depth.size(); i += 7U) {
                 depth[i] = plane_depth[i];
             }
             r.depth = {depth.data(), depth.size()};
-            const Result<FusionStats> s = footprint_opinions(g, r, model, ws.ws, nullptr);
+            const Result<FusionStats> s = footprint_opinions(g, r, model, ws.ws, nullptr, params);
             REQUIRE(s.ok());
             const std::vector<std::int16_t> exact = exact_opinions(g, r, model);
             const Comparison c = compare(exact, ws.opinions(), model);
@@ -516,4 +523,144 @@ TEST_CASE(
             CHECK(s.value().readings_in_grid > 0U);
         }
     }
+}
+
+namespace {
+
+/// What one footprint pass leaves behind: the opinions, the whole pyramid (level 0 is
+/// the hit pass's), the counts.
+struct PassResult {
+    std::vector<std::int16_t> opinions;
+    std::vector<float> pyramid_min;
+    std::vector<float> pyramid_max;
+    std::vector<std::uint8_t> pyramid_invalid;
+    FusionStats fusion;
+    FootprintStats footprint;
+};
+
+PassResult run_pass(const GridGeometry& g, const SensorReading& r, PixelKernel kernel) {
+    const SensorModelTable model;
+    OwnedWorkspace ws(g, r.intrinsics.width, r.intrinsics.height);
+    FootprintParams params;
+    params.pixel_kernel = kernel;
+    params.exact_footprint_max = 64U;  // step 3 reads level 0's depths pixel by pixel
+    PassResult out;
+    const Result<FusionStats> s = footprint_opinions(g, r, model, ws.ws, &out.footprint, params);
+    REQUIRE(s.ok());
+    out.fusion = s.value();
+    out.opinions.assign(ws.ws.opinions.begin(), ws.ws.opinions.end());
+    out.pyramid_min.assign(ws.ws.pyramid_min.begin(), ws.ws.pyramid_min.end());
+    out.pyramid_max.assign(ws.ws.pyramid_max.begin(), ws.ws.pyramid_max.end());
+    out.pyramid_invalid.assign(ws.ws.pyramid_invalid.begin(), ws.ws.pyramid_invalid.end());
+    return out;
+}
+
+/// Bit patterns equal (NaN and -0 included).
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+void check_same_pass(const PassResult& ref, const PassResult& got) {
+    CHECK(got.opinions == ref.opinions);
+    CHECK(same_bits(got.pyramid_min, ref.pyramid_min));
+    CHECK(same_bits(got.pyramid_max, ref.pyramid_max));
+    CHECK(got.pyramid_invalid == ref.pyramid_invalid);
+    CHECK(got.fusion.rays_fused == ref.fusion.rays_fused);
+    CHECK(got.fusion.readings_in_grid == ref.fusion.readings_in_grid);
+    CHECK(got.fusion.skipped_nan == ref.fusion.skipped_nan);
+    CHECK(got.fusion.skipped_infinite == ref.fusion.skipped_infinite);
+    CHECK(got.fusion.skipped_zero == ref.fusion.skipped_zero);
+    CHECK(got.fusion.skipped_behind == ref.fusion.skipped_behind);
+    CHECK(got.fusion.skipped_out_of_range == ref.fusion.skipped_out_of_range);
+    CHECK(got.footprint.voxels_filled == ref.footprint.voxels_filled);
+    CHECK(got.footprint.voxels_exact == ref.footprint.voxels_exact);
+    CHECK(got.footprint.pixel_tests == ref.footprint.pixel_tests);
+}
+
+/// A depth the hit pass must get right: every class of reading, values at the range
+/// limits and at kMaxSensorRange (one float either side), and ordinary depths.
+float hostile_depth(std::mt19937& rng, float min_range, float max_range, float plane_depth) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const float near_min = min_range / 1.2F;  // the depth whose range is about min_range at the image's edge
+    switch (rng() % 16U) {
+        case 0: return std::numeric_limits<float>::quiet_NaN();
+        case 1: return (rng() % 2U) != 0U ? kInf : -kInf;
+        case 2: return (rng() % 2U) != 0U ? 0.0F : -0.0F;
+        case 3: return -0.5F;
+        case 4: return std::nextafter(min_range, (rng() % 2U) != 0U ? 0.0F : kInf);
+        case 5: return std::nextafter(max_range, (rng() % 2U) != 0U ? 0.0F : kInf);
+        case 6: return near_min * (1.0F + static_cast<float>(rng() % 200U) * 1e-4F);
+        case 7: return std::nextafter(kMaxSensorRange, (rng() % 2U) != 0U ? 0.0F : kInf);
+        case 8: return max_range * 1.5F;
+        case 9: return 1e-30F;
+        case 10: return plane_depth;  // on a voxel face (to float rounding)
+        default: return min_range + static_cast<float>(rng() % 100000U) * 1e-5F * (max_range - min_range);
+    }
+}
+
+}  // namespace
+
+// verifies: SR-FUSE-015, SR-FUSE-009, SR-FUSE-013
+TEST_CASE("footprint fusion: every pixel kernel gives the scalar kernel's opinions, pyramid and counts bit for bit") {
+    // Frames of hostile readings (every class, the range limits and kMaxSensorRange one float
+    // either side, depths on voxel faces), odd and even widths (the vector kernels take four
+    // pixels at a time, the rest of a row one at a time), float and uint16 images, a grid the
+    // camera sees only in part (hits outside it on every side).
+    REQUIRE(resolve_pixel_kernel(PixelKernel::kScalar) == PixelKernel::kScalar);
+#if defined(__x86_64__) && defined(__GNUC__)
+    // On a CPU with AVX2 (every CI machine so far) the AVX2 kernel is compared here.
+    CHECK((resolve_pixel_kernel(PixelKernel::kAvx2) == PixelKernel::kAvx2) == (__builtin_cpu_supports("avx2") != 0));
+#endif
+    const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.5, -0.4, 0.0), 0.05, GridDims{20, 18, 16}).value();
+    std::mt19937 rng(15U);
+    std::size_t compared = 0U;
+    for (const std::int32_t w : {64, 37, 3}) {
+        const std::int32_t h = w == 3 ? 5 : 23;
+        SensorReading r;
+        r.kind = SensorDataKind::kDepthImage;
+        r.intrinsics = PinholeIntrinsics{40.0, 41.0, 0.5 * (w - 1), 11.0, w, h};
+        r.pose.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
+                           Eigen::AngleAxisd(3.14159265358979 + 0.25, Eigen::Vector3d::UnitX()))
+                              .toRotationMatrix();
+        r.pose.translation() = Eigen::Vector3d(0.1, 0.05, 1.2);
+        r.min_range = 0.3F;
+        r.max_range = 2.0F;
+        std::vector<float> depth(static_cast<std::size_t>(w * h));
+        std::vector<std::uint16_t> raw(depth.size());
+        for (int frame = 0; frame < 6; ++frame) {
+            for (std::int32_t v = 0; v < h; ++v) {
+                for (std::int32_t u = 0; u < w; ++u) {
+                    const auto i = static_cast<std::size_t>(v * w + u);
+                    const Eigen::Vector3d dir = r.pose.linear() *
+                                                Eigen::Vector3d((u - r.intrinsics.cx) / 40.0, (v - 11.0) / 41.0, 1.0);
+                    const auto plane = static_cast<float>((0.05 * (rng() % 8U) - 1.2) / dir.z());
+                    // Frame 0: every reading valid and ordinary, so whole groups take the vector form.
+                    depth[i] = frame == 0 ? 0.5F + 0.001F * static_cast<float>(i % 1000U)
+                                          : hostile_depth(rng, r.min_range, r.max_range, plane);
+                    raw[i] = static_cast<std::uint16_t>(frame == 0 ? 500U + i % 1000U : rng() % 2500U);
+                }
+            }
+            for (const bool u16 : {false, true}) {
+                CAPTURE(w);
+                CAPTURE(frame);
+                CAPTURE(u16);
+                SensorReading s = r;
+                if (u16) {
+                    s.kind = SensorDataKind::kDepthImageU16;
+                    s.depth_u16 = {raw.data(), raw.size()};
+                    s.depth_scale = 0.001F;
+                    s.depth_offset = std::array<float, 3>{0.0F, -0.0105F,
+                                                          0.45F}[static_cast<std::size_t>(frame % 3)];  // raw 0 is none
+                } else {
+                    s.depth = {depth.data(), depth.size()};
+                }
+                const PassResult ref = run_pass(g, s, PixelKernel::kScalar);
+                CHECK(ref.fusion.rays_fused > 0U);
+                CAPTURE(static_cast<int>(resolve_pixel_kernel(PixelKernel::kAvx2)));
+                check_same_pass(ref, run_pass(g, s, PixelKernel::kAvx2));
+                ++compared;
+            }
+        }
+    }
+    CHECK(compared == 36U);
 }

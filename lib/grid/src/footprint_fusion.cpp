@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hit_pass.hpp"
 #include "placement.hpp"
 #include "reading_class.hpp"
 
@@ -583,145 +584,6 @@ FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, con
     return e;
 }
 
-/// Step 1's placement of a reading in its voxel: fuse_sensor's own rule
-/// (placement.hpp, inlined: the same point, the same voxel, bit for bit).
-/// The class of the reading is decided by a test on its range in double
-/// where that cannot differ from classify_point's in float: a reading whose
-/// range lies within 1e-5 of a range limit, or that is not a positive finite
-/// depth the short test may take, is classified the long way.
-class HitPlacer {
-public:
-    HitPlacer(const GridGeometry& g, const SensorReading& r) noexcept
-        : g_(g), r_(r), inv_fx_(1.0 / r.intrinsics.fx), inv_fy_(1.0 / r.intrinsics.fy) {
-        const auto lo = static_cast<double>(r.min_range);
-        const auto hi = static_cast<double>(r.max_range);
-        min2_lo_ = lo * lo * (1.0 - 1e-5);
-        min2_hi_ = lo * lo * (1.0 + 1e-5);
-        max2_lo_ = hi * hi * (1.0 - 1e-5);
-        max2_hi_ = hi * hi * (1.0 + 1e-5);
-        // A reading within the range limit lies within +-1e9 voxels when |b| + |row of m|_1 x max
-        // range does (m, b: the pose in voxels): then GridGeometry::floor_index's conversion to
-        // int32 is defined. Else (a camera absurdly far from the grid) every reading goes the long
-        // way, as fuse_sensor places it.
-        const double s = g.voxel_size();
-        const Eigen::Matrix3d m = r.pose.linear() / s;
-        const Eigen::Vector3d b = (r.pose.translation() - g.origin()) / s;
-        for (Eigen::Index a = 0; a < 3; ++a) {
-            const double reach = std::fabs(b[a]) +
-                                 (std::fabs(m(a, 0)) + std::fabs(m(a, 1)) + std::fabs(m(a, 2))) * hi * (1.0 + 1e-5);
-            far_ = far_ || !(reach < 1e9);
-        }
-    }
-
-    /// Starts image row @p v: the rays of its pixels (place() takes them in any order).
-    void begin_row(std::int32_t v) noexcept {
-        const double yn = (static_cast<double>(v) - r_.intrinsics.cy) * inv_fy_;
-        row_range_ = yn * yn + 1.0;
-    }
-
-    /// The class of the reading of pixel (u, v) of the row begun last at raw
-    /// depth @p d, and its voxel when valid.
-    [[gnu::always_inline]] detail::ReadingClass place(std::int32_t u, std::int32_t v, float d,
-                                                      VoxelCoord& voxel) const noexcept {
-        // One decision each (bitwise and of 0 or 1): a positive finite depth the short test may take.
-        const unsigned usable = static_cast<unsigned>(d > 0.0F) & static_cast<unsigned>(d <= kMaxSensorRange) &
-                                static_cast<unsigned>(!far_);
-        if (usable == 0U) {
-            return place_exactly(u, v, d, voxel);
-        }
-        const double xn = (static_cast<double>(u) - r_.intrinsics.cx) * inv_fx_;
-        const auto dd = static_cast<double>(d);
-        const double range2 = dd * dd * (xn * xn + row_range_);
-        const unsigned inside = static_cast<unsigned>(range2 > min2_hi_) & static_cast<unsigned>(range2 < max2_lo_);
-        if (inside == 0U) {  // not clearly inside the range limits
-            const unsigned out = static_cast<unsigned>(range2 <= min2_lo_) | static_cast<unsigned>(range2 >= max2_hi_);
-            if (out != 0U) {
-                return detail::ReadingClass::kOutOfRange;
-            }
-            return place_exactly(u, v, d, voxel);  // near a range limit
-        }
-        voxel = detail::voxel_of(
-            g_, detail::cell_point(r_.pose, detail::pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d)));
-        return detail::ReadingClass::kValid;
-    }
-
-private:
-    /// Out of line: the rare path, kept out of the pixel loop's code.
-    [[gnu::noinline]] detail::ReadingClass place_exactly(std::int32_t u, std::int32_t v, float d,
-                                                         VoxelCoord& voxel) const noexcept {
-        detail::ReadingClass c = detail::classify_depth(d);
-        if (c != detail::ReadingClass::kValid) {
-            return c;
-        }
-        const Eigen::Vector3f p = detail::pixel_point(r_.intrinsics, inv_fx_, inv_fy_, u, v, d);
-        c = detail::classify_point(p, r_.min_range, r_.max_range);
-        if (c == detail::ReadingClass::kValid) {
-            voxel = g_.world_to_voxel_unchecked(detail::cell_point(r_.pose, p));
-        }
-        return c;
-    }
-
-    const GridGeometry& g_;
-    const SensorReading& r_;
-    double inv_fx_ = 0.0;
-    double inv_fy_ = 0.0;
-    double row_range_ = 0.0;  ///< yn^2 + 1 of the current row
-    bool far_ = false;        ///< readings may lie beyond +-1e9 voxels: all go the long way
-    double min2_lo_ = 0.0;
-    double min2_hi_ = 0.0;
-    double max2_lo_ = 0.0;
-    double max2_hi_ = 0.0;
-};
-
-/// Step 1 over every pixel, reading depths through @p depth_at (i: the pixel's index).
-template <typename DepthAt>
-FusionStats hit_rows(const GridGeometry& g, const SensorReading& r, std::int16_t hit, DepthPyramid& pyramid,
-                     Span<std::int16_t> opinions, DepthAt&& depth_at) noexcept {
-    FusionStats s;
-    HitPlacer placer(g, r);
-    const GridDims dims = g.dims();
-    const auto nx = static_cast<std::uint32_t>(dims.nx);
-    const auto ny = static_cast<std::uint32_t>(dims.ny);
-    const auto nz = static_cast<std::uint32_t>(dims.nz);
-    std::int16_t* const out = opinions.data();
-    std::size_t i = 0U;
-    for (std::int32_t v = 0; v < r.intrinsics.height; ++v) {
-        placer.begin_row(v);
-        for (std::int32_t u = 0; u < r.intrinsics.width; ++u, ++i) {
-            const float d = depth_at(i);
-            VoxelCoord vc;
-            const detail::ReadingClass c = placer.place(u, v, d, vc);
-            if (c != detail::ReadingClass::kValid) {
-                detail::count_skipped(s, c);
-                pyramid.set_pixel(u, v, 0.0F, false);
-                continue;
-            }
-            pyramid.set_pixel(u, v, d, true);
-            ++s.rays_fused;
-            // In the grid: each coordinate in [0, n) (a negative one is a large unsigned value).
-            const auto x = static_cast<std::uint32_t>(vc.x);
-            const auto y = static_cast<std::uint32_t>(vc.y);
-            const auto z = static_cast<std::uint32_t>(vc.z);
-            if (x < nx && y < ny && z < nz) {
-                out[x + static_cast<std::size_t>(nx) * (y + static_cast<std::size_t>(ny) * z)] = hit;
-                ++s.readings_in_grid;
-            }
-        }
-    }
-    return s;
-}
-
-/// Step 1: the hits, exactly as fuse_sensor places them, and level 0 of the pyramid.
-FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, const SensorModelTable& model,
-                     DepthPyramid& pyramid, Span<std::int16_t> opinions) noexcept {
-    const std::int16_t hit = model.reading_evidence();
-    if (r.kind == SensorDataKind::kDepthImageU16) {
-        return hit_rows(g, r, hit, pyramid, opinions, [&r](std::size_t i) { return depth_value(r, i); });
-    }
-    const float* const depth = r.depth.data();
-    return hit_rows(g, r, hit, pyramid, opinions, [depth](std::size_t i) { return depth[i]; });
-}
-
 }  // namespace
 
 std::uint64_t footprint_work_bound(const GridGeometry& grid, const SensorReading& reading,
@@ -842,7 +704,8 @@ Result<FusionStats> footprint_opinions(const GridGeometry& grid, const SensorRea
         e = kNoOpinion;
     }
     DepthPyramid pyramid = made.value();
-    const FusionStats s = hit_pass(grid, reading, model, pyramid, opinions);
+    const FusionStats s = detail::hit_pass(grid, reading, model.reading_evidence(), pyramid, opinions,
+                                           params.pixel_kernel);
     pyramid.build_levels();
     SensorPass pass(grid, reading, params);
     std::uint64_t makes = 0U;

@@ -22,10 +22,13 @@
 #ifndef CELLGUARD_DEPTH_PYRAMID_HPP
 #define CELLGUARD_DEPTH_PYRAMID_HPP
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
+#include "cellguard/base/contract.hpp"
 #include "cellguard/base/result.hpp"
 #include "cellguard/base/span.hpp"
 
@@ -83,6 +86,16 @@ public:
         min_[i] = valid ? d : std::numeric_limits<float>::infinity();
         max_[i] = valid ? d : -std::numeric_limits<float>::infinity();
         invalid_[i] = static_cast<std::uint8_t>(valid ? 0U : 1U);
+    }
+    /// Sets pixels (@p u .. @p u + 3, @p v) of level 0 to four valid readings
+    /// @p d, as four calls of set_pixel (u + 3 < width: checked by CG_ASSERT).
+    void set_valid4(std::int32_t u, std::int32_t v, const std::array<float, 4>& d) noexcept {
+        CG_ASSERT(u >= 0 && u + 3 < width_ && v >= 0 && v < height_, "depth pyramid: four pixels outside the image");
+        const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width_) +
+                              static_cast<std::size_t>(u);
+        std::memcpy(&min_[i], d.data(), sizeof d);
+        std::memcpy(&max_[i], d.data(), sizeof d);
+        std::memset(&invalid_[i], 0, 4U);
     }
     /// Builds levels 1.. from level 0. Work: fewer than depth_pyramid_cells() cells.
     void build_levels() noexcept;
