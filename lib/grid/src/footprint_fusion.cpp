@@ -205,8 +205,9 @@ private:
     void visit(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, const VoxelView& f) noexcept;
     /// The rest of step 2 and step 3 for a voxel in view, centred at @p c, whose
     /// query @p q neither left it without an opinion nor filled it.
+    /// @p square: the voxel's inner square when a table holds it, else null (computed here).
     void settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
-                const DepthRange& q) noexcept;
+                const DepthRange& q, const VoxelView* square) noexcept;
 
     /// The rectangle of pixel centres in the bounding box of the voxel's eight projected
     /// corners, clipped to the image; false when a corner lies at or behind the image plane.
@@ -345,11 +346,11 @@ void SensorPass::visit(const VoxelCoord& voxel, std::size_t index, const std::ar
         ++stats_.voxels_filled;
         return;
     }
-    settle(voxel, index, c, f.z_max, q);
+    settle(voxel, index, c, f.z_max, q, nullptr);
 }
 
 void SensorPass::settle(const VoxelCoord& voxel, std::size_t index, const std::array<double, 3>& c, double z_max,
-                        const DepthRange& q) noexcept {
+                        const DepthRange& q, const VoxelView* square) noexcept {
     if (opinions_[index] == model_->reading_evidence()) {
         return;  // a hit wins over every free value
     }
@@ -371,8 +372,10 @@ void SensorPass::settle(const VoxelCoord& voxel, std::size_t index, const std::a
     const bool all_beyond = static_cast<double>(q.min) > z_max + kDepthSlack;
     // When every pixel of the footprint has a reading beyond the voxel, a pixel centre in the
     // inner square suffices; else one of its probed pixels must hold a reading beyond it.
-    VoxelView square;
-    if (inner_square(c, square) && ((all_beyond && !q.any_invalid) || probe_beyond(square, z_max))) {
+    VoxelView own;
+    const bool has_square = square != nullptr ? square->u0 <= square->u1 : inner_square(c, own);
+    const VoxelView& sq = square != nullptr ? *square : own;
+    if (has_square && ((all_beyond && !q.any_invalid) || probe_beyond(sq, z_max))) {
         raise(index, model_->free_evidence(all_beyond ? static_cast<double>(q.min) - z_max : 0.0));
     }
 }
@@ -518,7 +521,12 @@ void SensorPass::run(Span<const FootprintEntry> table, const SensorModelTable& m
         const std::int32_t y = e.y;
         const std::int32_t z = e.z;
         const std::array<double, 3> c{centre(0U, x, y, z), centre(1U, x, y, z), centre(2U, x, y, z)};
-        settle(VoxelCoord{x, y, z}, index_of(x, y, z, nx, ny), c, c[2] + half_[2], q);
+        VoxelView square;
+        square.u0 = e.square_u0;
+        square.v0 = e.square_v0;
+        square.u1 = e.square_u1;
+        square.v1 = e.square_v1;
+        settle(VoxelCoord{x, y, z}, index_of(x, y, z, nx, ny), c, c[2] + half_[2], q, &square);
     }
 }
 
@@ -568,6 +576,14 @@ FootprintEntry SensorPass::entry_of(const DepthPyramid& layout, double ramp, con
     e.y = static_cast<std::uint16_t>(y);
     e.z = static_cast<std::uint16_t>(z);
     e.cells = layout.cells_of(f.u0, f.v0, f.u1, f.v1);
+    // The inner square (settle), clipped to the image: sides of at most 4096 fit 16 bits.
+    VoxelView square;
+    if (inner_square(c, square)) {
+        e.square_u0 = static_cast<std::uint16_t>(square.u0);
+        e.square_v0 = static_cast<std::uint16_t>(square.v0);
+        e.square_u1 = static_cast<std::uint16_t>(square.u1);
+        e.square_v1 = static_cast<std::uint16_t>(square.v1);
+    }
     // visit()'s tests in double on a float reading r: (double) r < front_d, and
     // (double) r - z_max >= ramp + slack; each is a threshold on the float r.
     const double front_d = f.z_min - kDepthSlack;

@@ -141,15 +141,22 @@ struct FootprintStats {
     void add(const FootprintStats& other) noexcept;
 };
 
-/// One voxel in a sensor's view as its footprint table keeps it (24 bytes):
+/// One voxel in a sensor's view as its footprint table keeps it (32 bytes):
 /// step 2's fast decisions, taken from one pyramid query and two float
-/// comparisons. Each threshold is the float for which the comparison with a
-/// float reading gives exactly the answer of step 2's double comparison.
+/// comparisons, and the inner square the safe-side rule probes (step 3).
+/// Each threshold is the float for which the comparison with a float
+/// reading gives exactly the answer of step 2's double comparison.
 struct FootprintEntry {
     PyramidCells cells{};  ///< the pyramid cells over its footprint
     std::uint16_t x = 0U;  ///< the voxel (a grid side is at most kMaxDimension)
     std::uint16_t y = 0U;  ///< the voxel's row
     std::uint16_t z = 0U;  ///< the voxel's layer
+    /// The pixel rectangle of its inner square, clipped to the image (an image
+    /// side is at most 4096, DepthPyramid::make); u0 > u1 when it holds no pixel centre.
+    std::uint16_t square_u0 = 1U;
+    std::uint16_t square_v0 = 0U;
+    std::uint16_t square_u1 = 0U;
+    std::uint16_t square_v1 = 0U;
     /// No opinion when every reading of the footprint is nearer than this.
     float front = 0.0F;
     /// The constant free value when every reading is at least this far and no
