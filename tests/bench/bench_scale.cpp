@@ -54,8 +54,8 @@
 //               per-ray cycles in the paper's cell
 //   --quick     for CI: 30 cycles, 1 per-ray frame in the real cells, 1 OctoMap frame
 //   --footprint-only  footprint fusion alone (no per-ray or OctoMap frames), for profiling
-//   --pixel-kernel K  the hit pass's kernel: fastest (default), scalar, avx2
-//               (FootprintParams::pixel_kernel; the same grid with each)
+//   --kernel K  the hit pass's and pooling's kernel: fastest (default), scalar, avx2
+//               (FootprintParams::kernel; the same grid with each)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -487,7 +487,7 @@ struct Options {
 [[noreturn]] void usage(const char* why) {
     std::fprintf(
         stderr,
-        "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--pixel-kernel K] [--footprint-only] "
+        "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--kernel K] [--footprint-only] "
         "[--case paper|real-5cm|real-2.5cm]\n",
         why);
     std::exit(2);
@@ -521,16 +521,16 @@ Options parse(int argc, char** argv) {
                 usage("--exact-max expects 0 to 65536");
             }
             o.params.exact_footprint_max = static_cast<std::uint32_t>(n);
-        } else if (a == "--pixel-kernel" && i + 1 < argc) {
+        } else if (a == "--kernel" && i + 1 < argc) {
             const std::string k = argv[++i];
             if (k == "fastest") {
-                o.params.pixel_kernel = PixelKernel::kFastest;
+                o.params.kernel = FusionKernel::kFastest;
             } else if (k == "scalar") {
-                o.params.pixel_kernel = PixelKernel::kScalar;
+                o.params.kernel = FusionKernel::kScalar;
             } else if (k == "avx2") {
-                o.params.pixel_kernel = PixelKernel::kAvx2;
+                o.params.kernel = FusionKernel::kAvx2;
             } else {
-                usage("--pixel-kernel expects fastest, scalar or avx2");
+                usage("--kernel expects fastest, scalar or avx2");
             }
         } else if (a == "--footprint-only") {
             o.footprint_only = true;
@@ -600,9 +600,9 @@ int main(int argc, char** argv) {
     std::printf(
         "per-ray and OctoMap on one thread;\n  fresh grid per cycle, %s; footprint: %d cycles after %d warm-up;\n",
         checks, opt.cycles, kWarmupCycles);
-    const PixelKernel kernel = resolve_pixel_kernel(opt.params.pixel_kernel);
+    const FusionKernel kernel = resolve_fusion_kernel(opt.params.kernel);
     std::printf("  hit pass's pixel kernel: %s\n",
-                kernel == PixelKernel::kAvx2 ? "avx2 (4 pixels at a time)" : "scalar (the reference)");
+                kernel == FusionKernel::kAvx2 ? "avx2 (4 pixels at a time)" : "scalar (the reference)");
     std::printf("  per-ray (fuse_frame, exact): %d frames in the real cells, %d in the paper's; OctoMap: %d frames\n",
                 opt.exact_real_frames, opt.cycles, opt.octomap_frames);
     const std::vector<Case> cases = make_cases();

@@ -87,7 +87,7 @@ Comparison compare(const std::vector<std::int16_t>& exact, Span<const std::int16
 }
 
 /// The hit pass's kernels, the reference first (those this CPU lacks resolve to the next).
-constexpr std::array<PixelKernel, 2> kPixelKernels{PixelKernel::kScalar, PixelKernel::kAvx2};
+constexpr std::array<FusionKernel, 2> kFusionKernels{FusionKernel::kScalar, FusionKernel::kAvx2};
 
 GridGeometry lowered_paper_grid() {
     // The paper's grid lowered by half a voxel, so the simulated floor does not lie on a face.
@@ -502,10 +502,10 @@ TEST_CASE(
     for (const double oz : {0.0, 0.2}) {
         const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.6, -0.7, oz), 0.05, GridDims{30, 30, 12}).value();
         OwnedWorkspace ws(g, w, h);
-        for (std::size_t j = 0; j < 7U * kPixelKernels.size(); ++j) {
+        for (std::size_t j = 0; j < 7U * kFusionKernels.size(); ++j) {
             // Each pixel kernel in turn (the vector ones place four readings at a time).
             FootprintParams params;
-            params.pixel_kernel = kPixelKernels[j / 7U];
+            params.kernel = kFusionKernels[j / 7U];
             CAPTURE(oz);
             CAPTURE(j);
             std::vector<float> depth(plane_depth.size(), 0.0F);
@@ -538,11 +538,11 @@ struct PassResult {
     FootprintStats footprint;
 };
 
-PassResult run_pass(const GridGeometry& g, const SensorReading& r, PixelKernel kernel) {
+PassResult run_pass(const GridGeometry& g, const SensorReading& r, FusionKernel kernel) {
     const SensorModelTable model;
     OwnedWorkspace ws(g, r.intrinsics.width, r.intrinsics.height);
     FootprintParams params;
-    params.pixel_kernel = kernel;
+    params.kernel = kernel;
     params.exact_footprint_max = 64U;  // step 3 reads level 0's depths pixel by pixel
     PassResult out;
     const Result<FusionStats> s = footprint_opinions(g, r, model, ws.ws, &out.footprint, params);
@@ -606,10 +606,10 @@ TEST_CASE("footprint fusion: every pixel kernel gives the scalar kernel's opinio
     // either side, depths on voxel faces), odd and even widths (the vector kernels take four
     // pixels at a time, the rest of a row one at a time), float and uint16 images, a grid the
     // camera sees only in part (hits outside it on every side).
-    REQUIRE(resolve_pixel_kernel(PixelKernel::kScalar) == PixelKernel::kScalar);
+    REQUIRE(resolve_fusion_kernel(FusionKernel::kScalar) == FusionKernel::kScalar);
 #if defined(__x86_64__) && defined(__GNUC__)
     // On a CPU with AVX2 (every CI machine so far) the AVX2 kernel is compared here.
-    CHECK((resolve_pixel_kernel(PixelKernel::kAvx2) == PixelKernel::kAvx2) == (__builtin_cpu_supports("avx2") != 0));
+    CHECK((resolve_fusion_kernel(FusionKernel::kAvx2) == FusionKernel::kAvx2) == (__builtin_cpu_supports("avx2") != 0));
 #endif
     const GridGeometry g = GridGeometry::make(Eigen::Vector3d(-0.5, -0.4, 0.0), 0.05, GridDims{20, 18, 16}).value();
     std::mt19937 rng(15U);
@@ -654,10 +654,10 @@ TEST_CASE("footprint fusion: every pixel kernel gives the scalar kernel's opinio
                 } else {
                     s.depth = {depth.data(), depth.size()};
                 }
-                const PassResult ref = run_pass(g, s, PixelKernel::kScalar);
+                const PassResult ref = run_pass(g, s, FusionKernel::kScalar);
                 CHECK(ref.fusion.rays_fused > 0U);
-                CAPTURE(static_cast<int>(resolve_pixel_kernel(PixelKernel::kAvx2)));
-                check_same_pass(ref, run_pass(g, s, PixelKernel::kAvx2));
+                CAPTURE(static_cast<int>(resolve_fusion_kernel(FusionKernel::kAvx2)));
+                check_same_pass(ref, run_pass(g, s, FusionKernel::kAvx2));
                 ++compared;
             }
         }

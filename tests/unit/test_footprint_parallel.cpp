@@ -94,7 +94,8 @@ struct Fused {
     FootprintStats stats;
     std::uint64_t rays = 0U;
 };
-Fused fuse_with(TaskRunner& runner, const std::vector<const std::vector<SensorReading>*>& frames) {
+Fused fuse_with(TaskRunner& runner, const std::vector<const std::vector<SensorReading>*>& frames,
+                const FootprintParams& params = FootprintParams{}) {
     const GridGeometry g = paper_grid_geometry();
     OwnedGrid owned(g);
     const SensorModelTable model;
@@ -103,7 +104,7 @@ Fused fuse_with(TaskRunner& runner, const std::vector<const std::vector<SensorRe
         Workspaces work(*readings, g.voxel_count());
         const Result<FusionStats> st = fuse_frame_footprint(
             owned.grid, Span<const SensorReading>(readings->data(), readings->size()), model,
-            Span<const FootprintWorkspace>(work.spans.data(), work.spans.size()), runner, &out.stats);
+            Span<const FootprintWorkspace>(work.spans.data(), work.spans.size()), runner, &out.stats, params);
         REQUIRE(st.ok());
         out.rays += st.value().rays_fused;
     }
@@ -153,6 +154,39 @@ TEST_CASE("footprint fusion: 1, 2 and 4 worker threads give the one-core grid bi
         check_same(reference, fuse_with(pool, sequence));
         check_same(reference, fuse_with(pool, sequence));  // the same pool again
     }
+}
+
+// verifies: SR-FUSE-015, SR-FUSE-012
+TEST_CASE("footprint fusion: the AVX2 kernel pools to the scalar kernel's grid bit for bit, at the clamps too") {
+    // Fifteen frames into one grid (not cleared between them): evidence of both signs
+    // that reaches both clamps, and a grid whose size is not a multiple of 16 voxels
+    // (the AVX2 pooling takes 16 at a time, the rest one at a time).
+    const TwoFrames frames;
+    const U16Frame person_u16(frames.person);
+    std::vector<const std::vector<SensorReading>*> sequence;
+    for (int k = 0; k < 5; ++k) {
+        sequence.insert(sequence.end(), {&frames.empty.readings, &person_u16.readings, &frames.person.readings});
+    }
+    REQUIRE(paper_grid_geometry().voxel_count() % 16U != 0U);
+    FootprintParams scalar;
+    scalar.kernel = FusionKernel::kScalar;
+    FootprintParams avx2;
+    avx2.kernel = FusionKernel::kAvx2;
+    SequentialRunner sequential;
+    const Fused reference = fuse_with(sequential, sequence, scalar);
+    const SensorModelTable model;
+    std::size_t at_max = 0U;
+    std::size_t at_min = 0U;
+    for (const std::int16_t v : reference.lo) {
+        at_max += v == model.pooled_max() ? 1U : 0U;
+        at_min += v == model.pooled_min() ? 1U : 0U;
+    }
+    CHECK(at_max > 0U);
+    CHECK(at_min > 0U);
+    INFO("kernel run: ", static_cast<int>(resolve_fusion_kernel(FusionKernel::kAvx2)));
+    check_same(reference, fuse_with(sequential, sequence, avx2));
+    linux_port::WorkerPool pool(2U);
+    check_same(reference, fuse_with(pool, sequence, avx2));
 }
 
 // verifies: SR-GEN-002, SR-FUSE-011

@@ -14,7 +14,7 @@
 #endif
 
 // The AVX2 kernel: x86-64 only, built for AVX2 in its own functions (target
-// attribute) and run only where the CPU has it (resolve_pixel_kernel).
+// attribute) and run only where the CPU has it (resolve_fusion_kernel).
 #if defined(__x86_64__)
 #define CELLGUARD_HIT_AVX2 1
 #else
@@ -23,14 +23,14 @@
 
 namespace cellguard {
 
-PixelKernel resolve_pixel_kernel(PixelKernel requested) noexcept {
+FusionKernel resolve_fusion_kernel(FusionKernel requested) noexcept {
 #if CELLGUARD_HIT_AVX2
     // libgcc's CPU model, read once at start-up (CPUID and the OS's saved register state): no call.
     const auto avx2 = static_cast<bool>(__builtin_cpu_supports("avx2"));
 #else
     const bool avx2 = false;
 #endif
-    return requested != PixelKernel::kScalar && avx2 ? PixelKernel::kAvx2 : PixelKernel::kScalar;
+    return requested != FusionKernel::kScalar && avx2 ? FusionKernel::kAvx2 : FusionKernel::kScalar;
 }
 
 namespace detail {
@@ -390,7 +390,7 @@ CELLGUARD_AVX2_INLINE FusionStats avx2_rows(const GridGeometry& g, const SensorR
     return sink.stats();
 }
 
-/// PixelKernel::kAvx2 for either kind of image; called only where the CPU has AVX2.
+/// FusionKernel::kAvx2 for either kind of image; called only where the CPU has AVX2.
 __attribute__((target("avx2"))) FusionStats hit_pass_avx2(const GridGeometry& g, const SensorReading& r,
                                                           std::int16_t hit, DepthPyramid& pyramid,
                                                           Span<std::int16_t> opinions) noexcept {
@@ -422,10 +422,10 @@ __attribute__((target("avx2"))) FusionStats hit_pass_avx2(const GridGeometry& g,
 }  // namespace
 
 FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, std::int16_t hit, DepthPyramid& pyramid,
-                     Span<std::int16_t> opinions, PixelKernel kernel) noexcept {
-    switch (resolve_pixel_kernel(kernel)) {
+                     Span<std::int16_t> opinions, FusionKernel kernel) noexcept {
+    switch (resolve_fusion_kernel(kernel)) {
 #if CELLGUARD_HIT_AVX2
-        case PixelKernel::kAvx2: return hit_pass_avx2(g, r, hit, pyramid, opinions);
+        case FusionKernel::kAvx2: return hit_pass_avx2(g, r, hit, pyramid, opinions);
 #endif
         default: break;
     }

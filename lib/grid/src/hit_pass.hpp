@@ -4,7 +4,7 @@
 /// Private to the grid module: step 1 of footprint fusion (the hit pass,
 /// footprint_fusion.hpp), every pixel's reading placed by the one rule of
 /// placement.hpp, its voxel given the hit and level 0 of the sensor's depth
-/// pyramid written. Three pixel kernels (PixelKernel) give the same hits,
+/// pyramid written. Three pixel kernels (FusionKernel) give the same hits,
 /// pyramid and counts bit for bit: the scalar one is the reference, the
 /// vector ones place four pixels at a time in IEEE double with the scalar
 /// form's operations in its order (the grid module is compiled with
@@ -27,9 +27,9 @@ namespace cellguard::detail {
 /// reading's voxel in @p opinions (one per voxel of @p g) set to @p hit when
 /// it lies in the grid, level 0 of @p pyramid written (a skipped reading has
 /// none), the readings counted as fuse_sensor counts them. @p kernel is
-/// resolved by resolve_pixel_kernel; every kernel gives the same result.
+/// resolved by resolve_fusion_kernel; every kernel gives the same result.
 [[nodiscard]] FusionStats hit_pass(const GridGeometry& g, const SensorReading& r, std::int16_t hit,
-                                   DepthPyramid& pyramid, Span<std::int16_t> opinions, PixelKernel kernel) noexcept;
+                                   DepthPyramid& pyramid, Span<std::int16_t> opinions, FusionKernel kernel) noexcept;
 
 }  // namespace cellguard::detail
 

@@ -99,12 +99,14 @@
 
 namespace cellguard {
 
-/// How step 1 (the hit pass) runs through a row of pixels. Every kernel gives
-/// the same hits, pyramid and counts bit for bit; the scalar one is the
-/// reference. The AVX2 kernel places four pixels at a time with the scalar
-/// form's IEEE operations in its order and hands every group with a reading
-/// the short test cannot take (missing, non-finite, near a range limit) to it.
-enum class PixelKernel : std::uint8_t {
+/// How the hit pass (step 1) runs through a row of pixels and the pooling
+/// through the voxels. Every kernel gives the same hits, pyramid, counts and
+/// grid bit for bit; the scalar one is the reference. The AVX2 kernel places
+/// four pixels at a time with the scalar form's IEEE operations in its order
+/// (a group with a reading the short test cannot take, missing, non-finite
+/// or near a range limit, goes the scalar way) and pools 16 voxels at a time
+/// in 16-bit lanes (a saturating sum, then the clamps: the clamped 32-bit sum).
+enum class FusionKernel : std::uint8_t {
     kFastest = 0,  ///< the fastest this CPU and build run: kAvx2 where it can, else kScalar
     kScalar = 1,   ///< one pixel at a time: the reference
     kAvx2 = 2,     ///< four at a time in AVX2 registers (x86-64 CPUs that have AVX2)
@@ -112,9 +114,9 @@ enum class PixelKernel : std::uint8_t {
 
 /// The kernel @p requested runs as here: kAvx2 (and kFastest) need an x86-64
 /// CPU with AVX2, else kScalar.
-[[nodiscard]] PixelKernel resolve_pixel_kernel(PixelKernel requested) noexcept;
+[[nodiscard]] FusionKernel resolve_fusion_kernel(FusionKernel requested) noexcept;
 
-/// The exact step (step 3 of the file comment) and the hit pass's kernel.
+/// The exact step (step 3 of the file comment) and the kernel.
 struct FootprintParams {
     /// Largest footprint (pixels of the rectangle of a voxel's eight projected
     /// corners) of an undecided voxel that is evaluated ray by ray. 0 (the
@@ -122,8 +124,8 @@ struct FootprintParams {
     /// work is the same in every frame. 64 gives the exact path's figures on the
     /// paper's experiments, at a cost that grows with the undecided voxels.
     std::uint32_t exact_footprint_max = 0U;
-    /// Step 1's pixel kernel (the same result with each).
-    PixelKernel pixel_kernel = PixelKernel::kFastest;
+    /// The hit pass's and the pooling's kernel (the same result with each).
+    FusionKernel kernel = FusionKernel::kFastest;
 };
 
 /// What footprint passes did (for diagnostics, benchmarks and the tests).
