@@ -65,6 +65,7 @@
 
 #include <time.h>
 
+#include "bench_cells.hpp"
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/base/stack_paint.hpp"
 #include "cellguard/can/safety_output.hpp"
@@ -85,19 +86,6 @@ using SteadyClock = std::chrono::steady_clock;
 namespace {
 
 constexpr int kWarmupCycles = 20;
-
-/// The controller's clock in this benchmark: this thread's CPU time in
-/// microseconds (monotonic, like the port's clock), so the controller's own
-/// stage timing measures work, not the time the scheduler of a shared
-/// machine gave to other processes. Whole cycles are also timed on the wall clock.
-class ThreadCpuClock final : public MonotonicClock {
-public:
-    std::uint64_t now_us() noexcept override {
-        timespec t{};
-        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-        return static_cast<std::uint64_t>(t.tv_sec) * 1000000U + static_cast<std::uint64_t>(t.tv_nsec) / 1000U;
-    }
-};
 
 /// The 1-minute load average (how busy the shared machine was).
 double load_average() {
@@ -154,36 +142,6 @@ double thread_cpu_ms() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
-}
-
-/// 32 zones covering the grid: boxes of the whole grid and prisms over its
-/// footprint (an octagon with vertices on the grid's edges would miss the
-/// corners, so the prisms use the rectangle), half protective, half warning.
-std::vector<ZoneConfig> worst_case_zones(const GridGeometry& g) {
-    const Eigen::Vector3d lo = g.origin();
-    const Eigen::Vector3d hi = g.max_corner();
-    std::vector<ZoneConfig> zones(kMaxZones);
-    for (std::size_t z = 0U; z < kMaxZones; ++z) {
-        ZoneConfig& c = zones[z];
-        c.kind = z < kMaxZones / 2U ? ZoneKind::kProtective : ZoneKind::kWarning;
-        c.min_foreground_voxels = 1U;
-        c.max_unseen_voxels = 0U;
-        if (z % 2U == 0U) {
-            c.shape = ZoneShape::kBox;
-            c.box_min = lo;
-            c.box_max = hi;
-        } else {
-            c.shape = ZoneShape::kPrism;
-            c.polygon[0] = PolygonVertex{lo.x(), lo.y()};
-            c.polygon[1] = PolygonVertex{hi.x(), lo.y()};
-            c.polygon[2] = PolygonVertex{hi.x(), hi.y()};
-            c.polygon[3] = PolygonVertex{lo.x(), hi.y()};
-            c.polygon_size = 4U;
-            c.z_min = lo.z();
-            c.z_max = hi.z();
-        }
-    }
-    return zones;
 }
 
 /// The (voxel, zone) pairs evaluate_zones counted in the cycle just run:
@@ -505,7 +463,7 @@ int main(int argc, char** argv) {
     }
 
     // 32 zones covering the grid.
-    const std::vector<ZoneConfig> zone_configs = worst_case_zones(g);
+    const std::vector<ZoneConfig> zone_configs = bench::worst_case_zones(g);
     std::vector<std::uint32_t> membership(g.voxel_count());
     const Result<CompiledZones, ZoneError> compiled = CompiledZones::compile(
         g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()});
@@ -530,7 +488,7 @@ int main(int argc, char** argv) {
     // The frozen-sensor check on, so that its fingerprint of every frame is
     // in the measured cycle; its limit is never reached (these frames repeat).
     cc.max_repeated_frames = std::numeric_limits<std::uint32_t>::max();
-    ThreadCpuClock clock;
+    bench::ThreadCpuClock clock;
     Forward forward;
     // Every sensor has a ray table: fuse_sensor's scratch is never used.
     SafetyController controller(cc, frame_grid, Span<std::int16_t>(), {prior.data(), prior.size()}, zones, model, clock,

@@ -53,6 +53,7 @@
 //   --cycles N  footprint cycles per case and pattern (default 300), and the
 //               per-ray cycles in the paper's cell
 //   --quick     for CI: 30 cycles, 1 per-ray frame in the real cells, 1 OctoMap frame
+//   --pattern P one reading pattern only (max-range, random, person, faces), for profiling
 //   --footprint-only  footprint fusion alone (no per-ray or OctoMap frames), for profiling
 //   --kernel K  the hit pass's and pooling's kernel: fastest (default), scalar, avx2
 //               (FootprintParams::kernel; the same grid with each)
@@ -70,11 +71,18 @@
 
 #include <time.h>
 
+#include "bench_cells.hpp"
 #include "cellguard/base/task_runner.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
 #include "cellguard/grid/fusion.hpp"
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/owned_footprint.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/robot/robot_image.hpp"
+#include "cellguard/safety/monitoring_cases.hpp"
+#include "cellguard/safety/safety_controller.hpp"
+#include "cellguard/safety/zones.hpp"
+#include "test_robot.hpp"
 #include "world_readings.hpp"
 
 #ifdef CELLGUARD_HAVE_WORKER_POOL
@@ -343,6 +351,121 @@ FootprintRun run_footprint(const Case& c, const Frame& f, int cycles, TaskRunner
     return run;
 }
 
+/// The whole cycle's figures: SafetyController::run_cycle as the monitor runs it.
+struct CycleRun {
+    Timing t;                   ///< around run_cycle: wall clock and this thread's CPU time
+    Timing fusion;              ///< its fusion stage (the controller's timing, this thread's CPU time)
+    std::uint32_t faults = 0U;  ///< faults other than an overrun seen in any cycle (0 expected)
+};
+
+/// The robot side of the whole cycle: the 6-axis test arm (UR10 sizes) standing
+/// at the grid's centre, one monitoring case over every zone, separation
+/// parameters as the controller's tests use them.
+struct CycleRobot {
+    static constexpr std::uint32_t kImageCrc = 0xC0FFEE42U;
+    RobotModel arm;
+    std::vector<std::uint8_t> mask;
+    MonitoringCases cases;
+    CycleRobot(const GridGeometry& g, const CompiledZones& zones)
+        : arm(test::make_test_arm(g.origin().x() + 0.5 * g.dims().nx * g.voxel_size(),
+                                  g.origin().y() + 0.5 * g.dims().ny * g.voxel_size(), g.origin().z())),
+          mask(g.voxel_count()) {
+        const std::uint32_t every_zone[] = {0xFFFFFFFFU >> (32U - static_cast<std::uint32_t>(zones.size()))};
+        cases = MonitoringCases::make(zones, every_zone).value();
+    }
+    void attach(ControllerConfig& cc) {
+        cc.robot.model = &arm;
+        cc.robot.image_crc = kImageCrc;
+        cc.robot.mask_margin_m = 0.05;
+        cc.robot.mask = Span<std::uint8_t>(mask.data(), mask.size());
+        SeparationParams& p = cc.robot.separation;
+        p.reaction_time_s = 0.1;
+        p.classes[0] = SpeedClassLimits{1.0, 0.2, 0.05};
+        p.class_count = 1U;
+        p.slowdown_time_s = 0.0;
+        p.sensing_uncertainty_m = 0.05;
+        p.robot_uncertainty_m = 0.01;
+        p.min_hidden_voxels = 8U;
+        cc.cases = &cases;
+        cc.max_command_age_us = 1000000000U;
+    }
+    /// A good command: case 0, the arm's six joints, received at @p now_us.
+    static CommandInput command(std::uint64_t now_us, std::uint8_t counter) {
+        CommandInput in;
+        in.valid = true;
+        in.received_us = now_us;
+        in.counter = counter;
+        in.command.monitoring_case = 0U;
+        in.command.joint_count = 6U;
+        in.command.robot_id = robot_id(kImageCrc);
+        return in;
+    }
+};
+
+/// Whole cycles on one case and pattern: footprint fusion (as @p params,
+/// on @p runner), background subtraction against a prior that makes every
+/// voxel foreground, kMaxZones zones that each cover the grid, the robot mask
+/// and the separation of the test arm, the frozen-sensor and
+/// changed-background checks (the frames as their own views, so they pass)
+/// and the run-time memory checks: the most work of every stage.
+CycleRun run_whole_cycle(const Case& c, const Frame& f, int cycles, TaskRunner& runner, const FootprintParams& params) {
+    const GridGeometry& g = c.grid;
+    const std::vector<ZoneConfig> zone_configs = bench::worst_case_zones(g);
+    std::vector<std::uint32_t> membership(g.voxel_count());
+    const Result<CompiledZones, ZoneError> compiled = CompiledZones::compile(
+        g, {zone_configs.data(), zone_configs.size()}, {membership.data(), membership.size()});
+    if (!compiled.ok()) {
+        std::fprintf(stderr, "bench_scale: zone %zu: %s\n", compiled.error().zone, compiled.error().reason);
+        std::exit(2);
+    }
+    const CompiledZones zones = compiled.value();
+    const std::vector<std::int16_t> prior(g.voxel_count(), kLogOddsMax);
+    const SensorModelTable model;
+    OwnedGrid frame(g);
+    const host::OwnedFootprintWorkspaces w(g, f.readings);
+    CycleRobot robot(g, zones);
+    ControllerConfig cc;
+    cc.sensor_count = f.readings.size();
+    cc.cycle_budget_us = 1000000U;  // overruns are not what is measured here
+    cc.max_frame_age_us = 1000000000U;
+    cc.max_repeated_frames = std::numeric_limits<std::uint32_t>::max();  // on, never reached
+    cc.footprint.method = FusionMethod::kFootprint;
+    cc.footprint.params = params;
+    cc.footprint.workspaces = w.spans();
+    cc.footprint.runner = &runner;
+    robot.attach(cc);
+    bench::ThreadCpuClock clock;
+    SafetyController controller(cc, frame.grid, Span<std::int16_t>(), {prior.data(), prior.size()}, zones, model, clock,
+                                nullptr);
+    std::vector<BackgroundReference> backgrounds(f.readings.size());
+    std::vector<SensorInput> inputs(f.readings.size());
+    for (std::size_t s = 0U; s < inputs.size(); ++s) {
+        backgrounds[s].depth = f.readings[s].depth;
+        inputs[s].reading = f.readings[s];
+        inputs[s].present = true;
+        inputs[s].background = &backgrounds[s];
+    }
+    CycleRun run;
+    std::uint8_t counter = 0U;
+    run.t = time_cycles(cycles, kWarmupCycles, [&] {
+        const std::uint64_t now = clock.now_us();
+        for (SensorInput& in : inputs) {
+            in.captured_us = now;
+        }
+        const CycleReport& r = controller.run_cycle({inputs.data(), inputs.size()}, false,
+                                                    CycleRobot::command(now, counter++));
+        run.faults |= r.detected_faults & ~fault_bit(Fault::kCycleOverrun);
+        run.fusion.cpu_ms.push_back(
+            static_cast<double>(controller.monitor().last().stage_us[static_cast<std::size_t>(CycleStage::kFuse)]) /
+            1000.0);
+    });
+    // The warm-up cycles' fusion times out: the same cycles as run.t.
+    run.fusion.cpu_ms.erase(run.fusion.cpu_ms.begin(), run.fusion.cpu_ms.begin() + kWarmupCycles);
+    run.fusion.wall_ms = run.fusion.cpu_ms;
+    run.fusion.cycles = cycles;
+    return run;
+}
+
 /// The exact per-ray path's figures.
 struct ExactRun {
     Timing t;
@@ -469,6 +592,7 @@ struct Row {
     const Case* c = nullptr;
     Pattern pattern = Pattern::kMaxRange;
     FootprintRun fp;
+    CycleRun cycle;  ///< the whole cycle (t.cycles 0: not run, --footprint-only)
     ExactRun exact;
     Timing octomap;  ///< cycles 0: not run
 };
@@ -480,6 +604,7 @@ struct Options {
     int octomap_frames = 3;
     bool quick = false;
     std::string only;             ///< --case NAME: only that case (paper, real-5cm, real-2.5cm); its goals alone
+    std::string only_pattern;     ///< --pattern NAME: only that reading pattern (profiling)
     FootprintParams params{};     ///< --exact-max N: FootprintParams::exact_footprint_max
     bool footprint_only = false;  ///< --footprint-only: no per-ray or OctoMap reference (profiling)
 };
@@ -487,7 +612,7 @@ struct Options {
 [[noreturn]] void usage(const char* why) {
     std::fprintf(
         stderr,
-        "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--kernel K] [--footprint-only] "
+        "bench_scale: %s\nusage: bench_scale [--cycles N] [--quick] [--threads N] [--exact-max N] [--kernel K] [--footprint-only] [--pattern P] "
         "[--case paper|real-5cm|real-2.5cm]\n",
         why);
     std::exit(2);
@@ -538,6 +663,8 @@ Options parse(int argc, char** argv) {
             o.quick = true;
         } else if (a == "--case" && i + 1 < argc) {
             o.only = argv[++i];
+        } else if (a == "--pattern" && i + 1 < argc) {
+            o.only_pattern = argv[++i];
         } else {
             usage(("unknown argument " + a).c_str());
         }
@@ -562,6 +689,12 @@ void print_timing(const char* path, const Timing& t, const char* ratio_label, do
 void print_row(const Row& r) {
     std::printf("  %s, %s\n", r.c->name, pattern_name(r.pattern));
     print_timing("footprint", r.fp.t, nullptr, 0.0);
+    if (r.cycle.t.cycles > 0) {
+        print_timing("cycle", r.cycle.t, "cycle / footprint alone (median)", r.cycle.t.median() / r.fp.t.median());
+        std::printf("    %-10s %6d %9s %9s %9s %9.2f %9.2f   (the fusion stage of the cycles above)%s\n", "its fusion",
+                    r.cycle.fusion.cycles, "-", "-", "-", r.cycle.fusion.median_cpu(), r.cycle.fusion.max_cpu(),
+                    r.cycle.faults != 0U ? "; FAULTS seen" : "");
+    }
     if (r.exact.t.cycles > 0) {
         print_timing("per-ray", r.exact.t, "per-ray / footprint (median)", r.exact.t.median() / r.fp.t.median());
     }
@@ -635,12 +768,16 @@ int main(int argc, char** argv) {
             continue;
         }
         for (Pattern p : kPatterns) {
+            if (!opt.only_pattern.empty() && opt.only_pattern != pattern_name(p)) {
+                continue;
+            }
             const Frame f = make_frame(c, p);
             Row r;
             r.c = &c;
             r.pattern = p;
             r.fp = run_footprint(c, f, opt.cycles, runner, opt.params);
             if (!opt.footprint_only) {
+                r.cycle = run_whole_cycle(c, f, opt.cycles, runner, opt.params);
                 r.exact = run_exact(c, f, c.real ? opt.exact_real_frames : opt.cycles);
 #ifdef CELLGUARD_HAVE_OCTOMAP
                 r.octomap = c.real ? run_octomap_whole(c, f, opt.octomap_frames)
@@ -699,13 +836,17 @@ int main(int argc, char** argv) {
     // The goals, judged on the thread's CPU time (the wall clock beside it).
     double max5_cpu = 0.0, max5_wall = 0.0, max25_cpu = 0.0, max25_wall = 0.0, paper_cpu = 0.0, paper_wall = 0.0;
     double min_ratio = std::numeric_limits<double>::infinity();
+    std::uint32_t cycle_faults = 0U;
     std::string min_ratio_at = "none";
     for (const Row& r : rows) {
         const std::string name = r.c->name;
         double* cpu = name == "real-5cm" ? &max5_cpu : name == "real-2.5cm" ? &max25_cpu : &paper_cpu;
         double* wall = name == "real-5cm" ? &max5_wall : name == "real-2.5cm" ? &max25_wall : &paper_wall;
-        *cpu = std::max(*cpu, r.fp.t.max_cpu());
-        *wall = std::max(*wall, r.fp.t.max_wall());
+        // The whole cycle where it ran, else fusion alone (--footprint-only).
+        const Timing& judged = r.cycle.t.cycles > 0 ? r.cycle.t : r.fp.t;
+        *cpu = std::max(*cpu, judged.max_cpu());
+        *wall = std::max(*wall, judged.max_wall());
+        cycle_faults |= r.cycle.faults;
         if (r.octomap.cycles > 0 && r.octomap.median() / r.fp.t.median() < min_ratio) {
             min_ratio = r.octomap.median() / r.fp.t.median();
             min_ratio_at = name + " " + pattern_name(r.pattern);
@@ -724,21 +865,24 @@ int main(int argc, char** argv) {
     const double j5 = one ? max5_cpu : max5_wall;
     const double j25 = one ? max25_cpu : max25_wall;
     const double jp = one ? paper_cpu : paper_wall;
+    const char* what = opt.footprint_only ? "fusion alone (--footprint-only)" : "the whole cycle";
+    std::printf("goals on %s; cycle faults other than overruns: %s\n", what, cycle_faults == 0U ? "none" : "SEEN");
     std::printf("goal: the 5 cm cell's worst cycle within 10 ms %s (max %.2f ms CPU, %.2f ms wall) %s\n", on.c_str(),
                 max5_cpu, max5_wall, verdict("real-5cm", j5 <= 10.0));
-    std::printf("goal: the 2.5 cm cell's worst cycle within 33 ms %s (max %.2f ms CPU, %.2f ms wall) %s\n", on.c_str(),
-                max25_cpu, max25_wall, verdict("real-2.5cm", j25 <= 33.0));
+    std::printf(
+        "goal: the 2.5 cm cell's worst cycle within 33 ms %s, on two threads (max %.2f ms CPU, %.2f ms wall) %s\n",
+        on.c_str(), max25_cpu, max25_wall, verdict("real-2.5cm", j25 <= 33.0 && opt.threads == 2));
     std::printf("goal: the tables within 64 MiB (largest %.2f MiB) %s\n", largest_mib,
                 largest_mib <= 64.0 ? "met" : "NOT met");
     if (std::isfinite(min_ratio)) {
-        std::printf("goal: at least 20x OctoMap on the same readings (smallest %.1fx, %s) %s\n", min_ratio,
-                    min_ratio_at.c_str(), min_ratio >= 20.0 ? "met" : "NOT met");
+        std::printf("goal: fusion alone at least 100x OctoMap on the same readings (smallest %.1fx, %s) %s\n",
+                    min_ratio, min_ratio_at.c_str(), min_ratio >= 100.0 ? "met" : "NOT met");
     } else {
-        std::printf("goal: at least 20x OctoMap on the same readings (%s) NOT met\n",
+        std::printf("goal: fusion alone at least 100x OctoMap on the same readings (%s) NOT met\n",
                     opt.footprint_only ? "not measured: --footprint-only" : "OctoMap not built");
     }
     std::printf(
-        "goal: the paper's cell within 5 ms worst case for every pattern %s (max %.2f ms CPU, %.2f ms wall) %s\n",
-        on.c_str(), paper_cpu, paper_wall, verdict("paper", jp <= 5.0));
+        "goal: the paper's cell within 2 ms worst case for every pattern %s (max %.2f ms CPU, %.2f ms wall) %s\n",
+        on.c_str(), paper_cpu, paper_wall, verdict("paper", jp <= 2.0));
     return bound_held ? 0 : 1;
 }
