@@ -154,3 +154,39 @@ TEST_CASE(
         }
     }
 }
+
+// verifies: SR-FUSE-015
+TEST_CASE("depth pyramid: four valid readings set at once are four set_pixel calls, bit for bit") {
+    // Over pixels that held gaps and readings before, at the row's start, middle and end.
+    const std::int32_t w = 11;
+    const std::int32_t h = 3;
+    const std::size_t cells = depth_pyramid_cells(w, h);
+    std::vector<float> mn_a(cells), mx_a(cells), mn_b(cells), mx_b(cells);
+    std::vector<std::uint8_t> inv_a(cells), inv_b(cells);
+    DepthPyramid a =
+        DepthPyramid::make(w, h, {mn_a.data(), cells}, {mx_a.data(), cells}, {inv_a.data(), cells}).value();
+    DepthPyramid b =
+        DepthPyramid::make(w, h, {mn_b.data(), cells}, {mx_b.data(), cells}, {inv_b.data(), cells}).value();
+    for (std::int32_t v = 0; v < h; ++v) {
+        for (std::int32_t u = 0; u < w; ++u) {
+            a.set_pixel(u, v, 0.5F + 0.01F * static_cast<float>(u), (u + v) % 2 == 0);
+            b.set_pixel(u, v, 0.5F + 0.01F * static_cast<float>(u), (u + v) % 2 == 0);
+        }
+    }
+    const std::array<float, 4> d{1.25F, 7.5F, 0.3F, 2.0F};
+    for (const std::array<std::int32_t, 2> at :
+         {std::array<std::int32_t, 2>{0, 0}, std::array<std::int32_t, 2>{3, 1}, std::array<std::int32_t, 2>{7, 2}}) {
+        a.set_valid4(at[0], at[1], d);
+        for (std::int32_t k = 0; k < 4; ++k) {
+            b.set_pixel(at[0] + k, at[1], d[static_cast<std::size_t>(k)], true);
+        }
+    }
+    a.build_levels();
+    b.build_levels();
+    CHECK(mn_a == mn_b);
+    CHECK(mx_a == mx_b);
+    CHECK(inv_a == inv_b);
+    for (std::int32_t k = 0; k < 4; ++k) {
+        CHECK(a.depth(7 + k, 2) == d[static_cast<std::size_t>(k)]);  // where set_pixel had left gaps too
+    }
+}
