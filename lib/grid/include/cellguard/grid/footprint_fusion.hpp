@@ -16,6 +16,8 @@
 ///    path: a reading inside a voxel is never lost. The pass also writes
 ///    level 0 of the sensor's depth pyramid (depth_pyramid.hpp): a pixel the
 ///    exact path would skip (NaN, zero, out of range, ...) has no reading.
+///    On x86-64 CPUs with AVX2 four pixels at a time (FusionKernel), with
+///    the same hits, pyramid and counts as the scalar reference.
 /// 2. Voxel pass, per voxel in view: the voxels of each grid row whose
 ///    bounding sphere lies in front of the image plane and inside the
 ///    image's sides (one pixel beyond its pixel centres) are visited in
@@ -69,11 +71,11 @@
 /// gets no opinion from it: the camera's own voxel is unknown to itself.
 ///
 /// Footprint tables (FootprintTable): the cameras do not move, so what step 2
-/// needs of each voxel in view (the pyramid cells over its footprint, and the
-/// depths at which a query leaves it without an opinion or fills it) is made
-/// once from the configuration and read every frame; a voxel the table's
-/// thresholds leave open is projected and settled as without a table. The
-/// opinions are the same bit for bit.
+/// needs of each voxel in view (the pyramid cells over its footprint, the
+/// depths at which a query leaves it without an opinion or fills it, and its
+/// inner square for step 3) is made once from the configuration and read
+/// every frame; a voxel the table's thresholds leave open is settled as
+/// without a table. The opinions are the same bit for bit.
 ///
 /// Work per sensor is at most footprint_work_bound, and equal to it with
 /// exact_footprint_max 0: twice the pixels (hit pass and pyramid) and the
