@@ -640,6 +640,11 @@ TEST_CASE("footprint fusion: every pixel kernel gives the scalar kernel's opinio
                     raw[i] = static_cast<std::uint16_t>(frame == 0 ? 500U + i % 1000U : rng() % 2500U);
                 }
             }
+            if (w == 37 && frame % 3 == 0) {
+                // The principal point is pixel (18, 11): its range is its depth. Raw 300 (frame 0) and
+                // 2000 (frame 3) at 1 mm, offset 0, put it at min_range and max_range exactly: the long way.
+                raw[static_cast<std::size_t>(11 * w + 18)] = frame == 0 ? 300U : 2000U;
+            }
             for (const bool u16 : {false, true}) {
                 CAPTURE(w);
                 CAPTURE(frame);

@@ -528,11 +528,14 @@ SetupError MonitorCell::allocate_footprint_workspaces(std::FILE* out) {
         footprint_spaces[s].table = &st.table;
         entries += st.entries.size();
     }
+    // Which kernel runs depends on the CPU: timing measured on one machine holds for another only with the same.
+    const bool avx2 = resolve_fusion_kernel(FootprintParams{}.kernel) ==
+                      FusionKernel::kAvx2;  // no configuration key: the default
     say(out,
         "footprint fusion: %zu sensors, no ray tables; workspaces %.1f MB, footprint tables %.1f MB (%zu voxels in "
-        "view)%s\n",
+        "view)%s; hit pass and pooling: %s\n",
         specs.size(), static_cast<double>(bytes) / 1e6, static_cast<double>(entries * sizeof(FootprintEntry)) / 1e6,
-        entries, all_cameras ? "" : "; none: not every sensor is a camera");
+        entries, all_cameras ? "" : "; none: not every sensor is a camera", avx2 ? "AVX2 (this CPU has it)" : "scalar");
     return {};
 }
 

@@ -258,10 +258,9 @@ struct Avx2Sensor {
     __m128i n_z;
 };
 
-#define CELLGUARD_AVX2_INLINE \
-    __attribute__((           \
-        target("avx2"),       \
-        always_inline)) inline  // NOLINT(cppcoreguidelines-macro-usage): an attribute list, used on every AVX2 helper
+/// Every AVX2 helper: built for AVX2 and always inlined into hit_pass_avx2 (a call would pass AVX
+/// registers through memory, and an AVX2 function may only be inlined into another).
+#define CELLGUARD_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 
 CELLGUARD_AVX2_INLINE Avx2Sensor avx2_sensor(const HitPlacer& placer, const SensorReading& r) noexcept {
     Avx2Sensor k{};
@@ -311,14 +310,39 @@ CELLGUARD_AVX2_INLINE __m128i avx2_voxel(const Avx2Sensor& k, __m256d q, __m256d
     return _mm256_cvttpd_epi32(f);  // integers within +-1e9: exact
 }
 
-/// Pixels (u .. u + 3, v) at depths @p d: when the short test takes all four
-/// (present, positive, clearly inside the range limits) they are placed with
-/// placement.hpp's operations in its order, four at a time; else each by
-/// hit_pixel. @p depth_at gives a pixel's depth as the scalar kernel reads it.
-template <typename DepthAt>
-CELLGUARD_AVX2_INLINE void avx2_group(const Avx2Sensor& k, const HitPlacer& placer, HitSink& sink, std::int32_t u,
-                                      std::int32_t v, std::size_t i, __m128 d, unsigned present,
-                                      const DepthAt& depth_at) noexcept {
+/// One pixel the scalar way, read as depth_value reads it: every pixel the
+/// AVX2 kernel hands back (a group with a reading the short test cannot
+/// take, the rest of a row). Out of line: one copy for both kinds of image.
+[[gnu::noinline]] void hit_pixel_at(const HitPlacer& placer, HitSink& sink, const SensorReading& r, std::int32_t u,
+                                    std::int32_t v, std::size_t i) noexcept {
+    hit_pixel(placer, sink, u, v, depth_value(r, i));
+}
+
+/// Four depths from pixel @p i on, and in @p present a bit per present one
+/// (a uint16 image's raw 0 is not: depth_value reads it as NaN). A uint16
+/// image's depths with depth_value's arithmetic: raw x scale + offset in
+/// double, one rounding to float.
+CELLGUARD_AVX2_INLINE __m128 avx2_depth4(const SensorReading& r, __m256d scale, __m256d offset, std::size_t i,
+                                         unsigned& present) noexcept {
+    if (r.kind != SensorDataKind::kDepthImageU16) {
+        present = 0xFU;
+        return _mm_loadu_ps(r.depth.data() + i);
+    }
+    std::uint64_t bits = 0U;
+    std::memcpy(&bits, r.depth_u16.data() + i, sizeof bits);
+    const __m128i r4 = _mm_cvtepu16_epi32(_mm_cvtsi64_si128(static_cast<long long>(bits)));
+    present = 0xFU &
+              ~static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(r4, _mm_setzero_si128()))));
+    return _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(r4), scale), offset));
+}
+
+/// Pixels (u .. u + 3, v) from pixel @p i on at depths @p d: when the short
+/// test takes all four (present, positive, clearly inside the range limits)
+/// they are placed with placement.hpp's operations in its order, four at a
+/// time; else each by hit_pixel_at.
+CELLGUARD_AVX2_INLINE void avx2_group(const Avx2Sensor& k, const HitPlacer& placer, HitSink& sink,
+                                      const SensorReading& r, std::int32_t u, std::int32_t v, std::size_t i, __m128 d,
+                                      unsigned present) noexcept {
     const __m256d xn = _mm256_mul_pd(
         _mm256_sub_pd(_mm256_add_pd(_mm256_set1_pd(static_cast<double>(u)), k.lane_offset), k.cx), k.inv_fx);
     const __m256d dd = _mm256_cvtps_pd(d);
@@ -331,7 +355,7 @@ CELLGUARD_AVX2_INLINE void avx2_group(const Avx2Sensor& k, const HitPlacer& plac
     const unsigned fast = present & static_cast<unsigned>(_mm_movemask_ps(_mm_cmpgt_ps(d, _mm_setzero_ps()))) & inside;
     if (fast != 0xFU) {
         for (std::int32_t j = 0; j < 4; ++j) {
-            hit_pixel(placer, sink, u + j, v, depth_at(i + static_cast<std::size_t>(j)));
+            hit_pixel_at(placer, sink, r, u + j, v, i + static_cast<std::size_t>(j));
         }
         return;
     }
@@ -359,63 +383,34 @@ CELLGUARD_AVX2_INLINE void avx2_group(const Avx2Sensor& k, const HitPlacer& plac
     sink.valid4(u, v, four);
 }
 
-/// Step 1 four pixels at a time (avx2_group), the rest of each row one at a
-/// time, reading four depths through @p depth4 (d, and a bit per present
-/// one); a camera whose readings may lie beyond +-1e9 voxels
-/// (HitPlacer::far) goes the scalar way throughout.
-template <typename DepthAt, typename Depth4>
-CELLGUARD_AVX2_INLINE FusionStats avx2_rows(const GridGeometry& g, const SensorReading& r, std::int16_t hit,
-                                            DepthPyramid& pyramid, Span<std::int16_t> opinions, const DepthAt& depth_at,
-                                            const Depth4& depth4) noexcept {
+/// FusionKernel::kAvx2 for either kind of image (one copy of the kernel):
+/// four pixels at a time (avx2_group), the rest of each row one at a time; a
+/// camera whose readings may lie beyond +-1e9 voxels (HitPlacer::far) goes
+/// the scalar way throughout. Called only where the CPU has AVX2.
+__attribute__((target("avx2"))) FusionStats hit_pass_avx2(const GridGeometry& g, const SensorReading& r,
+                                                          std::int16_t hit, DepthPyramid& pyramid,
+                                                          Span<std::int16_t> opinions) noexcept {
     HitPlacer placer(g, r);
-    if (placer.far()) {
-        return hit_rows(g, r, hit, pyramid, opinions, depth_at);
-    }
-    const Avx2Sensor k = avx2_sensor(placer, r);
     HitSink sink(g, hit, pyramid, opinions);
     const std::int32_t w = r.intrinsics.width;
+    const std::int32_t groups = placer.far() ? 0 : w / 4;  // far: every pixel the scalar way
+    const Avx2Sensor k = avx2_sensor(placer, r);
+    const __m256d scale = _mm256_set1_pd(static_cast<double>(r.depth_scale));
+    const __m256d offset = _mm256_set1_pd(static_cast<double>(r.depth_offset));
     std::size_t i = 0U;
     for (std::int32_t v = 0; v < r.intrinsics.height; ++v) {
         placer.begin_row(v);
         std::int32_t u = 0;
-        for (; u + 4 <= w; u += 4, i += 4U) {
+        for (; u < 4 * groups; u += 4, i += 4U) {
             unsigned present = 0U;
-            const __m128 d = depth4(i, present);
-            avx2_group(k, placer, sink, u, v, i, d, present, depth_at);
+            const __m128 d = avx2_depth4(r, scale, offset, i, present);
+            avx2_group(k, placer, sink, r, u, v, i, d, present);
         }
         for (; u < w; ++u, ++i) {
-            hit_pixel(placer, sink, u, v, depth_at(i));
+            hit_pixel_at(placer, sink, r, u, v, i);
         }
     }
     return sink.stats();
-}
-
-/// FusionKernel::kAvx2 for either kind of image; called only where the CPU has AVX2.
-__attribute__((target("avx2"))) FusionStats hit_pass_avx2(const GridGeometry& g, const SensorReading& r,
-                                                          std::int16_t hit, DepthPyramid& pyramid,
-                                                          Span<std::int16_t> opinions) noexcept {
-    if (r.kind == SensorDataKind::kDepthImageU16) {
-        const std::uint16_t* const raw = r.depth_u16.data();
-        const __m256d scale = _mm256_set1_pd(static_cast<double>(r.depth_scale));
-        const __m256d offset = _mm256_set1_pd(static_cast<double>(r.depth_offset));
-        // depth_value's arithmetic: raw x scale + offset in double, one rounding to float; raw 0 is none.
-        const auto depth4 = [ raw, scale, offset ](std::size_t i, unsigned& present)
-            __attribute__((target("avx2"), always_inline)) {
-            std::uint64_t bits = 0U;
-            std::memcpy(&bits, raw + i, sizeof bits);
-            const __m128i r4 = _mm_cvtepu16_epi32(_mm_cvtsi64_si128(static_cast<long long>(bits)));
-            present = 0xFU & ~static_cast<unsigned>(
-                                 _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(r4, _mm_setzero_si128()))));
-            return _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(r4), scale), offset));
-        };
-        return avx2_rows(g, r, hit, pyramid, opinions, U16Depth{&r}, depth4);
-    }
-    const float* const depth = r.depth.data();
-    const auto depth4 = [depth](std::size_t i, unsigned& present) __attribute__((target("avx2"), always_inline)) {
-        present = 0xFU;
-        return _mm_loadu_ps(depth + i);
-    };
-    return avx2_rows(g, r, hit, pyramid, opinions, FloatDepth{depth}, depth4);
 }
 #endif
 
