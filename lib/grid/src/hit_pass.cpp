@@ -162,19 +162,10 @@ public:
             ++stats_.readings_in_grid;
         }
     }
-    /// The grid's sides.
-    [[nodiscard]] std::uint32_t nx() const noexcept { return nx_; }
-    [[nodiscard]] std::uint32_t ny() const noexcept { return ny_; }
-    [[nodiscard]] std::uint32_t nz() const noexcept { return nz_; }
-    /// Valid readings of pixels (u .. u + 3, v) at depths @p d (their hits apart: hits()).
+    /// Valid readings of pixels (u .. u + 3, v) at depths @p d (their hits apart: hit()).
     [[gnu::always_inline]] void valid4(std::int32_t u, std::int32_t v, const std::array<float, 4>& d) noexcept {
         pyramid_.set_valid4(u, v, d);
         stats_.rays_fused += 4U;
-    }
-    /// A valid reading @p d of pixel (u, v) (its hit apart: hit()).
-    void valid_pixel(std::int32_t u, std::int32_t v, float d) noexcept {
-        pyramid_.set_pixel(u, v, d, true);
-        ++stats_.rays_fused;
     }
     /// The hit of a lane at voxel @p index when @p in_grid.
     [[gnu::always_inline]] void hit(bool in_grid, std::uint32_t index) noexcept {
