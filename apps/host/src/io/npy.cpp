@@ -173,13 +173,15 @@ IoStatus dtype_from_descr(const char* descr, NpyDtype& dtype) noexcept {
         dtype = NpyDtype::kInt16;
     } else if (std::strcmp(descr, "<f4") == 0) {
         dtype = NpyDtype::kFloat32;
+    } else if (std::strcmp(descr, "<u2") == 0) {
+        dtype = NpyDtype::kUInt16;
     } else if (std::strcmp(descr, "|u1") == 0 || std::strcmp(descr, "<u1") == 0 || std::strcmp(descr, ">u1") == 0) {
         dtype = NpyDtype::kUInt8;
     } else if (descr[0] == '>') {
         return IoStatus::failure(ErrorCode::kUnsupportedType, "npy: big-endian dtype '%s' is not supported", descr);
     } else {
         return IoStatus::failure(ErrorCode::kUnsupportedType,
-                                 "npy: dtype '%s' is not supported (only '<i2', '<f4', '|u1')", descr);
+                                 "npy: dtype '%s' is not supported (only '<i2', '<f4', '|u1', '<u2')", descr);
     }
     return IoStatus{};
 }
@@ -457,6 +459,7 @@ const char* npy_descr(NpyDtype dtype) noexcept {
         case NpyDtype::kInt16: return "<i2";
         case NpyDtype::kFloat32: return "<f4";
         case NpyDtype::kUInt8: return "|u1";
+        case NpyDtype::kUInt16: return "<u2";
     }
     return "?";
 }
@@ -466,6 +469,7 @@ std::size_t npy_item_size(NpyDtype dtype) noexcept {
         case NpyDtype::kInt16: return 2U;
         case NpyDtype::kFloat32: return 4U;
         case NpyDtype::kUInt8: return 1U;
+        case NpyDtype::kUInt16: return 2U;
     }
     return 1U;
 }
@@ -570,14 +574,27 @@ IoStatus format_npy_header(NpyDtype dtype, GridDims dims, Span<std::uint8_t> out
         return IoStatus::failure(ErrorCode::kInvalidArgument, "npy: dimensions %d x %d x %d are not all >= 1", dims.nx,
                                  dims.ny, dims.nz);
     }
+    const std::uint64_t shape[3] = {static_cast<std::uint64_t>(dims.nz), static_cast<std::uint64_t>(dims.ny),
+                                    static_cast<std::uint64_t>(dims.nx)};
+    return format_npy_header_shape(dtype, shape, 3U, out, length);
+}
+
+IoStatus format_npy_header_shape(NpyDtype dtype, const std::uint64_t* shape, std::size_t ndim, Span<std::uint8_t> out,
+                                 std::size_t& length) noexcept {
+    length = 0;
+    if (ndim < 1U || ndim > 3U || std::any_of(shape, shape + ndim, [](std::uint64_t e) { return e < 1U; })) {
+        return IoStatus::failure(ErrorCode::kInvalidArgument, "npy: a shape of 1 to 3 extents, each >= 1, expected");
+    }
+    char shape_text[96];
+    format_shape(shape, ndim, shape_text, sizeof shape_text);
     char dict[160];
-    const int n = std::snprintf(dict, sizeof dict, "{'descr': '%s', 'fortran_order': False, 'shape': (%d, %d, %d), }",
-                                npy_descr(dtype), dims.nz, dims.ny, dims.nx);
+    const int n = std::snprintf(dict, sizeof dict, "{'descr': '%s', 'fortran_order': False, 'shape': %s, }",
+                                npy_descr(dtype), shape_text);
     if (n < 0 || static_cast<std::size_t>(n) >= sizeof dict) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "npy: header does not fit");
     }
-    char nz_digits[16];
-    const int growth_digits = std::snprintf(nz_digits, sizeof nz_digits, "%d", dims.nz);
+    char growth_text[24];
+    const int growth_digits = std::snprintf(growth_text, sizeof growth_text, "%" PRIu64, shape[0]);
     // numpy: spare spaces for the growth axis, then pad (with the final '\n')
     // so that preamble + header is a multiple of 64; a full block when it already is.
     const std::size_t unpadded = static_cast<std::size_t>(n) + kGrowthAxisMaxDigits -

@@ -41,9 +41,10 @@ enum class NpyDtype : std::uint8_t {
     kInt16 = 1,    ///< '<i2': log-odds
     kFloat32 = 2,  ///< '<f4': probability
     kUInt8 = 3,    ///< '|u1': observed flags
+    kUInt16 = 4,   ///< '<u2': a depth camera's raw depth image (depth_npy.hpp)
 };
 
-/// The descr string numpy writes for @p dtype ("<i2", "<f4", "|u1").
+/// The descr string numpy writes for @p dtype ("<i2", "<f4", "|u1", "<u2").
 const char* npy_descr(NpyDtype dtype) noexcept;
 /// Bytes per element of @p dtype.
 std::size_t npy_item_size(NpyDtype dtype) noexcept;
@@ -91,6 +92,9 @@ IoStatus check_npy_layout(const NpyHeader& header, NpyDtype dtype, GridDims dims
 /// (a multiple of 64). Errors: kInvalidArgument (a dimension < 1),
 /// kStorageTooSmall (@p out too small; 256 bytes always suffice).
 IoStatus format_npy_header(NpyDtype dtype, GridDims dims, Span<std::uint8_t> out, std::size_t& length) noexcept;
+/// format_npy_header for any shape: @p ndim (1..3) extents of @p shape, C order, each >= 1.
+IoStatus format_npy_header_shape(NpyDtype dtype, const std::uint64_t* shape, std::size_t ndim, Span<std::uint8_t> out,
+                                 std::size_t& length) noexcept;
 
 /// Decodes a whole .npy file held in memory into @p out (at least
 /// nx * ny * nz elements; the first that many are written). All the checks of
