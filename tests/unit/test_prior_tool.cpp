@@ -23,6 +23,7 @@
 
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/log_odds.hpp"
+#include "cellguard/host/io/depth_npy.hpp"
 #include "cellguard/host/io/npy.hpp"
 #include "cellguard/host/io/pcd.hpp"
 #include "cellguard/host/sim/workcell.hpp"
@@ -599,6 +600,54 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
                                dir / "c"});
     CHECK(none.status == kExitInputError);
     CHECK(none.err.find("have no pcd_files") != std::string::npos);
+}
+
+// verifies: SR-PRIOR-015, SR-SYS-011
+TEST_CASE("prior tool: --config-frames replays depth_files through the camera path, as the simulated frames") {
+    TempDir dir;
+    const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
+    const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
+    const std::vector<std::uint8_t> toml = read_bytes(std::string(CELLGUARD_SOURCE_DIR) +
+                                                      "/apps/monitor/config/paper-cell.toml");
+    std::istringstream in(std::string(toml.begin(), toml.end()));
+    std::string line, text, name;
+    std::size_t s = 0U;
+    while (std::getline(in, line)) {
+        text += line + "\n";
+        if (line.rfind("name = \"", 0) == 0) {
+            name = line.substr(8, line.find('"', 8) - 8);
+        }
+        if (line.rfind("max_range = ", 0) == 0) {  // the end of a sensor table: its recording, 3 frames
+            REQUIRE(s < sensors.size());
+            REQUIRE(sensors[s].name == name);
+            std::filesystem::create_directories(dir / ("rec/" + name));
+            for (int k = 0; k < 3; ++k) {
+                const std::vector<float>& d = frame.depth[s];
+                REQUIRE(write_npy_depth_f32((dir / ("rec/" + name + "/" + std::to_string(k) + ".npy")).c_str(),
+                                            {d.data(), d.size()}, sensors[s].width, sensors[s].height)
+                            .ok());
+            }
+            text += "depth_files = \"rec/" + name + "\"\n";
+            ++s;
+        }
+    }
+    REQUIRE(s == sensors.size());
+    REQUIRE(write_bytes(dir / "cell.toml", std::vector<std::uint8_t>(text.begin(), text.end())));
+    const Run recorded = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "a"});
+    INFO(recorded.err);
+    REQUIRE(recorded.status == kExitOk);
+    CHECK(recorded.out.find("recorded frames (3; files per sensor: lidar-a 3,") != std::string::npos);
+    const Run simulated = run_tool(
+        {"--simulated", "--background-frames", "3", "--config", dir / "cell.toml", "--out", dir / "b"});
+    INFO(simulated.err);
+    REQUIRE(simulated.status == kExitOk);
+    CHECK(read_bytes(dir / "a/prior.cgprior") == read_bytes(dir / "b/prior.cgprior"));
+    // One sensor's recording of another resolution: refused when the configuration loads, naming the file.
+    const std::vector<float> small(100U, 1.0F);
+    REQUIRE(write_npy_depth_f32((dir / "rec/lidar-a/9.npy").c_str(), {small.data(), small.size()}, 10, 10).ok());
+    const Run bad = run_tool({"--config-frames", "--config", dir / "cell.toml", "--out", dir / "c"});
+    CHECK(bad.status != kExitOk);
+    CHECK(bad.err.find("rec/lidar-a/9.npy") != std::string::npos);
 }
 
 // verifies: SR-PRIOR-015

@@ -26,6 +26,7 @@
 
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/depth_input.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/command_line.hpp"
@@ -73,6 +74,7 @@ struct Options {
     std::string picture;
     std::string write_background;  ///< --write-background: "" (run the monitor)
     int background_frames = 0;     ///< --background-frames (0: prior.background_frames)
+    std::string record_depth;      ///< --record-depth: "" (run the monitor)
     std::string picture_sensor;
     std::string commands;        ///< --commands: "" (by the cell), "sim" or "can"
     std::string fusion;          ///< --fusion: "" (the config's), "ray" or "footprint"
@@ -130,6 +132,10 @@ void add_output_options(host::CommandLine& cli, Options& o) {
              "[prior] background_file");
     cli.integer("--background-frames", o.background_frames, 1, 1000, "N",
                 "frames per sensor for --write-background (default: prior.background_frames)");
+    cli.text("--record-depth", o.record_depth, "DIR",
+             "record --cycles distinct frames (default: demo.cycles) of every depth sensor\n"
+             "(live cameras included) as .npy depth images into DIR/<sensor>/, and exit;\n"
+             "a sensor's depth_files = \"DIR/<sensor>\" replays them");
 }
 
 /// Reads the command line into @p o: -1 to run, else the exit status (0
@@ -142,7 +148,8 @@ int parse_args(int argc, char** argv, Options& o) {
                           "output (safety frame, inverted copy, diagnostics frame) on a SocketCAN\n"
                           "interface or into a candump-format log. The sensor input is the workcell\n"
                           "simulator (a scripted person walking through the cell), or for sensors\n"
-                          "with `pcd_files` in the configuration, recorded PCD frames, each checked.",
+                          "with `pcd_files` or `depth_files` in the configuration, recorded PCD frames\n"
+                          "or depth images (.npy), each checked, or live GigE Vision cameras.",
                           "SIGINT / SIGTERM stop it cleanly at the end of the current cycle.\n"
                           "Exit status: 0 done, 1 runtime error, 2 bad command line or configuration,\n"
                           "3 done but the CAN output failed in some cycle (the PLC may have missed frames).");
@@ -347,7 +354,19 @@ int write_picture(const Options& opt, const MonitorConfig& cfg, const MonitorCel
     return 0;
 }
 
-/// One frame source per sensor: its live camera, its recorded PCD files, else the simulator.
+/// A recorded depth sensor's source: its files through the camera path, with the cell's sensor model.
+std::unique_ptr<FrameSource> make_depth_file_source(const SensorSettings& settings, const sim::SensorSpec& spec) {
+    cell::CameraReadingParams p;
+    p.pose = sensor_pose(settings);
+    p.intrinsics = spec.intrinsics();
+    p.depth_scale_m = static_cast<float>(settings.recording.depth_scale_m);
+    p.depth_offset_m = static_cast<float>(settings.recording.depth_offset_m);
+    p.max_range = spec.max_range;
+    return std::make_unique<cell::DepthFileFrameSource>(settings.name, settings.recording.files, p,
+                                                        settings.recording.raw);
+}
+
+/// One frame source per sensor: its live camera, its recorded depth images or PCD files, else the simulator.
 std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg, const MonitorCell& cell,
                                                        MonitorCameras& cameras) {
     std::vector<std::unique_ptr<FrameSource>> sources;
@@ -355,6 +374,8 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
         const sim::SensorSpec& spec = cell.specs[s];
         if (cameras.has(s)) {
             sources.push_back(cameras.make_source(s, cfg.sensors[s], spec));
+        } else if (!cfg.sensors[s].recording.files.empty()) {
+            sources.push_back(make_depth_file_source(cfg.sensors[s], spec));
         } else if (cell.has_scene) {
             sources.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
         } else if (cfg.sensors[s].pcd_files.empty()) {
@@ -412,6 +433,26 @@ int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& 
     RealRecordingTime time;
     std::vector<RecordedSensor> counts;
     if (const SetupError e = record_background_views(cell, sources, rec, time, counts, stdout); e.failed()) {
+        return fail(e);
+    }
+    return 0;
+}
+
+/// --record-depth: records every sensor's depth images as files and exits.
+int record_depth(const Options& opt, const MonitorConfig& cfg, MonitorCell& cell, MonitorCameras& cameras) {
+    if (const SetupError e = cell.build_tables(cfg, stdout); e.failed()) {
+        return fail(e);
+    }
+    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell, cameras);
+    std::vector<FrameSource*> sources = pointers_to(owned);
+    DepthRecording rec;
+    rec.dir = opt.record_depth;
+    rec.frames = cfg.demo_cycles;
+    rec.deadline_us = 10000000U +
+                      static_cast<std::uint64_t>(rec.frames) * 4U * std::max<std::uint64_t>(cfg.period_us, 100000U);
+    RealRecordingTime time;
+    std::vector<RecordedSensor> counts;
+    if (const SetupError e = record_depth_frames(cell, sources, rec, time, counts, stdout); e.failed()) {
         return fail(e);
     }
     return 0;
@@ -557,6 +598,10 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
             std::printf("input: sensor '%s' from %zu recorded PCD frames\n", sensor.name.c_str(),
                         sensor.pcd_files.size());
         }
+        if (!sensor.recording.files.empty()) {
+            std::printf("input: sensor '%s' from %zu recorded depth images ('%s')\n", sensor.name.c_str(),
+                        sensor.recording.files.size(), sensor.recording.raw ? "<u2" : "<f4");
+        }
     }
     DaemonOptions dopt;
     dopt.heartbeat_us = static_cast<std::uint64_t>(opt.heartbeat_s) * 1000000U;
@@ -660,8 +705,9 @@ int run_monitor(int argc, char** argv) {
     if (!opt.picture.empty()) {
         return write_picture(opt, cfg, cell);
     }
-    if (!opt.write_background.empty()) {
-        return write_background(opt, cfg, cell, cameras);
+    if (!opt.write_background.empty() || !opt.record_depth.empty()) {  // commissioning: record and exit
+        return !opt.write_background.empty() ? write_background(opt, cfg, cell, cameras)
+                                             : record_depth(opt, cfg, cell, cameras);
     }
     if ((e = cell.build_tables(cfg, stdout)).failed()) {
         return fail(e);

@@ -129,7 +129,9 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       robot_cell_(cell.has_cases || !cell.robot_image.empty()),
       // The scripted person is in the simulated sensors' frames only: not in recorded or live camera frames.
       show_person_(std::any_of(cfg.sensors.begin(), cfg.sensors.end(),
-                               [](const cell::SensorSettings& s) { return s.pcd_files.empty() && !s.camera.enabled; })),
+                               [](const cell::SensorSettings& s) {
+                                   return s.pcd_files.empty() && s.recording.files.empty() && !s.camera.enabled;
+                               })),
       zone_count_(std::min({cell.zones.size(), cfg.zones.size(), kMaxZones})),
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),

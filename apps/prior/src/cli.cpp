@@ -159,9 +159,10 @@ InputOptions add_input_options(host::CommandLine& cli, Options& o, bool& simulat
                                           }
                                           o.frame_files.emplace_back(v.substr(0U, eq), v.substr(eq + 1U));
                                       });
-    host::OptionRef config_frames = cli.flag("--config-frames", o.config_frames,
-                                             "the `pcd_files` of --config's sensors as recorded frames\n"
-                                             "(as the monitor replays them; combines with --frames)");
+    host::OptionRef config_frames = cli.flag(
+        "--config-frames", o.config_frames,
+        "the `pcd_files` and `depth_files` of --config's sensors as recorded frames\n"
+        "(as the monitor replays them; combines with --frames)");
     InputOptions options{npy, {frames, frame, config_frames}};
     for (const host::OptionRef r : options.recorded) {
         simulated_opt.excludes(r);
@@ -545,11 +546,13 @@ RunFailure fuse_recorded_frames(const Options& o, std::vector<RecordedSensor>& s
     }
     std::string counts;
     for (const RecordedSensor& s : sensors) {
-        counts += (counts.empty() ? "" : ", ") + s.name + " " + std::to_string(s.files.size());
+        counts += (counts.empty() ? "" : ", ") + s.name + " " +
+                  std::to_string(s.recording.files.empty() ? s.files.size() : s.recording.files.size());
     }
-    PcdFrameSource source(sensors);
+    RecordedFrameSource source(sensors);
     if (source.frame_count() == 0U) {
-        return run_failure(kExitInputError, "no recorded frames: " + o.config + "'s sensors have no pcd_files");
+        return run_failure(kExitInputError,
+                           "no recorded frames: " + o.config + "'s sensors have no pcd_files or depth_files");
     }
     if (const std::string why = too_few_frames(source.frame_count(), o.params); !why.empty()) {
         return run_failure(kExitInputError, why);

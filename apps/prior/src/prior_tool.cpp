@@ -19,6 +19,7 @@
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/depth_input.hpp"
 #include "cellguard/host/io/file.hpp"
 #include "cellguard/host/io/npy.hpp"
 #include "cellguard/host/sim/experiment.hpp"
@@ -317,29 +318,45 @@ IoStatus SimulatedFrameSource::frame(std::size_t k, std::vector<SensorReading>& 
     return IoStatus{};
 }
 
-PcdFrameSource::PcdFrameSource(const std::vector<RecordedSensor>& sensors) {
+RecordedFrameSource::RecordedFrameSource(const std::vector<RecordedSensor>& sensors) {
     for (const RecordedSensor& s : sensors) {
-        if (!s.files.empty()) {
-            frames_ = std::max(frames_, s.files.size());
+        if (!s.recording.files.empty()) {
+            cell::CameraReadingParams p;
+            p.pose = s.pose;
+            p.intrinsics = s.intrinsics;
+            p.depth_scale_m = static_cast<float>(s.recording.depth_scale_m);
+            p.depth_offset_m = static_cast<float>(s.recording.depth_offset_m);
+            p.max_range = s.max_range;
+            file_counts_.push_back(s.recording.files.size());
+            sources_.push_back(
+                std::make_unique<cell::DepthFileFrameSource>(s.name, s.recording.files, p, s.recording.raw));
+        } else if (!s.files.empty()) {
             file_counts_.push_back(s.files.size());
-            sources_.emplace_back(s.name, s.files, s.pose, s.width, s.height, s.max_range);
+            sources_.push_back(
+                std::make_unique<cell::PcdFrameSource>(s.name, s.files, s.pose, s.width, s.height, s.max_range));
+        } else {
+            continue;
         }
+        frames_ = std::max(frames_, file_counts_.back());
+        names_.push_back(s.name);
     }
 }
 
-IoStatus PcdFrameSource::frame(std::size_t k, std::vector<SensorReading>& readings) {
+IoStatus RecordedFrameSource::frame(std::size_t k, std::vector<SensorReading>& readings) {
     readings.clear();
     for (std::size_t s = 0U; s < sources_.size(); ++s) {
         if (k >= file_counts_[s]) {
             continue;
         }
         SensorReading r;
-        const cell::PcdFrameCheck c = sources_[s].load(k, r);
-        if (!c.ok) {
-            // read_pcd's messages start with the path already.
-            const bool named = c.reason.rfind(c.file, 0) == 0;
-            return IoStatus::failure(ErrorCode::kMalformedInput, "%s%s%s (sensor '%s')", named ? "" : c.file.c_str(),
-                                     named ? "" : ": ", c.reason.c_str(), sources_[s].name().c_str());
+        cell::FrameStatus status;
+        if (!sources_[s]->load_frame(k, r, status)) {
+            // The readers' messages start with the path already.
+            const std::string file = status.file;
+            const std::string reason = status.reason;
+            const bool named = reason.rfind(file, 0) == 0;
+            return IoStatus::failure(ErrorCode::kMalformedInput, "%s%s%s (sensor '%s')", named ? "" : file.c_str(),
+                                     named ? "" : ": ", reason.c_str(), names_[s].c_str());
         }
         readings.push_back(r);
     }
@@ -369,8 +386,10 @@ IoStatus sensors_from_config(const std::string& config_path, bool with_pcd_files
         r.height = s.height;
         r.hfov_deg = s.hfov_deg;
         r.vfov_deg = s.vfov_deg;
+        r.intrinsics = cell::sensor_intrinsics(s);
         if (with_pcd_files) {
             r.files = s.pcd_files;
+            r.recording = s.recording;
         }
         if (s.has_target) {
             const Eigen::Vector3d axis = s.target - s.position;

@@ -518,4 +518,16 @@ Eigen::Isometry3d sensor_pose(const SensorSettings& s) {
     return pose;
 }
 
+PinholeIntrinsics sensor_intrinsics(const SensorSettings& s) {
+    sim::SensorSpec spec;
+    spec.width = s.width;
+    spec.height = s.height;
+    spec.hfov_deg = s.hfov_deg;
+    spec.vfov_deg = s.vfov_deg;
+    if (s.intrinsics_source != IntrinsicsSource::kFieldOfView) {
+        spec.set_intrinsics(s.fx, s.fy, s.cx, s.cy);
+    }
+    return spec.intrinsics();
+}
+
 }  // namespace cellguard::cell

@@ -5,9 +5,11 @@
 // frames or a live camera ([sensors.camera]).
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
@@ -15,6 +17,7 @@
 
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/io/depth_npy.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "config_loader.hpp"
 
@@ -24,27 +27,27 @@ namespace {
 /// How far from 1 a configured quaternion's norm may be.
 constexpr double kUnitQuaternionTolerance = 1e-6;
 
-/// `pcd_files`: one or more paths of readable files (relative: to @p base_dir).
-std::vector<std::string> load_pcd_files(const Loader& L, const toml::table& t, const std::string& p,
+/// `key` (`pcd_files`, `depth_files`): one or more paths of readable files (relative: to @p base_dir).
+std::vector<std::string> load_file_list(const Loader& L, const toml::table& t, const std::string& p, const char* key,
                                         const std::string& base_dir) {
-    const toml::node& n = *t.get("pcd_files");
+    const toml::node& n = *t.get(key);
     const toml::array* a = n.as_array();
     if (a == nullptr || a->empty()) {
-        L.fail(n.source(), p + ".pcd_files", "expected an array of one or more PCD file paths");
+        L.fail(n.source(), p + "." + key, "expected an array of one or more file paths");
     }
     std::vector<std::string> files;
     for (std::size_t k = 0U; k < a->size(); ++k) {
         const toml::node& e = *a->get(k);
-        const std::string key = p + ".pcd_files[" + std::to_string(k) + "]";
+        const std::string entry = p + "." + key + "[" + std::to_string(k) + "]";
         if (!e.is_string() || e.as_string()->get().empty()) {
-            L.fail(e.source(), key, "expected a non-empty path string");
+            L.fail(e.source(), entry, "expected a non-empty path string");
         }
         std::string path = e.as_string()->get();
         if (path[0] != '/') {
             path.insert(0U, base_dir + "/");
         }
         if (!std::ifstream(path, std::ios::binary)) {
-            L.fail(e.source(), key, "cannot open '" + path + "'");
+            L.fail(e.source(), entry, "cannot open '" + path + "'");
         }
         files.push_back(path);
     }
@@ -247,6 +250,104 @@ void load_camera_identity(const Loader& L, const toml::table& t, const std::stri
     }
 }
 
+/// `depth_scale` (metres per raw unit, (0, 1]) and `depth_offset` (metres,
+/// within +-kMaxSensorRange) of table @p t at @p p: a camera's or a recording's.
+void load_depth_scale(const Loader& L, const toml::table& t, const std::string& p, double& scale, double& offset) {
+    scale = L.number(t, p, "depth_scale");
+    if (!(scale > 0.0 && scale <= 1.0)) {
+        L.fail(t.get("depth_scale")->source(), p + ".depth_scale", "expected metres per unit in (0, 1]");
+    }
+    offset = L.number(t, p, "depth_offset");
+    const auto range = static_cast<double>(kMaxSensorRange);
+    if (!(std::fabs(offset) <= range)) {
+        L.fail(t.get("depth_offset")->source(), p + ".depth_offset",
+               "expected metres in [-" + std::to_string(static_cast<int>(range)) + ", " +
+                   std::to_string(static_cast<int>(range)) + "]");
+    }
+}
+
+/// `depth_files = "DIR"`: the .npy files in DIR (relative: to @p base_dir), in name order, at least one.
+std::vector<std::string> load_npy_dir(const Loader& L, const toml::table& t, const std::string& p,
+                                      const std::string& base_dir) {
+    namespace fs = std::filesystem;
+    const toml::node& n = *t.get("depth_files");
+    std::string dir = n.as_string()->get();
+    if (dir.empty()) {
+        L.fail(n.source(), p + ".depth_files", "expected a directory or an array of .npy file paths");
+    }
+    if (dir[0] != '/') {
+        dir.insert(0U, base_dir + "/");
+    }
+    std::error_code ec;
+    std::vector<std::string> files;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().extension() == ".npy" && it->is_regular_file(ec)) {
+            files.push_back(it->path().string());
+        }
+    }
+    if (ec) {
+        L.fail(n.source(), p + ".depth_files", "cannot read the directory '" + dir + "': " + ec.message());
+    }
+    if (files.empty()) {
+        L.fail(n.source(), p + ".depth_files", "no .npy file in '" + dir + "'");
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+/// `depth_files` (recorded depth images, depth_input.hpp) with `depth_scale`
+/// and `depth_offset` of sensor @p s (its resolution loaded): every file a
+/// depth image of the sensor's size, all of one dtype; '<u2' files need the
+/// scale and offset, '<f4' files (metres) refuse them.
+void load_depth_recording(const Loader& L, const toml::table& t, const std::string& p, const std::string& base_dir,
+                          SensorSettings& s) {
+    const bool scale = t.contains("depth_scale") || t.contains("depth_offset");
+    if (!t.contains("depth_files")) {
+        if (scale) {
+            L.fail(t.get(t.contains("depth_scale") ? "depth_scale" : "depth_offset")->source(), p + ".depth_scale",
+                   "depth_scale and depth_offset describe recorded '<u2' depth_files (a live camera's go in "
+                   "[sensors.camera]); this sensor has none");
+        }
+        return;
+    }
+    if (t.contains("pcd_files") || t.contains("camera")) {
+        L.fail(t.get("depth_files")->source(), p + ".depth_files",
+               "a sensor reads one input: recorded depth images (depth_files), recorded point sets (pcd_files) or "
+               "a live camera ([sensors.camera])");
+    }
+    DepthRecordingSettings& r = s.recording;
+    r.files = t.get("depth_files")->is_string() ? load_npy_dir(L, t, p, base_dir)
+                                                : load_file_list(L, t, p, "depth_files", base_dir);
+    NpyDtype first = NpyDtype::kFloat32;
+    for (std::size_t k = 0U; k < r.files.size(); ++k) {
+        NpyDtype dtype = NpyDtype::kFloat32;
+        const IoStatus st = probe_npy_depth(r.files[k].c_str(), s.width, s.height, dtype);
+        const std::string key = p + ".depth_files[" + std::to_string(k) + "]";
+        if (!st) {
+            L.fail(t.get("depth_files")->source(), key, st.message());
+        }
+        if (k == 0U) {
+            first = dtype;
+        } else if (dtype != first) {
+            L.fail(t.get("depth_files")->source(), key,
+                   std::string("dtype '") + npy_descr(dtype) + "' differs from the first file's '" + npy_descr(first) +
+                       "': a sensor's recording has one dtype");
+        }
+    }
+    r.raw = first == NpyDtype::kUInt16;
+    if (r.raw && !(t.contains("depth_scale") && t.contains("depth_offset"))) {
+        L.fail(t.get("depth_files")->source(), p + ".depth_scale",
+               "the depth_files are '<u2' (raw units): give depth_scale (metres per unit) and depth_offset (metres)");
+    }
+    if (!r.raw && scale) {
+        L.fail(t.get(t.contains("depth_scale") ? "depth_scale" : "depth_offset")->source(), p + ".depth_scale",
+               "the depth_files are '<f4' (metres): depth_scale and depth_offset apply to '<u2' files only");
+    }
+    if (r.raw) {
+        load_depth_scale(L, t, p, r.depth_scale_m, r.depth_offset_m);
+    }
+}
+
 /// camera.pixel_format, depth_scale and depth_offset.
 void load_camera_format(const Loader& L, const toml::table& t, const std::string& p, CameraSettings& c) {
     const std::string format = L.string_or(t, p, "pixel_format", "Coord3D_C16");
@@ -269,17 +370,7 @@ void load_camera_format(const Loader& L, const toml::table& t, const std::string
     }
     if (scale) {
         c.has_depth_scale = true;
-        c.depth_scale_m = L.number(t, p, "depth_scale");
-        if (!(c.depth_scale_m > 0.0 && c.depth_scale_m <= 1.0)) {
-            L.fail(t.get("depth_scale")->source(), p + ".depth_scale", "expected metres per unit in (0, 1]");
-        }
-        c.depth_offset_m = L.number(t, p, "depth_offset");
-        const auto range = static_cast<double>(kMaxSensorRange);
-        if (!(std::fabs(c.depth_offset_m) <= range)) {
-            L.fail(t.get("depth_offset")->source(), p + ".depth_offset",
-                   "expected metres in [-" + std::to_string(static_cast<int>(range)) + ", " +
-                       std::to_string(static_cast<int>(range)) + "]");
-        }
+        load_depth_scale(L, t, p, c.depth_scale_m, c.depth_offset_m);
     }
 }
 
@@ -358,7 +449,7 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, co
         const std::string p = "sensors[" + std::to_string(i) + "]";
         L.check_keys(t, p,
                      {"name", "position", "target", "rotation", "resolution", "fov", "intrinsics", "max_range",
-                      "pcd_files", "camera"});
+                      "pcd_files", "depth_files", "depth_scale", "depth_offset", "camera"});
         SensorSettings s;
         s.line = static_cast<int>(t.source().begin.line);
         s.name = L.string(t, p, "name");
@@ -374,8 +465,9 @@ void load_sensors(const Loader& L, const toml::table& root, MonitorConfig& c, co
             L.fail(t.get("max_range")->source(), p + ".max_range",
                    "expected metres in (0, " + std::to_string(kMaxSensorRange) + "]");
         }
+        load_depth_recording(L, t, p, base_dir, s);
         if (t.contains("pcd_files")) {
-            s.pcd_files = load_pcd_files(L, t, p, base_dir);
+            s.pcd_files = load_file_list(L, t, p, "pcd_files", base_dir);
         }
         c.sensors.push_back(s);
     }

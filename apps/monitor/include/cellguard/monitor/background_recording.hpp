@@ -17,6 +17,9 @@
 /// skipped and counted; the recording fails when a sensor gives fewer than
 /// the asked frames before the deadline. Point-set sensors (.pcd) have no
 /// per-pixel view and are refused with a message.
+///
+/// The same recorder writes the sensors' depth images as files
+/// (record_depth_frames, `--record-depth DIR`), to be replayed as `depth_files`.
 #ifndef CELLGUARD_MONITOR_BACKGROUND_RECORDING_HPP
 #define CELLGUARD_MONITOR_BACKGROUND_RECORDING_HPP
 
@@ -72,6 +75,28 @@ protected:
                                                  const std::vector<cell::FrameSource*>& sources,
                                                  const BackgroundRecording& rec, RecordingTime& time,
                                                  std::vector<RecordedSensor>& sensors, std::FILE* out);
+
+/// Most frames record_depth_frames records per sensor.
+constexpr int kMaxRecordedFrames = 100000;
+
+/// How to record depth images (`cellguard-monitor --record-depth DIR`).
+struct DepthRecording {
+    std::string dir;                        ///< DIR: one subfolder per sensor, named as the sensor
+    int frames = 60;                        ///< distinct frames per sensor (1..kMaxRecordedFrames)
+    std::uint64_t deadline_us = 30000000U;  ///< longest wait for all frames of live sensors
+    std::uint64_t poll_us = 5000U;          ///< wait between two polls of a live sensor without a new frame
+};
+
+/// Records @p rec.frames distinct frames from each of @p sources (one per
+/// sensor of @p cell) as depth images, `DIR/<sensor>/frame-NNNNNN.npy`
+/// (depth_npy.hpp: '<u2' as a live camera delivers them, '<f4' metres for
+/// simulated sensors), which a sensor's `depth_files = "DIR/<sensor>"`
+/// replays through the camera path. A live camera's frame counts once
+/// (as for record_background_views). Point-set sensors are refused (exit
+/// status 2). Errors name the sensor or the file.
+[[nodiscard]] SetupError record_depth_frames(const MonitorCell& cell, const std::vector<cell::FrameSource*>& sources,
+                                             const DepthRecording& rec, RecordingTime& time,
+                                             std::vector<RecordedSensor>& sensors, std::FILE* out);
 
 }  // namespace cellguard::monitor
 

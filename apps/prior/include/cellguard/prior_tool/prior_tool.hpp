@@ -12,7 +12,7 @@
 /// tests and for other host tools:
 /// - the background G_B: from a .npy grid (load_background_npy), from
 ///   recorded .pcd frames with sensor poses from the monitor's TOML
-///   configuration (PcdFrameSource), or from the simulated empty paper cell
+///   configuration (RecordedFrameSource), or from the simulated empty paper cell
 ///   (SimulatedFrameSource), fused and accumulated as the monitor and the
 ///   firmware generator do (accumulate_frames);
 /// - the analysis (compute_prior: lib's compute_accessibility_prior);
@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -38,6 +39,8 @@
 #include "cellguard/grid/grid.hpp"
 #include "cellguard/grid/sensor_frame.hpp"
 #include "cellguard/grid/sensor_model.hpp"
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/io/io_status.hpp"
 #include "cellguard/host/io/prior_files.hpp"
@@ -175,24 +178,29 @@ struct RecordedSensor {
     float max_range = 10.0F;                                 ///< readings beyond are not fused
     double hfov_deg = 0.0;                                   ///< horizontal field of view (its view's direction grid)
     double vfov_deg = 0.0;                                   ///< vertical field of view
-    std::vector<std::string> files;                          ///< its frames, in order
+    std::vector<std::string> files;                          ///< its frames, in order (.pcd point sets)
+    PinholeIntrinsics intrinsics{};                          ///< the cell's model of its camera (depth images)
+    cell::DepthRecordingSettings recording;                  ///< its recorded depth images (`depth_files`), in order
 };
 
-/// Recorded .pcd frames: frame k holds the k-th file of every sensor that
-/// has one. Each file is read and checked by the monitor's reader
-/// (apps/monitor pcd_input.hpp: decodes, at most width x height points, an
+/// Recorded frames: frame k holds the k-th file of every sensor that has
+/// one, .pcd point sets (`pcd_files`, --frames, --frame) or depth images
+/// (`depth_files`). Each file is read and checked by the monitor's reader
+/// (apps/host pcd_input.hpp: decodes, at most width x height points, an
 /// organised cloud of the sensor's resolution, a VIEWPOINT without
-/// translation or equal to the configured pose); a file that fails is an
+/// translation or equal to the configured pose; depth_input.hpp: the .npy
+/// format, dtype and the sensor's (height, width)); a file that fails is an
 /// error naming it, never a frame left out silently.
-class PcdFrameSource final : public FrameSource {
+class RecordedFrameSource final : public FrameSource {
 public:
     /// Frames of @p sensors (each with at least one file, else it is left out).
-    explicit PcdFrameSource(const std::vector<RecordedSensor>& sensors);
+    explicit RecordedFrameSource(const std::vector<RecordedSensor>& sensors);
     [[nodiscard]] std::size_t frame_count() const override { return frames_; }
     IoStatus frame(std::size_t k, std::vector<SensorReading>& readings) override;
 
 private:
-    std::vector<cell::PcdFrameSource> sources_;
+    std::vector<std::unique_ptr<cell::FrameSource>> sources_;
+    std::vector<std::string> names_;
     std::vector<std::size_t> file_counts_;
     std::size_t frames_ = 0U;
 };

@@ -43,15 +43,6 @@ namespace cellguard::cell {
 /// the other clock limits are port/linux's defaults.
 [[nodiscard]] linux_port::GigeCameraConfig gige_config(const SensorSettings& s);
 
-/// How a CameraFrameSource describes its readings.
-struct CameraReadingParams {
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell
-    PinholeIntrinsics intrinsics{};                          ///< the sensor's (width and height too)
-    float depth_scale_m = 0.001F;                            ///< metres per raw unit
-    float depth_offset_m = 0.0F;                             ///< metres
-    float max_range = 10.0F;                                 ///< metres
-};
-
 /// The counts of a CameraFrameSource's cycles.
 struct CameraSourceCounts {
     std::uint64_t new_frames = 0U;        ///< cycles given a frame not given before

@@ -82,6 +82,16 @@ struct CameraSettings {
     int line = 0;  ///< line of the [sensors.camera] table
 };
 
+/// Recorded depth images of one sensor (`depth_files`, depth_input.hpp).
+struct DepthRecordingSettings {
+    /// .npy files (relative paths resolved against the config file's
+    /// directory), one per cycle in order, cycled; empty: not a recording.
+    std::vector<std::string> files;
+    bool raw = false;              ///< the files are '<u2' raw units; false: '<f4' metres
+    double depth_scale_m = 0.001;  ///< raw: depth_scale, metres per raw unit
+    double depth_offset_m = 0.0;   ///< raw: depth_offset, metres
+};
+
 /// One static depth sensor.
 struct SensorSettings {
     std::string name;                                    ///< label
@@ -104,7 +114,8 @@ struct SensorSettings {
     /// Recorded frames (PCD files, relative paths resolved against the config
     /// file's directory), one per cycle in order, cycled; empty: the simulator.
     std::vector<std::string> pcd_files;
-    int line = 0;  ///< line of its table in the file
+    DepthRecordingSettings recording;  ///< recorded depth images (depth_files), through the camera path
+    int line = 0;                      ///< line of its table in the file
 };
 
 /// One zone and where it was configured.
@@ -295,6 +306,9 @@ ConfigLoad load_monitor_config(const std::string& path);
 /// the roll. The monitor and the commissioning tool both take recorded
 /// sensors' poses from here.
 Eigen::Isometry3d sensor_pose(const SensorSettings& s);
+/// Sensor @p s's pinhole intrinsics as the cell's sensor model has them (sim::SensorSpec::intrinsics):
+/// configured or read from the device (fx..cy), else from the fields of view with a centred principal point.
+PinholeIntrinsics sensor_intrinsics(const SensorSettings& s);
 /// Sets @p s's pinhole intrinsics (pixels) and the fields of view derived
 /// from them as the simulator derives them (sim::SensorSpec::set_intrinsics):
 /// for a configured intrinsics table and for a camera's Scan3d values alike.

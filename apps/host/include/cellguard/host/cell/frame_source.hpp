@@ -37,6 +37,16 @@ struct FrameStatus {
     std::uint64_t stamp_us = 0U;  ///< has_stamp: the capture time, CLOCK_MONOTONIC microseconds
 };
 
+/// How a depth camera's readings are described: a live camera's
+/// (CameraFrameSource, camera_input.hpp) and a recorded one's (DepthFileFrameSource, depth_input.hpp).
+struct CameraReadingParams {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> cell
+    PinholeIntrinsics intrinsics{};                          ///< the sensor's (width and height too)
+    float depth_scale_m = 0.001F;                            ///< metres per raw unit
+    float depth_offset_m = 0.0F;                             ///< metres
+    float max_range = 10.0F;                                 ///< metres
+};
+
 /// One sensor's frames.
 class FrameSource {
 public:
