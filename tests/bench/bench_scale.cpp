@@ -872,8 +872,8 @@ int main(int argc, char** argv) {
     std::printf(
         "goal: the 2.5 cm cell's worst cycle within 33 ms %s, on two threads (max %.2f ms CPU, %.2f ms wall) %s\n",
         on.c_str(), max25_cpu, max25_wall, verdict("real-2.5cm", j25 <= 33.0 && opt.threads == 2));
-    std::printf("goal: the tables within 64 MiB (largest %.2f MiB) %s\n", largest_mib,
-                largest_mib <= 64.0 ? "met" : "NOT met");
+    std::printf("goal: the 2.5 cm cell's tables and scratch within 64 MiB (largest of the cells run %.2f MiB) %s\n",
+                largest_mib, verdict("real-2.5cm", largest_mib <= 64.0));
     if (std::isfinite(min_ratio)) {
         std::printf("goal: fusion alone at least 100x OctoMap on the same readings (smallest %.1fx, %s) %s\n",
                     min_ratio, min_ratio_at.c_str(), min_ratio >= 100.0 ? "met" : "NOT met");

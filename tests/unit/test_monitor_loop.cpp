@@ -198,6 +198,25 @@ TEST_CASE("monitor loop: 1,000 cycles of the simulated demo allocate nothing and
 
 // Issue 32: live-camera runs printed the demo's scripted person on the status line.
 // verifies: SR-SYS-001
+TEST_CASE("monitor loop: the summary's figures are the median, the 99th and 99.9th percentiles and the maximum") {
+    std::vector<std::uint64_t> us;
+    for (std::uint64_t k = 1000U; k >= 1U; --k) {  // 1000 .. 1, descending: the figures sort
+        us.push_back(k);
+    }
+    const DurationFigures f = duration_figures(us, us.size());
+    CHECK(f.count == 1000U);
+    CHECK(f.median == 501U);
+    CHECK(f.p99 == 990U);
+    CHECK(f.p999 == 999U);
+    CHECK(f.max == 1000U);
+    const DurationFigures few = duration_figures(us, 10U);  // the first 10: 1000 .. 991
+    CHECK(few.count == 10U);
+    CHECK(few.p999 == 1000U);  // with fewer than 1,000 durations p99.9 is the maximum
+    CHECK(few.median == 996U);
+    CHECK(duration_figures(us, 0U).count == 0U);
+}
+
+// verifies: SR-SYS-001
 TEST_CASE("monitor loop: the status line shows the scripted person for simulated sensors only") {
     Monitor m(demo_config());
     static_cast<void>(m.loop->run_cycle(0));

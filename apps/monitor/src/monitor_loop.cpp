@@ -89,6 +89,7 @@ DurationFigures duration_figures(const std::vector<std::uint64_t>& us, std::size
     }
     f.median = sorted[f.count / 2U];
     f.p99 = sorted[(f.count * 99U + 99U) / 100U - 1U];
+    f.p999 = sorted[(f.count * 999U + 999U) / 1000U - 1U];
     f.max = sorted.back();
     return f;
 }
@@ -401,8 +402,10 @@ void MonitorLoop::write_timing(std::FILE* out) const noexcept {
             const DurationFigures latency = duration_figures(stats_.latency_us, stats_.latency_count);
             static_cast<void>(std::fprintf(out,
                                            "summary: latency from the newest camera frame's capture to its CAN "
-                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, max %.2f ms\n",
-                                           latency.count, ms(latency.median), ms(latency.p99), ms(latency.max)));
+                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, p99.9 %.2f ms, "
+                                           "max %.2f ms\n",
+                                           latency.count, ms(latency.median), ms(latency.p99), ms(latency.p999),
+                                           ms(latency.max)));
         }
     } catch (...) {
         static_cast<void>(std::fprintf(out, "summary: cycle time figures: out of memory\n"));

@@ -88,6 +88,7 @@ struct DurationFigures {
     std::size_t count = 0U;     ///< durations
     std::uint64_t median = 0U;  ///< the middle one (the upper of the two middle ones)
     std::uint64_t p99 = 0U;     ///< the ceil(0.99 n)-th smallest
+    std::uint64_t p999 = 0U;    ///< the ceil(0.999 n)-th smallest
     std::uint64_t max = 0U;     ///< the largest
 };
 /// The figures of the first @p n of @p us (fewer when it holds fewer).
