@@ -72,31 +72,6 @@ private:
     int frame_ = 0;
 };
 
-/// The empty cell's render of one sensor (the demo's simulated sources
-/// always hold its person), odd frames one float step deeper at one pixel
-/// as the simulated sources' dither.
-class EmptyCell final : public cell::FrameSource {
-public:
-    explicit EmptyCell(const SensorReading& layout)
-        : layout_(layout), depth_(layout.depth.data(), layout.depth.data() + layout.depth.size()) {}
-    bool load_frame(std::uint64_t cycle, SensorReading& reading, cell::FrameStatus& status) noexcept override {
-        status = cell::FrameStatus{};
-        std::copy(layout_.depth.data(), layout_.depth.data() + layout_.depth.size(), depth_.begin());
-        if (cycle % 2U == 1U && !depth_.empty()) {
-            depth_[0] = std::nextafter(depth_[0], 100.0F);
-        }
-        reading = layout_;
-        reading.depth = Span<const float>(depth_.data(), depth_.size());
-        status.ok = true;
-        return true;
-    }
-    void write_summary(std::FILE* /*out*/) const noexcept override {}
-
-private:
-    SensorReading layout_;
-    std::vector<float> depth_;
-};
-
 /// A source that never gives a frame (a camera that does not stream).
 class Silent final : public cell::FrameSource {
 public:
@@ -132,7 +107,7 @@ struct Commissioned {
         REQUIRE_FALSE(cell.build_prior(cfg, nullptr).failed());
         REQUIRE_FALSE(cell.build_tables(cfg, nullptr).failed());
         for (std::size_t i = 0; i < cell.specs.size(); ++i) {
-            empty.push_back(std::make_unique<EmptyCell>(cell.layout.readings[i]));
+            empty.push_back(std::make_unique<cell::EmptyCellFrameSource>(cell.layout.readings[i]));
             sources.push_back(empty.back().get());
         }
     }
@@ -156,7 +131,7 @@ struct Commissioned {
     std::string text;
     cell::MonitorConfig cfg;
     monitor::MonitorCell cell;
-    std::vector<std::unique_ptr<EmptyCell>> empty;
+    std::vector<std::unique_ptr<cell::EmptyCellFrameSource>> empty;
     std::vector<cell::FrameSource*> sources;
 };
 

@@ -366,9 +366,16 @@ std::unique_ptr<FrameSource> make_depth_file_source(const SensorSettings& settin
                                                         settings.recording.raw);
 }
 
+/// Which scene a simulated sensor shows.
+enum class SimulatedScene : std::uint8_t {
+    kDemo = 0,   ///< the demo's: the scripted person, or a scene file's robot and persons
+    kEmpty = 1,  ///< the empty cell (commissioning: the background's render, MonitorCell::layout)
+};
+
 /// One frame source per sensor: its live camera, its recorded depth images or PCD files, else the simulator.
 std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg, const MonitorCell& cell,
-                                                       MonitorCameras& cameras) {
+                                                       MonitorCameras& cameras,
+                                                       SimulatedScene scene = SimulatedScene::kDemo) {
     std::vector<std::unique_ptr<FrameSource>> sources;
     for (std::size_t s = 0U; s < cfg.sensors.size(); ++s) {
         const sim::SensorSpec& spec = cell.specs[s];
@@ -376,6 +383,8 @@ std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg,
             sources.push_back(cameras.make_source(s, cfg.sensors[s], spec));
         } else if (!cfg.sensors[s].recording.files.empty()) {
             sources.push_back(make_depth_file_source(cfg.sensors[s], spec));
+        } else if (scene == SimulatedScene::kEmpty && cfg.sensors[s].pcd_files.empty()) {
+            sources.push_back(std::make_unique<EmptyCellFrameSource>(cell.layout.readings[s]));
         } else if (cell.has_scene) {
             sources.push_back(std::make_unique<SceneFrameSource>(spec, cell.simulation));
         } else if (cfg.sensors[s].pcd_files.empty()) {
@@ -422,7 +431,9 @@ int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& 
     if (const SetupError e = cell.build_tables(recording, stdout); e.failed()) {
         return fail(e);
     }
-    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(recording, cell, cameras);
+    // Simulated sensors show the empty cell: the demo's person or robot must not enter the views.
+    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(recording, cell, cameras,
+                                                                         SimulatedScene::kEmpty);
     std::vector<FrameSource*> sources = pointers_to(owned);
     BackgroundRecording rec;
     rec.path = opt.write_background;

@@ -97,4 +97,21 @@ bool SceneFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, F
 
 void SceneFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
 
+EmptyCellFrameSource::EmptyCellFrameSource(const SensorReading& view, FrameDither dither)
+    : view_(view), dither_(dither), depth_(view.depth.data(), view.depth.data() + view.depth.size()) {}
+
+bool EmptyCellFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept {
+    status = FrameStatus{};
+    std::copy(view_.depth.data(), view_.depth.data() + view_.depth.size(), depth_.begin());
+    if (dither_ == FrameDither::kOn) {
+        dither_depth(cycle, Span<float>(depth_.data(), depth_.size()));
+    }
+    reading = view_;
+    reading.depth = Span<const float>(depth_.data(), depth_.size());
+    status.ok = true;
+    return true;
+}
+
+void EmptyCellFrameSource::write_summary(std::FILE* /*out*/) const noexcept {}
+
 }  // namespace cellguard::cell

@@ -123,6 +123,26 @@ private:
     std::uint64_t renders_ = 0U;
 };
 
+/// A simulated sensor's view of the empty cell, for commissioning
+/// (`cellguard-monitor --write-background`): the render @p view of the cell's
+/// background alone (MonitorCell's layout: no scripted person, no scene's
+/// robot or persons), every cycle, with dither_depth unless FrameDither::kOff,
+/// so that the recorded views are the empty cell's, as the prior's are.
+class EmptyCellFrameSource final : public FrameSource {
+public:
+    /// A source of @p view (a depth image; copied, with its description).
+    explicit EmptyCellFrameSource(const SensorReading& view, FrameDither dither = FrameDither::kOn);
+
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
+    /// A simulated sensor has no summary line.
+    void write_summary(std::FILE* out) const noexcept override;
+
+private:
+    SensorReading view_;
+    FrameDither dither_;
+    std::vector<float> depth_;
+};
+
 /// A simulated sensor of a scene-file cell (the robot-cell demo): every
 /// cycle it ray casts the scene that @p simulation holds at that moment (the
 /// monitor's loop moves the simulation before it loads the frames) into its
