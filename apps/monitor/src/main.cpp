@@ -422,6 +422,12 @@ private:
     linux_port::LinuxMonotonicClock clock_;
 };
 
+/// How long a recording (--write-background, --record-depth) waits for @p frames frames of every
+/// sensor: live cameras at their frame rate, plus their start: a generous bound, not a timing claim.
+std::uint64_t recording_deadline_us(int frames, std::uint64_t period_us) {
+    return 10000000U + static_cast<std::uint64_t>(frames) * 4U * std::max<std::uint64_t>(period_us, 100000U);
+}
+
 /// --write-background: records the views from the sensors' own frames and exits.
 int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& cell, MonitorCameras& cameras) {
     // The views' identities come from the sensors' layout (build_tables); the file to be
@@ -438,9 +444,7 @@ int write_background(const Options& opt, const MonitorConfig& cfg, MonitorCell& 
     BackgroundRecording rec;
     rec.path = opt.write_background;
     rec.frames = opt.background_frames > 0 ? opt.background_frames : cfg.prior.background_frames;
-    // Live cameras at their frame rate, plus their start: a generous bound, not a timing claim.
-    rec.deadline_us = 10000000U +
-                      static_cast<std::uint64_t>(rec.frames) * 4U * std::max<std::uint64_t>(cfg.period_us, 100000U);
+    rec.deadline_us = recording_deadline_us(rec.frames, cfg.period_us);
     RealRecordingTime time;
     std::vector<RecordedSensor> counts;
     if (const SetupError e = record_background_views(cell, sources, rec, time, counts, stdout); e.failed()) {
@@ -459,8 +463,7 @@ int record_depth(const Options& opt, const MonitorConfig& cfg, MonitorCell& cell
     DepthRecording rec;
     rec.dir = opt.record_depth;
     rec.frames = cfg.demo_cycles;
-    rec.deadline_us = 10000000U +
-                      static_cast<std::uint64_t>(rec.frames) * 4U * std::max<std::uint64_t>(cfg.period_us, 100000U);
+    rec.deadline_us = recording_deadline_us(rec.frames, cfg.period_us);
     RealRecordingTime time;
     std::vector<RecordedSensor> counts;
     if (const SetupError e = record_depth_frames(cell, sources, rec, time, counts, stdout); e.failed()) {

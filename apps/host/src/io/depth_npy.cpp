@@ -72,16 +72,7 @@ IoStatus check_npy_depth_layout(const NpyHeader& header, int width, int height, 
                                  height, width, header.ndim, header.ndim > 0U ? header.shape[0] : 0U,
                                  header.ndim > 1U ? header.shape[1] : 0U);
     }
-    if (total_size < header.data_offset || total_size - header.data_offset < header.data_bytes) {
-        return IoStatus::failure(ErrorCode::kTruncatedInput, "npy: data is %" PRIu64 " bytes, the shape needs %" PRIu64,
-                                 total_size < header.data_offset ? 0U : total_size - header.data_offset,
-                                 header.data_bytes);
-    }
-    if (total_size - header.data_offset != header.data_bytes) {
-        return IoStatus::failure(ErrorCode::kMalformedInput, "npy: %" PRIu64 " bytes after the data",
-                                 total_size - header.data_offset - header.data_bytes);
-    }
-    return IoStatus{};
+    return check_npy_data_size(header, total_size);
 }
 
 IoStatus decode_npy_depth(const std::uint8_t* data, std::size_t size, int width, int height,

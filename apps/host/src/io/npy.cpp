@@ -556,6 +556,10 @@ IoStatus check_npy_layout(const NpyHeader& header, NpyDtype dtype, GridDims dims
         return IoStatus::failure(ErrorCode::kGeometryMismatch,
                                  "npy: shape %s differs from the expected (nz, ny, nx) %s", got, want);
     }
+    return check_npy_data_size(header, total_size);
+}
+
+IoStatus check_npy_data_size(const NpyHeader& header, std::uint64_t total_size) noexcept {
     if (total_size < header.data_offset || total_size - header.data_offset < header.data_bytes) {
         return IoStatus::failure(ErrorCode::kTruncatedInput, "npy: data is %" PRIu64 " bytes, the shape needs %" PRIu64,
                                  total_size < header.data_offset ? 0U : total_size - header.data_offset,

@@ -87,6 +87,12 @@ IoStatus parse_npy_header(const std::uint8_t* data, std::size_t size, NpyHeader&
 /// data), kMalformedInput (trailing bytes).
 IoStatus check_npy_layout(const NpyHeader& header, NpyDtype dtype, GridDims dims, std::uint64_t total_size) noexcept;
 
+/// Checks that a file of exactly @p total_size bytes holds the data @p header
+/// describes after its header, no more and no less. Errors: kTruncatedInput
+/// (file shorter than the data), kMalformedInput (trailing bytes). The last
+/// step of check_npy_layout and check_npy_depth_layout (depth_npy.hpp).
+IoStatus check_npy_data_size(const NpyHeader& header, std::uint64_t total_size) noexcept;
+
 /// The .npy preamble and header numpy writes (version 1.0) for an array of
 /// @p dtype and shape (nz, ny, nx), into @p out; @p length receives its size
 /// (a multiple of 64). Errors: kInvalidArgument (a dimension < 1),
