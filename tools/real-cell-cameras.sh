@@ -5,8 +5,9 @@
 # serves apps/monitor/config/real-cell.toml's four 640x480 cameras at 30 Hz
 # as fake GigE Vision depth cameras on 127.0.0.2-5, and cellguard-monitor
 # --paced runs the same cell from them, on the real clock and the real budget
-# (33.3 ms). Prints the monitor's summary: cycle times, overruns, and the
-# latency from each frame's capture to its CAN frames.
+# (33.3 ms), each cycle started by the cameras' frames. Prints the monitor's
+# summary: cycle times (wall and the cycle thread's CPU time), overruns, and the
+# latency from each frame's capture and arrival to its CAN frames.
 #
 # The camera variant of the configuration is written from real-cell.toml
 # (a [sensors.camera] table per sensor, the fakes' dither answered by the
@@ -18,6 +19,8 @@
 #   --threads T  the configuration's fusion.threads (default: real-cell.toml's)
 #   --build DIR  the build tree (default build)
 #   --out DIR    where the configuration, the logs and the summary go (default: a new temporary directory)
+# Environment: CELLGUARD_MONITOR_ARGS, more arguments for the monitor (e.g. --period-start:
+# cycles on the fixed period instead of started by the cameras' frames, for a comparison).
 # Nothing leaves the machine: it runs inside tools/netns-run.sh (loopback only).
 # Exit status: 0 the run ended (its figures are printed: this is a measurement, not a test), 1 it did
 # not, 2 usage, 77 no namespace.
@@ -85,7 +88,7 @@ if [[ $(grep -c '^serving sensor' fake.txt 2>/dev/null) -ne 4 ]]; then
     kill "$fake_pid" 2>/dev/null
     exit 1
 fi
-timeout $((duration + 30)) "$monitor" --config "$config" --paced --quiet --cycles "$cycles" >monitor.txt 2>&1
+timeout $((duration + 30)) "$monitor" --config "$config" --paced --quiet --cycles "$cycles" ${CELLGUARD_MONITOR_ARGS:-} >monitor.txt 2>&1
 status=$?
 kill "$fake_pid" 2>/dev/null
 wait "$fake_pid" 2>/dev/null

@@ -89,18 +89,26 @@ TEST_CASE("gige camera input: the camera table becomes port/linux's settings") {
     CHECK(gige_config(s).pixel_format == linux_port::GigePixelFormat::kCoord3dC16);
 }
 
-// verifies: SR-CAM-003, SR-CAM-006
+// verifies: SR-CAM-003, SR-CAM-006, SR-CAM-010
 TEST_CASE("gige camera: the frame source gives the newest frame as a stamped uint16 depth image" * doctest::skip()) {
     FakeGigeCamera fake("GIGE-IN-A");
     REQUIRE_MESSAGE(fake.started(), "arv-fake-gv-camera-0.8 did not start (aravis-tools)");
-    linux_port::GigeCamera camera(gige_config(camera_sensor()));
+    linux_port::FrameSignal signal;  // the paced loop's wake-up (SR-CAM-010)
+    linux_port::GigeCameraConfig config = gige_config(camera_sensor());
+    config.signal = &signal;
+    linux_port::GigeCamera camera(config);
     std::string error;
     REQUIRE_MESSAGE(camera.start(error), error);
     CameraFrameSource source("cam", camera, reading_params());
     SensorReading reading;
     FrameStatus status;
     REQUIRE(wait_for([&] { return camera.counters().published > 2U; }, 3000));
+    CHECK(camera.published() > 2U);
+    CHECK(signal.value() >= 2U);    // notified after each publish (the third's notify may be under way)
+    CHECK(source.has_new_frame());  // nothing given yet
     REQUIRE_MESSAGE(source.load_frame(0U, reading, status), status.reason);
+    CHECK(status.receive_us >= status.stamp_us);  // arrived after its capture
+    CHECK(status.receive_us <= cellguard::test::monotonic_now_us());
     CHECK(status.ok);
     CHECK(status.has_stamp);
     CHECK(status.stamp_us <= cellguard::test::monotonic_now_us());
@@ -132,6 +140,7 @@ TEST_CASE("gige camera: the frame source gives the newest frame as a stamped uin
     sleep_ms(300);
     REQUIRE(source.load_frame(3U, reading, status));
     CHECK(status.stamp_us == last);
+    CHECK_FALSE(source.has_new_frame());  // a dead camera has nothing new: the paced loop waits to its deadline
     char* text = nullptr;
     std::size_t length = 0U;
     std::FILE* out = open_memstream(&text, &length);

@@ -9,6 +9,7 @@
 // the controller's pairs, and without a PLC link no pair is accepted.
 #include <doctest/doctest.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -28,6 +29,8 @@
 #include "cellguard/monitor/cycle_clock.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/monitor_loop.hpp"
+#include "cellguard/port/clock.hpp"
+#include "cellguard/port/frame_signal.hpp"
 #include "monitor_test_doubles.hpp"
 #include "test_tags.hpp"
 
@@ -53,7 +56,9 @@ public:
         return inner_->load_frame(cycle, reading, status);
     }
     void write_summary(std::FILE* out) const noexcept override { inner_->write_summary(out); }
+    [[nodiscard]] bool has_new_frame() const noexcept override { return new_frames; }
 
+    bool new_frames = true;  ///< what has_new_frame() says (a live camera's answer, set by the test)
     std::uint64_t loads = 0U;
     std::uint64_t next_cycle = 0U;
     std::uint64_t out_of_order = 0U;
@@ -394,4 +399,61 @@ TEST_CASE("monitor: reset_required on is refused at start in a cell without a PL
     // A cell with monitoring cases and no robot has a command too, so its reset.
     cfg.cases.push_back(cell::CaseSettings{});
     CHECK_FALSE(monitor::check_start_settings(cfg).failed());
+}
+
+// A paced run started by the cameras' frames (run_cycles with a FrameSignal), on
+// sources whose has_new_frame() the test sets. Only lower bounds of time are
+// checked (a loaded host makes every wait longer, never shorter).
+// verifies: SR-CAM-010
+TEST_CASE("monitor loop: paced by frames, cycles start when every source has a new frame, half a period apart") {
+    Monitor m(demo_config());
+    CHECK(m.loop->frames_ready());
+    linux_port::FrameSignal signal;
+    const volatile std::sig_atomic_t stop = 0;
+    const std::uint64_t period_us = 20000U;
+    const std::uint64_t start = linux_port::monotonic_now_us();
+    const RunResult run = run_cycles(*m.loop, 6, period_us, true, stop, &signal);
+    const std::uint64_t elapsed = linux_port::monotonic_now_us() - start;
+    CHECK(run.frame_started);
+    CHECK(run.frame_starts == 6U);
+    CHECK(run.deadline_starts == 0U);
+    CHECK(elapsed >= 5U * period_us / 2U);  // the first at once, then every half period at the earliest
+    for (const std::unique_ptr<CountingSource>& c : m.counted) {
+        CHECK(c->loads == 6U);
+    }
+}
+
+// verifies: SR-CAM-010
+TEST_CASE("monitor loop: paced by frames, a source without a new frame holds the cycle to 1.125 periods, no longer") {
+    Monitor m(demo_config());
+    m.counted.back()->new_frames = false;  // one camera sends nothing new
+    CHECK_FALSE(m.loop->frames_ready());
+    linux_port::FrameSignal signal;
+    signal.notify();  // a notify without a new frame of every source starts nothing
+    const volatile std::sig_atomic_t stop = 0;
+    const std::uint64_t period_us = 16000U;
+    const std::uint64_t start = linux_port::monotonic_now_us();
+    const RunResult run = run_cycles(*m.loop, 4, period_us, true, stop, &signal);
+    const std::uint64_t elapsed = linux_port::monotonic_now_us() - start;
+    CHECK(run.frame_starts == 0U);
+    CHECK(run.deadline_starts == 4U);
+    CHECK(elapsed >= 3U * (period_us + period_us / 8U));
+    // Every cycle ran and loaded every source: the old frame goes to the controller, whose frame-age check judges it.
+    CHECK(m.loop->stats().cycles_run == 4);
+    for (const std::unique_ptr<CountingSource>& c : m.counted) {
+        CHECK(c->loads == 4U);
+    }
+}
+
+// verifies: SR-CAM-007
+TEST_CASE("monitor loop: the cycle thread's CPU time is counted per cycle and against the budget") {
+    Monitor m(demo_config());
+    static_cast<void>(m.run(5));
+    const MonitorStats& st = m.loop->stats();
+    REQUIRE(st.cpu_us.size() >= 5U);
+    for (std::size_t k = 0U; k < 5U; ++k) {
+        CHECK(st.cpu_us[k] > 0U);  // a cycle fuses four images: it takes CPU time (the clock here is simulated)
+    }
+    CHECK(st.cpu_over_budget == 0);  // the test's budget is 60 s
+    CHECK(st.arrival_count == 0U);   // no live camera: no arrival times
 }

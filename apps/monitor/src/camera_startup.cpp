@@ -29,6 +29,7 @@ struct MonitorCameras::Cameras {
     std::vector<std::unique_ptr<linux_port::GigeCamera>> cameras;  ///< per sensor (nullptr: no camera)
     std::vector<float> scale;                                      ///< per sensor: metres per raw unit
     std::vector<float> offset;                                     ///< per sensor: metres
+    linux_port::FrameSignal signal;                                ///< notified by every camera
 };
 
 namespace {
@@ -121,7 +122,9 @@ SetupError MonitorCameras::open(cell::MonitorConfig& cfg, bool paced, std::FILE*
         if (!s.camera.enabled) {
             continue;
         }
-        auto camera = std::make_unique<linux_port::GigeCamera>(cell::gige_config(s));
+        linux_port::GigeCameraConfig camera_config = cell::gige_config(s);
+        camera_config.signal = &c.signal;
+        auto camera = std::make_unique<linux_port::GigeCamera>(camera_config);
         std::string error;
         if (!camera->start(error)) {
             return SetupError{1, error};
@@ -168,6 +171,12 @@ std::unique_ptr<cell::FrameSource> MonitorCameras::make_source(std::size_t s, co
     return std::make_unique<cell::CameraFrameSource>(settings.name, *cameras_->cameras[s], p);
 }
 
+linux_port::FrameSignal* MonitorCameras::frame_signal() noexcept {
+    const bool any = std::any_of(cameras_->cameras.begin(), cameras_->cameras.end(),
+                                 [](const std::unique_ptr<linux_port::GigeCamera>& c) { return c != nullptr; });
+    return any ? &cameras_->signal : nullptr;
+}
+
 #else  // built without Aravis
 
 struct MonitorCameras::Cameras {};
@@ -192,6 +201,8 @@ std::unique_ptr<cell::FrameSource> MonitorCameras::make_source(std::size_t /*s*/
                                                                const sim::SensorSpec& /*spec*/) {
     return nullptr;
 }
+
+linux_port::FrameSignal* MonitorCameras::frame_signal() noexcept { return nullptr; }
 
 #endif
 

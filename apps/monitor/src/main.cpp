@@ -68,7 +68,8 @@ struct Options {
     std::string log_file;
     std::string can_interface;
     bool paced = false;
-    int budget_ms = -1;  ///< -1: the config's budget
+    bool period_start = false;  ///< --period-start: paced by the period even with live cameras
+    int budget_ms = -1;         ///< -1: the config's budget
     bool realtime = false;
     bool quiet = false;
     std::string picture;
@@ -184,6 +185,10 @@ int parse_args(int argc, char** argv, Options& o) {
              "one cycle per period on the real clock (default: as fast as possible, on\n"
              "simulated time: the decisions, the budget and the CAN log's times do not\n"
              "depend on the host's speed; the cycle times shown are real)");
+    cli.flag("--period-start", o.period_start,
+             "paced with live cameras: start each cycle at the next period, as without\n"
+             "cameras (default: as soon as every camera has a new frame, half a period\n"
+             "after the previous start at the earliest, 1.125 periods at the latest)");
     cli.integer("--budget-ms", o.budget_ms, 1, 60000, "MS",
                 "cycle time budget (1..60000), overriding the config's cycle.budget_ms; for tests on\n"
                 "emulators or loaded hosts, where the real budget is not the point");
@@ -601,9 +606,10 @@ void stop_http(const std::unique_ptr<LiveView>& live, std::shared_ptr<void>& web
 }
 
 /// The run after the set-up: the start lines, the daemon's observers, the
-/// cycles, the summary; returns the exit status.
+/// cycles (started by @p frames' cameras when not null, run_cycles), the
+/// summary; returns the exit status.
 int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCell& cell, CanPort& can,
-                   MonitorLoop& loop) {
+                   MonitorLoop& loop, linux_port::FrameSignal* frames) {
     std::printf("prior CRC-32 0x%08X, %zu zones, period %.1f ms, %d cycles%s\n", loop.controller().prior_crc(),
                 cell.zones.size(), static_cast<double>(cfg.period_us) / 1000.0, cfg.demo_cycles,
                 opt.paced ? ", paced" : "");
@@ -639,7 +645,8 @@ int run_and_report(const Options& opt, const MonitorConfig& cfg, const MonitorCe
         return fail(SetupError{1, std::string("stack painting refused: ") + to_string(st.error())});
     }
     const int cycles_to_run = opt.forever ? std::numeric_limits<int>::max() : cfg.demo_cycles;
-    const RunResult run = run_cycles(loop, cycles_to_run, cfg.period_us, opt.paced, g_stop_signal);
+    const RunResult run = run_cycles(loop, cycles_to_run, cfg.period_us, opt.paced, g_stop_signal,
+                                     opt.period_start ? nullptr : frames);
     stop_http(live, web);
     daemon.finish(run, loop);
     const bool log_ok = can.close();
@@ -754,7 +761,7 @@ int run_monitor(int argc, char** argv) {
             std::fprintf(stderr, "cellguard-monitor: CAN output refused: %s\n", to_string(loop.status().error())));
         return 2;
     }
-    return run_and_report(opt, cfg, cell, can, loop);
+    return run_and_report(opt, cfg, cell, can, loop, cameras.frame_signal());
 }
 
 }  // namespace

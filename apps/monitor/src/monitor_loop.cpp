@@ -72,6 +72,34 @@ void wait_for_period(timespec& next, std::uint64_t period_us, std::uint64_t& ski
     }
 }
 
+// Paced by frames (run_cycles): sleeps until half a period after @p last_start_us
+// (0: the first cycle, no wait), then until every source of @p loop has a new
+// frame or 1.125 periods after @p last_start_us have passed; counts which came first.
+void wait_for_frames(const MonitorLoop& loop, linux_port::FrameSignal& frames, std::uint64_t last_start_us,
+                     std::uint64_t period_us, RunResult& result) noexcept {
+    if (last_start_us != 0U) {
+        const std::uint64_t earliest = last_start_us + period_us / 2U;
+        timespec until{};
+        until.tv_sec = static_cast<time_t>(earliest / 1000000U);
+        until.tv_nsec = static_cast<long>((earliest % 1000000U) * 1000U);
+        clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr);
+    }
+    // An eighth of a period beyond it: the cameras' own period jitters around the cycle's, and a
+    // deadline at exactly one period started every other cycle just before the last frame arrived.
+    const std::uint64_t deadline = last_start_us + period_us + period_us / 8U;
+    for (;;) {
+        const std::uint32_t seen = frames.value();  // before looking: a frame published meanwhile changes it
+        if (loop.frames_ready()) {
+            ++result.frame_starts;
+            return;
+        }
+        if (!frames.wait_after(seen, deadline)) {
+            ++result.deadline_starts;
+            return;
+        }
+    }
+}
+
 }  // namespace
 
 linux_port::StackMonitor& cycle_stack() noexcept {
@@ -137,6 +165,7 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       inputs_(cfg.sensors.size()),
       line_(status_line_capacity(cfg), '\0'),
       stamps_(cfg.sensors.size(), 0U),
+      receives_(cfg.sensors.size(), 0U),
       controller_(robot_controller_config(cfg, cell, runner), cell.frame_grid,
                   {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
                   cell.zones, cell.model, clock, this),
@@ -156,6 +185,13 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
     stats_.fuse_us.assign(recorded, 0U);
     stats_.load_us.assign(recorded, 0U);
     stats_.latency_us.assign(recorded, 0U);
+    stats_.arrival_us.assign(recorded, 0U);
+    stats_.cpu_us.assign(recorded, 0U);
+}
+
+bool MonitorLoop::frames_ready() const noexcept {
+    return sources_match_ &&
+           std::all_of(sources_.begin(), sources_.end(), [](const cell::FrameSource* s) { return s->has_new_frame(); });
 }
 
 Status MonitorLoop::status() const noexcept {
@@ -181,6 +217,7 @@ void MonitorLoop::load_frames(int k) noexcept {
     for (std::size_t s = 0U; s < inputs_.size(); ++s) {
         const bool ok = sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_);
         stamps_[s] = frame_status_.has_stamp ? frame_status_.stamp_us : 0U;
+        receives_[s] = frame_status_.has_stamp ? frame_status_.receive_us : 0U;
         if (!ok && out_ != nullptr) {
             static_cast<void>(std::fprintf(out_, "input: cycle %d sensor '%s': frame %s refused: %s\n", k,
                                            cfg_->sensors[s].name.c_str(), frame_status_.file, frame_status_.reason));
@@ -199,10 +236,12 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
         stats_.load_us[static_cast<std::size_t>(k)] = load_us;
     }
     clock_->start_cycle(kSimStartUs + static_cast<std::uint64_t>(k) * cfg_->period_us);
-    std::uint64_t newest = 0U;  // the newest live camera frame's capture time (0: none)
+    std::uint64_t newest = 0U;   // the newest live camera frame's capture time (0: none)
+    std::uint64_t arrival = 0U;  // the last arrival of a live camera frame (0: none)
     for (std::size_t s = 0U; s < inputs_.size(); ++s) {
         inputs_[s].captured_us = stamps_[s] != 0U ? stamps_[s] : clock_->base();
         newest = std::max(newest, stamps_[s]);
+        arrival = std::max(arrival, receives_[s]);
     }
     const CommandPoll command = commands_ != nullptr ? commands_->poll(clock_->base()) : CommandPoll{};
     command_fault_ = command.status.fault;
@@ -211,10 +250,15 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     }
     const std::size_t sent_before = can_->frames_sent();
     sent_us_ = 0U;
+    const std::uint64_t cpu_start = linux_port::thread_cpu_now_us();
     const CycleReport& r = controller_.run_cycle({inputs_.data(), inputs_.size()}, false, command.input);
-    count(k, r);
+    const std::uint64_t cpu_end = linux_port::thread_cpu_now_us();
+    count(k, r, cpu_end > cpu_start ? cpu_end - cpu_start : 0U);
     if (newest != 0U && sent_us_ != 0U && stats_.latency_count < stats_.latency_us.size()) {
         stats_.latency_us[stats_.latency_count++] = sent_us_ > newest ? sent_us_ - newest : 0U;
+    }
+    if (arrival != 0U && sent_us_ != 0U && stats_.arrival_count < stats_.arrival_us.size()) {
+        stats_.arrival_us[stats_.arrival_count++] = sent_us_ > arrival ? sent_us_ - arrival : 0U;
     }
     const std::size_t frames_per_cycle = (r.robot.configured ? 4U : 3U) + (output_.last_frames().has_link ? 1U : 0U);
     if (can_->kind() != CanPort::Kind::kInterface && can_->frames_sent() - sent_before != frames_per_cycle) {
@@ -234,7 +278,7 @@ const CycleReport& MonitorLoop::run_cycle(int k) noexcept {
     return r;
 }
 
-void MonitorLoop::count(int k, const CycleReport& r) noexcept {
+void MonitorLoop::count(int k, const CycleReport& r, std::uint64_t cpu_us) noexcept {
     // The figures are real time: unpaced, the controller's clock is simulated (cycle_clock.hpp).
     const CycleTiming& timing = controller_.monitor().last();
     const std::uint64_t begin = r.started_us;
@@ -245,7 +289,9 @@ void MonitorLoop::count(int k, const CycleReport& r) noexcept {
     if (k >= 0 && static_cast<std::size_t>(k) < stats_.cycle_us.size()) {
         stats_.cycle_us[static_cast<std::size_t>(k)] = cycle_real_us_;
         stats_.fuse_us[static_cast<std::size_t>(k)] = fuse_us;
+        stats_.cpu_us[static_cast<std::size_t>(k)] = cpu_us;
     }
+    stats_.cpu_over_budget += cpu_us > cfg_->budget_us ? 1 : 0;
     ++stats_.cycles_run;
     stats_.faults_seen |= r.safety.latched_faults;
     if ((r.safety.latched_faults & fault_bit(Fault::kCanError)) != 0U) {
@@ -341,7 +387,13 @@ void MonitorLoop::write_summary(std::FILE* out, const RunResult& run, bool log_o
         static_cast<double>(stats_.max_cycle_us) / 1000.0, static_cast<double>(cfg_->budget_us) / 1000.0,
         static_cast<unsigned long long>(controller_.monitor().overruns())));
     write_timing(out);
-    if (run.paced) {
+    if (run.paced && run.frame_started) {
+        static_cast<void>(std::fprintf(out,
+                                       "summary: paced by the cameras' frames: %llu cycles started when every "
+                                       "camera had a new frame, %llu at the period's deadline\n",
+                                       static_cast<unsigned long long>(run.frame_starts),
+                                       static_cast<unsigned long long>(run.deadline_starts)));
+    } else if (run.paced) {
         static_cast<void>(std::fprintf(out,
                                        "summary: paced: %llu periods skipped after cycles that ran past their period\n",
                                        static_cast<unsigned long long>(run.skipped_periods)));
@@ -388,12 +440,18 @@ void MonitorLoop::write_timing(std::FILE* out) const noexcept {
         const DurationFigures cycle = duration_figures(stats_.cycle_us, n);
         const DurationFigures fuse = duration_figures(stats_.fuse_us, n);
         const DurationFigures load = duration_figures(stats_.load_us, n);
+        const DurationFigures cpu = duration_figures(stats_.cpu_us, n);
         static_cast<void>(
             std::fprintf(out,
                          "summary: cycle times over %zu cycles: median %.2f ms, p99 %.2f ms, max %.2f ms; "
                          "fusion stage (%s): median %.2f ms, p99 %.2f ms, max %.2f ms\n",
                          cycle.count, ms(cycle.median), ms(cycle.p99), ms(cycle.max), method, ms(fuse.median),
                          ms(fuse.p99), ms(fuse.max)));
+        static_cast<void>(std::fprintf(out,
+                                       "summary: the cycle thread's CPU time per cycle: median %.2f ms, p99 %.2f ms, "
+                                       "max %.2f ms; over the budget in %d cycles (the wall clock's overruns also "
+                                       "count time the thread waited for a core)\n",
+                                       ms(cpu.median), ms(cpu.p99), ms(cpu.max), stats_.cpu_over_budget));
         static_cast<void>(std::fprintf(out,
                                        "summary: loading the frames (before each cycle, not in its time): median "
                                        "%.2f ms, p99 %.2f ms, max %.2f ms\n",
@@ -406,6 +464,15 @@ void MonitorLoop::write_timing(std::FILE* out) const noexcept {
                                            "max %.2f ms\n",
                                            latency.count, ms(latency.median), ms(latency.p99), ms(latency.p999),
                                            ms(latency.max)));
+        }
+        if (stats_.arrival_count > 0U) {
+            const DurationFigures arrival = duration_figures(stats_.arrival_us, stats_.arrival_count);
+            static_cast<void>(std::fprintf(out,
+                                           "summary: latency from the newest camera frame's arrival to its CAN "
+                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, p99.9 %.2f ms, "
+                                           "max %.2f ms\n",
+                                           arrival.count, ms(arrival.median), ms(arrival.p99), ms(arrival.p999),
+                                           ms(arrival.max)));
         }
     } catch (...) {
         static_cast<void>(std::fprintf(out, "summary: cycle time figures: out of memory\n"));
@@ -429,13 +496,18 @@ int MonitorLoop::exit_status(std::FILE* err, bool log_ok) const noexcept {
 }
 
 RunResult run_cycles(MonitorLoop& loop, int cycles, std::uint64_t period_us, bool paced,
-                     const volatile std::sig_atomic_t& stop) noexcept {
+                     const volatile std::sig_atomic_t& stop, linux_port::FrameSignal* frames) noexcept {
     RunResult result;
     result.paced = paced;
+    result.frame_started = paced && frames != nullptr;
     timespec next{};
     clock_gettime(CLOCK_MONOTONIC, &next);
+    std::uint64_t last_start_us = 0U;
     for (int k = 0; k < cycles && stop == 0; ++k) {
-        if (paced) {
+        if (result.frame_started) {
+            wait_for_frames(loop, *frames, last_start_us, period_us, result);
+            last_start_us = linux_port::monotonic_now_us();
+        } else if (paced) {
             wait_for_period(next, period_us, result.skipped_periods);
         }
         (void)loop.run_cycle(k);

@@ -454,6 +454,9 @@ void GigeCamera::Impl::publish(const std::uint16_t* pixels, std::uint64_t stamp,
     meta.sequence = published.load(std::memory_order_relaxed) + 1U;
     back = middle.exchange(back | kFresh, std::memory_order_acq_rel) & (kFresh - 1U);
     published.fetch_add(1U, std::memory_order_relaxed);
+    if (cfg.signal != nullptr) {
+        cfg.signal->notify();  // the paced loop may wait for this frame (frame_signal.hpp)
+    }
 }
 
 void GigeCamera::Impl::handle(ArvBuffer* buffer) noexcept {
@@ -602,6 +605,8 @@ bool GigeCamera::latest(GigeFrame& frame) noexcept {
     frame = m.slot_meta[m.front];
     return true;
 }
+
+std::uint64_t GigeCamera::published() const noexcept { return impl_->published.load(); }
 
 GigeCounters GigeCamera::counters() const noexcept {
     const Impl& m = *impl_;

@@ -234,6 +234,13 @@ run_case() {
             fail "first stop in cycle $cam_stop, the simulator's in $sim_stop, shifted by $offset"
         ((mismatches <= 2)) || fail "$mismatches cycles' zone states differ from the simulator's (shift $offset)"
         [[ "$(faults_latched same.txt)" == "-" ]] || fail "faults latched: $(faults_latched same.txt)"
+        # The cycles follow the cameras' frames (SR-CAM-010): each starts when every camera has a new
+        # frame, or at 1.125 periods; the latency is printed from each frame's capture and arrival.
+        grep -E "^summary: (paced by the cameras|latency from the newest camera frame's arrival)" same.txt
+        frame_starts=$(sed -n "s/^summary: paced by the cameras' frames: \([0-9]*\) cycles started.*/\1/p" same.txt)
+        ((${frame_starts:-0} >= 1)) || fail "no cycle was started by the cameras' frames"
+        grep -q "^summary: latency from the newest camera frame's arrival to its CAN frames over" same.txt ||
+            fail "no latency from the frames' arrival in the summary"
         ;;
     loss1 | loss20)
         permille=$([[ $case == loss1 ]] && echo 10 || echo 200)

@@ -87,8 +87,11 @@ bool CameraFrameSource::load_frame(std::uint64_t /*cycle*/, SensorReading& readi
     status.ok = true;
     status.has_stamp = true;
     status.stamp_us = frame.stamp_us;
+    status.receive_us = frame.receive_us;
     return true;
 }
+
+bool CameraFrameSource::has_new_frame() const noexcept { return camera_->published() > last_sequence_; }
 
 void CameraFrameSource::write_summary(std::FILE* out) const noexcept {
     const linux_port::GigeCounters c = camera_->counters();

@@ -36,6 +36,7 @@
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/port/frame_signal.hpp"
 
 namespace cellguard::monitor {
 
@@ -69,6 +70,10 @@ public:
     /// (its range) and @p settings (its pose and intrinsics).
     [[nodiscard]] std::unique_ptr<cell::FrameSource> make_source(std::size_t s, const cell::SensorSettings& settings,
                                                                  const sim::SensorSpec& spec);
+    /// The signal every started camera notifies on each frame, for the paced
+    /// loop's frame-triggered start (monitor_loop.hpp); nullptr when open()
+    /// started no camera.
+    [[nodiscard]] linux_port::FrameSignal* frame_signal() noexcept;
 
 private:
     struct Cameras;

@@ -42,6 +42,7 @@
 #include "cellguard/monitor/cycle_observer.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
 #include "cellguard/monitor/robot_cell_demo.hpp"
+#include "cellguard/port/frame_signal.hpp"
 #include "cellguard/port/stack.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 
@@ -73,7 +74,17 @@ struct MonitorStats {
     /// microseconds; latency_count of them (the first cfg.demo_cycles).
     std::vector<std::uint64_t> latency_us;
     std::size_t latency_count = 0U;  ///< see latency_us
-    bool released = false;           ///< some cycle did not request the stop
+    /// The same from the moment the newest frame's last packet arrived
+    /// (FrameStatus::receive_us: the wait for the cycle and the cycle itself,
+    /// without the camera's own delay); arrival_count of them.
+    std::vector<std::uint64_t> arrival_us;
+    std::size_t arrival_count = 0U;  ///< see arrival_us
+    /// Per cycle (as cycle_us): the cycle thread's CPU time in the controller's
+    /// cycle (CLOCK_THREAD_CPUTIME_ID: its work, without time it waited for a
+    /// core; fusion workers' time not included), microseconds.
+    std::vector<std::uint64_t> cpu_us;
+    int cpu_over_budget = 0;  ///< cycles whose cycle-thread CPU time exceeded the budget
+    bool released = false;    ///< some cycle did not request the stop
 };
 
 /// How run_cycles() ended.
@@ -81,6 +92,9 @@ struct RunResult {
     bool stopped_by_signal = false;      ///< the stop flag ended it early
     bool paced = false;                  ///< one cycle per period on the real clock
     std::uint64_t skipped_periods = 0U;  ///< paced: periods skipped after a cycle that ran past its period
+    bool frame_started = false;          ///< paced by frames (run_cycles' @p frames)
+    std::uint64_t frame_starts = 0U;     ///< paced by frames: cycles started when every source had a new frame
+    std::uint64_t deadline_starts = 0U;  ///< paced by frames: cycles started at the deadline, some frame still old
 };
 
 /// Median, 99th percentile and maximum of some durations, microseconds.
@@ -130,6 +144,9 @@ public:
     /// Runs cycle @p k (from 0); see the file comment. Allocates nothing.
     const CycleReport& run_cycle(int k) noexcept;
 
+    /// True when every source has a frame it has not given before
+    /// (FrameSource::has_new_frame; false when the sources do not match).
+    [[nodiscard]] bool frames_ready() const noexcept;
     /// The run's counts so far.
     [[nodiscard]] const MonitorStats& stats() const noexcept { return stats_; }
     /// The last cycle's status line (with its newline; "" before the first cycle).
@@ -150,7 +167,8 @@ private:
     bool publish(const CycleReport& report) noexcept override;
     void load_frames(int k) noexcept;
     void write_timing(std::FILE* out) const noexcept;
-    void count(int k, const CycleReport& r) noexcept;
+    /// Counts cycle @p k's report @p r, whose controller cycle took @p cpu_us of the thread's CPU time.
+    void count(int k, const CycleReport& r, std::uint64_t cpu_us) noexcept;
     void format_status(int k, const CycleReport& r) noexcept;
     CommandFault command_fault_ = CommandFault::kNoSampleYet;  ///< the last poll's receiver status
     void append(const char* format, ...) noexcept __attribute__((format(printf, 2, 3)));
@@ -170,9 +188,10 @@ private:
     std::vector<char> line_;           ///< the status line, sized at construction for the longest one
     std::size_t line_length_ = 0U;
     cell::FrameStatus frame_status_{};
-    std::vector<std::uint64_t> stamps_;  ///< per sensor: the capture time its source gave (0: none)
-    std::uint64_t sent_us_ = 0U;         ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
-    std::uint64_t cycle_real_us_ = 0U;   ///< the last cycle's real duration (CycleClock::real_span_us)
+    std::vector<std::uint64_t> stamps_;    ///< per sensor: the capture time its source gave (0: none)
+    std::vector<std::uint64_t> receives_;  ///< per sensor: when its frame arrived (0: not known)
+    std::uint64_t sent_us_ = 0U;           ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
+    std::uint64_t cycle_real_us_ = 0U;     ///< the last cycle's real duration (CycleClock::real_span_us)
     SafetyController controller_;
     LinkEndpoint own_link_;   ///< the controller's link endpoint when there is no command link (no echo)
     CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC
@@ -184,8 +203,16 @@ private:
 /// becomes non-zero (checked before each cycle). @p paced: each cycle starts
 /// at the next period of CLOCK_MONOTONIC (cfg.period_us apart); periods that
 /// are already over when a cycle ends are skipped, not run back to back.
+/// Paced with @p frames (the signal live cameras notify on each frame;
+/// nullptr: by the period): a cycle starts as soon as every source has a new
+/// frame (MonitorLoop::frames_ready), but not before half a period after the
+/// previous start, and at the latest 1.125 periods after it (the cameras'
+/// period jitters around the cycle's; a late or silent camera then gives its
+/// previous frame, which the controller's frame-age check judges). Cycles
+/// follow the cameras' rate, at most two per period and at least one per 1.125
+/// periods; each frame waits for the cycle only until the last camera's frame arrives.
 RunResult run_cycles(MonitorLoop& loop, int cycles, std::uint64_t period_us, bool paced,
-                     const volatile std::sig_atomic_t& stop) noexcept;
+                     const volatile std::sig_atomic_t& stop, linux_port::FrameSignal* frames = nullptr) noexcept;
 
 }  // namespace cellguard::monitor
 

@@ -17,6 +17,11 @@ namespace cellguard::linux_port {
 /// camera receive times, pacing of threads).
 [[nodiscard]] std::uint64_t monotonic_now_us() noexcept;
 
+/// The calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID) in microseconds, 0
+/// if the call fails: the work a thread did, without the time it waited for a
+/// core (the monitor's cycle figures beside the wall clock's, the benchmarks).
+[[nodiscard]] std::uint64_t thread_cpu_now_us() noexcept;
+
 /// CLOCK_MONOTONIC in microseconds; 0 if the call fails (the controller then sees
 /// a clock that does not advance and latches its clock fault).
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base

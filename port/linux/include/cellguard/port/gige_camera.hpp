@@ -68,6 +68,7 @@
 #include <string>
 
 #include "cellguard/port/device_clock.hpp"
+#include "cellguard/port/frame_signal.hpp"
 
 namespace cellguard::linux_port {
 
@@ -97,6 +98,9 @@ struct GigeCameraConfig {
     std::uint64_t reconnect_interval_us = 1000000U;  ///< between two reopen attempts
     std::uint64_t no_frame_timeout_us = 1000000U;    ///< no buffer for this long: reconnect
     DeviceClockParams clock{};                       ///< the time-stamp mapping's limits
+    /// Notified after each published frame (frame_signal.hpp; not owned, must
+    /// outlive the camera); null: none.
+    FrameSignal* signal = nullptr;
 };
 
 /// What start() read from the camera.
@@ -169,6 +173,8 @@ public:
     [[nodiscard]] bool latest(GigeFrame& frame) noexcept;
     /// The counts so far.
     [[nodiscard]] GigeCounters counters() const noexcept;
+    /// Frames published so far: the sequence of the newest (counters().published, one atomic load).
+    [[nodiscard]] std::uint64_t published() const noexcept;
     /// True while a session streams (false between a loss and the reconnection).
     [[nodiscard]] bool connected() const noexcept;
     /// Why the last reopen attempt failed ("" when none did). Locks; not for the cycle.

@@ -59,6 +59,8 @@ public:
     CameraFrameSource(std::string name, linux_port::GigeCamera& camera, const CameraReadingParams& params);
 
     bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
+    /// True when the camera has published a frame after the one the previous cycle was given.
+    [[nodiscard]] bool has_new_frame() const noexcept override;
     /// "camera 'name': N frames received, ... ; cycles: ..." (the camera's counters and the policy's).
     void write_summary(std::FILE* out) const noexcept override;
 

@@ -35,6 +35,8 @@ struct FrameStatus {
     /// cycle's start (false: simulated and recorded frames, stamped with the cycle's start).
     bool has_stamp = false;
     std::uint64_t stamp_us = 0U;  ///< has_stamp: the capture time, CLOCK_MONOTONIC microseconds
+    /// has_stamp: when the frame's last packet arrived, CLOCK_MONOTONIC microseconds (0: not known).
+    std::uint64_t receive_us = 0U;
 };
 
 /// How a depth camera's readings are described: a live camera's
@@ -56,6 +58,11 @@ public:
     /// reports as kFrameInconsistent, and returns false with @p status saying
     /// why. Allocates nothing.
     virtual bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept = 0;
+    /// True when load_frame() would now give a frame it has not given before.
+    /// The paced loop starts a cycle early once every source has one
+    /// (monitor_loop.hpp, run_cycles). A source that makes its frame when it is
+    /// loaded (simulated, recorded) always has one: true. Never blocks.
+    [[nodiscard]] virtual bool has_new_frame() const noexcept { return true; }
     /// Writes the source's line of the run's summary to @p out, if it has one.
     virtual void write_summary(std::FILE* out) const noexcept = 0;
     /// Sources are owned through this interface.
