@@ -237,13 +237,20 @@ TEST_CASE("depth input: recorded images replay as the camera path's readings, re
     CHECK_FALSE(validate_sensor_reading(r).ok());  // the controller refuses it: frame inconsistent
 
     // A file replaced after start by one of another size: refused, no crash; the next good one is used.
-    const std::vector<float> wrong(static_cast<std::size_t>(h * w), 1.0F);
-    REQUIRE(write_npy_depth_f32(b.c_str(), Span<const float>(wrong.data(), wrong.size()), h, w).ok());
+    const std::vector<std::uint16_t> wrong(static_cast<std::size_t>(h * w), 1000U);
+    REQUIRE(write_npy_depth_u16(b.c_str(), Span<const std::uint16_t>(wrong.data(), wrong.size()), h, w).ok());
     CHECK_FALSE(source.load_frame(1U, r, status));
     CHECK(std::string(status.reason).find(b) == 0U);
     CHECK_FALSE(validate_sensor_reading(r).ok());
     CHECK(source.load_frame(2U, r, status));
     CHECK(source.counts().refused == 1U);
+    // Replaced by a '<f4' file of the right shape (metres where the recording is raw units): refused too.
+    const std::vector<float> metres(static_cast<std::size_t>(w * h), 2.0F);
+    REQUIRE(write_npy_depth_f32(b.c_str(), Span<const float>(metres.data(), metres.size()), w, h).ok());
+    CHECK_FALSE(source.load_frame(3U, r, status));
+    CHECK(std::string(status.reason).find("a '<f4' image where the sensor's recording is '<u2'") != std::string::npos);
+    CHECK_FALSE(validate_sensor_reading(r).ok());
+    CHECK(source.counts().refused == 2U);
 
     // '<f4' metres: a kDepthImage reading, NaN and 0 kept as no reading.
     std::vector<float> depth(static_cast<std::size_t>(w * h), 2.5F);

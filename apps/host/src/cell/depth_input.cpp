@@ -21,14 +21,14 @@ std::size_t pixels_of(const PinholeIntrinsics& k) {
 DepthFileFrameSource::DepthFileFrameSource(
     std::string name, std::vector<std::string> files,
     // NOLINTNEXTLINE(modernize-pass-by-value): Eigen fixed-size members, by reference (Eigen's rule)
-    const CameraReadingParams& params, bool raw_allowed)
+    const CameraReadingParams& params, bool raw)
     : name_(std::move(name)),
       files_(std::move(files)),
       params_(params),
-      raw_allowed_(raw_allowed),
-      bytes_(pixels_of(params.intrinsics) * sizeof(float) + kDepthFileHeaderRoom),
-      raw_(pixels_of(params.intrinsics)),
-      metres_(pixels_of(params.intrinsics)) {}
+      raw_(raw),
+      bytes_(pixels_of(params.intrinsics) * (raw ? sizeof(std::uint16_t) : sizeof(float)) + kDepthFileHeaderRoom),
+      units_(raw ? pixels_of(params.intrinsics) : 0U),
+      metres_(raw ? 0U : pixels_of(params.intrinsics)) {}
 
 bool DepthFileFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept {
     status = FrameStatus{};
@@ -43,11 +43,12 @@ bool DepthFileFrameSource::load_frame(std::uint64_t cycle, SensorReading& readin
     NpyDepthImage image;
     IoStatus st = read_npy_depth(path.c_str(), params_.intrinsics.width, params_.intrinsics.height,
                                  Span<std::uint8_t>(bytes_.data(), bytes_.size()), image);
-    if (st && image.dtype == NpyDtype::kUInt16 && !raw_allowed_) {
+    if (st && (image.dtype == NpyDtype::kUInt16) != raw_) {
         st = IoStatus::failure(ErrorCode::kUnsupportedType,
-                               "%s: a '<u2' image (raw units) for a sensor configured without depth_scale and "
-                               "depth_offset",
-                               path.c_str());
+                               "%s: a '%s' image where the sensor's recording is '%s' (%s): a file of the other "
+                               "unit is not read",
+                               path.c_str(), raw_ ? "<f4" : "<u2", raw_ ? "<u2" : "<f4",
+                               raw_ ? "raw units with depth_scale and depth_offset" : "metres, no depth_scale");
     }
     if (!st) {
         ++counts_.refused;
@@ -60,9 +61,9 @@ bool DepthFileFrameSource::load_frame(std::uint64_t cycle, SensorReading& readin
     reading.intrinsics = params_.intrinsics;
     reading.max_range = params_.max_range;
     if (image.dtype == NpyDtype::kUInt16) {
-        std::memcpy(raw_.data(), image.pixels, image.count * sizeof(std::uint16_t));
+        std::memcpy(units_.data(), image.pixels, image.count * sizeof(std::uint16_t));
         reading.kind = SensorDataKind::kDepthImageU16;
-        reading.depth_u16 = Span<const std::uint16_t>(raw_.data(), image.count);
+        reading.depth_u16 = Span<const std::uint16_t>(units_.data(), image.count);
         reading.depth_scale = params_.depth_scale_m;
         reading.depth_offset = params_.depth_offset_m;
     } else {

@@ -3,16 +3,15 @@
 // Recorded PCD frames as sensor input, each frame checked (pcd_input.hpp).
 #include "cellguard/host/cell/pcd_input.hpp"
 
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <utility>
+
+#include "cellguard/host/io/file.hpp"
 
 namespace cellguard::cell {
 
@@ -76,44 +75,18 @@ IoStatus PcdFrameSource::read_file(const char* path, PcdCloudInfo& info) noexcep
     // read_pcd's steps and messages, into the buffer allocated at start-up
     // (read_pcd allocates one per call).
     info = PcdCloudInfo{};
-    const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path, std::strerror(errno));
+    std::size_t size = 0U;
+    const IoStatus read = host::read_whole_file(path, {bytes_.data(), bytes_.size()}, size);
+    if (read.error() == ErrorCode::kStorageTooSmall) {  // the buffer: the largest file at start-up, within the limit
+        return IoStatus::failure(ErrorCode::kCapacityExceeded,
+                                 "%s: pcd: file larger than the %zu bytes this sensor's files had at start-up "
+                                 "(limit %llu)",
+                                 path, bytes_.size(), static_cast<unsigned long long>(kPcdMaxFileBytes));
     }
-    struct stat st {};
-    IoStatus result;
-    if (::fstat(fd, &st) != 0) {
-        result = IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot stat: %s", path, std::strerror(errno));
-    } else if (static_cast<std::uint64_t>(st.st_size) > kPcdMaxFileBytes) {
-        result = IoStatus::failure(ErrorCode::kCapacityExceeded, "%s: pcd: file of %llu bytes above the limit of %llu",
-                                   path, static_cast<unsigned long long>(st.st_size),
-                                   static_cast<unsigned long long>(kPcdMaxFileBytes));
-    } else if (static_cast<std::uint64_t>(st.st_size) > bytes_.size()) {
-        result = IoStatus::failure(
-            ErrorCode::kCapacityExceeded,
-            "%s: pcd: file of %llu bytes, more than the %zu bytes this sensor's files had at start-up", path,
-            static_cast<unsigned long long>(st.st_size), bytes_.size());
-    } else {
-        const auto size = static_cast<std::size_t>(st.st_size);
-        std::size_t done = 0U;
-        while (done < size) {
-            const ssize_t n = ::read(fd, bytes_.data() + done, size - done);
-            if (n < 0 && errno == EINTR) {
-                continue;
-            }
-            if (n <= 0) {
-                result = IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot read: %s", path,
-                                           n < 0 ? std::strerror(errno) : "the file ended early");
-                break;
-            }
-            done += static_cast<std::size_t>(n);
-        }
-        if (result.ok()) {
-            result = decode_pcd(bytes_.data(), size, {buffer_.data(), buffer_.size()}, info).prefixed(path);
-        }
+    if (!read) {
+        return read;
     }
-    (void)::close(fd);
-    return result;
+    return decode_pcd(bytes_.data(), size, {buffer_.data(), buffer_.size()}, info).prefixed(path);
 }
 
 bool PcdFrameSource::check_frame(const IoStatus& read, const PcdCloudInfo& info, FrameStatus& status) const noexcept {

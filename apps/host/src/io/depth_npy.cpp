@@ -2,7 +2,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/io/depth_npy.hpp"
 
-#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -95,42 +94,17 @@ IoStatus decode_npy_depth(const std::uint8_t* data, std::size_t size, int width,
 
 IoStatus read_npy_depth(const char* path, int width, int height, Span<std::uint8_t> scratch,
                         NpyDepthImage& image) noexcept {
-    // POSIX descriptors, not stdio: fopen and the first fread allocate (the monitor's cycle allocates nothing).
+    // The allocation-free read (the monitor's cycle allocates nothing).
     image = NpyDepthImage{};
-    const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        return os_error("open", path);
-    }
     std::size_t got = 0U;
-    bool more = false;
-    IoStatus st;
-    for (;;) {
-        std::uint8_t probe = 0U;
-        const bool full = got == scratch.size();
-        const ssize_t n = full ? ::read(fd, &probe, 1U) : ::read(fd, scratch.data() + got, scratch.size() - got);
-        if (n < 0 && errno == EINTR) {
-            continue;
-        }
-        if (n < 0) {
-            st = os_error("read", path);
-        }
-        if (n <= 0) {
-            break;
-        }
-        if (full) {
-            more = true;
-            break;
-        }
-        got += static_cast<std::size_t>(n);
-    }
-    static_cast<void>(::close(fd));
-    if (!st) {
-        return st;
-    }
-    if (more) {
+    IoStatus st = host::read_whole_file(path, scratch, got);
+    if (st.error() == ErrorCode::kStorageTooSmall) {
         return IoStatus::failure(ErrorCode::kStorageTooSmall,
                                  "%s: npy: the file is larger than the %zu bytes a %d x %d depth image takes", path,
                                  scratch.size(), width, height);
+    }
+    if (!st) {
+        return st;
     }
     st = decode_npy_depth(scratch.data(), got, width, height, image);
     return st ? st : st.prefixed(path);

@@ -9,16 +9,19 @@
 /// '<f4' files in metres), with the sensor's pose, intrinsics and max_range.
 ///
 /// Every frame is checked before use (depth_npy.hpp's checks: the format, the
-/// dtype, the shape (height, width) of the sensor); a '<u2' file is refused
-/// for a sensor configured without depth_scale, whose files were '<f4' when
-/// the configuration was loaded. A refused frame is not fused: its description
+/// dtype, the shape (height, width) of the sensor); a file whose dtype is not
+/// the recording's (the dtype its files had when the configuration was
+/// loaded: '<u2' with depth_scale, '<f4' without) is refused, so a file
+/// replaced after the start by one of the other kind is never read in the
+/// other unit. A refused frame is not fused: its description
 /// is made invalid on purpose, so the controller refuses it and latches
 /// kFrameInconsistent, as for any other inconsistent frame.
 ///
 /// Frames are stamped with the cycle's start (FrameStatus::has_stamp false),
 /// as simulated and PCD frames are: a recording replays its images, not its
-/// timing. Its buffers (the file's bytes and one image of each kind) are
-/// allocated when the source is made; a frame then loads without allocating.
+/// timing. Its buffers (the file's bytes and one image of the recording's
+/// dtype) are allocated when the source is made; a frame then loads without
+/// allocating.
 #ifndef CELLGUARD_HOST_CELL_DEPTH_INPUT_HPP
 #define CELLGUARD_HOST_CELL_DEPTH_INPUT_HPP
 
@@ -43,10 +46,9 @@ class DepthFileFrameSource final : public FrameSource {
 public:
     /// Frames from @p files (at least one) for the sensor named @p name,
     /// described with @p params (its intrinsics give the image's width and
-    /// height); @p raw_allowed: the sensor has a depth_scale, so '<u2' files
-    /// are accepted.
-    DepthFileFrameSource(std::string name, std::vector<std::string> files, const CameraReadingParams& params,
-                         bool raw_allowed);
+    /// height); @p raw: the recording is '<u2' raw units (the sensor has a
+    /// depth_scale), else '<f4' metres: files of the other dtype are refused.
+    DepthFileFrameSource(std::string name, std::vector<std::string> files, const CameraReadingParams& params, bool raw);
 
     /// Reads and checks file cycle % count and describes it in @p reading
     /// (the image stays in this object until the next call).
@@ -61,10 +63,10 @@ private:
     std::string name_;
     std::vector<std::string> files_;
     CameraReadingParams params_;
-    bool raw_allowed_;
-    std::vector<std::uint8_t> bytes_;  ///< a file's bytes: the largest a depth image of this size takes
-    std::vector<std::uint16_t> raw_;   ///< a '<u2' image
-    std::vector<float> metres_;        ///< a '<f4' image
+    bool raw_;                          ///< the recording's dtype: '<u2' (true) or '<f4'
+    std::vector<std::uint8_t> bytes_;   ///< a file's bytes: the largest a depth image of this size takes
+    std::vector<std::uint16_t> units_;  ///< raw_: the '<u2' image (else empty)
+    std::vector<float> metres_;         ///< not raw_: the '<f4' image (else empty)
     DepthFileCounts counts_{};
 };
 

@@ -4,12 +4,19 @@
 /// `FilePtr`: a C stdio FILE* that closes itself on scope exit, and
 /// `open_file` / `close_file`, so that host code that writes or reads whole
 /// files with fread/fwrite owns the handle once, here, instead of pairing
-/// fopen and fclose by hand on every path.
+/// fopen and fclose by hand on every path; and `read_whole_file`, the one
+/// allocation-free read of a whole file into a caller's buffer (POSIX calls:
+/// stdio's fopen and first fread allocate), for readers a cycle calls.
 #ifndef CELLGUARD_HOST_IO_FILE_HPP
 #define CELLGUARD_HOST_IO_FILE_HPP
 
+#include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
+
+#include "cellguard/base/span.hpp"
+#include "cellguard/host/io/io_status.hpp"
 
 namespace cellguard::host {
 
@@ -39,6 +46,13 @@ using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
     // NOLINTNEXTLINE(cppcoreguidelines-owning-memory): released from FilePtr above
     return std::fclose(f) == 0 && clean;
 }
+
+/// Reads the whole file @p path into @p buffer with open, read (retried on
+/// EINTR) and close, allocating nothing; @p got gets the bytes read. Fails
+/// with kInvalidArgument ("PATH: cannot open: ..." or "cannot read: ...")
+/// or, when the file holds more than buffer.size() bytes (one byte read
+/// beyond tells), kStorageTooSmall ("PATH: the file is larger than N bytes").
+[[nodiscard]] IoStatus read_whole_file(const char* path, Span<std::uint8_t> buffer, std::size_t& got) noexcept;
 
 }  // namespace cellguard::host
 
