@@ -14,9 +14,11 @@
 # frozen-image check as a real camera's noise would be), so it cannot drift
 # from the cell it measures.
 #
-# usage: tools/real-cell-cameras.sh [--cycles N] [--threads T] [--build DIR] [--out DIR]
+# usage: tools/real-cell-cameras.sh [--cycles N] [--threads T] [--fine] [--build DIR] [--out DIR]
 #   --cycles N   monitor cycles (default 300; the long run: 10000)
 #   --threads T  the configuration's fusion.threads (default: real-cell.toml's)
+#   --fine       the 2.5 cm variant: the same cell in 2.5 cm voxels (dims doubled per axis, each
+#                zone's max_unseen_voxels times 8: the same unseen volume)
 #   --build DIR  the build tree (default build)
 #   --out DIR    where the configuration, the logs and the summary go (default: a new temporary directory)
 # Environment: CELLGUARD_MONITOR_ARGS, more arguments for the monitor (e.g. --period-start:
@@ -28,21 +30,24 @@ set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cycles=300
 threads=
+fine=0
 build=$root/build
 out=
 while [[ $# -gt 0 ]]; do
     case $1 in
         --cycles) cycles=$2; shift 2 ;;
         --threads) threads=$2; shift 2 ;;
+        --fine) fine=1; shift ;;
         --build) build=$(realpath "$2"); shift 2 ;;
         --out) out=$2; shift 2 ;;
-        *) echo "usage: tools/real-cell-cameras.sh [--cycles N] [--threads T] [--build DIR] [--out DIR]" >&2; exit 2 ;;
+        *) echo "usage: tools/real-cell-cameras.sh [--cycles N] [--threads T] [--fine] [--build DIR] [--out DIR]" >&2; exit 2 ;;
     esac
 done
 [[ "$cycles" =~ ^[0-9]+$ && "$cycles" -gt 0 ]] || { echo "real-cell-cameras: --cycles wants a positive number" >&2; exit 2; }
 if [[ "${CELLGUARD_IN_NETNS:-}" != 1 ]]; then
     args=(--cycles "$cycles" --build "$build")
     [[ -n "$threads" ]] && args+=(--threads "$threads")
+    [[ $fine -eq 1 ]] && args+=(--fine)
     [[ -n "$out" ]] && args+=(--out "$(realpath -m "$out")")
     exec "$root/tools/netns-run.sh" "$0" "${args[@]}"
 fi
@@ -55,7 +60,7 @@ done
 mkdir -p "$out"
 config=$out/real-cell-cameras.toml
 # A camera table before the table that follows each sensor's keys; address 127.0.0.(k + 1).
-awk -v threads="$threads" '
+awk -v threads="$threads" -v fine="$fine" '
     function camera() {
         k++
         printf "[sensors.camera]\naddress = \"127.0.0.%d\"\nexpected_serial = \"CG-%s\"\n", k + 1, name
@@ -65,11 +70,18 @@ awk -v threads="$threads" '
     /^\[\[sensors\]\]/ { in_sensor = 1 }
     in_sensor && /^name *=/ { name = $3; gsub(/"/, "", name) }
     /^threads *=/ && threads != "" { print "threads = " threads; next }
+    fine && /^voxel_size *= *0\.05( |$)/ { print "voxel_size = 0.025"; next }
+    fine && /^dims *= *\[80, 80, 50\]/ { print "dims = [160, 160, 100]"; next }
+    fine && /^max_unseen_voxels *=/ { print "max_unseen_voxels = " $3 * 8; next }
     /^log_file *=/ { print "log_file = \"monitor-real-cell-cameras.log\""; next }
     { print }
     END {
         printf "camera_stamp_tolerance = \"loopback fakes on a 2-core host deliver frames late (FIELD-NOTES): a measurement run, not a cell\"\n"
     }' "$root/apps/monitor/config/real-cell.toml" >"$config"
+if [[ $fine -eq 1 ]] && ! { grep -q '^voxel_size = 0.025$' "$config" && grep -q '^dims = \[160, 160, 100\]$' "$config"; }; then
+    echo "real-cell-cameras: --fine: real-cell.toml's grid is no longer 80 x 80 x 50 voxels of 0.05 m" >&2
+    exit 1
+fi
 grep -q '^\[opt_out\]' "$config" || { echo "real-cell-cameras: real-cell.toml has no [opt_out] table to extend" >&2; exit 1; }
 period_s=$(awk '/^period_ms/ { print $3 / 1000 }' "$config")
 duration=$(awk -v c="$cycles" -v p="$period_s" 'BEGIN { printf "%d", c * p + 60 }')
