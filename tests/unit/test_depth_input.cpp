@@ -26,28 +26,13 @@
 #include "cellguard/host/io/depth_npy.hpp"
 #include "cellguard/monitor/background_recording.hpp"
 #include "cellguard/monitor/monitor_cell.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 
-namespace {
+using cellguard::test::TempDir;
 
-/// A fresh directory under /tmp, removed with its files at the end.
-struct TempDir {
-    TempDir() {
-        char templ[] = "/tmp/cellguard_test_depth_XXXXXX";
-        REQUIRE(::mkdtemp(templ) != nullptr);
-        path = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    TempDir(TempDir&&) = delete;
-    TempDir& operator=(TempDir&&) = delete;
-    std::string path;
-};
+namespace {
 
 std::vector<std::uint8_t> file_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -100,14 +85,14 @@ cell::CameraReadingParams params_for(int width, int height) {
 
 // verifies: SR-SYS-011
 TEST_CASE("depth npy: written as numpy.save writes a (height, width) array, read back bit for bit") {
-    TempDir dir;
+    TempDir dir("depth");
     const int w = 5;
     const int h = 3;
     std::vector<std::uint16_t> raw(static_cast<std::size_t>(w * h));
     for (std::size_t i = 0; i < raw.size(); ++i) {
         raw[i] = static_cast<std::uint16_t>(i * 4001U);
     }
-    const std::string u16 = dir.path + "/u16.npy";
+    const std::string u16 = dir.path() + "/u16.npy";
     REQUIRE(write_npy_depth_u16(u16.c_str(), Span<const std::uint16_t>(raw.data(), raw.size()), w, h).ok());
     const std::vector<std::uint8_t> bytes = file_bytes(u16);
     // numpy 1.24's header for np.save(f, np.zeros((3, 5), '<u2')): 128 bytes in all.
@@ -125,7 +110,7 @@ TEST_CASE("depth npy: written as numpy.save writes a (height, width) array, read
     CHECK(std::memcmp(image.pixels, raw.data(), raw.size() * 2U) == 0);
 
     std::vector<float> metres = {0.0F, 1.5F, std::numeric_limits<float>::quiet_NaN(), 3.25F, -1.0F, 7.0F};
-    const std::string f32 = dir.path + "/f32.npy";
+    const std::string f32 = dir.path() + "/f32.npy";
     REQUIRE(write_npy_depth_f32(f32.c_str(), Span<const float>(metres.data(), metres.size()), 3, 2).ok());
     std::vector<std::uint8_t> scratch(4096);
     REQUIRE(read_npy_depth(f32.c_str(), 3, 2, Span<std::uint8_t>(scratch.data(), scratch.size()), image).ok());
@@ -180,21 +165,21 @@ TEST_CASE("depth npy: every malformed or mismatched file is refused with a reaso
     CHECK(decode_npy_depth(good.data(), good.size(), 5, kNpyDepthMaxSide + 1, image).error() ==
           ErrorCode::kInvalidArgument);
 
-    TempDir dir;
-    const std::string path = dir.path + "/big.npy";
+    TempDir dir("depth");
+    const std::string path = dir.path() + "/big.npy";
     put_bytes(path, good);
     std::vector<std::uint8_t> small(good.size() - 1U);
     const IoStatus st = read_npy_depth(path.c_str(), 5, 3, Span<std::uint8_t>(small.data(), small.size()), image);
     CHECK(st.error() == ErrorCode::kStorageTooSmall);
     CHECK(std::string(st.message()).find(path) == 0U);
     CHECK_FALSE(
-        read_npy_depth((dir.path + "/none.npy").c_str(), 5, 3, Span<std::uint8_t>(small.data(), small.size()), image)
+        read_npy_depth((dir.path() + "/none.npy").c_str(), 5, 3, Span<std::uint8_t>(small.data(), small.size()), image)
             .ok());
 }
 
 // verifies: SR-SYS-011
 TEST_CASE("depth input: recorded images replay as the camera path's readings, refused ones fault") {
-    TempDir dir;
+    TempDir dir("depth");
     const int w = 8;
     const int h = 6;
     const cell::CameraReadingParams p = params_for(w, h);
@@ -202,8 +187,8 @@ TEST_CASE("depth input: recorded images replay as the camera path's readings, re
     for (std::size_t i = 0; i < raw.size(); ++i) {
         raw[i] = static_cast<std::uint16_t>(i % 7U == 0U ? 0U : 4000U + i);  // raw 0: no reading
     }
-    const std::string a = dir.path + "/a.npy";
-    const std::string b = dir.path + "/b.npy";
+    const std::string a = dir.path() + "/a.npy";
+    const std::string b = dir.path() + "/b.npy";
     REQUIRE(write_npy_depth_u16(a.c_str(), Span<const std::uint16_t>(raw.data(), raw.size()), w, h).ok());
     raw[3] = 9999U;
     REQUIRE(write_npy_depth_u16(b.c_str(), Span<const std::uint16_t>(raw.data(), raw.size()), w, h).ok());
@@ -266,7 +251,7 @@ TEST_CASE("depth input: recorded images replay as the camera path's readings, re
 
 // verifies: SR-CFG-001
 TEST_CASE("depth input: depth_files is checked when the configuration loads") {
-    TempDir dir;
+    TempDir dir("depth");
     const std::string base = cell::demo_config_text();
     const std::string anchor = "max_range = 10.0\n";  // the end of sensor 0 ('lidar-a', 176 x 144)
     auto with = [&](const std::string& lines) {
@@ -275,29 +260,29 @@ TEST_CASE("depth input: depth_files is checked when the configuration loads") {
         return t;
     };
     const auto load = [&](const std::string& lines) {
-        return cell::parse_monitor_config(with(lines), "cell.toml", dir.path);
+        return cell::parse_monitor_config(with(lines), "cell.toml", dir.path());
     };
     std::vector<float> metres(176U * 144U, 2.0F);
     std::vector<std::uint16_t> raw(176U * 144U, 2000U);
-    std::filesystem::create_directory(dir.path + "/rec");
+    std::filesystem::create_directory(dir.path() + "/rec");
     for (const char* n : {"rec/f-1.npy", "rec/f-0.npy"}) {
-        REQUIRE(
-            write_npy_depth_f32((dir.path + "/" + n).c_str(), Span<const float>(metres.data(), metres.size()), 176, 144)
-                .ok());
+        REQUIRE(write_npy_depth_f32((dir.path() + "/" + n).c_str(), Span<const float>(metres.data(), metres.size()),
+                                    176, 144)
+                    .ok());
     }
-    REQUIRE(write_npy_depth_u16((dir.path + "/raw.npy").c_str(), Span<const std::uint16_t>(raw.data(), raw.size()), 176,
-                                144)
+    REQUIRE(write_npy_depth_u16((dir.path() + "/raw.npy").c_str(), Span<const std::uint16_t>(raw.data(), raw.size()),
+                                176, 144)
                 .ok());
-    REQUIRE(
-        write_npy_depth_f32((dir.path + "/small.npy").c_str(), Span<const float>(metres.data(), 176U * 100U), 176, 100)
-            .ok());
-    std::filesystem::create_directory(dir.path + "/empty");
+    REQUIRE(write_npy_depth_f32((dir.path() + "/small.npy").c_str(), Span<const float>(metres.data(), 176U * 100U), 176,
+                                100)
+                .ok());
+    std::filesystem::create_directory(dir.path() + "/empty");
 
     const cell::ConfigLoad by_dir = load("depth_files = \"rec\"");
     CAPTURE(by_dir.error);
     REQUIRE(by_dir.ok);
     REQUIRE(by_dir.config.sensors[0].recording.files.size() == 2U);
-    CHECK(by_dir.config.sensors[0].recording.files[0] == dir.path + "/rec/f-0.npy");  // name order
+    CHECK(by_dir.config.sensors[0].recording.files[0] == dir.path() + "/rec/f-0.npy");  // name order
     CHECK_FALSE(by_dir.config.sensors[0].recording.raw);
     CHECK(by_dir.config.sensors[1].recording.files.empty());
 
@@ -330,8 +315,8 @@ TEST_CASE("depth input: depth_files is checked when the configuration loads") {
 
 // verifies: SR-SYS-011
 TEST_CASE("depth input: the monitor's recording of its sources replays the same readings bit for bit") {
-    TempDir dir;
-    const cell::ConfigLoad load = cell::parse_monitor_config(cell::demo_config_text(), "cell.toml", dir.path);
+    TempDir dir("depth");
+    const cell::ConfigLoad load = cell::parse_monitor_config(cell::demo_config_text(), "cell.toml", dir.path());
     REQUIRE(load.ok);
     monitor::MonitorCell cell;
     REQUIRE_FALSE(cell.configure(load.config).failed());
@@ -348,7 +333,7 @@ TEST_CASE("depth input: the monitor's recording of its sources replays the same 
         std::uint64_t now = 0U;
     } time;
     monitor::DepthRecording rec;
-    rec.dir = dir.path + "/rec";
+    rec.dir = dir.path() + "/rec";
     rec.frames = 3;
     std::vector<monitor::RecordedSensor> counts;
     const monitor::SetupError e = monitor::record_depth_frames(cell, sources, rec, time, counts, nullptr);

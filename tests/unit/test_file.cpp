@@ -7,28 +7,22 @@
 // success.
 #include <doctest/doctest.h>
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "alloc_counter.hpp"
 #include "cellguard/host/io/file.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 
 namespace {
 
-/// A file of @p n bytes 0, 1, 2, ... in a new temporary directory, removed at the end.
+/// A file of @p n bytes 0, 1, 2, ... (modulo 251) in a new temporary directory, removed at the end.
 struct TempFile {
-    explicit TempFile(std::size_t n) {
-        char tmpl[] = "/tmp/cellguard-file-XXXXXX";
-        REQUIRE(mkdtemp(tmpl) != nullptr);
-        dir = tmpl;
-        path = dir + "/data.bin";
+    explicit TempFile(std::size_t n) : path(dir.file("data.bin")) {
         std::FILE* f = std::fopen(path.c_str(), "wb");
         REQUIRE(f != nullptr);
         for (std::size_t i = 0U; i < n; ++i) {
@@ -36,13 +30,7 @@ struct TempFile {
         }
         REQUIRE(std::fclose(f) == 0);
     }
-    ~TempFile() {
-        static_cast<void>(std::remove(path.c_str()));
-        static_cast<void>(rmdir(dir.c_str()));
-    }
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-    std::string dir;
+    test::TempDir dir{"file"};
     std::string path;
 };
 
@@ -83,11 +71,11 @@ TEST_CASE("file: a file larger than the buffer, a missing file and a directory a
     // An empty buffer holds only an empty file.
     st = host::read_whole_file(file.path.c_str(), {exact.data(), 0U}, got);
     CHECK(st.error() == ErrorCode::kStorageTooSmall);
-    const std::string missing = file.dir + "/missing.bin";
+    const std::string missing = file.dir.file("missing.bin");
     st = host::read_whole_file(missing.c_str(), {buffer.data(), buffer.size()}, got);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
     CHECK(std::string(st.message()).find(missing + ": cannot open: ") == 0U);
-    st = host::read_whole_file(file.dir.c_str(), {buffer.data(), buffer.size()}, got);  // a directory
+    st = host::read_whole_file(file.dir.path().c_str(), {buffer.data(), buffer.size()}, got);  // a directory
     CHECK_FALSE(st.ok());
-    CHECK(std::string(st.message()).find(file.dir + ": cannot read: ") == 0U);
+    CHECK(std::string(st.message()).find(file.dir.path() + ": cannot read: ") == 0U);
 }

@@ -16,30 +16,13 @@
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/io/npy.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 
+using cellguard::test::TempDir;
+
 namespace {
-
-/// A fresh directory under the system temp dir, removed with its contents.
-class TempDir {
-public:
-    TempDir() {
-        std::string templ = (std::filesystem::temp_directory_path() / "cellguard-npy-XXXXXX").string();
-        REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path_ = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] std::string file(const char* name) const { return (path_ / name).string(); }
-
-private:
-    std::filesystem::path path_;
-};
 
 std::vector<std::uint8_t> read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -127,7 +110,7 @@ TEST_CASE("npy: the header is byte for byte the one numpy.save writes") {
 
 // verifies: SR-IO-001
 TEST_CASE("npy: a written file is the header followed by the little-endian data in C order") {
-    TempDir dir;
+    TempDir dir("npy");
     std::int16_t data[24];
     for (int i = 0; i < 24; ++i) {
         data[i] = static_cast<std::int16_t>(i * 1000 - 12000);
@@ -147,7 +130,7 @@ TEST_CASE("npy: a written file is the header followed by the little-endian data 
 
 // verifies: SR-IO-001
 TEST_CASE("npy: int16, float32 and uint8 arrays round-trip through files unchanged") {
-    TempDir dir;
+    TempDir dir("npy");
     const GridDims dims{5, 4, 3};
     constexpr std::size_t n = 60;
     std::int16_t i16[n];
@@ -186,7 +169,7 @@ TEST_CASE("npy: int16, float32 and uint8 arrays round-trip through files unchang
 
 // verifies: SR-IO-001
 TEST_CASE("npy: writing refuses a data length that does not match the dimensions") {
-    TempDir dir;
+    TempDir dir("npy");
     std::int16_t data[10] = {};
     CHECK(write_npy_int16(dir.file("x.npy").c_str(), Span<const std::int16_t>(data), kDims).error() ==
           ErrorCode::kInvalidArgument);
@@ -199,7 +182,7 @@ TEST_CASE("npy: writing refuses a data length that does not match the dimensions
 
 // verifies: SR-IO-001
 TEST_CASE("npy: a grid exports as three files whose a[z, y, x] is voxel (x, y, z), and reads back") {
-    TempDir dir;
+    TempDir dir("npy");
     const GridGeometry geometry = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, GridDims{4, 3, 2}).value();
     static StaticEvidenceGridStorage<4, 3, 2> storage;
     EvidenceGrid grid = EvidenceGrid::make(geometry, storage.log_odds, storage.observed).value();
@@ -255,7 +238,7 @@ TEST_CASE("npy: a grid exports as three files whose a[z, y, x] is voxel (x, y, z
 
 // verifies: SR-IO-001
 TEST_CASE("npy: a background grid with a bad value is refused and left cleared") {
-    TempDir dir;
+    TempDir dir("npy");
     const GridDims dims{4, 3, 2};
     const GridGeometry geometry = GridGeometry::make(Eigen::Vector3d::Zero(), 0.1, dims).value();
     std::int16_t lo[24] = {};
@@ -387,7 +370,7 @@ TEST_CASE("npy: each malformed file is refused with its own error") {
 
 // verifies: SR-IO-001
 TEST_CASE("npy: a file is refused when it reaches a reader through a path, with the path in the message") {
-    TempDir dir;
+    TempDir dir("npy");
     const std::string path = dir.file("bad.npy");
     write_bytes(path, make_npy("{'descr': '<i2', 'fortran_order': True, 'shape': (2, 3, 4), }", 48));
     std::int16_t out[24];

@@ -13,30 +13,13 @@
 #include <vector>
 
 #include "cellguard/host/io/pcd.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 
+using cellguard::test::TempDir;
+
 namespace {
-
-/// A fresh directory under the system temp dir, removed with its contents.
-class TempDir {
-public:
-    TempDir() {
-        std::string templ = (std::filesystem::temp_directory_path() / "cellguard-pcd-XXXXXX").string();
-        REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path_ = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] std::string file(const char* name) const { return (path_ / name).string(); }
-
-private:
-    std::filesystem::path path_;
-};
 
 const char* const kFrames[] = {
     CELLGUARD_TEST_DATA_DIR "/kinect-frames/frame_20121214T142255.814212.pcd",
@@ -156,7 +139,7 @@ TEST_CASE("pcd: the three real Kinect frames read as 640 x 480 organised clouds 
 
 // verifies: SR-IO-002
 TEST_CASE("pcd: a real frame written as ascii, binary and binary_compressed reads back to the same points") {
-    TempDir dir;
+    TempDir dir("pcd");
     std::vector<PcdPoint> all(kFramePoints);
     std::vector<PcdPoint> finite(kFramePoints);
     PcdCloudInfo all_info;
@@ -551,7 +534,7 @@ TEST_CASE("pcd: a buffer too small for the points is refused, and the counts are
 
 // verifies: SR-IO-002
 TEST_CASE("pcd: files that cannot be read or written are reported with their path") {
-    TempDir dir;
+    TempDir dir("pcd");
     PcdPoint points[2] = {{1.0F, 2.0F, 3.0F}, {4.0F, 5.0F, 6.0F}};
     PcdCloudInfo info;
     IoStatus st = read_pcd(dir.file("none.pcd").c_str(), Span<PcdPoint>(points), info);

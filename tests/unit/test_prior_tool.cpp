@@ -30,28 +30,14 @@
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/prior/prior_image.hpp"
 #include "cellguard/prior_tool/prior_tool.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 using namespace cellguard::prior_tool;
 
-namespace {
+using cellguard::test::TempDir;
 
-/// A fresh directory under /tmp, removed at the end of the test.
-struct TempDir {
-    std::string path;
-    TempDir() {
-        std::string templ = "/tmp/cellguard_test_prior_tool_XXXXXX";
-        REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path = templ;
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-    [[nodiscard]] std::string operator/(const std::string& name) const { return path + "/" + name; }
-};
+namespace {
 
 struct Run {
     int status = -1;
@@ -185,7 +171,7 @@ std::vector<std::uint8_t> raw_npy(const std::string& dict, std::size_t data_byte
 // verifies: SR-PRIOR-015
 TEST_CASE(
     "prior tool: the simulated cell gives an image the loader accepts, equal to lib's prior of the same background") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     const Run r = run_tool({"--simulated", "--out", dir / "out"});
     INFO(r.err);
     REQUIRE(r.status == kExitOk);
@@ -223,7 +209,7 @@ TEST_CASE(
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: the .npy outputs are float32 of shape (nz, ny, nx) with P(fore) = P(acc) / 2") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     for (const char* method : {"probabilistic", "thresholded"}) {
         CAPTURE(method);
         const std::string out = dir / method;
@@ -270,7 +256,7 @@ TEST_CASE("prior tool: the .npy outputs are float32 of shape (nz, ny, nx) with P
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: a background .npy round trip gives the prior lib computes directly, for all four methods") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     BackgroundGrid bg;
     simulated_background(bg, 8);
     const std::string prefix = dir / "bg";
@@ -312,7 +298,7 @@ TEST_CASE("prior tool: a background .npy round trip gives the prior lib computes
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: without observed flags, voxels with no evidence count as unobserved") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     BackgroundGrid bg;
     simulated_background(bg, 2);
     // A stretch of unobserved voxels with stale log-odds would be wrong input;
@@ -332,7 +318,7 @@ TEST_CASE("prior tool: without observed flags, voxels with no evidence count as 
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and the problem, and write nothing") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     const GridDims dims = paper_grid_geometry().dims();
     const std::size_t n = paper_grid_geometry().voxel_count();
     std::vector<std::uint8_t> flags(n, 1U);
@@ -369,7 +355,7 @@ TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and 
         {{"--background-npy", dir / "f64.npy"}, "f64.npy: npy: dtype"},
         {{"--background-npy", dir / "trunc.npy"}, "trunc.npy: npy: data"},
         {{"--background-npy", dir / "missing.npy"}, "missing.npy: cannot open: No such file or directory"},
-        {{"--background-npy", dir.path}, ": not a regular file"},
+        {{"--background-npy", dir.path()}, ": not a regular file"},
         {{"--background-npy", dir / "not.npy"}, "not.npy: npy: input does not start with"},
         {{"--background-npy", dir / "nan.npy"}, "nan.npy: voxel (x 21, y 3, z 0) is NaN"},
         {{"--background-npy", dir / "big.npy"}, "big.npy: voxel (x 21, y 3, z 0) is 1.5, not a probability"},
@@ -398,7 +384,7 @@ TEST_CASE("prior tool: bad input files exit 2 with one line naming the file and 
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: bad option values exit 2 with one line naming the option") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     const std::string out = dir / "out";
     struct Case {
         std::vector<std::string> args;
@@ -450,7 +436,7 @@ TEST_CASE("prior tool: bad option values exit 2 with one line naming the option"
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: an output directory that cannot be created exits 1") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     REQUIRE(write_bytes(dir / "file", {'x'}));
     const Run r = run_tool({"--simulated", "--out", dir / "file"});
     CHECK(r.status == kExitOutputError);
@@ -461,7 +447,7 @@ TEST_CASE("prior tool: an output directory that cannot be created exits 1") {
 TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config give the simulated cell's prior") {
     // The simulated empty cell as recorded point clouds: each depth image back
     // projected into the sensor frame, one folder per sensor of paper-cell.toml.
-    TempDir dir;
+    TempDir dir("prior-tool");
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
     const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
     for (int k = 0; k < 3; ++k) {  // the probabilistic method needs 3 (min_background_frames)
@@ -542,7 +528,7 @@ TEST_CASE("prior tool: recorded .pcd frames with poses from the monitor config g
 
 // verifies: SR-PRIOR-015
 TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files like --frames") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
     const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
     for (std::size_t s = 0; s < sensors.size(); ++s) {
@@ -604,7 +590,7 @@ TEST_CASE("prior tool: --config-frames replays the configuration's pcd_files lik
 
 // verifies: SR-PRIOR-015, SR-SYS-011
 TEST_CASE("prior tool: --config-frames replays depth_files through the camera path, as the simulated frames") {
-    TempDir dir;
+    TempDir dir("prior-tool");
     const std::vector<sim::SensorSpec> sensors = sim::paper_sensors();
     const sim::SimulatedFrame frame = sim::render_frame(sensors, sim::reference_scene());
     const std::vector<std::uint8_t> toml = read_bytes(std::string(CELLGUARD_SOURCE_DIR) +

@@ -28,6 +28,7 @@
 #include "cellguard/monitor/monitor_loop.hpp"
 #include "cellguard/monitor/snapshot.hpp"
 #include "monitor_test_doubles.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 using namespace cellguard::cell;
@@ -35,20 +36,9 @@ using namespace cellguard::monitor;
 using cellguard::test::CountingSender;
 using cellguard::test::SteppingClock;
 
-namespace {
+using cellguard::test::TempDir;
 
-/// A fresh directory under /tmp, removed (one level of snapshot directories) at the end.
-struct TempDir {
-    TempDir() {
-        char name[] = "/tmp/cellguard-snapshot-test-XXXXXX";
-        REQUIRE(::mkdtemp(name) != nullptr);
-        path = name;
-    }
-    ~TempDir() { static_cast<void>(std::system(("rm -rf '" + path + "'").c_str())); }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    std::string path;
-};
+namespace {
 
 /// The demo's cell, as main sets it up, with a snapshot recorder into @p dir.
 struct Demo {
@@ -112,8 +102,8 @@ int count_lines_not_starting_with_hash(const std::string& text) {
 // verifies: SR-SYS-009
 TEST_CASE(
     "snapshot: the demo's stop in cycle 15 gives one snapshot: its grid, picture and CAN frames, no cycle allocates") {
-    const TempDir dir;
-    Demo demo(dir.path, 10U, 64U);
+    const TempDir dir("snapshot");
+    Demo demo(dir.path(), 10U, 64U);
     std::vector<std::int16_t> grid_at_stop;
     int cycles_that_allocated = 0;
     for (int k = 0; k < 60; ++k) {
@@ -158,8 +148,8 @@ TEST_CASE(
 
 // verifies: SR-SYS-009
 TEST_CASE("snapshot: a stop while the last snapshot still collects frames is skipped, and only the newest are kept") {
-    const TempDir dir;
-    Demo demo(dir.path, 2U, 4U);
+    const TempDir dir("snapshot");
+    Demo demo(dir.path(), 2U, 4U);
     CycleReport run;
     run.safety.stop_requested = false;  // the default is the stop
     CycleReport stop;
@@ -203,7 +193,7 @@ TEST_CASE("snapshot: a stop while the last snapshot still collects frames is ski
     REQUIRE(c.written >= 2U);  // the writer marks itself free just after counting: a later stop may still be skipped
     CHECK(c.removed == c.written - 2U);  // keep = 2
     CHECK(demo.recorder->written_paths().size() == 2U);
-    const int status = std::system(("test $(ls '" + dir.path + "' | grep -c '^stop-') -eq 2").c_str());
+    const int status = std::system(("test $(ls '" + dir.path() + "' | grep -c '^stop-') -eq 2").c_str());
     CHECK(status == 0);
 }
 

@@ -23,10 +23,13 @@
 #include "cellguard/robot/kinematics.hpp"
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/robot/robot_model.hpp"
+#include "temp_dir.hpp"
 
 using namespace cellguard;
 using cellguard::host::UrdfImport;
 using cellguard::host::UrdfImportOptions;
+
+using cellguard::test::TempDir;
 
 namespace {
 
@@ -40,27 +43,6 @@ UrdfImportOptions arm_options() {
     o.joint_order.assign(std::begin(kArmOrder), std::end(kArmOrder));
     return o;
 }
-
-/// A fresh directory under the system temp dir, removed with its contents.
-class TempDir {
-public:
-    TempDir() {
-        std::string templ = (std::filesystem::temp_directory_path() / "cellguard-urdf-XXXXXX").string();
-        REQUIRE(::mkdtemp(templ.data()) != nullptr);
-        path_ = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] std::string path() const { return path_.string(); }
-    [[nodiscard]] std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    std::filesystem::path path_;
-};
 
 std::string read_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -447,7 +429,7 @@ TEST_CASE("urdf import: a cylinder and two spheres written with 1.57 merge into 
 
 // verifies: SR-ROB-102
 TEST_CASE("urdf import: STL meshes, binary and ASCII, package:// and relative: the capsule holds every vertex") {
-    TempDir dir;
+    TempDir dir("urdf");
     write_binary_stl(dir.file("pkg/meshes/box.stl"), box_triangles(0.4F, 0.1F, 0.05F));
     const std::string ascii = read_text(std::string(CELLGUARD_TEST_DATA_DIR) + "/urdf/wedge.stl");
     REQUIRE(!ascii.empty());
