@@ -72,6 +72,20 @@ void wait_for_period(timespec& next, std::uint64_t period_us, std::uint64_t& ski
     }
 }
 
+// "summary: latency from the newest camera frame's @p from to its CAN frames ..." for
+// the first @p count of @p us; nothing when there are none (no live camera). Allocates (after the run).
+void write_latency(std::FILE* out, const char* from, const std::vector<std::uint64_t>& us, std::size_t count) {
+    if (count == 0U) {
+        return;
+    }
+    const DurationFigures f = duration_figures(us, count);
+    const auto ms = [](std::uint64_t v) { return static_cast<double>(v) / 1000.0; };
+    static_cast<void>(std::fprintf(out,
+                                   "summary: latency from the newest camera frame's %s to its CAN frames over %zu "
+                                   "cycles: median %.2f ms, p99 %.2f ms, p99.9 %.2f ms, max %.2f ms\n",
+                                   from, f.count, ms(f.median), ms(f.p99), ms(f.p999), ms(f.max)));
+}
+
 // Paced by frames (run_cycles): sleeps until half a period after @p last_start_us
 // (0: the first cycle, no wait), then until every source of @p loop has a new
 // frame or 1.125 periods after @p last_start_us have passed; counts which came first.
@@ -456,24 +470,8 @@ void MonitorLoop::write_timing(std::FILE* out) const noexcept {
                                        "summary: loading the frames (before each cycle, not in its time): median "
                                        "%.2f ms, p99 %.2f ms, max %.2f ms\n",
                                        ms(load.median), ms(load.p99), ms(load.max)));
-        if (stats_.latency_count > 0U) {
-            const DurationFigures latency = duration_figures(stats_.latency_us, stats_.latency_count);
-            static_cast<void>(std::fprintf(out,
-                                           "summary: latency from the newest camera frame's capture to its CAN "
-                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, p99.9 %.2f ms, "
-                                           "max %.2f ms\n",
-                                           latency.count, ms(latency.median), ms(latency.p99), ms(latency.p999),
-                                           ms(latency.max)));
-        }
-        if (stats_.arrival_count > 0U) {
-            const DurationFigures arrival = duration_figures(stats_.arrival_us, stats_.arrival_count);
-            static_cast<void>(std::fprintf(out,
-                                           "summary: latency from the newest camera frame's arrival to its CAN "
-                                           "frames over %zu cycles: median %.2f ms, p99 %.2f ms, p99.9 %.2f ms, "
-                                           "max %.2f ms\n",
-                                           arrival.count, ms(arrival.median), ms(arrival.p99), ms(arrival.p999),
-                                           ms(arrival.max)));
-        }
+        write_latency(out, "capture", stats_.latency_us, stats_.latency_count);
+        write_latency(out, "arrival", stats_.arrival_us, stats_.arrival_count);
     } catch (...) {
         static_cast<void>(std::fprintf(out, "summary: cycle time figures: out of memory\n"));
     }
