@@ -5,6 +5,7 @@
 // ideal ground truth (apps/simulator).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -305,4 +306,46 @@ TEST_CASE("simulator: precision-recall sweep counts exactly from the histograms"
     CHECK(s.max_recall == 1.0);
     CHECK(s.recall_at_precision_90 == 0.5);
     CHECK(s.precision_at_recall_90 == doctest::Approx(2.0 / 3.0));
+}
+
+// verifies: SR-EVAL-001, SR-EVAL-004
+TEST_CASE(
+    "simulator: the time-of-flight camera's noise: 1 % of range, dropouts at the set rate, caller storage alike") {
+    const sim::NoiseModel tof = sim::tof_camera_noise();
+    CHECK(tof.kind == sim::SensorKind::kFlashLidar);
+    CHECK(tof.lidar.range_sigma_base_m == 0.0);
+    CHECK(tof.lidar.range_sigma_per_m == 0.01);
+    CHECK(tof.lidar.missing_probability == 0.01);
+    const WallSetup wall(3.0);
+    const ErrorStats s = depth_error(wall, tof, 5U);
+    MESSAGE("wall at 3 m: depth sigma " << s.sigma << ", missing " << s.missing);
+    CHECK(s.sigma > 0.95 * 0.03);
+    CHECK(s.sigma < 1.12 * 0.03);
+    CHECK(s.missing > 0.008);
+    CHECK(s.missing < 0.012);
+    // The caller-storage form gives the vector form's image bit for bit, and refuses a wrong size.
+    std::vector<float> ideal;
+    sim::render_depth(wall.sensor, wall.scene, ideal);
+    std::vector<float> a = ideal;
+    std::vector<float> b = ideal;
+    std::vector<float> scratch(ideal.size());
+    sim::Rng ra(9U);
+    sim::Rng rb(9U);
+    sim::apply_noise(wall.sensor, tof, a, ra);
+    REQUIRE(sim::apply_noise(wall.sensor, tof, {b.data(), b.size()}, {scratch.data(), scratch.size()}, rb));
+    CHECK(a == b);
+    CHECK_FALSE(sim::apply_noise(wall.sensor, tof, {b.data(), b.size() - 1U}, {scratch.data(), scratch.size()}, rb));
+    // Without dropouts the SR4000 model draws the numbers it drew before the field existed.
+    sim::NoiseModel lidar;
+    lidar.kind = sim::SensorKind::kFlashLidar;
+    sim::NoiseModel lidar_drop = lidar;
+    lidar_drop.lidar.missing_probability = 1e-300;  // on, but never taken
+    std::vector<float> c = ideal;
+    std::vector<float> d = ideal;
+    sim::Rng rc(4U);
+    sim::Rng rd(4U);
+    sim::apply_noise(wall.sensor, lidar, c, rc);
+    sim::apply_noise(wall.sensor, lidar_drop, d, rd);
+    CHECK(c != d);  // one more draw per pixel shifts the sequence
+    CHECK(std::count(c.begin(), c.end(), 0.0F) == 0);
 }

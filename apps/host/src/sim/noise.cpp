@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cellguard/host/sim/noise.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -25,8 +26,7 @@ struct EdgeNeighbour {
     double jump = 0.0;
 };
 
-EdgeNeighbour largest_jump(const std::vector<float>& depth, std::int32_t w, std::int32_t h, std::int32_t u,
-                           std::int32_t v) {
+EdgeNeighbour largest_jump(Span<const float> depth, std::int32_t w, std::int32_t h, std::int32_t u, std::int32_t v) {
     const float own = depth[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
     EdgeNeighbour best;
     const std::int32_t du[4] = {-1, 1, 0, 0};
@@ -51,9 +51,10 @@ EdgeNeighbour largest_jump(const std::vector<float>& depth, std::int32_t w, std:
     return best;
 }
 
-void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, std::vector<float>& depth, Rng& rng) {
+void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, Span<const float> ideal, Span<float> depth,
+                 Rng& rng) {
     const PinholeIntrinsics k = sensor.intrinsics();
-    const std::vector<float> ideal = depth;  // edges are found on the ideal image
+    const bool dropouts = p.missing_probability > 0.0;  // else no number is drawn for them (the paper's figures)
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
             const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(k.width) +
@@ -63,8 +64,13 @@ void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, std::vector
             const double mix_draw = rng.uniform();
             const double weight = rng.uniform();
             const double n = rng.normal();
+            const double drop_draw = dropouts ? rng.uniform() : 1.0;
             const auto z = static_cast<double>(ideal[i]);
             if (!(z > 0.0)) {
+                continue;
+            }
+            if (drop_draw < p.missing_probability) {
+                depth[i] = 0.0F;
                 continue;
             }
             double z_new = z;
@@ -84,9 +90,9 @@ void apply_lidar(const SensorSpec& sensor, const FlashLidarNoise& p, std::vector
     }
 }
 
-void apply_stereo(const SensorSpec& sensor, const StereoNoise& p, std::vector<float>& depth, Rng& rng) {
+void apply_stereo(const SensorSpec& sensor, const StereoNoise& p, Span<const float> ideal, Span<float> depth,
+                  Rng& rng) {
     const PinholeIntrinsics k = sensor.intrinsics();
-    const std::vector<float> ideal = depth;
     const double fb = k.fx * p.baseline_m;
     for (std::int32_t v = 0; v < k.height; ++v) {
         for (std::int32_t u = 0; u < k.width; ++u) {
@@ -154,12 +160,40 @@ double Rng::normal() {
     return radius * std::cos(kTwoPi * u2);
 }
 
-void apply_noise(const SensorSpec& sensor, const NoiseModel& model, std::vector<float>& depth, Rng& rng) {
-    switch (model.kind) {
-        case SensorKind::kIdeal: return;
-        case SensorKind::kFlashLidar: apply_lidar(sensor, model.lidar, depth, rng); return;
-        case SensorKind::kStereo: apply_stereo(sensor, model.stereo, depth, rng); return;
+NoiseModel tof_camera_noise(double range_sigma_per_m) {
+    NoiseModel m;
+    m.kind = SensorKind::kFlashLidar;
+    m.lidar.range_sigma_base_m = 0.0;
+    m.lidar.range_sigma_per_m = range_sigma_per_m;
+    m.lidar.mixed_pixel_edge_m = 0.05;
+    m.lidar.mixed_pixel_probability = 0.5;
+    m.lidar.missing_probability = 0.01;
+    return m;
+}
+
+bool apply_noise(const SensorSpec& sensor, const NoiseModel& model, Span<float> depth, Span<float> ideal,
+                 Rng& rng) noexcept {
+    const PinholeIntrinsics k = sensor.intrinsics();
+    const auto pixels = static_cast<std::size_t>(k.width) * static_cast<std::size_t>(k.height);
+    if (depth.size() != pixels || ideal.size() != pixels) {
+        return false;
     }
+    std::copy(depth.begin(), depth.end(), ideal.begin());  // edges are found on the ideal image
+    const Span<const float> clean(ideal.data(), ideal.size());
+    switch (model.kind) {
+        case SensorKind::kIdeal: break;
+        case SensorKind::kFlashLidar: apply_lidar(sensor, model.lidar, clean, depth, rng); break;
+        case SensorKind::kStereo: apply_stereo(sensor, model.stereo, clean, depth, rng); break;
+    }
+    return true;
+}
+
+void apply_noise(const SensorSpec& sensor, const NoiseModel& model, std::vector<float>& depth, Rng& rng) {
+    if (model.kind == SensorKind::kIdeal) {
+        return;
+    }
+    std::vector<float> ideal(depth.size());
+    static_cast<void>(apply_noise(sensor, model, {depth.data(), depth.size()}, {ideal.data(), ideal.size()}, rng));
 }
 
 SimulatedFrame render_noisy_frame(const std::vector<SensorSpec>& sensors, const std::vector<NoiseModel>& models,

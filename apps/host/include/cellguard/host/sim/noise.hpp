@@ -13,7 +13,9 @@
 ///   (the neighbour of the largest jump, w uniform in [0, 1]): the "flying
 ///   pixels" between a foreground edge and what lies behind it;
 /// - range noise: R += N(0, sigma), sigma = range_sigma_base_m +
-///   range_sigma_per_m * R (about 1 cm at 2 m with the defaults).
+///   range_sigma_per_m * R (about 1 cm at 2 m with the defaults);
+/// - dropouts: with probability missing_probability (0 by default) a pixel
+///   has no reading (tof_camera_noise: 1 %).
 ///
 /// Stereo camera, per pixel with depth z (along the optical axis):
 /// - missing pixels: at a depth edge (a 4-neighbour differing by more than
@@ -56,6 +58,10 @@ struct FlashLidarNoise {
     double range_sigma_per_m = 0.003;      ///< growth of that standard deviation per metre of range
     double mixed_pixel_edge_m = 0.05;      ///< depth jump to a 4-neighbour that makes a pixel an edge pixel, metres
     double mixed_pixel_probability = 0.5;  ///< chance that an edge pixel reads a mixture of both depths
+    /// Dropouts: chance that a pixel has no reading (reads 0). 0 (the SR4000
+    /// model's default): none, and no number is drawn for them, so the paper's
+    /// frames are those of the model without this field.
+    double missing_probability = 0.0;
 };
 
 /// Parameters of the stereo model; defaults are TYZX-G3-like.
@@ -102,6 +108,19 @@ private:
     double spare_ = 0.0;
     bool has_spare_ = false;
 };
+
+/// A time-of-flight camera as detection tests assume one (the flash-lidar
+/// model): range noise of @p range_sigma_per_m per metre of range (0.01: 1 %,
+/// 3 cm at 3 m) and none at range 0, flying pixels at depth edges of more than
+/// 5 cm (each edge pixel with probability 0.5), 1 % dropouts.
+NoiseModel tof_camera_noise(double range_sigma_per_m = 0.01);
+
+/// apply_noise into caller storage: @p depth (exactly width * height values)
+/// in place, @p ideal (as many) receives the ideal image the model reads
+/// edges from. False, with nothing changed, when a size differs. Allocates
+/// nothing; the same image as the vector form, bit for bit.
+[[nodiscard]] bool apply_noise(const SensorSpec& sensor, const NoiseModel& model, Span<float> depth, Span<float> ideal,
+                               Rng& rng) noexcept;
 
 /// Applies @p model to the ideal depth image @p depth of @p sensor in place
 /// (row-major, width * height values, 0 = no reading), drawing from @p rng.
