@@ -26,7 +26,7 @@ float& at(std::vector<float>& img, std::int32_t u, std::int32_t v) { return img[
 }  // namespace
 
 // verifies: SR-EVAL-004
-TEST_CASE("depth conditioning: off changes nothing; a wrong size is refused and changes nothing") {
+TEST_CASE("depth conditioning: off changes nothing, a wrong size is refused and changes nothing") {
     std::vector<float> img = flat(3.0F);
     at(img, 3, 1) = 1.0F;
     const std::vector<float> before = img;
@@ -107,7 +107,7 @@ TEST_CASE("depth conditioning: readings within the tolerance of the empty cell r
 
 // verifies: SR-EVAL-004
 TEST_CASE(
-    "depth conditioning: a two-pixel band of flying pixels goes with radius 2; an isolated reading in front "
+    "depth conditioning: a two-pixel band of flying pixels goes with radius 2, an isolated reading in front "
     "of the empty cell goes by the speckle filter, a blob stays") {
     // Radius: columns 3 and 4 both mix the 2 m object (columns 0..2) with the 3 m wall.
     std::vector<float> img = flat(3.0F);

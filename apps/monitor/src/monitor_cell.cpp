@@ -335,7 +335,7 @@ SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, st
     return {};
 }
 
-SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* out) {
+SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* out, PriorMethod method) {
     if (cfg.prior.source == cell::PriorSource::kFile) {
         return read_prior(cfg, grid, prior, prior_payload_crc, out);
     }
@@ -353,6 +353,7 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
     }
     background_observed = bg_ob;
     AccessibilityParams params;
+    params.method = method;
     const AccessibilityScratchSize size = accessibility_scratch_size(grid.dims(), params);
     std::vector<std::uint32_t> words(size.words);
     std::vector<std::uint8_t> bytes(size.bytes);
@@ -370,7 +371,8 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
         payload[2U * i + 1U] = static_cast<std::uint8_t>(bits >> 8U);
     }
     prior_payload_crc = crc32(Span<const std::uint8_t>(payload.data(), payload.size()));
-    say(out, "prior: probabilistic accessibility prior from %d simulated empty frames\n", cfg.prior.background_frames);
+    say(out, "prior: %s accessibility prior from %d simulated empty frames\n",
+        method == PriorMethod::kThresholded ? "thresholded" : "probabilistic", cfg.prior.background_frames);
     return {};
 }
 

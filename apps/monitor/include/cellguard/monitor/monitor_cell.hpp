@@ -25,6 +25,7 @@
 #include "cellguard/host/sim/robot_cell.hpp"
 #include "cellguard/host/sim/scene_file.hpp"
 #include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/safety/cycle.hpp"
 #include "cellguard/safety/monitoring_cases.hpp"
@@ -87,9 +88,11 @@ public:
     /// The sensors, the grid and its storage, the zones (exit status 2 for a
     /// sensor or zone the configuration gets wrong).
     SetupError configure(const cell::MonitorConfig& cfg);
-    /// The prior, read from its file or computed from simulated empty frames;
-    /// prints "prior: ..." to @p out (nullptr: silent).
-    SetupError build_prior(const cell::MonitorConfig& cfg, std::FILE* out);
+    /// The prior, read from its file or computed from simulated empty frames
+    /// by @p method (the monitor's: probabilistic; the detection experiment
+    /// compares methods); prints "prior: ..." to @p out (nullptr: silent).
+    SetupError build_prior(const cell::MonitorConfig& cfg, std::FILE* out,
+                           PriorMethod method = PriorMethod::kProbabilistic);
     /// The simulated sensors' ray tables (none with footprint fusion: its
     /// workspaces instead) and views of the empty cell; prints the background
     /// check, the tables or workspaces and the work bound to @p out.

@@ -1,0 +1,130 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+/// @file detection.hpp
+/// Detection capability, measured (ISO 13855's d, IEC 61496's test pieces):
+/// test pieces (test_piece.hpp: cylinders with flat ends, spheres) placed at
+/// seeded random poses inside one zone of a monitor configuration, rendered
+/// over the simulated cameras' view of the empty cell with the cameras'
+/// noise, and fed to the monitor's own cycle (MonitorCell, MonitorLoop: the
+/// configuration's fusion, prior, zones and thresholds, a simulated PLC
+/// selecting the first monitoring case).
+///
+/// Per pose: the piece appears in cycle j and stays for `cycles` cycles; the
+/// pose counts as detected when the zone is INTRUDED (its state in the
+/// zone evaluation, before any fault overrides the outputs) in one of them.
+/// Per method, size and placement: the poses detected and the one-sided 95 %
+/// Clopper-Pearson lower bound of the detection probability. Beside them,
+/// the empty cell with the same noise: the cycles in which the zone was
+/// INTRUDED with nothing in it (false stops of a protective zone).
+///
+/// Seeds: pose i of a (size, placement) row is drawn from the generator
+/// sim::sensor_seed(seed, row) in order; frame noise of cycle c of sensor s
+/// from sim::sensor_seed(seed * 1000003 + c, s). The same settings give the
+/// same table.
+#ifndef CELLGUARD_MONITOR_DETECTION_HPP
+#define CELLGUARD_MONITOR_DETECTION_HPP
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/host/cell/depth_conditioning.hpp"
+#include "cellguard/host/sim/noise.hpp"
+#include "cellguard/host/sim/test_piece.hpp"
+#include "cellguard/prior/accessibility_params.hpp"
+#include "cellguard/safety/zones.hpp"
+
+namespace cellguard::monitor {
+
+/// Where a piece lies in its zone.
+enum class Placement : std::uint8_t {
+    kFree = 0,   ///< anywhere inside, at any orientation, not touching the floor or a box
+    kFloor = 1,  ///< lying on the floor (a cylinder's axis horizontal), at any yaw
+};
+
+/// Static name of a placement ("free", "floor").
+const char* to_string(Placement placement) noexcept;
+
+/// A test piece's shape and size.
+struct PieceSize {
+    sim::PieceShape shape = sim::PieceShape::kCylinder;  ///< cylinder or sphere
+    double diameter = 0.0;                               ///< metres
+    double length = 0.0;                                 ///< cylinder: metres (0 for a sphere)
+};
+
+/// The experiment's settings.
+struct DetectionSettings {
+    std::string zone = "protective";  ///< the zone the pieces are placed in (by name)
+    /// The pieces: by default cylinders of 20, 30, 40, 55, 70, 100, 150 and
+    /// 200 mm diameter, 300 mm long, and spheres of the same diameters.
+    std::vector<PieceSize> sizes = default_sizes();
+    std::vector<Placement> placements{Placement::kFree, Placement::kFloor};                    ///< the placements tried
+    std::vector<PriorMethod> methods{PriorMethod::kProbabilistic, PriorMethod::kThresholded};  ///< the priors
+    int poses = 1000;        ///< poses per method, size and placement
+    int cycles = 2;          ///< k: cycles the piece stays (detected in any of them)
+    int empty_cycles = 200;  ///< empty-cell cycles per method (false INTRUDED counted)
+    int warmup_cycles = 10;  ///< cycles before the first counted one (the PLC's first command)
+    /// The cameras' noise (sim::tof_camera_noise: 1 % of range, flying
+    /// pixels, dropouts); kind kIdeal: noise-free frames.
+    sim::NoiseModel noise = sim::tof_camera_noise();
+    /// The cameras' own filters on each noisy frame (depth_conditioning.hpp;
+    /// the background tolerance against the empty cell's noise-free image). Off by default.
+    cell::DepthConditioning conditioning{};
+    std::uint64_t seed = 1U;  ///< the seed of poses and noise
+    /// The default pieces (see sizes).
+    static std::vector<PieceSize> default_sizes();
+};
+
+/// One row of the result: a method, a size and a placement.
+struct DetectionRow {
+    PriorMethod method = PriorMethod::kProbabilistic;  ///< the prior's method
+    PieceSize size{};                                  ///< the piece
+    Placement placement = Placement::kFree;            ///< where it lay
+    int poses = 0;                                     ///< poses tried
+    int detected = 0;                                  ///< poses with the zone INTRUDED within k cycles
+    double lower_bound = 0.0;                          ///< one-sided 95 % Clopper-Pearson lower bound
+};
+
+/// One method's empty cell.
+struct EmptyCellRow {
+    PriorMethod method = PriorMethod::kProbabilistic;  ///< the prior's method
+    int cycles = 0;                                    ///< empty-cell cycles run
+    int intruded = 0;                                  ///< of them with the zone INTRUDED (false stops)
+    std::uint32_t max_foreground = 0U;                 ///< the zone's most foreground voxels in one cycle
+    std::uint64_t foreground_sum = 0U;                 ///< the zone's foreground voxels summed over the cycles
+};
+
+/// The experiment's result.
+struct DetectionResult {
+    std::string error;                ///< why it could not run (empty: it ran)
+    std::vector<DetectionRow> rows;   ///< per method, size and placement, in the settings' order
+    std::vector<EmptyCellRow> empty;  ///< per method
+    std::uint64_t cycles_run = 0U;    ///< every cycle of the run
+    /// The smallest diameter of @p shape detected in every pose of every
+    /// placement with @p method, every larger one of that shape too; 0: none.
+    [[nodiscard]] double smallest_always_detected(PriorMethod method, sim::PieceShape shape) const noexcept;
+};
+
+/// One-sided lower confidence bound (Clopper-Pearson) at @p confidence on a
+/// probability of which @p successes of @p trials happened: the p at which
+/// P(X >= successes) = 1 - confidence (0 for no success). Trials 1..10^6.
+[[nodiscard]] double clopper_pearson_lower(int successes, int trials, double confidence = 0.95) noexcept;
+
+/// A seeded random pose of @p size in @p zone with @p placement (see
+/// Placement), clear of @p boxes: false when 10,000 draws found none (the
+/// piece does not fit).
+[[nodiscard]] bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placement,
+                               const std::vector<sim::Box>& boxes, sim::Rng& rng, sim::TestPiece& out);
+
+/// Runs the experiment on the monitor configuration @p cfg (its sensors must
+/// all be simulated); progress lines to @p progress (nullptr: quiet).
+DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSettings& settings, std::FILE* progress);
+
+/// Writes @p result as a Markdown table (and the empty cell's rows) to @p out.
+void write_detection_table(std::FILE* out, const DetectionSettings& settings, const DetectionResult& result);
+
+}  // namespace cellguard::monitor
+
+#endif  // CELLGUARD_MONITOR_DETECTION_HPP

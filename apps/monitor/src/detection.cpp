@@ -1,0 +1,511 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// The detection-capability experiment (detection.hpp).
+#include "cellguard/monitor/detection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/host/sim/workcell.hpp"
+#include "cellguard/monitor/can_port.hpp"
+#include "cellguard/monitor/command_link.hpp"
+#include "cellguard/monitor/cycle_clock.hpp"
+#include "cellguard/monitor/monitor_cell.hpp"
+#include "cellguard/monitor/monitor_loop.hpp"
+#include "cellguard/monitor/robot_cell_demo.hpp"
+#include "cellguard/port/clock.hpp"
+
+namespace cellguard::monitor {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A simulated camera of the experiment: its view of the empty cell, cast
+/// once, with the current piece drawn over it and the camera's noise on top.
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+class PieceFrameSource final : public cell::FrameSource {
+public:
+    PieceFrameSource(const sim::SensorSpec& spec, const sim::Scene& background, const sim::NoiseModel& noise,
+                     const cell::DepthConditioning& conditioning, std::size_t index)
+        : spec_(spec), rays_(spec), noise_(noise), conditioning_(conditioning), index_(index) {
+        sim::render_depth(spec, sim::PreparedScene(background), background_);
+        image_.resize(background_.size());
+        ideal_.resize(background_.size());
+    }
+
+    /// The piece of the frames from now on (nullptr: the empty cell) and the run's seed.
+    void show(const sim::TestPiece* piece, std::uint64_t seed) noexcept {
+        has_piece_ = piece != nullptr;
+        if (has_piece_) {
+            piece_ = *piece;
+        }
+        seed_ = seed;
+    }
+
+    bool load_frame(std::uint64_t cycle, SensorReading& reading, cell::FrameStatus& status) noexcept override {
+        std::copy(background_.begin(), background_.end(), image_.begin());
+        if (has_piece_) {
+            draw_piece();
+        }
+        const Span<float> image(image_.data(), image_.size());
+        if (noise_.kind == sim::SensorKind::kIdeal) {
+            cell::dither_depth(cycle, image);  // else the frozen-sensor check takes it for frozen
+        } else {
+            sim::Rng rng(sim::sensor_seed(seed_ * 1000003U + cycle, index_));
+            static_cast<void>(sim::apply_noise(spec_, noise_, image, {ideal_.data(), ideal_.size()}, rng));
+        }
+        if (conditioning_.on()) {
+            static_cast<void>(cell::condition_depth(image, {background_.data(), background_.size()},
+                                                    {ideal_.data(), ideal_.size()}, spec_.width, spec_.height,
+                                                    conditioning_));
+        }
+        reading = sim::depth_reading(spec_, {image_.data(), image_.size()});
+        status = cell::FrameStatus{};
+        status.ok = true;
+        return true;
+    }
+
+    void write_summary(std::FILE* /*out*/) const noexcept override {}
+
+private:
+    /// The piece over the empty cell's image: every pixel whose ray meets it
+    /// before the background (pixels outside its bounding sphere's image skipped).
+    void draw_piece() noexcept {
+        std::int32_t u0 = 0;
+        std::int32_t u1 = spec_.width - 1;
+        std::int32_t v0 = 0;
+        std::int32_t v1 = spec_.height - 1;
+        bounding_rect(u0, u1, v0, v1);
+        for (std::int32_t v = v0; v <= v1; ++v) {
+            for (std::int32_t u = u0; u <= u1; ++u) {
+                const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(spec_.width) +
+                                      static_cast<std::size_t>(u);
+                const double t = sim::intersect_piece(piece_, spec_.position, rays_.direction(i));
+                const auto bg = static_cast<double>(background_[i]);
+                const double bg_range = bg > 0.0 ? bg * rays_.ray_length(i) : std::numeric_limits<double>::infinity();
+                if (t < bg_range) {
+                    image_[i] = static_cast<float>(t / rays_.ray_length(i));
+                }
+            }
+        }
+    }
+
+    /// The pixels of the box around the piece's bounding sphere in the camera
+    /// frame, projected (every pixel when the sphere reaches the image plane).
+    void bounding_rect(std::int32_t& u0, std::int32_t& u1, std::int32_t& v0, std::int32_t& v1) const noexcept {
+        const Eigen::Vector3d c = spec_.pose().inverse() * piece_.centre;
+        const double r = piece_.bounding_radius();
+        if (!(c.z() - r > 0.01)) {
+            return;
+        }
+        const PinholeIntrinsics k = spec_.intrinsics();
+        const double near = c.z() - r;
+        const double far = c.z() + r;
+        const auto lo = [near, far](double a) { return std::min(a / near, a / far); };
+        const auto hi = [near, far](double a) { return std::max(a / near, a / far); };
+        const auto clip = [](double x, std::int32_t last) {
+            return static_cast<std::int32_t>(std::clamp(x, 0.0, static_cast<double>(last)));
+        };
+        u0 = clip(std::floor(k.cx + k.fx * lo(c.x() - r)) - 1.0, spec_.width - 1);
+        u1 = clip(std::ceil(k.cx + k.fx * hi(c.x() + r)) + 1.0, spec_.width - 1);
+        v0 = clip(std::floor(k.cy + k.fy * lo(c.y() - r)) - 1.0, spec_.height - 1);
+        v1 = clip(std::ceil(k.cy + k.fy * hi(c.y() + r)) + 1.0, spec_.height - 1);
+    }
+
+    sim::SensorSpec spec_;
+    sim::SensorRays rays_;
+    sim::NoiseModel noise_;
+    cell::DepthConditioning conditioning_;
+    std::size_t index_;
+    std::vector<float> background_;
+    std::vector<float> image_;
+    std::vector<float> ideal_;
+    sim::TestPiece piece_{};
+    bool has_piece_ = false;
+    std::uint64_t seed_ = 0U;
+};
+
+/// A CAN sender that drops every frame (the experiment reads the cycle's report).
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
+class DroppingSender final : public CanSender {
+public:
+    bool send(const CanFrame& /*frame*/) noexcept override { return true; }
+};
+
+/// Points of the piece's surface and axis, at most 2 cm apart along the
+/// piece: a cylinder's rings of 16 points from end to end with its axis, a
+/// sphere's centre and 26 points of its surface (the fit and clearance tests).
+std::vector<Eigen::Vector3d> outline(const sim::TestPiece& p) {
+    std::vector<Eigen::Vector3d> points;
+    const double r = 0.5 * p.diameter;
+    if (p.shape == sim::PieceShape::kSphere) {
+        points.push_back(p.centre);
+        for (int x = -1; x <= 1; ++x) {
+            for (int y = -1; y <= 1; ++y) {
+                for (int z = -1; z <= 1; ++z) {
+                    if (x != 0 || y != 0 || z != 0) {
+                        points.emplace_back(p.centre + r * Eigen::Vector3d(x, y, z).normalized());
+                    }
+                }
+            }
+        }
+        return points;
+    }
+    const Eigen::Vector3d e1 = p.axis.unitOrthogonal();
+    const Eigen::Vector3d e2 = p.axis.cross(e1);
+    const int rings = 1 + static_cast<int>(std::ceil(p.length / 0.02));
+    for (int k = 0; k <= rings; ++k) {
+        const Eigen::Vector3d c = p.centre + (static_cast<double>(k) / rings - 0.5) * p.length * p.axis;
+        points.push_back(c);
+        for (int i = 0; i < 16; ++i) {
+            const double phi = 2.0 * kPi * static_cast<double>(i) / 16.0;
+            points.emplace_back(c + r * (std::cos(phi) * e1 + std::sin(phi) * e2));
+        }
+    }
+    return points;
+}
+
+/// The zone's bounding box.
+void zone_bounds(const ZoneConfig& zone, Eigen::Vector3d& lo, Eigen::Vector3d& hi) noexcept {
+    if (zone.shape == ZoneShape::kBox) {
+        lo = zone.box_min;
+        hi = zone.box_max;
+        return;
+    }
+    lo = Eigen::Vector3d(zone.polygon[0].x, zone.polygon[0].y, zone.z_min);
+    hi = Eigen::Vector3d(zone.polygon[0].x, zone.polygon[0].y, zone.z_max);
+    for (std::size_t i = 1U; i < zone.polygon_size; ++i) {
+        lo = lo.cwiseMin(Eigen::Vector3d(zone.polygon[i].x, zone.polygon[i].y, zone.z_min));
+        hi = hi.cwiseMax(Eigen::Vector3d(zone.polygon[i].x, zone.polygon[i].y, zone.z_max));
+    }
+}
+
+/// Fits: every outline point inside the zone, above the floor, outside every box.
+bool fits(const sim::TestPiece& piece, const ZoneConfig& zone, const std::vector<sim::Box>& boxes) {
+    if (piece.lowest_z() < -1e-9) {
+        return false;
+    }
+    for (const Eigen::Vector3d& p : outline(piece)) {
+        if (!zone_contains(zone, p)) {
+            return false;
+        }
+        for (const sim::Box& b : boxes) {
+            if (sim::box_contains(b, p)) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+/// A uniformly distributed unit vector.
+Eigen::Vector3d random_direction(sim::Rng& rng) {
+    for (;;) {
+        const Eigen::Vector3d v(rng.normal(), rng.normal(), rng.normal());
+        const double n = v.norm();
+        if (n > 1e-9) {
+            return v / n;
+        }
+    }
+}
+
+/// Binomial P(X >= k) for n trials of probability p, by its terms in log space.
+double tail_at_least(int k, int n, double p) noexcept {
+    if (k <= 0) {
+        return 1.0;
+    }
+    if (p <= 0.0) {
+        return 0.0;
+    }
+    if (p >= 1.0) {
+        return 1.0;
+    }
+    const double lp = std::log(p);
+    const double lq = std::log1p(-p);
+    double sum = 0.0;
+    for (int i = k; i <= n; ++i) {
+        const double log_term = std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) + i * lp +
+                                (n - i) * lq;
+        sum += std::exp(log_term);
+    }
+    return std::min(1.0, sum);
+}
+
+/// The method's name in the table.
+const char* method_label(PriorMethod m) noexcept {
+    return m == PriorMethod::kThresholded ? "thresholded" : "probabilistic";
+}
+
+}  // namespace
+
+const char* to_string(Placement placement) noexcept { return placement == Placement::kFloor ? "floor" : "free"; }
+
+std::vector<PieceSize> DetectionSettings::default_sizes() {
+    std::vector<PieceSize> sizes;
+    for (const sim::PieceShape shape : {sim::PieceShape::kCylinder, sim::PieceShape::kSphere}) {
+        for (const double d_mm : {20.0, 30.0, 40.0, 55.0, 70.0, 100.0, 150.0, 200.0}) {
+            sizes.push_back(PieceSize{shape, d_mm / 1000.0, shape == sim::PieceShape::kCylinder ? 0.3 : 0.0});
+        }
+    }
+    return sizes;
+}
+
+double clopper_pearson_lower(int successes, int trials, double confidence) noexcept {
+    if (trials <= 0 || trials > 1000000 || successes <= 0) {
+        return 0.0;
+    }
+    const int k = std::min(successes, trials);
+    const double alpha = 1.0 - confidence;
+    // P(X >= k) grows with p: bisect for the p where it equals alpha.
+    double lo = 0.0;
+    double hi = 1.0;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (tail_at_least(k, trials, mid) < alpha ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placement, const std::vector<sim::Box>& boxes,
+                 sim::Rng& rng, sim::TestPiece& out) {
+    Eigen::Vector3d lo;
+    Eigen::Vector3d hi;
+    zone_bounds(zone, lo, hi);
+    for (int attempt = 0; attempt < 10000; ++attempt) {
+        sim::TestPiece p;
+        p.shape = size.shape;
+        p.diameter = size.diameter;
+        p.length = size.length;
+        const Eigen::Vector3d at(lo.x() + rng.uniform() * (hi.x() - lo.x()), lo.y() + rng.uniform() * (hi.y() - lo.y()),
+                                 lo.z() + rng.uniform() * (hi.z() - lo.z()));
+        p.centre = at;
+        if (placement == Placement::kFloor) {
+            const double yaw = 2.0 * kPi * rng.uniform();
+            p.axis = Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
+            p.centre.z() = 0.5 * size.diameter;  // resting on the floor
+        } else {
+            p.axis = random_direction(rng);
+            if (p.lowest_z() < 0.01) {
+                continue;  // free: clear of the floor
+            }
+        }
+        if (fits(p, zone, boxes)) {
+            out = p;
+            return true;
+        }
+    }
+    return false;
+}
+
+double DetectionResult::smallest_always_detected(PriorMethod method, sim::PieceShape shape) const noexcept {
+    // Sizes from the largest down: the smallest of the unbroken run detected every time.
+    std::vector<double> diameters;
+    for (const DetectionRow& r : rows) {
+        if (r.method == method && r.size.shape == shape) {
+            diameters.push_back(r.size.diameter);
+        }
+    }
+    std::sort(diameters.begin(), diameters.end());
+    diameters.erase(std::unique(diameters.begin(), diameters.end()), diameters.end());
+    double smallest = 0.0;
+    for (auto it = diameters.rbegin(); it != diameters.rend(); ++it) {
+        bool all = true;
+        for (const DetectionRow& r : rows) {
+            if (r.method == method && r.size.shape == shape && r.size.diameter == *it) {
+                all = all && r.poses > 0 && r.detected == r.poses;
+            }
+        }
+        if (!all) {
+            break;
+        }
+        smallest = *it;
+    }
+    return smallest;
+}
+
+namespace {
+
+/// One method's monitor: the cell, its sources, a PLC selecting the first case, the loop.
+struct MethodRun {
+    MethodRun(cell::MonitorConfig config, PriorMethod method, const DetectionSettings& settings, std::string& error)
+        : cfg(std::move(config)), clock(false, real_clock) {
+        cfg.budget_us = 60000000U;  // the decisions, not this host's speed
+        SetupError e;
+        if ((e = monitor_cell.configure(cfg)).failed() || (e = monitor_cell.configure_robot(cfg, nullptr)).failed() ||
+            (e = monitor_cell.build_prior(cfg, nullptr, method)).failed() ||
+            (e = monitor_cell.build_tables(cfg, nullptr)).failed()) {
+            error = "the configuration's cell could not be set up: " + e.message;
+            return;
+        }
+        for (std::size_t s = 0U; s < monitor_cell.specs.size(); ++s) {
+            owned.push_back(std::make_unique<PieceFrameSource>(monitor_cell.specs[s], monitor_cell.background_scene(),
+                                                               settings.noise, settings.conditioning, s));
+            sources.push_back(owned.back().get());
+        }
+        can.use_sender(sender);
+        plc = std::make_unique<SimulatedPlcLink>(command_receiver_config(cfg), plc_receiver_config(cfg), &can);
+        hook = std::make_unique<CaseCellDemo>(
+            cfg.cases.empty() ? std::uint8_t{0U} : static_cast<std::uint8_t>(cfg.cases.front().number), *plc);
+        loop = std::make_unique<MonitorLoop>(cfg, monitor_cell, sources, can, clock, nullptr, plc.get(), hook.get());
+        if (!loop->status().ok()) {
+            error = "the monitor's loop refused the configuration";
+        }
+    }
+
+    /// Shows @p piece (nullptr: the empty cell) with noise seed @p seed in every source.
+    void show(const sim::TestPiece* piece, std::uint64_t seed) noexcept {
+        for (const std::unique_ptr<PieceFrameSource>& s : owned) {
+            s->show(piece, seed);
+        }
+    }
+
+    /// Runs the next cycle; true when zone @p zone was evaluated and INTRUDED.
+    bool intruded(std::size_t zone) noexcept {
+        const CycleReport& r = loop->run_cycle(next++);
+        const std::uint32_t bit = 1U << zone;
+        foreground = r.zones.zones[zone].foreground;
+        return (r.zones.active_mask & bit) != 0U && (r.zones.intruded_mask & bit) != 0U;
+    }
+
+    cell::MonitorConfig cfg;
+    linux_port::LinuxMonotonicClock real_clock;
+    CycleClock clock;
+    MonitorCell monitor_cell;
+    std::vector<std::unique_ptr<PieceFrameSource>> owned;
+    std::vector<cell::FrameSource*> sources;
+    DroppingSender sender;
+    CanPort can;
+    std::unique_ptr<SimulatedPlcLink> plc;
+    std::unique_ptr<CaseCellDemo> hook;
+    std::unique_ptr<MonitorLoop> loop;
+    int next = 0;
+    std::uint32_t foreground = 0U;  ///< the zone's foreground voxels in the last cycle
+};
+
+/// The index of the zone named @p name, or -1.
+int zone_index(const cell::MonitorConfig& cfg, const std::string& name) {
+    for (std::size_t z = 0U; z < cfg.zones.size(); ++z) {
+        if (cfg.zones[z].name == name) {
+            return static_cast<int>(z);
+        }
+    }
+    return -1;
+}
+
+}  // namespace
+
+DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSettings& settings, std::FILE* progress) {
+    DetectionResult result;
+    const int zone = zone_index(cfg, settings.zone);
+    if (zone < 0) {
+        result.error = "no zone named '" + settings.zone + "' in the configuration";
+        return result;
+    }
+    if (settings.poses < 1 || settings.cycles < 1 || settings.empty_cycles < 0 || settings.warmup_cycles < 0) {
+        result.error = "poses and cycles must be at least 1, empty and warm-up cycles at least 0";
+        return result;
+    }
+    const ZoneConfig& zc = cfg.zones[static_cast<std::size_t>(zone)].zone;
+    const auto bit = static_cast<std::size_t>(zone);
+    for (const PriorMethod method : settings.methods) {
+        MethodRun run(cfg, method, settings, result.error);
+        if (!result.error.empty()) {
+            return result;
+        }
+        const std::vector<sim::Box> boxes = run.monitor_cell.background_scene().boxes;
+        run.show(nullptr, settings.seed);
+        for (int i = 0; i < settings.warmup_cycles; ++i) {
+            static_cast<void>(run.intruded(bit));
+        }
+        EmptyCellRow empty{method, settings.empty_cycles, 0};
+        for (int i = 0; i < settings.empty_cycles; ++i) {
+            empty.intruded += run.intruded(bit) ? 1 : 0;
+            empty.max_foreground = std::max(empty.max_foreground, run.foreground);
+            empty.foreground_sum += run.foreground;
+        }
+        result.empty.push_back(empty);
+        std::uint64_t row_seed = 0U;
+        for (const PieceSize& size : settings.sizes) {
+            for (const Placement placement : settings.placements) {
+                DetectionRow row{method, size, placement, 0, 0, 0.0};
+                sim::Rng rng(sim::sensor_seed(settings.seed, row_seed++));
+                for (int p = 0; p < settings.poses; ++p) {
+                    sim::TestPiece piece;
+                    if (!random_pose(zc, size, placement, boxes, rng, piece)) {
+                        break;  // does not fit: the row has fewer poses (0: not tried)
+                    }
+                    run.show(&piece, settings.seed);
+                    bool seen = false;
+                    for (int c = 0; c < settings.cycles; ++c) {
+                        seen = run.intruded(bit) || seen;
+                    }
+                    ++row.poses;
+                    row.detected += seen ? 1 : 0;
+                }
+                row.lower_bound = clopper_pearson_lower(row.detected, row.poses);
+                result.rows.push_back(row);
+                if (progress != nullptr) {
+                    static_cast<void>(std::fprintf(progress, "detection: %s %s %.0f mm %s: %d of %d\n",
+                                                   method_label(method), sim::to_string(size.shape),
+                                                   size.diameter * 1000.0, to_string(placement), row.detected,
+                                                   row.poses));
+                    static_cast<void>(std::fflush(progress));
+                }
+            }
+        }
+        result.cycles_run += static_cast<std::uint64_t>(run.next);
+    }
+    return result;
+}
+
+void write_detection_table(std::FILE* out, const DetectionSettings& settings, const DetectionResult& result) {
+    const sim::FlashLidarNoise& n = settings.noise.lidar;
+    const bool noisy = settings.noise.kind == sim::SensorKind::kFlashLidar;
+    const cell::DepthConditioning& c = settings.conditioning;
+    static_cast<void>(std::fprintf(
+        out,
+        "zone '%s', %d poses per row, k = %d cycles, seed %llu; noise: %s%.1f %% of range, flying pixels %.0f %%, "
+        "dropouts %.1f %%; edge filter %.1f %% of depth (at least %.0f mm, radius %d), background tolerance "
+        "%.1f %%, speckle filter %d neighbours\n\n",
+        settings.zone.c_str(), settings.poses, settings.cycles, static_cast<unsigned long long>(settings.seed),
+        noisy ? "" : "none: ", noisy ? 100.0 * n.range_sigma_per_m : 0.0,
+        noisy ? 100.0 * n.mixed_pixel_probability : 0.0, noisy ? 100.0 * n.missing_probability : 0.0,
+        100.0 * c.edge_jump_per_m, 1000.0 * c.edge_jump_min_m, c.edge_radius, 100.0 * c.background_tolerance_per_m,
+        c.speckle_min_neighbours));
+    static_cast<void>(std::fprintf(
+        out, "| prior | piece | diameter mm | length mm | placement | detected | of | rate | 95 %% lower bound |\n"));
+    static_cast<void>(std::fprintf(out, "|---|---|---|---|---|---|---|---|---|\n"));
+    for (const DetectionRow& r : result.rows) {
+        static_cast<void>(std::fprintf(out, "| %s | %s | %.0f | %.0f | %s | %d | %d | %.3f | %.3f |\n",
+                                       method_label(r.method), sim::to_string(r.size.shape), r.size.diameter * 1000.0,
+                                       r.size.length * 1000.0, to_string(r.placement), r.detected, r.poses,
+                                       r.poses > 0 ? static_cast<double>(r.detected) / r.poses : 0.0, r.lower_bound));
+    }
+    static_cast<void>(std::fprintf(out, "\nEmpty cell (zone '%s', the same noise), cycles with the zone INTRUDED:\n\n",
+                                   settings.zone.c_str()));
+    static_cast<void>(
+        std::fprintf(out, "| prior | cycles | INTRUDED | foreground voxels, mean | most |\n|---|---|---|---|---|\n"));
+    for (const EmptyCellRow& e : result.empty) {
+        static_cast<void>(
+            std::fprintf(out, "| %s | %d | %d | %.1f | %u |\n", method_label(e.method), e.cycles, e.intruded,
+                         e.cycles > 0 ? static_cast<double>(e.foreground_sum) / e.cycles : 0.0, e.max_foreground));
+    }
+    static_cast<void>(
+        std::fprintf(out, "\nSmallest diameter detected in every pose of every placement, every larger one too:\n\n"));
+    for (const PriorMethod m : settings.methods) {
+        for (const sim::PieceShape shape : {sim::PieceShape::kCylinder, sim::PieceShape::kSphere}) {
+            const double d = result.smallest_always_detected(m, shape);
+            static_cast<void>(
+                std::fprintf(out, "- %s, %s: %s", method_label(m), sim::to_string(shape), d > 0.0 ? "" : "none\n"));
+            if (d > 0.0) {
+                static_cast<void>(std::fprintf(out, "%.0f mm\n", d * 1000.0));
+            }
+        }
+    }
+}
+
+}  // namespace cellguard::monitor

@@ -1,0 +1,158 @@
+// SPDX-FileCopyrightText: 2026 The cellguard authors
+// SPDX-License-Identifier: Apache-2.0
+// The detection-capability experiment (apps/monitor detection.hpp): its
+// statistics, its poses, and a small seeded run on the real cell whose rates
+// are those the full run measured (issue 35).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cellguard/host/cell/config.hpp"
+#include "cellguard/monitor/detection.hpp"
+#include "test_tags.hpp"
+
+using namespace cellguard;
+using namespace cellguard::monitor;
+
+namespace {
+
+ZoneConfig box_zone(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    ZoneConfig z;
+    z.shape = ZoneShape::kBox;
+    z.box_min = lo;
+    z.box_max = hi;
+    return z;
+}
+
+cell::MonitorConfig real_cell() {
+    const cell::ConfigLoad load = cell::load_monitor_config(std::string(CELLGUARD_SOURCE_DIR) +
+                                                            "/apps/monitor/config/real-cell.toml");
+    REQUIRE_MESSAGE(load.ok, load.error);
+    return load.config;
+}
+
+/// Settings of one piece, one placement, the probabilistic prior alone.
+DetectionSettings one_row(const PieceSize& size, Placement placement, int poses) {
+    DetectionSettings s;
+    s.sizes = {size};
+    s.placements = {placement};
+    s.methods = {PriorMethod::kProbabilistic};
+    s.poses = poses;
+    s.empty_cycles = 5;
+    s.warmup_cycles = 5;
+    s.noise = sim::NoiseModel{};  // noise-free
+    return s;
+}
+
+}  // namespace
+
+// verifies: SR-EVAL-004
+TEST_CASE("detection: the Clopper-Pearson lower bound meets its closed forms") {
+    // Every trial a success: P(X >= n) = p^n = 0.05.
+    for (const int n : {1, 10, 30, 1000}) {
+        CHECK(clopper_pearson_lower(n, n) == doctest::Approx(std::pow(0.05, 1.0 / n)).epsilon(1e-9));
+    }
+    // One success: P(X >= 1) = 1 - (1 - p)^n = 0.05.
+    for (const int n : {1, 10, 1000}) {
+        CHECK(clopper_pearson_lower(1, n) == doctest::Approx(1.0 - std::pow(0.95, 1.0 / n)).epsilon(1e-9));
+    }
+    CHECK(clopper_pearson_lower(0, 10) == 0.0);
+    CHECK(clopper_pearson_lower(5, 0) == 0.0);
+    // More successes of the same trials give a larger bound; more trials at the same rate too.
+    CHECK(clopper_pearson_lower(6, 10) > clopper_pearson_lower(5, 10));
+    CHECK(clopper_pearson_lower(500, 1000) > clopper_pearson_lower(5, 10));
+    CHECK(clopper_pearson_lower(500, 1000) < 0.5);
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE("detection: poses lie inside the zone, clear of boxes, on the floor when asked, the same for a seed") {
+    const ZoneConfig zone = box_zone({0.0, 0.2, 0.0}, {0.5, 0.8, 1.6});
+    const std::vector<sim::Box> boxes{sim::Box{{0.1, 0.3, 0.1}, {0.2, 0.2, 0.2}, 0.0, true}};
+    sim::Rng a(3U);
+    sim::Rng b(3U);
+    for (const Placement placement : {Placement::kFree, Placement::kFloor}) {
+        for (const PieceSize size :
+             {PieceSize{sim::PieceShape::kCylinder, 0.04, 0.3}, PieceSize{sim::PieceShape::kSphere, 0.1, 0.0}}) {
+            for (int i = 0; i < 100; ++i) {
+                sim::TestPiece p;
+                sim::TestPiece q;
+                REQUIRE(random_pose(zone, size, placement, boxes, a, p));
+                REQUIRE(random_pose(zone, size, placement, boxes, b, q));
+                CHECK(p.centre == q.centre);
+                CHECK(p.axis == q.axis);
+                CHECK(p.diameter == size.diameter);
+                // The piece's extreme points along x and y stay inside the zone's box.
+                const double r = p.bounding_radius();
+                CHECK(zone_contains(zone, p.centre));
+                CHECK(p.lowest_z() >= -1e-9);
+                if (placement == Placement::kFloor) {
+                    CHECK(p.lowest_z() == doctest::Approx(0.0).epsilon(1e-9));
+                    CHECK(p.axis.z() == 0.0);
+                } else {
+                    CHECK(p.lowest_z() >= 0.01);
+                }
+                CHECK_FALSE(sim::box_contains(boxes.front(), p.centre));
+                CHECK(r > 0.0);
+            }
+        }
+    }
+    // A piece longer than the zone is wide and high fits nowhere.
+    sim::TestPiece none;
+    CHECK_FALSE(random_pose(box_zone({0.0, 0.0, 0.0}, {0.1, 0.1, 0.1}),
+                            PieceSize{sim::PieceShape::kCylinder, 0.05, 0.3}, Placement::kFree, {}, a, none));
+    CHECK(std::string(to_string(Placement::kFloor)) == "floor");
+    CHECK(std::string(to_string(Placement::kFree)) == "free");
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE("detection: noise-free, a 40 mm rod on the real cell's floor is missed and a 70 mm one found" *
+          CELLGUARD_LONG_REPLAY) {
+    const cell::MonitorConfig cfg = real_cell();
+    // The full run (1,000 poses, 2026-12-07): floor 40 mm 0 of 1,000, 70 mm 1,000 of 1,000 (closing note).
+    DetectionSettings s = one_row(PieceSize{sim::PieceShape::kCylinder, 0.04, 0.3}, Placement::kFloor, 6);
+    s.sizes.push_back(PieceSize{sim::PieceShape::kCylinder, 0.07, 0.3});
+    s.placements.push_back(Placement::kFree);
+    const DetectionResult r = run_detection(cfg, s, nullptr);
+    REQUIRE_MESSAGE(r.error.empty(), r.error);
+    REQUIRE(r.rows.size() == 4U);
+    CHECK(r.rows[0].poses == 6);
+    CHECK(r.rows[0].detected == 0);  // 40 mm, floor: in the floor's voxel layer, which is background
+    CHECK(r.rows[1].detected == 6);  // 40 mm, free in the zone
+    CHECK(r.rows[2].detected == 6);  // 70 mm, floor
+    CHECK(r.rows[3].detected == 6);  // 70 mm, free
+    CHECK(r.rows[3].lower_bound == doctest::Approx(std::pow(0.05, 1.0 / 6.0)).epsilon(1e-9));
+    REQUIRE(r.empty.size() == 1U);
+    CHECK(r.empty[0].intruded == 0);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder) == 0.07);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kSphere) == 0.0);
+    CHECK(r.cycles_run == static_cast<std::uint64_t>(5 + 5 + 4 * 6 * s.cycles));
+    // An unknown zone is refused.
+    s.zone = "nowhere";
+    CHECK(run_detection(cfg, s, nullptr).error.find("nowhere") != std::string::npos);
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE(
+    "detection: with 1 % range noise and flying pixels the empty real cell is INTRUDED in every cycle, "
+    "the cameras' edge filter and a background tolerance remove it" *
+    CELLGUARD_LONG_REPLAY) {
+    const cell::MonitorConfig cfg = real_cell();
+    DetectionSettings s = one_row(PieceSize{sim::PieceShape::kSphere, 0.2, 0.0}, Placement::kFree, 3);
+    s.noise = sim::tof_camera_noise();
+    s.empty_cycles = 4;
+    const DetectionResult raw = run_detection(cfg, s, nullptr);
+    REQUIRE(raw.error.empty());
+    CHECK(raw.empty[0].intruded == 4);
+    CHECK(raw.empty[0].max_foreground > 20U);
+    s.conditioning.edge_jump_min_m = 0.05;
+    s.conditioning.edge_jump_per_m = 0.04;
+    s.conditioning.edge_radius = 2;
+    s.conditioning.background_tolerance_per_m = 0.05;
+    s.empty_cycles = 20;
+    const DetectionResult filtered = run_detection(cfg, s, nullptr);
+    REQUIRE(filtered.error.empty());
+    CHECK(filtered.empty[0].intruded == 0);
+    CHECK(filtered.rows[0].detected == 3);  // a 200 mm ball free in the zone is still found
+}
