@@ -98,6 +98,18 @@ TEST_CASE("detection: poses lie inside the zone, clear of boxes, on the floor wh
             }
         }
     }
+    // On a box top: lying on the box's top face, 1 mm above it, over the box.
+    const ZoneConfig tall = box_zone({-1.0, -1.0, 0.0}, {1.0, 1.0, 1.6});
+    for (int i = 0; i < 100; ++i) {
+        sim::TestPiece p;
+        REQUIRE(random_pose(tall, PieceSize{sim::PieceShape::kSphere, 0.05, 0.0}, Placement::kBoxTop, boxes, a, p));
+        CHECK(p.lowest_z() == doctest::Approx(0.201).epsilon(1e-9));
+        CHECK(std::fabs(p.centre.x() - 0.1) <= 0.1 + 1e-9);
+        CHECK(std::fabs(p.centre.y() - 0.3) <= 0.1 + 1e-9);
+    }
+    sim::TestPiece top;
+    CHECK_FALSE(random_pose(tall, PieceSize{sim::PieceShape::kSphere, 0.05, 0.0}, Placement::kBoxTop, {}, a, top));
+    CHECK(std::string(to_string(Placement::kBoxTop)) == "box top");
     // A piece longer than the zone is wide and high fits nowhere.
     sim::TestPiece none;
     CHECK_FALSE(random_pose(box_zone({0.0, 0.0, 0.0}, {0.1, 0.1, 0.1}),

@@ -3,6 +3,7 @@
 // The detection-capability experiment (detection.hpp).
 #include "cellguard/monitor/detection.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -242,7 +243,14 @@ const char* method_label(PriorMethod m) noexcept {
 
 }  // namespace
 
-const char* to_string(Placement placement) noexcept { return placement == Placement::kFloor ? "floor" : "free"; }
+const char* to_string(Placement placement) noexcept {
+    switch (placement) {
+        case Placement::kFloor: return "floor";
+        case Placement::kBoxTop: return "box top";
+        case Placement::kFree: break;
+    }
+    return "free";
+}
 
 std::vector<PieceSize> DetectionSettings::default_sizes() {
     std::vector<PieceSize> sizes;
@@ -283,10 +291,22 @@ bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placem
         const Eigen::Vector3d at(lo.x() + rng.uniform() * (hi.x() - lo.x()), lo.y() + rng.uniform() * (hi.y() - lo.y()),
                                  lo.z() + rng.uniform() * (hi.z() - lo.z()));
         p.centre = at;
-        if (placement == Placement::kFloor) {
+        if (placement != Placement::kFree) {
             const double yaw = 2.0 * kPi * rng.uniform();
             p.axis = Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
             p.centre.z() = 0.5 * size.diameter;  // resting on the floor
+            if (placement == Placement::kBoxTop) {
+                if (boxes.empty()) {
+                    return false;
+                }
+                // On a random box's top face, 1 mm above it (clear of the box's inside test).
+                const sim::Box& b =
+                    boxes[std::min(boxes.size() - 1U, static_cast<std::size_t>(rng.uniform() * boxes.size()))];
+                const Eigen::Vector3d local(b.size.x() * (rng.uniform() - 0.5), b.size.y() * (rng.uniform() - 0.5),
+                                            0.0);
+                p.centre = b.center + Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()) * local;
+                p.centre.z() = b.center.z() + 0.5 * b.size.z() + 0.5 * size.diameter + 0.001;
+            }
         } else {
             p.axis = random_direction(rng);
             if (p.lowest_z() < 0.01) {
@@ -313,13 +333,16 @@ double DetectionResult::smallest_always_detected(PriorMethod method, sim::PieceS
     diameters.erase(std::unique(diameters.begin(), diameters.end()), diameters.end());
     double smallest = 0.0;
     for (auto it = diameters.rbegin(); it != diameters.rend(); ++it) {
+        // Every placement where the size fits (a row without poses was not tried), at least one.
         bool all = true;
+        bool tried = false;
         for (const DetectionRow& r : rows) {
-            if (r.method == method && r.size.shape == shape && r.size.diameter == *it) {
-                all = all && r.poses > 0 && r.detected == r.poses;
+            if (r.method == method && r.size.shape == shape && r.size.diameter == *it && r.poses > 0) {
+                tried = true;
+                all = all && r.detected == r.poses;
             }
         }
-        if (!all) {
+        if (!all || !tried) {
             break;
         }
         smallest = *it;

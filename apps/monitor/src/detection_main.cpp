@@ -21,7 +21,7 @@ constexpr const char* kProgram = "cellguard-detection";
 constexpr const char* kDescription =
     "Places test pieces (cylinders 300 mm long and spheres of 20, 30, 40, 55, 70, 100,\n"
     "150 and 200 mm diameter) at seeded random poses inside one zone of a monitor\n"
-    "configuration, free in the zone and lying on the floor, renders them into the\n"
+    "configuration (free in the zone, lying on the floor, lying on a box's top), renders them into the\n"
     "simulated cameras with time-of-flight noise (1 % of range, flying pixels at depth\n"
     "edges, 1 % dropouts; --noise-percent 0: noise-free), and runs the monitor's cycle\n"
     "on them with the probabilistic and the thresholded prior. A pose is detected when\n"
@@ -31,8 +31,9 @@ constexpr const char* kDescription =
     "noise, and the smallest diameter detected in every pose (every larger one too).";
 
 constexpr const char* kFooter =
-    "Time: about 35 ms a cycle for the real cell on this project's 2-core CI machine;\n"
-    "the default (1,000 poses, 32 rows, 2 cycles, 2 priors) runs about 128,000 cycles.\n"
+    "Time (the real cell on a 2-core x86-64 machine): about 20 ms a cycle noise-free,\n"
+    "80 ms with noise (its generation dominates); the default (1,000 poses, 16 pieces,\n"
+    "3 placements, 2 cycles, 2 priors) runs up to about 190,000 cycles.\n"
     "Exit status: 0 it ran, 1 the cell could not be set up, 2 bad command line or configuration.";
 
 /// The command line's values before they become DetectionSettings.

@@ -40,11 +40,12 @@ namespace cellguard::monitor {
 
 /// Where a piece lies in its zone.
 enum class Placement : std::uint8_t {
-    kFree = 0,   ///< anywhere inside, at any orientation, not touching the floor or a box
-    kFloor = 1,  ///< lying on the floor (a cylinder's axis horizontal), at any yaw
+    kFree = 0,    ///< anywhere inside, at any orientation, not touching the floor or a box
+    kFloor = 1,   ///< lying on the floor (a cylinder's axis horizontal), at any yaw
+    kBoxTop = 2,  ///< lying on a background box's top face (1 mm above it), at any yaw
 };
 
-/// Static name of a placement ("free", "floor").
+/// Static name of a placement ("free", "floor", "box top").
 const char* to_string(Placement placement) noexcept;
 
 /// A test piece's shape and size.
@@ -60,7 +61,8 @@ struct DetectionSettings {
     /// The pieces: by default cylinders of 20, 30, 40, 55, 70, 100, 150 and
     /// 200 mm diameter, 300 mm long, and spheres of the same diameters.
     std::vector<PieceSize> sizes = default_sizes();
-    std::vector<Placement> placements{Placement::kFree, Placement::kFloor};                    ///< the placements tried
+    /// The placements tried (a size that fits nowhere in one has a row without poses).
+    std::vector<Placement> placements{Placement::kFree, Placement::kFloor, Placement::kBoxTop};
     std::vector<PriorMethod> methods{PriorMethod::kProbabilistic, PriorMethod::kThresholded};  ///< the priors
     int poses = 1000;        ///< poses per method, size and placement
     int cycles = 2;          ///< k: cycles the piece stays (detected in any of them)
@@ -103,7 +105,8 @@ struct DetectionResult {
     std::vector<EmptyCellRow> empty;  ///< per method
     std::uint64_t cycles_run = 0U;    ///< every cycle of the run
     /// The smallest diameter of @p shape detected in every pose of every
-    /// placement with @p method, every larger one of that shape too; 0: none.
+    /// placement it was tried in (rows without poses left out) with @p
+    /// method, every larger one of that shape too; 0: none.
     [[nodiscard]] double smallest_always_detected(PriorMethod method, sim::PieceShape shape) const noexcept;
 };
 
