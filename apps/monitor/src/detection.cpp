@@ -300,8 +300,8 @@ bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placem
                     return false;
                 }
                 // On a random box's top face, 1 mm above it (clear of the box's inside test).
-                const sim::Box& b =
-                    boxes[std::min(boxes.size() - 1U, static_cast<std::size_t>(rng.uniform() * boxes.size()))];
+                const sim::Box& b = boxes[std::min(
+                    boxes.size() - 1U, static_cast<std::size_t>(rng.uniform() * static_cast<double>(boxes.size())))];
                 const Eigen::Vector3d local(b.size.x() * (rng.uniform() - 0.5), b.size.y() * (rng.uniform() - 0.5),
                                             0.0);
                 p.centre = b.center + Eigen::AngleAxisd(b.yaw, Eigen::Vector3d::UnitZ()) * local;
