@@ -5,26 +5,12 @@
 #include <cmath>
 #include <limits>
 
+#include "cellguard/host/sim/workcell.hpp"
+
 namespace cellguard::sim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// Entry distance of the ray into the ball of radius @p r about @p c (0 inside).
-double enter_sphere(const Eigen::Vector3d& c, double r, const Eigen::Vector3d& origin,
-                    const Eigen::Vector3d& dir) noexcept {
-    const Eigen::Vector3d oc = origin - c;
-    const double b = oc.dot(dir);
-    const double h = b * b - (oc.squaredNorm() - r * r);
-    if (h < 0.0) {
-        return kInf;
-    }
-    const double root = std::sqrt(h);
-    if (-b + root < 0.0) {
-        return kInf;  // behind the origin
-    }
-    return std::fmax(0.0, -b - root);
-}
 
 /// Entry distance of the ray into the solid cylinder: the interval where it is
 /// within r of the axis, cut with the slab between the end planes; 0 inside.
@@ -96,7 +82,7 @@ double TestPiece::lowest_z() const noexcept {
 
 double intersect_piece(const TestPiece& piece, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) noexcept {
     if (piece.shape == PieceShape::kSphere) {
-        return enter_sphere(piece.centre, 0.5 * piece.diameter, origin, dir);
+        return intersect_sphere(piece.centre, 0.5 * piece.diameter, origin, dir);
     }
     return enter_cylinder(piece, origin, dir);
 }

@@ -48,23 +48,6 @@ double intersect_box_prepared(const Box& b, const Eigen::Matrix3d& inv_yaw, cons
     return t0;
 }
 
-// The entry distance of the ray into a sphere of radius r about c, 0 from
-// inside, +infinity when it misses.
-double intersect_sphere(const Eigen::Vector3d& c, double r, const Eigen::Vector3d& origin,
-                        const Eigen::Vector3d& dir) noexcept {
-    const Eigen::Vector3d oc = origin - c;
-    const double b = dir.dot(oc);
-    const double h = b * b - (oc.squaredNorm() - r * r);
-    if (h < 0.0) {
-        return std::numeric_limits<double>::infinity();
-    }
-    const double root = std::sqrt(h);
-    if (-b + root < 0.0) {
-        return std::numeric_limits<double>::infinity();  // behind the origin
-    }
-    return std::fmax(0.0, -b - root);
-}
-
 // The entry distance of the ray into the cylinder of radius r about the
 // segment a + s u, 0 <= s <= len (u unit), through its side only (the end
 // discs lie inside the capsule's spheres); +infinity when it misses or runs
@@ -101,6 +84,21 @@ double intersect_box(const Box& b, const Eigen::Vector3d& origin, const Eigen::V
                                   dir);
 }
 }  // namespace
+
+double intersect_sphere(const Eigen::Vector3d& c, double r, const Eigen::Vector3d& origin,
+                        const Eigen::Vector3d& dir) noexcept {
+    const Eigen::Vector3d oc = origin - c;
+    const double b = dir.dot(oc);
+    const double h = b * b - (oc.squaredNorm() - r * r);
+    if (h < 0.0) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const double root = std::sqrt(h);
+    if (-b + root < 0.0) {
+        return std::numeric_limits<double>::infinity();  // behind the origin
+    }
+    return std::fmax(0.0, -b - root);
+}
 
 double intersect_capsule(const PlacedCapsule& c, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) noexcept {
     // A capsule is the union of two spheres and a cylinder: a ray enters it

@@ -90,6 +90,12 @@ void render_depth(const SensorSpec& sensor, const Scene& scene, std::vector<floa
 double cast_ray(const Scene& scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir);
 
 /// Distance along the ray origin + t * dir (dir unit length) to the surface
+/// of the ball of radius @p r about @p c, 0 when the origin lies inside,
+/// +infinity when the ray misses it (or meets it only behind the origin).
+double intersect_sphere(const Eigen::Vector3d& c, double r, const Eigen::Vector3d& origin,
+                        const Eigen::Vector3d& dir) noexcept;
+
+/// Distance along the ray origin + t * dir (dir unit length) to the surface
 /// of capsule @p c (the union of the cylinder between its ends and the two
 /// end spheres), or +infinity when the ray misses it; 0 when the origin lies
 /// inside. A sphere when both ends coincide.
