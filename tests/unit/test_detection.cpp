@@ -151,20 +151,20 @@ TEST_CASE(
     "the cameras' edge filter and a background tolerance remove it" *
     CELLGUARD_LONG_REPLAY) {
     const cell::MonitorConfig cfg = real_cell();
-    DetectionSettings s = one_row(PieceSize{sim::PieceShape::kSphere, 0.2, 0.0}, Placement::kFree, 3);
+    DetectionSettings s = one_row(PieceSize{sim::PieceShape::kSphere, 0.2, 0.0}, Placement::kFree, 2);
     s.noise = sim::tof_camera_noise();
-    s.empty_cycles = 4;
+    s.empty_cycles = 3;
     const DetectionResult raw = run_detection(cfg, s, nullptr);
     REQUIRE(raw.error.empty());
-    CHECK(raw.empty[0].intruded == 4);
+    CHECK(raw.empty[0].intruded == 3);
     CHECK(raw.empty[0].max_foreground > 20U);
     s.conditioning.edge_jump_min_m = 0.05;
     s.conditioning.edge_jump_per_m = 0.04;
     s.conditioning.edge_radius = 2;
     s.conditioning.background_tolerance_per_m = 0.05;
-    s.empty_cycles = 20;
+    s.empty_cycles = 12;
     const DetectionResult filtered = run_detection(cfg, s, nullptr);
     REQUIRE(filtered.error.empty());
     CHECK(filtered.empty[0].intruded == 0);
-    CHECK(filtered.rows[0].detected == 3);  // a 200 mm ball free in the zone is still found
+    CHECK(filtered.rows[0].detected == 2);  // a 200 mm ball free in the zone is still found
 }
