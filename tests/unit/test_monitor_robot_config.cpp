@@ -92,13 +92,45 @@ TEST_CASE("monitor config: a mask margin below the derived minimum or one a pers
     check_refused(edited("margin = 0.25", "margin = 0.15"), "robot.margin", "at least 0.2");
     // A mask as wide as S_p: a person at its edge would not stop the robot.
     // With C = 0 and margin 0.9 m, S_p(1) = 0.7975 m < margin + a voxel diagonal.
-    std::string hiding = edited("intrusion_distance = 0.85", "intrusion_distance = 0.0");
+    std::string hiding = edited("intrusion_distance = 0.85", "intrusion_distance = 0.0\ndetection_capability_mm = 14");
     hiding.replace(hiding.find("margin = 0.25"), 13U, "margin = 0.90");
     check_refused(hiding, "robot.margin", "person at the mask's edge");
     check_refused(edited("reaction_time_ms = 300", "reaction_time_ms = 250"), "separation.reaction_time_ms",
                   "max_frame_age_ms + cycle.budget_ms");
     check_refused(edited("max_command_age_ms = 200", "max_command_age_ms = 50"), "robot.max_command_age_ms",
                   "one cycle period");
+}
+
+// verifies: SR-CFG-012
+TEST_CASE(
+    "monitor config: the intrusion distance C is at least what ISO 13855 gives for the stated detection "
+    "capability, 850 mm when none is stated") {
+    CHECK(minimum_intrusion_distance(0.0) == 0.85);
+    CHECK(minimum_intrusion_distance(14.0) == 0.0);
+    CHECK(minimum_intrusion_distance(30.0) == doctest::Approx(0.128));
+    CHECK(minimum_intrusion_distance(40.0) == doctest::Approx(0.208));
+    CHECK(minimum_intrusion_distance(40.5) == 0.85);
+    CHECK(minimum_intrusion_distance(55.0) == 0.85);
+    // Not stated: the arm allowance.
+    check_refused(edited("intrusion_distance = 0.85", "intrusion_distance = 0.84"), "separation.intrusion_distance",
+                  "no detection_capability_mm");
+    // Stated: C from d; below it refused, at or above it taken.
+    check_refused(edited("intrusion_distance = 0.85", "intrusion_distance = 0.12\ndetection_capability_mm = 30"),
+                  "separation.intrusion_distance", "at least 0.128");
+    check_refused(edited("intrusion_distance = 0.85", "intrusion_distance = 0.5\ndetection_capability_mm = 55"),
+                  "separation.intrusion_distance", "at least 0.85");
+    check_refused(edited("intrusion_distance = 0.85", "intrusion_distance = 0.85\ndetection_capability_mm = 10"),
+                  "separation.detection_capability_mm", "14");
+    check_refused(edited("intrusion_distance = 0.85", "intrusion_distance = 0.85\ndetection_capability_mm = 250"),
+                  "separation.detection_capability_mm");
+    const ConfigLoad ok = parse_monitor_config(
+        edited("intrusion_distance = 0.85", "intrusion_distance = 0.13\ndetection_capability_mm = 30"), "cell.toml");
+    REQUIRE_MESSAGE(ok.ok, ok.error);
+    CHECK(ok.config.robot.detection_capability_mm == 30.0);
+    CHECK(ok.config.robot.separation.intrusion_distance_m == 0.13);
+    const ConfigLoad plain = parse_monitor_config(builtin_text("robot-cell.toml"), "cell.toml");
+    REQUIRE(plain.ok);
+    CHECK(plain.config.robot.detection_capability_mm == 0.0);
 }
 
 // verifies: SR-CFG-012

@@ -327,6 +327,14 @@ SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, st
         "mask margin %.3f m\n",
         robot.model.name, robot.model.link_count, robot.model.joint_count, robot.model.capsule_count,
         robot_image.size(), robot.crc, robot_id(robot.crc), cfg.robot.margin_m);
+    if (cfg.robot.detection_capability_mm > 0.0) {
+        say(out, "separation: intrusion distance C %.3f m, detection capability d %.0f mm (ISO 13855: C >= %.3f m)\n",
+            sp.intrusion_distance_m, cfg.robot.detection_capability_mm,
+            cell::minimum_intrusion_distance(cfg.robot.detection_capability_mm));
+    } else {
+        say(out, "separation: intrusion distance C %.3f m, detection capability not stated (C >= 0.850 m)\n",
+            sp.intrusion_distance_m);
+    }
     for (std::uint8_t k = 0U; k < sp.class_count; ++k) {
         say(out, "separation: speed class %u: S_p %.3f m\n", k, protective_separation_distance(sp, k));
     }

@@ -126,13 +126,32 @@ double bounded(const Loader& L, const toml::table& t, const std::string& p, cons
     return v;
 }
 
+/// separation.intrusion_distance against the detection capability it rests on (ISO 13855).
+void check_intrusion_distance(const Loader& L, const toml::table& t, const std::string& p, RobotSettings& r) {
+    r.detection_capability_mm = 0.0;
+    if (t.contains("detection_capability_mm")) {
+        r.detection_capability_mm = bounded(L, t, p, "detection_capability_mm", 14.0, 200.0, "mm");
+    }
+    const double c_min = minimum_intrusion_distance(r.detection_capability_mm);
+    if (r.separation.intrusion_distance_m < c_min - 1e-12) {
+        const std::string why =
+            r.detection_capability_mm > 0.0
+                ? "ISO 13855 for detection_capability_mm = " + std::to_string(r.detection_capability_mm)
+                : "no detection_capability_mm: a measured d is not stated, so ISO 13855's arm allowance";
+        L.fail(t.get("intrusion_distance")->source(), p + ".intrusion_distance",
+               "must be at least " + std::to_string(c_min) + " m (" + why + ")");
+    }
+}
+
 /// The [separation] table.
-void load_separation(const Loader& L, const toml::table& root, SeparationParams& sp) {
+void load_separation(const Loader& L, const toml::table& root, RobotSettings& r) {
+    SeparationParams& sp = r.separation;
     const std::string p = "separation";
     const toml::table& t = L.table(root, "", "separation");
     L.check_keys(t, p,
                  {"human_speed", "reaction_time_ms", "slowdown_time_ms", "intrusion_distance", "sensing_uncertainty",
-                  "robot_uncertainty", "min_foreground_voxels", "min_hidden_voxels", "reduced_class"});
+                  "robot_uncertainty", "min_foreground_voxels", "min_hidden_voxels", "reduced_class",
+                  "detection_capability_mm"});
     sp.human_speed_mps = L.number_or(t, p, "human_speed", 1.6);
     if (!(sp.human_speed_mps >= 1.6 && sp.human_speed_mps <= 10.0)) {
         L.fail(t.get("human_speed")->source(), p + ".human_speed", "expected 1.6..10 m/s (ISO 13855: at least 1.6)");
@@ -145,6 +164,7 @@ void load_separation(const Loader& L, const toml::table& root, SeparationParams&
     sp.min_foreground_voxels = static_cast<std::uint32_t>(L.integer_or(t, p, "min_foreground_voxels", 1, 64, 1));
     sp.min_hidden_voxels = static_cast<std::uint32_t>(L.integer_or(t, p, "min_hidden_voxels", 1, 64, 1));
     sp.reduced_class = static_cast<std::uint8_t>(L.integer(t, p, "reduced_class", 0, sp.class_count - 1));
+    check_intrusion_distance(L, t, p, r);
 }
 
 /// The [robot] table's own keys.
@@ -195,7 +215,7 @@ void load_robot(const Loader& L, const toml::table& root, MonitorConfig& c, cons
     const toml::table& t = L.table(root, "", "robot");
     load_robot_table(L, t, r, base_dir);
     load_speed_classes(L, root, r.separation);
-    load_separation(L, root, r.separation);
+    load_separation(L, root, r);
     r.enabled = true;
     if (r.max_command_age_us < c.period_us) {
         L.fail(t.get("max_command_age_ms")->source(), "robot.max_command_age_ms", "must be at least one cycle period");
@@ -228,4 +248,12 @@ void load_robot(const Loader& L, const toml::table& root, MonitorConfig& c, cons
 }
 
 }  // namespace config_detail
+
+double minimum_intrusion_distance(double d_mm) {
+    if (d_mm > 0.0 && d_mm <= 40.0) {
+        return std::max(0.0, 8.0 * (d_mm - 14.0)) * 1e-3;
+    }
+    return 0.85;
+}
+
 }  // namespace cellguard::cell

@@ -144,8 +144,16 @@ struct RobotSettings {
     double margin_m = 0.0;                           ///< growth of every capsule for the robot's voxel mask
     std::uint64_t max_command_age_us = 0U;           ///< a command older than this at a cycle's start is stale
     SeparationParams separation{};                   ///< speed and separation monitoring
-    int line = 0;                                    ///< line of the [robot] table
+    /// separation.detection_capability_mm: the measured detection capability
+    /// d the intrusion distance rests on (0: not stated; then C >= 850 mm).
+    double detection_capability_mm = 0.0;
+    int line = 0;  ///< line of the [robot] table
 };
+
+/// The smallest intrusion distance C (metres) ISO 13855 gives for a
+/// detection capability of @p d_mm (0: not stated): max(0, 8 (d - 14)) mm up
+/// to 40 mm, else (and when not stated) 850 mm, the reach of an arm.
+double minimum_intrusion_distance(double d_mm);
 
 /// The smallest mask margin that covers the robot's motion between its
 /// command and the sensors' frames: the fastest robot point (class 0) over
