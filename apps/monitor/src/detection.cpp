@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "cellguard/host/cell/frame_source.hpp"
+#include "cellguard/host/sim/experiment.hpp"
 #include "cellguard/host/sim/workcell.hpp"
 #include "cellguard/monitor/can_port.hpp"
 #include "cellguard/monitor/command_link.hpp"
@@ -25,26 +26,30 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// A simulated camera of the experiment: its view of the empty cell, cast
-/// once, with the current piece drawn over it and the camera's noise on top.
+/// A simulated camera of the experiment: its view of the empty cell (the one
+/// the monitor's start-up cast, MonitorCell::layout), with the current piece
+/// drawn over it and the camera's noise on top.
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
 class PieceFrameSource final : public cell::FrameSource {
 public:
-    PieceFrameSource(const sim::SensorSpec& spec, const sim::Scene& background, const sim::NoiseModel& noise,
-                     const cell::DepthConditioning& conditioning, std::size_t index)
-        : spec_(spec), rays_(spec), noise_(noise), conditioning_(conditioning), index_(index) {
-        sim::render_depth(spec, sim::PreparedScene(background), background_);
-        image_.resize(background_.size());
-        ideal_.resize(background_.size());
-    }
+    PieceFrameSource(const sim::SensorSpec& spec, const std::vector<float>& empty_view,
+                     const DetectionSettings& settings, std::size_t index)
+        : spec_(spec),
+          rays_(spec),
+          noise_(settings.noise),
+          conditioning_(settings.conditioning),
+          index_(index),
+          seed_(settings.seed),
+          background_(empty_view),
+          image_(empty_view.size()),
+          ideal_(empty_view.size()) {}
 
-    /// The piece of the frames from now on (nullptr: the empty cell) and the run's seed.
-    void show(const sim::TestPiece* piece, std::uint64_t seed) noexcept {
+    /// The piece of the frames from now on (nullptr: the empty cell).
+    void show(const sim::TestPiece* piece) noexcept {
         has_piece_ = piece != nullptr;
         if (has_piece_) {
             piece_ = *piece;
         }
-        seed_ = seed;
     }
 
     bool load_frame(std::uint64_t cycle, SensorReading& reading, cell::FrameStatus& status) noexcept override {
@@ -122,12 +127,12 @@ private:
     sim::NoiseModel noise_;
     cell::DepthConditioning conditioning_;
     std::size_t index_;
-    std::vector<float> background_;
+    std::uint64_t seed_;  ///< the run's seed: frame noise of cycle c from sensor_seed(seed * 1000003 + c, index)
+    const std::vector<float>& background_;
     std::vector<float> image_;
     std::vector<float> ideal_;
     sim::TestPiece piece_{};
     bool has_piece_ = false;
-    std::uint64_t seed_ = 0U;
 };
 
 /// A CAN sender that drops every frame (the experiment reads the cycle's report).
@@ -234,11 +239,6 @@ double tail_at_least(int k, int n, double p) noexcept {
         sum += std::exp(log_term);
     }
     return std::min(1.0, sum);
-}
-
-/// The method's name in the table.
-const char* method_label(PriorMethod m) noexcept {
-    return m == PriorMethod::kThresholded ? "thresholded" : "probabilistic";
 }
 
 }  // namespace
@@ -365,8 +365,8 @@ struct MethodRun {
             return;
         }
         for (std::size_t s = 0U; s < monitor_cell.specs.size(); ++s) {
-            owned.push_back(std::make_unique<PieceFrameSource>(monitor_cell.specs[s], monitor_cell.background_scene(),
-                                                               settings.noise, settings.conditioning, s));
+            owned.push_back(
+                std::make_unique<PieceFrameSource>(monitor_cell.specs[s], monitor_cell.layout.depth[s], settings, s));
             sources.push_back(owned.back().get());
         }
         can.use_sender(sender);
@@ -379,10 +379,10 @@ struct MethodRun {
         }
     }
 
-    /// Shows @p piece (nullptr: the empty cell) with noise seed @p seed in every source.
-    void show(const sim::TestPiece* piece, std::uint64_t seed) noexcept {
+    /// Shows @p piece (nullptr: the empty cell) in every source.
+    void show(const sim::TestPiece* piece) noexcept {
         for (const std::unique_ptr<PieceFrameSource>& s : owned) {
-            s->show(piece, seed);
+            s->show(piece);
         }
     }
 
@@ -440,7 +440,7 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
             return result;
         }
         const std::vector<sim::Box> boxes = run.monitor_cell.background_scene().boxes;
-        run.show(nullptr, settings.seed);
+        run.show(nullptr);
         for (int i = 0; i < settings.warmup_cycles; ++i) {
             static_cast<void>(run.intruded(bit));
         }
@@ -461,7 +461,7 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
                     if (!random_pose(zc, size, placement, boxes, rng, piece)) {
                         break;  // does not fit: the row has fewer poses (0: not tried)
                     }
-                    run.show(&piece, settings.seed);
+                    run.show(&piece);
                     bool seen = false;
                     for (int c = 0; c < settings.cycles; ++c) {
                         seen = run.intruded(bit) || seen;
@@ -473,7 +473,7 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
                 result.rows.push_back(row);
                 if (progress != nullptr) {
                     static_cast<void>(std::fprintf(progress, "detection: %s %s %.0f mm %s: %d of %d\n",
-                                                   method_label(method), sim::to_string(size.shape),
+                                                   sim::method_name(method), sim::to_string(size.shape),
                                                    size.diameter * 1000.0, to_string(placement), row.detected,
                                                    row.poses));
                     static_cast<void>(std::fflush(progress));
@@ -503,10 +503,10 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
         out, "| prior | piece | diameter mm | length mm | placement | detected | of | rate | 95 %% lower bound |\n"));
     static_cast<void>(std::fprintf(out, "|---|---|---|---|---|---|---|---|---|\n"));
     for (const DetectionRow& r : result.rows) {
-        static_cast<void>(std::fprintf(out, "| %s | %s | %.0f | %.0f | %s | %d | %d | %.3f | %.3f |\n",
-                                       method_label(r.method), sim::to_string(r.size.shape), r.size.diameter * 1000.0,
-                                       r.size.length * 1000.0, to_string(r.placement), r.detected, r.poses,
-                                       r.poses > 0 ? static_cast<double>(r.detected) / r.poses : 0.0, r.lower_bound));
+        static_cast<void>(std::fprintf(
+            out, "| %s | %s | %.0f | %.0f | %s | %d | %d | %.3f | %.3f |\n", sim::method_name(r.method),
+            sim::to_string(r.size.shape), r.size.diameter * 1000.0, r.size.length * 1000.0, to_string(r.placement),
+            r.detected, r.poses, r.poses > 0 ? static_cast<double>(r.detected) / r.poses : 0.0, r.lower_bound));
     }
     static_cast<void>(std::fprintf(out, "\nEmpty cell (zone '%s', the same noise), cycles with the zone INTRUDED:\n\n",
                                    settings.zone.c_str()));
@@ -514,7 +514,7 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
         std::fprintf(out, "| prior | cycles | INTRUDED | foreground voxels, mean | most |\n|---|---|---|---|---|\n"));
     for (const EmptyCellRow& e : result.empty) {
         static_cast<void>(
-            std::fprintf(out, "| %s | %d | %d | %.1f | %u |\n", method_label(e.method), e.cycles, e.intruded,
+            std::fprintf(out, "| %s | %d | %d | %.1f | %u |\n", sim::method_name(e.method), e.cycles, e.intruded,
                          e.cycles > 0 ? static_cast<double>(e.foreground_sum) / e.cycles : 0.0, e.max_foreground));
     }
     static_cast<void>(
@@ -523,7 +523,7 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
         for (const sim::PieceShape shape : {sim::PieceShape::kCylinder, sim::PieceShape::kSphere}) {
             const double d = result.smallest_always_detected(m, shape);
             static_cast<void>(
-                std::fprintf(out, "- %s, %s: %s", method_label(m), sim::to_string(shape), d > 0.0 ? "" : "none\n"));
+                std::fprintf(out, "- %s, %s: %s", sim::method_name(m), sim::to_string(shape), d > 0.0 ? "" : "none\n"));
             if (d > 0.0) {
                 static_cast<void>(std::fprintf(out, "%.0f mm\n", d * 1000.0));
             }

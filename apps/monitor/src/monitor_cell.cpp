@@ -14,6 +14,7 @@
 #include "cellguard/host/io/background_files.hpp"
 #include "cellguard/host/io/prior_files.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
+#include "cellguard/host/sim/experiment.hpp"
 #include "cellguard/prior/accessibility.hpp"
 #include "cellguard/safety/cycle.hpp"
 
@@ -327,14 +328,13 @@ SetupError MonitorCell::configure_robot_model(const cell::MonitorConfig& cfg, st
         "mask margin %.3f m\n",
         robot.model.name, robot.model.link_count, robot.model.joint_count, robot.model.capsule_count,
         robot_image.size(), robot.crc, robot_id(robot.crc), cfg.robot.margin_m);
-    if (cfg.robot.detection_capability_mm > 0.0) {
-        say(out, "separation: intrusion distance C %.3f m, detection capability d %.0f mm (ISO 13855: C >= %.3f m)\n",
-            sp.intrusion_distance_m, cfg.robot.detection_capability_mm,
-            cell::minimum_intrusion_distance(cfg.robot.detection_capability_mm));
-    } else {
-        say(out, "separation: intrusion distance C %.3f m, detection capability not stated (C >= 0.850 m)\n",
-            sp.intrusion_distance_m);
+    const double d_mm = cfg.robot.detection_capability_mm;
+    char d_text[48] = "not stated";
+    if (d_mm > 0.0) {
+        static_cast<void>(std::snprintf(d_text, sizeof d_text, "d %.0f mm", d_mm));
     }
+    say(out, "separation: intrusion distance C %.3f m, detection capability %s (ISO 13855: C >= %.3f m)\n",
+        sp.intrusion_distance_m, d_text, cell::minimum_intrusion_distance(d_mm));
     for (std::uint8_t k = 0U; k < sp.class_count; ++k) {
         say(out, "separation: speed class %u: S_p %.3f m\n", k, protective_separation_distance(sp, k));
     }
@@ -379,8 +379,8 @@ SetupError MonitorCell::build_prior(const cell::MonitorConfig& cfg, std::FILE* o
         payload[2U * i + 1U] = static_cast<std::uint8_t>(bits >> 8U);
     }
     prior_payload_crc = crc32(Span<const std::uint8_t>(payload.data(), payload.size()));
-    say(out, "prior: %s accessibility prior from %d simulated empty frames\n",
-        method == PriorMethod::kThresholded ? "thresholded" : "probabilistic", cfg.prior.background_frames);
+    say(out, "prior: %s accessibility prior from %d simulated empty frames\n", sim::method_name(method),
+        cfg.prior.background_frames);
     return {};
 }
 
