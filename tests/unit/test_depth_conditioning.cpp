@@ -6,6 +6,10 @@
 // depth onto it; both off by default.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
 #include <vector>
 
 #include "cellguard/host/cell/depth_conditioning.hpp"
@@ -158,4 +162,82 @@ TEST_CASE(
     at(alone, 1, 1) = 2.0F;
     REQUIRE(condition_depth({alone.data(), alone.size()}, {}, {scratch.data(), scratch.size()}, kW, kH, s));
     CHECK(at(alone, 1, 1) == 2.0F);
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE("depth conditioning: the edge filter drops exactly the readings a neighbour-by-neighbour compare drops") {
+    // The reference: every neighbour up to the radius along the row and the
+    // column compared on its own, in double, readings only (0, NaN and
+    // infinities are none), on random images with holes, ramps and jumps.
+    const auto reference = [](const std::vector<float>& img, std::int32_t w, std::int32_t h, const DepthConditioning& c) {
+        const auto valid = [](float d) { return d > 0.0F && std::isfinite(d); };
+        std::vector<bool> drop(img.size(), false);
+        for (std::int32_t v = 0; v < h; ++v) {
+            for (std::int32_t u = 0; u < w; ++u) {
+                const float d = img[static_cast<std::size_t>(v * w + u)];
+                if (!valid(d)) {
+                    continue;
+                }
+                const double jump = std::max(c.edge_jump_min_m, c.edge_jump_per_m * static_cast<double>(d));
+                for (std::int32_t k = 1; k <= c.edge_radius; ++k) {
+                    const std::int32_t nu[4] = {u - k, u + k, u, u};
+                    const std::int32_t nv[4] = {v, v, v - k, v + k};
+                    for (int j = 0; j < 4; ++j) {
+                        if (nu[j] < 0 || nv[j] < 0 || nu[j] >= w || nv[j] >= h) {
+                            continue;
+                        }
+                        const float n = img[static_cast<std::size_t>(nv[j] * w + nu[j])];
+                        if (valid(n) && std::fabs(static_cast<double>(n) - static_cast<double>(d)) > jump) {
+                            drop[static_cast<std::size_t>(v * w + u)] = true;
+                        }
+                    }
+                }
+            }
+        }
+        return drop;
+    };
+    std::mt19937 rng(35U);
+    std::uniform_real_distribution<float> depth(0.5F, 4.0F);
+    std::uniform_int_distribution<int> kind(0, 19);
+    constexpr std::int32_t w = 23;
+    constexpr std::int32_t h = 17;
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<float> img(static_cast<std::size_t>(w * h));
+        float level = depth(rng);
+        for (float& d : img) {
+            const int k = kind(rng);
+            if (k == 0) {
+                level = depth(rng);  // a jump
+            }
+            d = k == 1 ? 0.0F
+                : k == 2 ? std::numeric_limits<float>::quiet_NaN()
+                : k == 3 ? std::numeric_limits<float>::infinity()
+                : k == 4 ? -1.0F
+                         : level + 0.01F * depth(rng);  // noise on a level
+        }
+        DepthConditioning c;
+        c.edge_jump_min_m = 0.02 * (trial % 4);
+        c.edge_jump_per_m = 0.01 * (trial % 5);
+        if (!(c.edge_jump_min_m > 0.0 || c.edge_jump_per_m > 0.0)) {
+            c.edge_jump_min_m = 0.05;
+        }
+        c.edge_radius = 1 + trial % 4;
+        const std::vector<bool> expected = reference(img, w, h, c);
+        std::vector<float> out = img;
+        std::vector<float> scratch(img.size());
+        ConditioningCounts n;
+        REQUIRE(condition_depth({out.data(), out.size()}, {}, {scratch.data(), scratch.size()}, w, h, c, &n));
+        std::uint64_t dropped = 0U;
+        for (std::size_t i = 0U; i < img.size(); ++i) {
+            CAPTURE(trial);
+            CAPTURE(i);
+            if (expected[i]) {
+                CHECK(out[i] == 0.0F);
+                ++dropped;
+            } else {
+                CHECK((out[i] == img[i] || (std::isnan(out[i]) && std::isnan(img[i]))));
+            }
+        }
+        CHECK(n.dropped == dropped);
+    }
 }

@@ -377,3 +377,43 @@ TEST_CASE(
     t = "opt_out = 3\n" + t.substr(0U, t.find("\n[opt_out]") + 1U);
     check_refused(t, 1, "opt_out: expected a table");
 }
+
+// verifies: SR-CFG-019
+TEST_CASE("monitor config: the depth filter is off unless [depth_filter] turns a filter on, with a stated reason") {
+    const ConfigLoad plain = parse_monitor_config(demo_config_text(), "cell.toml");
+    REQUIRE(plain.ok);
+    CHECK_FALSE(plain.config.depth_filter.filter.on());
+    const std::string on = std::string(demo_config_text()) +
+                           "\n[depth_filter]\nedge_jump_percent = 4\nedge_jump_min_m = 0.05\nedge_radius = 2\n"
+                           "background_tolerance_percent = 5\nspeckle_min_neighbours = 3\n"
+                           "reason = \"1 % noise: d = 100 mm measured with it\"\n";
+    const ConfigLoad l = parse_monitor_config(on, "cell.toml");
+    REQUIRE(l.ok);
+    const cell::DepthConditioning& f = l.config.depth_filter.filter;
+    CHECK(f.edge_jump_per_m == doctest::Approx(0.04));
+    CHECK(f.edge_jump_min_m == doctest::Approx(0.05));
+    CHECK(f.edge_radius == 2);
+    CHECK(f.background_tolerance_per_m == doctest::Approx(0.05));
+    CHECK(f.speckle_min_neighbours == 3);
+    CHECK(l.config.depth_filter.reason == "1 % noise: d = 100 mm measured with it");
+    // A filter on without a reason, or with a blank one.
+    std::string t = std::string(demo_config_text()) + "\n[depth_filter]\nbackground_tolerance_percent = 5\n";
+    check_refused(t, line_of(t, "[depth_filter]"), "depth_filter.reason: a filter is on: state why");
+    t += "reason = \"  \"\n";
+    check_refused(t, line_of(t, "[depth_filter]"), "depth_filter.reason");
+    // A reason with every filter off, a radius without the edge filter, values out of range, an unknown key.
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nreason = \"noise\"\n";
+    check_refused(t, line_of(t, "reason = \"noise\""), "depth_filter.reason: every filter is off");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_radius = 2\nbackground_tolerance_percent = 5\nreason = \"x\"\n";
+    check_refused(t, line_of(t, "edge_radius"), "depth_filter.edge_radius: applies only with the edge filter on");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_jump_percent = 60\nreason = \"x\"\n";
+    check_refused(t, line_of(t, "edge_jump_percent"), "depth_filter.edge_jump_percent: expected 0 to 50");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nbackground_tolerance_percent = -1\nreason = \"x\"\n";
+    check_refused(t, line_of(t, "background_tolerance_percent"), "depth_filter.background_tolerance_percent");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_jump_min_m = 0.05\nedge_radius = 5\nreason = \"x\"\n";
+    check_refused(t, line_of(t, "edge_radius"), "depth_filter.edge_radius");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nspeckle_min_neighbours = 9\nreason = \"x\"\n";
+    check_refused(t, line_of(t, "speckle_min_neighbours"), "depth_filter.speckle_min_neighbours");
+    t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_jump = 4\n";
+    check_refused(t, line_of(t, "edge_jump = 4"), "depth_filter.edge_jump: unknown key");
+}

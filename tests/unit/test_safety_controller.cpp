@@ -369,6 +369,51 @@ TEST_CASE(
 }
 
 // verifies: SR-CTRL-008
+TEST_CASE("controller: the frozen-sensor check judges the frame as delivered when a filter changed the reading") {
+    Workcell w;
+    TestClock clock;
+    ControllerConfig config = w.config();
+    config.max_repeated_frames = 2U;
+    SafetyController c = w.controller(config, clock);
+    Frame f(w, sim::reference_scene(), clock.t);
+    const std::uint32_t stale = fault_bit(Fault::kSensorStale);
+    // Every sensor's filtered reading repeats bit for bit (as a filter that
+    // puts near-background readings onto the background makes it); what the
+    // sensors delivered changes from frame to frame in sensors 0, 1 and 3.
+    std::vector<std::vector<float>> raw(f.inputs.size());
+    std::vector<SensorReading> delivered(f.inputs.size());
+    for (std::size_t s = 0; s < f.inputs.size(); ++s) {
+        raw[s].assign(f.inputs[s].reading.depth.begin(), f.inputs[s].reading.depth.end());
+        delivered[s] = f.inputs[s].reading;
+        delivered[s].depth = {raw[s].data(), raw[s].size()};
+        f.inputs[s].delivered = &delivered[s];
+    }
+    for (int k = 0; k < 4; ++k) {
+        for (std::size_t s = 0; s < f.inputs.size(); ++s) {
+            f.inputs[s].captured_us = clock.t;
+            if (s != 2U) {
+                raw[s][0] = (k % 2 == 0) ? 1.0F : 1.001F;
+            }
+        }
+        const CycleReport& r = c.run_cycle(f.span(), false);
+        CHECK((r.detected_faults & stale) == (k >= 2 ? stale : 0U));  // sensor 2's delivered frames repeat
+    }
+    // Without the delivered frames the repeating filtered readings are frozen too (all four sensors).
+    SafetyController plain = w.controller(config, clock);
+    for (std::size_t s = 0; s < f.inputs.size(); ++s) {
+        f.inputs[s].delivered = nullptr;
+    }
+    std::uint32_t faults = 0U;
+    for (int k = 0; k < 3; ++k) {
+        for (SensorInput& in : f.inputs) {
+            in.captured_us = clock.t;
+        }
+        faults = plain.run_cycle(f.span(), false).detected_faults;
+    }
+    CHECK((faults & stale) != 0U);
+}
+
+// verifies: SR-CTRL-008
 TEST_CASE(
     "controller: a frame delivered again with its old time stamp is not a frozen sensor, and the check is on by default") {
     Workcell w;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <utility>
 
+#include "cellguard/host/cell/filtered_frame_source.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/sim/experiment.hpp"
 #include "cellguard/host/sim/workcell.hpp"
@@ -28,7 +29,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// A simulated camera of the experiment: its view of the empty cell (the one
 /// the monitor's start-up cast, MonitorCell::layout), with the current piece
-/// drawn over it and the camera's noise on top.
+/// drawn over it and the camera's noise on top. The depth filter, when on,
+/// is the monitor's own (FilteredFrameSource around this source).
 // NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, never deleted through the base
 class PieceFrameSource final : public cell::FrameSource {
 public:
@@ -37,7 +39,6 @@ public:
         : spec_(spec),
           rays_(spec),
           noise_(settings.noise),
-          conditioning_(settings.conditioning),
           index_(index),
           seed_(settings.seed),
           background_(empty_view),
@@ -63,11 +64,6 @@ public:
         } else {
             sim::Rng rng(sim::sensor_seed(seed_ * 1000003U + cycle, index_));
             static_cast<void>(sim::apply_noise(spec_, noise_, image, {ideal_.data(), ideal_.size()}, rng));
-        }
-        if (conditioning_.on()) {
-            static_cast<void>(cell::condition_depth(image, {background_.data(), background_.size()},
-                                                    {ideal_.data(), ideal_.size()}, spec_.width, spec_.height,
-                                                    conditioning_));
         }
         reading = sim::depth_reading(spec_, {image_.data(), image_.size()});
         status = cell::FrameStatus{};
@@ -125,7 +121,6 @@ private:
     sim::SensorSpec spec_;
     sim::SensorRays rays_;
     sim::NoiseModel noise_;
-    cell::DepthConditioning conditioning_;
     std::size_t index_;
     std::uint64_t seed_;  ///< the run's seed: frame noise of cycle c from sensor_seed(seed * 1000003 + c, index)
     const std::vector<float>& background_;
@@ -365,8 +360,15 @@ struct MethodRun {
             return;
         }
         for (std::size_t s = 0U; s < monitor_cell.specs.size(); ++s) {
-            owned.push_back(
-                std::make_unique<PieceFrameSource>(monitor_cell.specs[s], monitor_cell.layout.depth[s], settings, s));
+            const sim::SensorSpec& spec = monitor_cell.specs[s];
+            auto piece = std::make_unique<PieceFrameSource>(spec, monitor_cell.layout.depth[s], settings, s);
+            pieces.push_back(piece.get());
+            if (settings.conditioning.on()) {  // the monitor's filter, against the view it would use
+                owned.push_back(std::make_unique<cell::FilteredFrameSource>(
+                    std::move(piece), monitor_cell.backgrounds[s].depth, spec.width, spec.height, settings.conditioning));
+            } else {
+                owned.push_back(std::move(piece));
+            }
             sources.push_back(owned.back().get());
         }
         can.use_sender(sender);
@@ -381,7 +383,7 @@ struct MethodRun {
 
     /// Shows @p piece (nullptr: the empty cell) in every source.
     void show(const sim::TestPiece* piece) noexcept {
-        for (const std::unique_ptr<PieceFrameSource>& s : owned) {
+        for (PieceFrameSource* s : pieces) {
             s->show(piece);
         }
     }
@@ -398,7 +400,8 @@ struct MethodRun {
     linux_port::LinuxMonotonicClock real_clock;
     CycleClock clock;
     MonitorCell monitor_cell;
-    std::vector<std::unique_ptr<PieceFrameSource>> owned;
+    std::vector<std::unique_ptr<cell::FrameSource>> owned;  ///< the pieces' sources, filtered when the filter is on
+    std::vector<PieceFrameSource*> pieces;                 ///< the pieces' sources in owned
     std::vector<cell::FrameSource*> sources;
     DroppingSender sender;
     CanPort can;

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // cellguard-detection: the detection-capability experiment (detection.hpp)
 // on a monitor configuration, by default apps/monitor/config/real-cell.toml.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -43,8 +44,10 @@ struct Options {
     int noise_tenths = 10;
     int flying_percent = 50;
     int dropout_tenths = 10;
-    int edge_tenths = 0;
-    int tolerance_tenths = 0;
+    int edge_tenths = -1;      ///< -1: not given (with the three below: the configuration's [depth_filter])
+    int tolerance_tenths = -1;
+    int edge_radius = 0;
+    int speckle_neighbours = -1;
     int seed = 1;
     std::string shape = "both";
     std::string prior = "both";
@@ -64,17 +67,20 @@ void declare(host::CommandLine& cli, Options& o) {
                 "chance that a pixel at a depth edge of more than 5 cm reads a mix of both depths (default 50)");
     cli.integer("--dropout-tenths", o.dropout_tenths, 0, 1000, "T",
                 "pixels without a reading, in tenths of a percent (default 10: 1 %)");
+    // The depth filter: the configuration's [depth_filter] (what the monitor runs) unless one of
+    // these four is given; then these, each one not given off.
     cli.integer("--edge-filter-tenths", o.edge_tenths, 0, 1000, "T",
-                "the cameras' edge filter: drop a reading that differs from a reading --edge-radius pixels away or "
-                "nearer by more than T tenths of a percent of its depth (at least 5 cm); 0 (default): off");
-    cli.integer("--edge-radius", s.conditioning.edge_radius, 1, 8, "R",
+                "the depth filter's edge filter: drop a reading that differs from a reading --edge-radius pixels "
+                "away or nearer by more than T tenths of a percent of its depth (at least 5 cm); 0: off. Without "
+                "this and the three below: the configuration's [depth_filter]");
+    cli.integer("--edge-radius", o.edge_radius, 1, 4, "R",
                 "the edge filter compares readings up to R pixels away along rows and columns (default 1)");
-    cli.integer("--background-tolerance-tenths", o.tolerance_tenths, 0, 1000, "T",
+    cli.integer("--background-tolerance-tenths", o.tolerance_tenths, 0, 200, "T",
                 "a reading within T tenths of a percent of the empty cell's depth of its pixel reads that depth; "
-                "0 (default): off");
-    cli.integer("--speckle-neighbours", s.conditioning.speckle_min_neighbours, 0, 8, "N",
+                "0: off");
+    cli.integer("--speckle-neighbours", o.speckle_neighbours, 0, 8, "N",
                 "drop a reading in front of the empty cell with fewer than N of its 8 neighbours in front too; "
-                "0 (default): off");
+                "0: off");
     cli.integer("--seed", o.seed, 0, 2000000000, "S", "seed of the poses and the noise (default 1)");
     cli.choice("--prior", o.prior, {"both", "probabilistic", "thresholded"}, "the priors compared (default both)");
     cli.choice("--shape", o.shape, {"both", "cylinder", "sphere"}, "the pieces tried (default both)");
@@ -95,7 +101,9 @@ void settle_settings(Options& o) {
         s.conditioning.edge_jump_per_m = o.edge_tenths / 1000.0;
         s.conditioning.edge_jump_min_m = 0.05;
     }
-    s.conditioning.background_tolerance_per_m = o.tolerance_tenths / 1000.0;
+    s.conditioning.edge_radius = std::max(o.edge_radius, 1);
+    s.conditioning.background_tolerance_per_m = std::max(o.tolerance_tenths, 0) / 1000.0;
+    s.conditioning.speckle_min_neighbours = std::max(o.speckle_neighbours, 0);
     if (o.shape != "both") {
         const sim::PieceShape keep = o.shape == "sphere" ? sim::PieceShape::kSphere : sim::PieceShape::kCylinder;
         std::vector<PieceSize> kept;
@@ -125,6 +133,9 @@ int main(int argc, char** argv) {
     if (!load.ok) {
         static_cast<void>(std::fprintf(stderr, "%s: %s\n", kProgram, load.error.c_str()));
         return host::kExitUsage;
+    }
+    if (o.edge_tenths < 0 && o.tolerance_tenths < 0 && o.edge_radius == 0 && o.speckle_neighbours < 0) {
+        o.settings.conditioning = load.config.depth_filter.filter;  // what the monitor runs with this file
     }
     const auto t0 = std::chrono::steady_clock::now();
     const DetectionResult result = run_detection(load.config, o.settings, stderr);

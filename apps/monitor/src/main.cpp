@@ -22,11 +22,13 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cellguard/base/crc32.hpp"
 #include "cellguard/host/cell/config.hpp"
 #include "cellguard/host/cell/depth_input.hpp"
+#include "cellguard/host/cell/filtered_frame_source.hpp"
 #include "cellguard/host/cell/frame_source.hpp"
 #include "cellguard/host/cell/pcd_input.hpp"
 #include "cellguard/host/command_line.hpp"
@@ -376,6 +378,37 @@ enum class SimulatedScene : std::uint8_t {
     kDemo = 0,   ///< the demo's: the scripted person, or a scene file's robot and persons
     kEmpty = 1,  ///< the empty cell (commissioning: the background's render, MonitorCell::layout)
 };
+
+/// @p sources with the configured depth filter in front of each depth sensor's
+/// (depth_filter; recorded point clouds pass unfiltered), against its
+/// commissioned view (MonitorCell::backgrounds).
+std::vector<std::unique_ptr<FrameSource>> with_depth_filter(const MonitorConfig& cfg, const MonitorCell& cell,
+                                                            std::vector<std::unique_ptr<FrameSource>> sources) {
+    if (!cfg.depth_filter.filter.on()) {
+        return sources;
+    }
+    for (std::size_t s = 0U; s < sources.size(); ++s) {
+        if (cfg.sensors[s].pcd_files.empty()) {
+            sources[s] = std::make_unique<cell::FilteredFrameSource>(std::move(sources[s]), cell.backgrounds[s].depth,
+                                                                     cell.specs[s].width, cell.specs[s].height,
+                                                                     cfg.depth_filter.filter);
+        }
+    }
+    return sources;
+}
+
+/// The depth filter's line at start: its settings and reason, or that it is off.
+void print_depth_filter(const MonitorConfig& cfg) {
+    const cell::DepthConditioning& f = cfg.depth_filter.filter;
+    if (!f.on()) {
+        std::printf("depth filter: off (every reading is fused)\n");
+        return;
+    }
+    std::printf("depth filter: edge jump %.1f %% of depth, at least %.0f mm, radius %d; background tolerance %.1f %%; "
+                "speckle %d of 8 (reason: %s)\n",
+                100.0 * f.edge_jump_per_m, 1000.0 * f.edge_jump_min_m, f.edge_radius,
+                100.0 * f.background_tolerance_per_m, f.speckle_min_neighbours, cfg.depth_filter.reason.c_str());
+}
 
 /// One frame source per sensor: its live camera, its recorded depth images or PCD files, else the simulator.
 std::vector<std::unique_ptr<FrameSource>> make_sources(const MonitorConfig& cfg, const MonitorCell& cell,
@@ -733,7 +766,8 @@ int run_monitor(int argc, char** argv) {
     if ((e = cell.build_tables(cfg, stdout)).failed()) {
         return fail(e);
     }
-    const std::vector<std::unique_ptr<FrameSource>> owned = make_sources(cfg, cell, cameras);
+    print_depth_filter(cfg);
+    const std::vector<std::unique_ptr<FrameSource>> owned = with_depth_filter(cfg, cell, make_sources(cfg, cell, cameras));
     std::vector<FrameSource*> sources = pointers_to(owned);
     CommandReceiverConfig receiver;
     PlcReceiverConfig plc_receiver;

@@ -180,6 +180,7 @@ MonitorLoop::MonitorLoop(const cell::MonitorConfig& cfg, MonitorCell& cell,
       line_(status_line_capacity(cfg), '\0'),
       stamps_(cfg.sensors.size(), 0U),
       receives_(cfg.sensors.size(), 0U),
+      delivered_(cfg.sensors.size()),
       controller_(robot_controller_config(cfg, cell, runner), cell.frame_grid,
                   {cell.fusion_scratch.data(), cell.fusion_scratch.size()}, {cell.prior.data(), cell.prior.size()},
                   cell.zones, cell.model, clock, this),
@@ -229,7 +230,10 @@ void MonitorLoop::load_frames(int k) noexcept {
         return;  // no input is present: the controller reports every sensor missing
     }
     for (std::size_t s = 0U; s < inputs_.size(); ++s) {
+        frame_status_ = cell::FrameStatus{};  // nothing of the previous sensor's frame carries over
         const bool ok = sources_[s]->load_frame(static_cast<std::uint64_t>(k), inputs_[s].reading, frame_status_);
+        delivered_[s] = frame_status_.delivered;
+        inputs_[s].delivered = frame_status_.filtered ? &delivered_[s] : nullptr;  // the frozen check's frame
         stamps_[s] = frame_status_.has_stamp ? frame_status_.stamp_us : 0U;
         receives_[s] = frame_status_.has_stamp ? frame_status_.receive_us : 0U;
         if (!ok && out_ != nullptr) {

@@ -249,6 +249,48 @@ void load_fusion(const Loader& L, const toml::table& root, MonitorConfig& c) {
     f.threads = static_cast<int>(L.integer_or(t, p, "threads", 1, kMaxFusionThreads, 1));
 }
 
+/// The [depth_filter] table (optional): the depth filter before fusion,
+/// every filter off unless given; one that is on needs the reason.
+void load_depth_filter(const Loader& L, const toml::table& root, MonitorConfig& c) {
+    if (!root.contains("depth_filter")) {
+        return;
+    }
+    const std::string p = "depth_filter";
+    const toml::table& t = L.table(root, "", "depth_filter");
+    L.check_keys(t, p,
+                 {"edge_jump_percent", "edge_jump_min_m", "edge_radius", "background_tolerance_percent",
+                  "speckle_min_neighbours", "reason"});
+    DepthConditioning& f = c.depth_filter.filter;
+    const auto bounded = [&](const char* key, double hi, const char* expected) {
+        const double v = L.number_or(t, p, key, 0.0);
+        if (!(v >= 0.0 && v <= hi)) {
+            L.fail(t.get(key)->source(), Loader::join(p, key), expected);
+        }
+        return v;
+    };
+    f.edge_jump_per_m = bounded("edge_jump_percent", 50.0, "expected 0 to 50 (per cent of the depth)") / 100.0;
+    f.edge_jump_min_m = bounded("edge_jump_min_m", 1.0, "expected 0 to 1 (metres)");
+    f.background_tolerance_per_m =
+        bounded("background_tolerance_percent", 20.0, "expected 0 to 20 (per cent of the empty cell's depth)") / 100.0;
+    f.edge_radius = static_cast<int>(L.integer_or(t, p, "edge_radius", 1, 4, 1));
+    f.speckle_min_neighbours = static_cast<int>(L.integer_or(t, p, "speckle_min_neighbours", 0, 8, 0));
+    const bool edge = f.edge_jump_per_m > 0.0 || f.edge_jump_min_m > 0.0;
+    if (!edge && t.contains("edge_radius")) {
+        L.fail(t.get("edge_radius")->source(), "depth_filter.edge_radius",
+               "applies only with the edge filter on (edge_jump_percent or edge_jump_min_m above 0)");
+    }
+    c.depth_filter.reason = L.string_or(t, p, "reason", "");
+    const bool stated = c.depth_filter.reason.find_first_not_of(" \t") != std::string::npos;
+    if (f.on() && !stated) {
+        L.fail(t.source(), "depth_filter.reason",
+               "a filter is on: state why, and the detection capability measured with it (cellguard-detection), "
+               "in reason = \"...\"");
+    }
+    if (!f.on() && t.contains("reason")) {
+        L.fail(t.get("reason")->source(), "depth_filter.reason", "every filter is off: delete the reason");
+    }
+}
+
 /// The [can] table's clock-rate check against the PLC's samples (off without command_period_ms).
 void load_clock_rate(const Loader& L, const toml::table& t, MonitorConfig& c) {
     const std::string p = "can";
@@ -413,6 +455,7 @@ void load_rest(const Loader& L, const toml::table& root, MonitorConfig& c, const
     load_thresholds(L, root, c);
     load_prior(L, root, c, base_dir);
     load_fusion(L, root, c);
+    load_depth_filter(L, root, c);
     load_can(L, root, c);
     load_cycle(L, root, c);
     load_restart_interlock(L, root, c);
@@ -430,8 +473,8 @@ ConfigLoad parse_monitor_config(const std::string& text, const std::string& sour
         const toml::table root = toml::parse(text, source_name);
         const Loader L(source_name);
         L.check_keys(root, "",
-                     {"grid", "sensors", "zones", "thresholds", "prior", "fusion", "can", "cycle", "restart_interlock",
-                      "demo", "cases", "robot", "separation", "speed_classes", "opt_out"});
+                     {"grid", "sensors", "zones", "thresholds", "prior", "fusion", "depth_filter", "can", "cycle",
+                      "restart_interlock", "demo", "cases", "robot", "separation", "speed_classes", "opt_out"});
         MonitorConfig c;
         c.source = source_name;
         load_grid(L, root, c);

@@ -5,36 +5,79 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace cellguard::cell {
 namespace {
 
 bool has_reading(float d) noexcept { return d > 0.0F && std::isfinite(d); }
 
-/// True when the reading of pixel (u, v) of @p image (with a reading) differs
-/// from a 4-neighbour's reading by more than the edge filter's jump.
-bool at_edge(const float* image, std::int32_t w, std::int32_t h, std::int32_t u, std::int32_t v,
-             const DepthConditioning& c) noexcept {
-    const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u);
-    const auto d = static_cast<double>(image[i]);
-    const double jump = std::max(c.edge_jump_min_m, c.edge_jump_per_m * d);
-    const std::int32_t du[4] = {-1, 1, 0, 0};
-    const std::int32_t dv[4] = {0, 0, -1, 1};
-    const std::int32_t reach = c.edge_radius > 1 ? c.edge_radius : 1;
-    for (int k = 0; k < 4 * reach; ++k) {
-        const std::int32_t step = 1 + k / 4;
-        const std::int32_t nu = u + step * du[k % 4];
-        const std::int32_t nv = v + step * dv[k % 4];
-        if (nu < 0 || nv < 0 || nu >= w || nv >= h) {
-            continue;
+/// The nearest and farthest reading up to @p reach pixels from pixel (u, v)
+/// of @p img along its row and column (NaN: no reading, passed over:
+/// std::max(a, b) and std::min(a, b) keep a when b is NaN); none: the pixel's own @p d.
+struct Extremes {
+    float near;  ///< the nearest
+    float far;   ///< the farthest
+};
+Extremes neighbour_extremes(const float* img, std::int32_t w, std::int32_t h, std::int32_t u, std::int32_t v,
+                            std::int32_t reach, float d) noexcept {
+    const auto row = static_cast<std::ptrdiff_t>(w);
+    const float* p = img + static_cast<std::ptrdiff_t>(v) * row + u;
+    Extremes e{d, d};
+    if (u >= reach && v >= reach && u + reach < w && v + reach < h) {  // inside: no bound to check
+        for (std::int32_t k = 1; k <= reach; ++k) {
+            const std::ptrdiff_t down = k * row;
+            e.far = std::max(std::max(std::max(e.far, p[-k]), std::max(e.far, p[k])),
+                             std::max(std::max(e.far, p[-down]), p[down]));
+            e.near = std::min(std::min(std::min(e.near, p[-k]), std::min(e.near, p[k])),
+                              std::min(std::min(e.near, p[-down]), p[down]));
         }
-        const float n =
-            image[static_cast<std::size_t>(nv) * static_cast<std::size_t>(w) + static_cast<std::size_t>(nu)];
-        if (has_reading(n) && std::fabs(static_cast<double>(n) - d) > jump) {
-            return true;
+        return e;
+    }
+    for (std::int32_t k = 1; k <= reach; ++k) {
+        const std::ptrdiff_t down = k * row;
+        const float l = u >= k ? p[-k] : d;
+        const float r = u + k < w ? p[k] : d;
+        const float up = v >= k ? p[-down] : d;
+        const float dn = v + k < h ? p[down] : d;
+        e.far = std::max(std::max(std::max(e.far, l), std::max(e.far, r)), std::max(std::max(e.far, up), dn));
+        e.near = std::min(std::min(std::min(e.near, l), std::min(e.near, r)), std::min(std::min(e.near, up), dn));
+    }
+    return e;
+}
+
+/// The edge filter: drops each reading of @p depth that differs from a
+/// reading up to c.edge_radius pixels away along its row or column by more
+/// than the jump, found on @p scratch (the image as given, NaN for no
+/// reading). The largest difference is the nearest or the farthest
+/// neighbour's, so two compares decide; the floats' difference is exact in
+/// double, as a per-neighbour compare's is.
+std::uint64_t drop_edges(Span<float> depth, Span<float> scratch, std::int32_t w, std::int32_t h,
+                         const DepthConditioning& c) noexcept {
+    const std::size_t n = depth.size();
+    for (std::size_t i = 0U; i < n; ++i) {
+        scratch[i] = has_reading(depth[i]) ? depth[i] : std::numeric_limits<float>::quiet_NaN();
+    }
+    const std::int32_t reach = c.edge_radius > 1 ? c.edge_radius : 1;
+    std::uint64_t dropped = 0U;
+    for (std::int32_t v = 0; v < h; ++v) {
+        for (std::int32_t u = 0; u < w; ++u) {
+            const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(u);
+            const float d = scratch[i];
+            if (std::isnan(d)) {
+                continue;
+            }
+            const Extremes e = neighbour_extremes(scratch.data(), w, h, u, v, reach, d);
+            const auto dd = static_cast<double>(d);
+            const double jump = std::max(c.edge_jump_min_m, c.edge_jump_per_m * dd);
+            if (static_cast<double>(e.far) - dd > jump || dd - static_cast<double>(e.near) > jump) {
+                depth[i] = 0.0F;
+                ++dropped;
+            }
         }
     }
-    return false;
+    return dropped;
 }
 
 /// True when pixel @p i's reading lies nearer than the empty cell's depth (not on it).
@@ -93,17 +136,7 @@ bool condition_depth(Span<float> depth, Span<const float> background, Span<float
     }
     ConditioningCounts local;
     if (c.edge_jump_per_m > 0.0 || c.edge_jump_min_m > 0.0) {
-        std::copy(depth.begin(), depth.end(), scratch.begin());  // edges are found on the image as given
-        for (std::int32_t v = 0; v < height; ++v) {
-            for (std::int32_t u = 0; u < width; ++u) {
-                const std::size_t i = static_cast<std::size_t>(v) * static_cast<std::size_t>(width) +
-                                      static_cast<std::size_t>(u);
-                if (has_reading(scratch[i]) && at_edge(scratch.data(), width, height, u, v, c)) {
-                    depth[i] = 0.0F;
-                    ++local.dropped;
-                }
-            }
-        }
+        local.dropped = drop_edges(depth, scratch, width, height, c);
     }
     if (c.background_tolerance_per_m > 0.0 && !background.empty()) {
         for (std::size_t i = 0U; i < n; ++i) {

@@ -190,6 +190,7 @@ private:
     cell::FrameStatus frame_status_{};
     std::vector<std::uint64_t> stamps_;    ///< per sensor: the capture time its source gave (0: none)
     std::vector<std::uint64_t> receives_;  ///< per sensor: when its frame arrived (0: not known)
+    std::vector<SensorReading> delivered_;  ///< per sensor: its frame as delivered, when a depth filter changed it
     std::uint64_t sent_us_ = 0U;           ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
     std::uint64_t cycle_real_us_ = 0U;     ///< the last cycle's real duration (CycleClock::real_span_us)
     SafetyController controller_;

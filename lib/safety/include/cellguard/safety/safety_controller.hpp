@@ -112,6 +112,12 @@ struct SensorInput {
     /// too little of it shown is kFrameInconsistent, not fused; a changed one
     /// latches kPriorCheckFailed (background_check.hpp, BackgroundChangeTracker).
     const BackgroundReference* background = nullptr;
+    /// Optional: the frame as the sensor delivered it, when a filter before
+    /// the controller changed @ref reading (a depth filter that puts readings
+    /// near the empty cell's depth onto it makes a live camera's frames
+    /// repeat). The frozen-sensor check fingerprints this one; nullptr:
+    /// @ref reading. Fusion and the background checks use @ref reading.
+    const SensorReading* delivered = nullptr;
 };
 
 /// The robot side of a cell. The default is a cell without a robot.

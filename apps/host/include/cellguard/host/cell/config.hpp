@@ -21,6 +21,7 @@
 #include "cellguard/can/command_frame.hpp"
 #include "cellguard/can/safety_frame.hpp"
 #include "cellguard/grid/footprint_fusion.hpp"
+#include "cellguard/host/cell/depth_conditioning.hpp"
 #include "cellguard/robot/separation.hpp"
 #include "cellguard/safety/safety_controller.hpp"
 #include "cellguard/safety/zones.hpp"
@@ -244,6 +245,14 @@ struct OptOut {
     std::string loses;    ///< Protection::loses
 };
 
+/// The depth filter before fusion ([depth_filter], optional; depth_conditioning.hpp):
+/// every filter off by default. A filter removes readings, so it costs
+/// detection capability: the table needs a stated reason when one is on.
+struct DepthFilterSettings {
+    DepthConditioning filter{};  ///< edge_jump_percent, edge_jump_min_m, edge_radius, background_tolerance_percent, speckle_min_neighbours
+    std::string reason;          ///< depth_filter.reason: why it is on (non-empty when filter.on())
+};
+
 /// Everything the monitor needs.
 struct MonitorConfig {
     GridSettings grid;                         ///< the grid
@@ -253,6 +262,7 @@ struct MonitorConfig {
     RobotSettings robot;                       ///< the robot (robot.enabled false: none)
     PriorSettings prior;                       ///< the prior
     FusionSettings fusion;                     ///< how depth images are fused
+    DepthFilterSettings depth_filter;          ///< the depth filter before fusion (off)
     CanSettings can;                           ///< the CAN output
     std::uint64_t period_us = 100000U;         ///< cycle period
     std::uint64_t budget_us = 100000U;         ///< cycle deadline

@@ -1,9 +1,11 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 /// @file depth_conditioning.hpp
-/// What a time-of-flight camera's own filters do to its depth image before
-/// the monitor fuses it, measured by the detection experiment (detection.hpp)
-/// for issue 35: both are off by default and change nothing then.
+/// The depth filter: what a time-of-flight camera's own filters do to its
+/// depth image, applied before the monitor fuses it when the configuration's
+/// [depth_filter] turns it on (filtered_frame_source.hpp), and by the
+/// detection experiment (detection.hpp), which measures what it costs in
+/// detection capability. Every filter is off by default and changes nothing then.
 ///
 /// - Edge filter (flying pixels): a reading that differs from a reading up
 ///   to edge_radius pixels away along its row or column (1: its 4-neighbours) by more than max(edge_jump_min_m, edge_jump_per_m

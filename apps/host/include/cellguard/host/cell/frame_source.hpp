@@ -37,6 +37,11 @@ struct FrameStatus {
     std::uint64_t stamp_us = 0U;  ///< has_stamp: the capture time, CLOCK_MONOTONIC microseconds
     /// has_stamp: when the frame's last packet arrived, CLOCK_MONOTONIC microseconds (0: not known).
     std::uint64_t receive_us = 0U;
+    /// True when a depth filter changed the reading (FilteredFrameSource,
+    /// depth_conditioning.hpp): @ref delivered then describes the frame as the
+    /// sensor delivered it, which the frozen-sensor check judges (SensorInput::delivered).
+    bool filtered = false;
+    SensorReading delivered{};  ///< filtered: the frame before the filter (valid until the source's next load)
 };
 
 /// How a depth camera's readings are described: a live camera's
