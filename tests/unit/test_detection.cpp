@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -167,4 +168,39 @@ TEST_CASE(
     REQUIRE(filtered.error.empty());
     CHECK(filtered.empty[0].intruded == 0);
     CHECK(filtered.rows[0].detected == 2);  // a 200 mm ball free in the zone is still found
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE("detection: the CSV has a row per tried row, the plot a line per prior, piece and placement") {
+    DetectionResult r;
+    const PieceSize rod20{sim::PieceShape::kCylinder, 0.020, 0.3};
+    const PieceSize rod55{sim::PieceShape::kCylinder, 0.055, 0.3};
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFree, 10, 10, 0.74});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFloor, 10, 0, 0.0});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kBoxTop, 0, 0, 0.0});  // did not fit
+    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFree, 10, 10, 0.74});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFloor, 10, 5, 0.22});
+    std::FILE* f = std::tmpfile();
+    REQUIRE(f != nullptr);
+    write_detection_csv(f, "cell.toml", r);
+    std::rewind(f);
+    std::string csv;
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, f) != nullptr) {
+        csv += buf;
+    }
+    static_cast<void>(std::fclose(f));
+    CHECK(csv ==
+          "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound\n"
+          "cell.toml,probabilistic,cylinder,20,300,free,10,10,1.0000,0.7400\n"
+          "cell.toml,probabilistic,cylinder,20,300,floor,0,10,0.0000,0.0000\n"
+          "cell.toml,probabilistic,cylinder,55,300,free,10,10,1.0000,0.7400\n"
+          "cell.toml,probabilistic,cylinder,55,300,floor,5,10,0.5000,0.2200\n");
+    const std::string gp = detection_plot_script("out.png", "t", r);
+    // Two lines (free, floor; the box top had no pose), each with its points in order of size.
+    CHECK(gp.find("$line0 << EOD\n20 1.0000\n55 1.0000\nEOD\n") != std::string::npos);
+    CHECK(gp.find("$line1 << EOD\n20 0.0000\n55 0.5000\nEOD\n") != std::string::npos);
+    CHECK(gp.find("$line2") == std::string::npos);
+    CHECK(gp.find("set output 'out.png'") != std::string::npos);
+    CHECK(gp.find("title 'probabilistic, cylinder, floor'") != std::string::npos);
 }

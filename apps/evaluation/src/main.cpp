@@ -19,6 +19,7 @@
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/command_line.hpp"
+#include "cellguard/host/io/gnuplot.hpp"
 #include "cellguard/host/io/png.hpp"
 #include "cellguard/host/sim/experiment.hpp"
 #include "render.hpp"
@@ -64,11 +65,6 @@ std::string fmt(double v, int digits = 3) {
         return false;
     }
     return true;
-}
-
-bool have_gnuplot() {
-    // NOLINTNEXTLINE(cert-env33-c): a fixed command string that asks the shell whether gnuplot is installed
-    return std::system("command -v gnuplot > /dev/null 2>&1") == 0;
 }
 
 std::string csv_of(const sim::SceneResult& r) {
@@ -134,15 +130,7 @@ std::string table_of(const sim::SceneResult& r) {
           << " title '" << names[i] << "'";
     }
     s << "\n";
-    if (!write_text(gp, s.str())) {
-        return false;
-    }
-    const std::string cmd = "gnuplot '" + gp + "'";
-    // NOLINTNEXTLINE(cert-env33-c): gnuplot on the script just written; the command is this tool's own, for the user who runs it
-    if (std::system(cmd.c_str()) != 0) {
-        static_cast<void>(std::fprintf(stderr, "cellguard-eval: gnuplot failed on %s\n", gp.c_str()));
-    }
-    return true;
+    return host::write_and_run_gnuplot(gp, s.str(), "cellguard-eval", stderr);
 }
 
 std::vector<eval::VoxelClass> classes_for(const sim::SceneResult& r, const std::vector<std::int16_t>* subtracted,
@@ -353,7 +341,7 @@ void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std
 
 /// Whether the plots are drawn: asked for and gnuplot installed (else says so).
 bool plots_wanted(const Options& o) {
-    const bool plots = o.plots && have_gnuplot();
+    const bool plots = o.plots && host::have_gnuplot();
     if (o.plots && !plots) {
         static_cast<void>(std::fprintf(
             stderr,

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -424,6 +425,50 @@ int zone_index(const cell::MonitorConfig& cfg, const std::string& name) {
 
 }  // namespace
 
+/// The run's progress: a line at every whole per cent of its cycles (at most
+/// 100 lines), with the time since the first cycle and an estimate of the time left.
+class Progress {
+public:
+    Progress(std::FILE* out, std::uint64_t total) : out_(out), total_(std::max<std::uint64_t>(total, 1U)) {}
+
+    /// Counts one cycle run.
+    void cycle() noexcept {
+        if (done_++ == 0U) {
+            start_ = std::chrono::steady_clock::now();  // from the first cycle: the cell's set-up is not a cycle's
+        }
+        const std::uint64_t percent = 100U * done_ / total_;
+        if (out_ == nullptr || percent == shown_) {
+            return;
+        }
+        shown_ = percent;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        const double left = elapsed * static_cast<double>(total_ - std::min(done_, total_)) / static_cast<double>(done_);
+        char bar[21] = {};
+        for (std::size_t i = 0U; i < 20U; ++i) {
+            bar[i] = i < percent / 5U ? '#' : '.';
+        }
+        static_cast<void>(std::fprintf(out_, "detection: [%s] %3llu %% of %llu cycles, %.1f min so far, about %.1f min left\n",
+                                       bar, static_cast<unsigned long long>(percent),
+                                       static_cast<unsigned long long>(total_), elapsed / 60.0, left / 60.0));
+        static_cast<void>(std::fflush(out_));
+    }
+
+private:
+    std::FILE* out_;
+    std::uint64_t total_;
+    std::uint64_t done_ = 0U;
+    std::uint64_t shown_ = 0U;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// The cycles a run of @p settings takes at most (a row whose piece does not fit takes fewer).
+std::uint64_t planned_cycles(const DetectionSettings& settings) {
+    const auto n = [](int v) { return static_cast<std::uint64_t>(std::max(v, 0)); };
+    const std::uint64_t rows = settings.sizes.size() * settings.placements.size();
+    return settings.methods.size() *
+           (n(settings.warmup_cycles) + n(settings.empty_cycles) + rows * n(settings.poses) * n(settings.cycles));
+}
+
 DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSettings& settings, std::FILE* progress) {
     DetectionResult result;
     const int zone = zone_index(cfg, settings.zone);
@@ -437,6 +482,7 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
     }
     const ZoneConfig& zc = cfg.zones[static_cast<std::size_t>(zone)].zone;
     const auto bit = static_cast<std::size_t>(zone);
+    Progress bar(progress, planned_cycles(settings));
     for (const PriorMethod method : settings.methods) {
         MethodRun run(cfg, method, settings, result.error);
         if (!result.error.empty()) {
@@ -446,10 +492,12 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
         run.show(nullptr);
         for (int i = 0; i < settings.warmup_cycles; ++i) {
             static_cast<void>(run.intruded(bit));
+            bar.cycle();
         }
         EmptyCellRow empty{method, settings.empty_cycles, 0};
         for (int i = 0; i < settings.empty_cycles; ++i) {
             empty.intruded += run.intruded(bit) ? 1 : 0;
+            bar.cycle();
             empty.max_foreground = std::max(empty.max_foreground, run.foreground);
             empty.foreground_sum += run.foreground;
         }
@@ -468,6 +516,7 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
                     bool seen = false;
                     for (int c = 0; c < settings.cycles; ++c) {
                         seen = run.intruded(bit) || seen;
+                        bar.cycle();
                     }
                     ++row.poses;
                     row.detected += seen ? 1 : 0;
@@ -532,6 +581,59 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
             }
         }
     }
+}
+
+void write_detection_csv(std::FILE* out, const std::string& cell, const DetectionResult& result) {
+    static_cast<void>(
+        std::fprintf(out, "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound\n"));
+    for (const DetectionRow& r : result.rows) {
+        if (r.poses == 0) {
+            continue;  // the piece did not fit: no rate
+        }
+        static_cast<void>(std::fprintf(out, "%s,%s,%s,%.0f,%.0f,%s,%d,%d,%.4f,%.4f\n", cell.c_str(),
+                                       sim::method_name(r.method), sim::to_string(r.size.shape),
+                                       r.size.diameter * 1000.0, r.size.length * 1000.0, to_string(r.placement),
+                                       r.detected, r.poses, static_cast<double>(r.detected) / r.poses,
+                                       r.lower_bound));
+    }
+}
+
+std::string detection_plot_script(const std::string& png_path, const std::string& title,
+                                  const DetectionResult& result) {
+    std::vector<std::string> keys;    // one line per prior, shape and placement with poses, in the rows' order
+    std::vector<std::string> points;  // per key: its "diameter rate" lines
+    for (const DetectionRow& r : result.rows) {
+        if (r.poses == 0) {
+            continue;
+        }
+        const std::string key = std::string(sim::method_name(r.method)) + ", " + sim::to_string(r.size.shape) + ", " +
+                                to_string(r.placement);
+        const auto k = static_cast<std::size_t>(std::find(keys.begin(), keys.end(), key) - keys.begin());
+        if (k == keys.size()) {
+            keys.push_back(key);
+            points.emplace_back();
+        }
+        char point[64];
+        static_cast<void>(std::snprintf(point, sizeof point, "%.0f %.4f\n", r.size.diameter * 1000.0,
+                                        static_cast<double>(r.detected) / r.poses));
+        points[k] += point;
+    }
+    std::string data;
+    for (std::size_t k = 0U; k < keys.size(); ++k) {
+        data += "$line" + std::to_string(k) + " << EOD\n" + points[k] + "EOD\n";
+    }
+    std::string s = "# gnuplot script written by cellguard-detection: detection rate against diameter\n" + data +
+                    "set terminal pngcairo size 800,600 font 'sans,11'\n"
+                    "set output '" + png_path + "'\n"
+                    "set title '" + title + "'\n"
+                    "set xlabel 'diameter (mm)'\nset ylabel 'share of poses detected'\n"
+                    "set logscale x\nset xrange [18:220]\nset yrange [-0.02:1.05]\n"
+                    "set xtics (20,30,40,55,70,100,150,200)\nset grid\nset key below\nplot ";
+    for (std::size_t k = 0U; k < keys.size(); ++k) {
+        s += std::string(k > 0U ? ", \\\n     " : "") + "$line" + std::to_string(k) +
+             " using 1:2 with linespoints lw 2 title '" + keys[k] + "'";
+    }
+    return s + "\n";
 }
 
 }  // namespace cellguard::monitor

@@ -128,6 +128,17 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
 /// Writes @p result as a Markdown table (and the empty cell's rows) to @p out.
 void write_detection_table(std::FILE* out, const DetectionSettings& settings, const DetectionResult& result);
 
+/// Writes @p result's rows as CSV to @p out: a header, then per row
+/// cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound
+/// (@p cell names the configuration in the first column).
+void write_detection_csv(std::FILE* out, const std::string& cell, const DetectionResult& result);
+
+/// A gnuplot script that draws the detection rate of @p result against the
+/// diameter, one line per prior, shape and placement (the data in the
+/// script), into @p png_path.
+[[nodiscard]] std::string detection_plot_script(const std::string& png_path, const std::string& title,
+                                                const DetectionResult& result);
+
 }  // namespace cellguard::monitor
 
 #endif  // CELLGUARD_MONITOR_DETECTION_HPP
