@@ -169,7 +169,8 @@ TEST_CASE("depth conditioning: the edge filter drops exactly the readings a neig
     // The reference: every neighbour up to the radius along the row and the
     // column compared on its own, in double, readings only (0, NaN and
     // infinities are none), on random images with holes, ramps and jumps.
-    const auto reference = [](const std::vector<float>& img, std::int32_t w, std::int32_t h, const DepthConditioning& c) {
+    const auto reference = [](const std::vector<float>& img, std::int32_t w, std::int32_t h,
+                              const DepthConditioning& c) {
         const auto valid = [](float d) { return d > 0.0F && std::isfinite(d); };
         std::vector<bool> drop(img.size(), false);
         for (std::int32_t v = 0; v < h; ++v) {
@@ -209,7 +210,7 @@ TEST_CASE("depth conditioning: the edge filter drops exactly the readings a neig
             if (k == 0) {
                 level = depth(rng);  // a jump
             }
-            d = k == 1 ? 0.0F
+            d = k == 1   ? 0.0F
                 : k == 2 ? std::numeric_limits<float>::quiet_NaN()
                 : k == 3 ? std::numeric_limits<float>::infinity()
                 : k == 4 ? -1.0F

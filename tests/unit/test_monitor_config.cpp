@@ -404,7 +404,8 @@ TEST_CASE("monitor config: the depth filter is off unless [depth_filter] turns a
     // A reason with every filter off, a radius without the edge filter, values out of range, an unknown key.
     t = std::string(demo_config_text()) + "\n[depth_filter]\nreason = \"noise\"\n";
     check_refused(t, line_of(t, "reason = \"noise\""), "depth_filter.reason: every filter is off");
-    t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_radius = 2\nbackground_tolerance_percent = 5\nreason = \"x\"\n";
+    t = std::string(demo_config_text()) +
+        "\n[depth_filter]\nedge_radius = 2\nbackground_tolerance_percent = 5\nreason = \"x\"\n";
     check_refused(t, line_of(t, "edge_radius"), "depth_filter.edge_radius: applies only with the edge filter on");
     t = std::string(demo_config_text()) + "\n[depth_filter]\nedge_jump_percent = 60\nreason = \"x\"\n";
     check_refused(t, line_of(t, "edge_jump_percent"), "depth_filter.edge_jump_percent: expected 0 to 50");

@@ -365,8 +365,9 @@ struct MethodRun {
             auto piece = std::make_unique<PieceFrameSource>(spec, monitor_cell.layout.depth[s], settings, s);
             pieces.push_back(piece.get());
             if (settings.conditioning.on()) {  // the monitor's filter, against the view it would use
-                owned.push_back(std::make_unique<cell::FilteredFrameSource>(
-                    std::move(piece), monitor_cell.backgrounds[s].depth, spec.width, spec.height, settings.conditioning));
+                owned.push_back(
+                    std::make_unique<cell::FilteredFrameSource>(std::move(piece), monitor_cell.backgrounds[s].depth,
+                                                                spec.width, spec.height, settings.conditioning));
             } else {
                 owned.push_back(std::move(piece));
             }
@@ -402,7 +403,7 @@ struct MethodRun {
     CycleClock clock;
     MonitorCell monitor_cell;
     std::vector<std::unique_ptr<cell::FrameSource>> owned;  ///< the pieces' sources, filtered when the filter is on
-    std::vector<PieceFrameSource*> pieces;                 ///< the pieces' sources in owned
+    std::vector<PieceFrameSource*> pieces;                  ///< the pieces' sources in owned
     std::vector<cell::FrameSource*> sources;
     DroppingSender sender;
     CanPort can;
@@ -442,14 +443,16 @@ public:
         }
         shown_ = percent;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        const double left = elapsed * static_cast<double>(total_ - std::min(done_, total_)) / static_cast<double>(done_);
+        const double left = elapsed * static_cast<double>(total_ - std::min(done_, total_)) /
+                            static_cast<double>(done_);
         char bar[21] = {};
         for (std::size_t i = 0U; i < 20U; ++i) {
             bar[i] = i < percent / 5U ? '#' : '.';
         }
-        static_cast<void>(std::fprintf(out_, "detection: [%s] %3llu %% of %llu cycles, %.1f min so far, about %.1f min left\n",
-                                       bar, static_cast<unsigned long long>(percent),
-                                       static_cast<unsigned long long>(total_), elapsed / 60.0, left / 60.0));
+        static_cast<void>(
+            std::fprintf(out_, "detection: [%s] %3llu %% of %llu cycles, %.1f min so far, about %.1f min left\n", bar,
+                         static_cast<unsigned long long>(percent), static_cast<unsigned long long>(total_),
+                         elapsed / 60.0, left / 60.0));
         static_cast<void>(std::fflush(out_));
     }
 
@@ -593,8 +596,7 @@ void write_detection_csv(std::FILE* out, const std::string& cell, const Detectio
         static_cast<void>(std::fprintf(out, "%s,%s,%s,%.0f,%.0f,%s,%d,%d,%.4f,%.4f\n", cell.c_str(),
                                        sim::method_name(r.method), sim::to_string(r.size.shape),
                                        r.size.diameter * 1000.0, r.size.length * 1000.0, to_string(r.placement),
-                                       r.detected, r.poses, static_cast<double>(r.detected) / r.poses,
-                                       r.lower_bound));
+                                       r.detected, r.poses, static_cast<double>(r.detected) / r.poses, r.lower_bound));
     }
 }
 
@@ -624,8 +626,12 @@ std::string detection_plot_script(const std::string& png_path, const std::string
     }
     std::string s = "# gnuplot script written by cellguard-detection: detection rate against diameter\n" + data +
                     "set terminal pngcairo size 800,600 font 'sans,11'\n"
-                    "set output '" + png_path + "'\n"
-                    "set title '" + title + "'\n"
+                    "set output '" +
+                    png_path +
+                    "'\n"
+                    "set title '" +
+                    title +
+                    "'\n"
                     "set xlabel 'diameter (mm)'\nset ylabel 'share of poses detected'\n"
                     "set logscale x\nset xrange [18:220]\nset yrange [-0.02:1.05]\n"
                     "set xtics (20,30,40,55,70,100,150,200)\nset grid\nset key below\nplot ";

@@ -48,7 +48,7 @@ struct Options {
     int noise_tenths = 10;
     int flying_percent = 50;
     int dropout_tenths = 10;
-    int edge_tenths = -1;      ///< -1: not given (with the three below: the configuration's [depth_filter])
+    int edge_tenths = -1;  ///< -1: not given (with the three below: the configuration's [depth_filter])
     int tolerance_tenths = -1;
     int edge_radius = 0;
     int speckle_neighbours = -1;
@@ -127,8 +127,8 @@ bool write_outputs(const Options& o, const DetectionResult& result) {
     const std::string title = "detection rate, zone " + o.settings.zone + ", " +
                               (o.noise_tenths > 0 ? noise : "noise-free") +
                               (o.settings.conditioning.on() ? ", depth filter on" : "");
-    return host::write_and_run_gnuplot(without_extension(o.plot) + ".gp",
-                                       detection_plot_script(o.plot, title, result), kProgram, stderr);
+    return host::write_and_run_gnuplot(without_extension(o.plot) + ".gp", detection_plot_script(o.plot, title, result),
+                                       kProgram, stderr);
 }
 
 /// The settings the options of @p o give (in o.settings).

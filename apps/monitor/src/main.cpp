@@ -379,11 +379,26 @@ enum class SimulatedScene : std::uint8_t {
     kEmpty = 1,  ///< the empty cell (commissioning: the background's render, MonitorCell::layout)
 };
 
+/// The depth filter's line at start: its settings and reason, or that it is off.
+void print_depth_filter(const MonitorConfig& cfg) {
+    const cell::DepthConditioning& f = cfg.depth_filter.filter;
+    if (!f.on()) {
+        std::printf("depth filter: off (every reading is fused)\n");
+        return;
+    }
+    std::printf(
+        "depth filter: edge jump %.1f %% of depth, at least %.0f mm, radius %d; background tolerance %.1f %%; "
+        "speckle %d of 8 (reason: %s)\n",
+        100.0 * f.edge_jump_per_m, 1000.0 * f.edge_jump_min_m, f.edge_radius, 100.0 * f.background_tolerance_per_m,
+        f.speckle_min_neighbours, cfg.depth_filter.reason.c_str());
+}
+
 /// @p sources with the configured depth filter in front of each depth sensor's
 /// (depth_filter; recorded point clouds pass unfiltered), against its
-/// commissioned view (MonitorCell::backgrounds).
+/// commissioned view (MonitorCell::backgrounds); prints the filter's line.
 std::vector<std::unique_ptr<FrameSource>> with_depth_filter(const MonitorConfig& cfg, const MonitorCell& cell,
                                                             std::vector<std::unique_ptr<FrameSource>> sources) {
+    print_depth_filter(cfg);
     if (!cfg.depth_filter.filter.on()) {
         return sources;
     }
@@ -395,19 +410,6 @@ std::vector<std::unique_ptr<FrameSource>> with_depth_filter(const MonitorConfig&
         }
     }
     return sources;
-}
-
-/// The depth filter's line at start: its settings and reason, or that it is off.
-void print_depth_filter(const MonitorConfig& cfg) {
-    const cell::DepthConditioning& f = cfg.depth_filter.filter;
-    if (!f.on()) {
-        std::printf("depth filter: off (every reading is fused)\n");
-        return;
-    }
-    std::printf("depth filter: edge jump %.1f %% of depth, at least %.0f mm, radius %d; background tolerance %.1f %%; "
-                "speckle %d of 8 (reason: %s)\n",
-                100.0 * f.edge_jump_per_m, 1000.0 * f.edge_jump_min_m, f.edge_radius,
-                100.0 * f.background_tolerance_per_m, f.speckle_min_neighbours, cfg.depth_filter.reason.c_str());
 }
 
 /// One frame source per sensor: its live camera, its recorded depth images or PCD files, else the simulator.
@@ -766,8 +768,8 @@ int run_monitor(int argc, char** argv) {
     if ((e = cell.build_tables(cfg, stdout)).failed()) {
         return fail(e);
     }
-    print_depth_filter(cfg);
-    const std::vector<std::unique_ptr<FrameSource>> owned = with_depth_filter(cfg, cell, make_sources(cfg, cell, cameras));
+    const std::vector<std::unique_ptr<FrameSource>> owned = with_depth_filter(cfg, cell,
+                                                                              make_sources(cfg, cell, cameras));
     std::vector<FrameSource*> sources = pointers_to(owned);
     CommandReceiverConfig receiver;
     PlcReceiverConfig plc_receiver;

@@ -264,7 +264,8 @@ bool SafetyController::frame_is_frozen(std::size_t slot, const SensorInput& inpu
         return false;
     }
     FrameHistory& h = frame_history_[slot];
-    const std::uint64_t fingerprint = reading_fingerprint(input.delivered != nullptr ? *input.delivered : input.reading);
+    const std::uint64_t fingerprint = reading_fingerprint(input.delivered != nullptr ? *input.delivered
+                                                                                     : input.reading);
     // The same frame delivered again (same time stamp) is not a new frame:
     // the age limit covers it.
     if (h.seen && input.captured_us != h.captured_us) {

@@ -270,8 +270,9 @@ void load_depth_filter(const Loader& L, const toml::table& root, MonitorConfig& 
     };
     f.edge_jump_per_m = bounded("edge_jump_percent", 50.0, "expected 0 to 50 (per cent of the depth)") / 100.0;
     f.edge_jump_min_m = bounded("edge_jump_min_m", 1.0, "expected 0 to 1 (metres)");
-    f.background_tolerance_per_m =
-        bounded("background_tolerance_percent", 20.0, "expected 0 to 20 (per cent of the empty cell's depth)") / 100.0;
+    f.background_tolerance_per_m = bounded("background_tolerance_percent", 20.0,
+                                           "expected 0 to 20 (per cent of the empty cell's depth)") /
+                                   100.0;
     f.edge_radius = static_cast<int>(L.integer_or(t, p, "edge_radius", 1, 4, 1));
     f.speckle_min_neighbours = static_cast<int>(L.integer_or(t, p, "speckle_min_neighbours", 0, 8, 0));
     const bool edge = f.edge_jump_per_m > 0.0 || f.edge_jump_min_m > 0.0;

@@ -10,8 +10,8 @@
 
 namespace cellguard::cell {
 
-FilteredFrameSource::FilteredFrameSource(std::unique_ptr<FrameSource> inner, Span<const float> view,
-                                         std::int32_t width, std::int32_t height, const DepthConditioning& filter)
+FilteredFrameSource::FilteredFrameSource(std::unique_ptr<FrameSource> inner, Span<const float> view, std::int32_t width,
+                                         std::int32_t height, const DepthConditioning& filter)
     : inner_(std::move(inner)),
       view_(view),
       width_(width),
@@ -29,7 +29,8 @@ bool FilteredFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading
     }
     const std::size_t n = image_.size();
     const bool fits = reading.intrinsics.width == width_ && reading.intrinsics.height == height_ &&
-                      (reading.kind == SensorDataKind::kDepthImage ? reading.depth.size() : reading.depth_u16.size()) == n;
+                      (reading.kind == SensorDataKind::kDepthImage ? reading.depth.size() : reading.depth_u16.size()) ==
+                          n;
     if (fits && view_.size() == n) {
         for (std::size_t i = 0U; i < n; ++i) {
             image_[i] = depth_value(reading, i);
@@ -38,11 +39,10 @@ bool FilteredFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading
     if (!fits || view_.size() != n ||
         !condition_depth({image_.data(), n}, view_, {scratch_.data(), scratch_.size()}, width_, height_, filter_,
                          &counts_)) {
-        static_cast<void>(std::snprintf(status.reason, sizeof status.reason,
-                                        "depth filter: a %dx%d image, the sensor's view is %dx%d",
-                                        static_cast<int>(reading.intrinsics.width),
-                                        static_cast<int>(reading.intrinsics.height), static_cast<int>(width_),
-                                        static_cast<int>(height_)));
+        static_cast<void>(std::snprintf(
+            status.reason, sizeof status.reason, "depth filter: a %dx%d image, the sensor's view is %dx%d",
+            static_cast<int>(reading.intrinsics.width), static_cast<int>(reading.intrinsics.height),
+            static_cast<int>(width_), static_cast<int>(height_)));
         status.ok = false;
         refuse_reading(reading);
         return false;
@@ -61,13 +61,12 @@ void FilteredFrameSource::write_summary(std::FILE* out) const noexcept {
     if (out == nullptr || frames_ == 0U) {
         return;
     }
-    static_cast<void>(std::fprintf(out,
-                                   "depth filter: %llu frames, %llu readings dropped at edges, %llu put onto the "
-                                   "empty cell's depth, %llu speckles dropped\n",
-                                   static_cast<unsigned long long>(frames_),
-                                   static_cast<unsigned long long>(counts_.dropped),
-                                   static_cast<unsigned long long>(counts_.snapped),
-                                   static_cast<unsigned long long>(counts_.speckles)));
+    static_cast<void>(std::fprintf(
+        out,
+        "depth filter: %llu frames, %llu readings dropped at edges, %llu put onto the "
+        "empty cell's depth, %llu speckles dropped\n",
+        static_cast<unsigned long long>(frames_), static_cast<unsigned long long>(counts_.dropped),
+        static_cast<unsigned long long>(counts_.snapped), static_cast<unsigned long long>(counts_.speckles)));
 }
 
 }  // namespace cellguard::cell

@@ -22,8 +22,8 @@ bool write_and_run_gnuplot(const std::string& script_path, const std::string& sc
         return false;
     }
     if (!have_gnuplot()) {
-        static_cast<void>(std::fprintf(err, "%s: gnuplot is not installed: %s written, not drawn\n", program,
-                                       script_path.c_str()));
+        static_cast<void>(
+            std::fprintf(err, "%s: gnuplot is not installed: %s written, not drawn\n", program, script_path.c_str()));
         return true;
     }
     const std::string cmd = "gnuplot '" + script_path + "'";

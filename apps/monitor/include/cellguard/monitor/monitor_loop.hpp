@@ -188,11 +188,11 @@ private:
     std::vector<char> line_;           ///< the status line, sized at construction for the longest one
     std::size_t line_length_ = 0U;
     cell::FrameStatus frame_status_{};
-    std::vector<std::uint64_t> stamps_;    ///< per sensor: the capture time its source gave (0: none)
-    std::vector<std::uint64_t> receives_;  ///< per sensor: when its frame arrived (0: not known)
+    std::vector<std::uint64_t> stamps_;     ///< per sensor: the capture time its source gave (0: none)
+    std::vector<std::uint64_t> receives_;   ///< per sensor: when its frame arrived (0: not known)
     std::vector<SensorReading> delivered_;  ///< per sensor: its frame as delivered, when a depth filter changed it
-    std::uint64_t sent_us_ = 0U;           ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
-    std::uint64_t cycle_real_us_ = 0U;     ///< the last cycle's real duration (CycleClock::real_span_us)
+    std::uint64_t sent_us_ = 0U;            ///< CLOCK_MONOTONIC when the last cycle's CAN frames were sent
+    std::uint64_t cycle_real_us_ = 0U;      ///< the last cycle's real duration (CycleClock::real_span_us)
     SafetyController controller_;
     LinkEndpoint own_link_;   ///< the controller's link endpoint when there is no command link (no echo)
     CanSafetyOutput output_;  ///< made after the controller: it sends the controller's prior CRC

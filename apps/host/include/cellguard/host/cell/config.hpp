@@ -249,7 +249,7 @@ struct OptOut {
 /// every filter off by default. A filter removes readings, so it costs
 /// detection capability: the table needs a stated reason when one is on.
 struct DepthFilterSettings {
-    DepthConditioning filter{};  ///< edge_jump_percent, edge_jump_min_m, edge_radius, background_tolerance_percent, speckle_min_neighbours
+    DepthConditioning filter{};  ///< the filters (depth_filter.edge_jump_percent, ...; all off by default)
     std::string reason;          ///< depth_filter.reason: why it is on (non-empty when filter.on())
 };
 

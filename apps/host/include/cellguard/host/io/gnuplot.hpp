@@ -20,8 +20,8 @@ namespace cellguard::host {
 /// it. False, with the reason on @p err (the calling program's name first),
 /// when the script cannot be written; true otherwise, with a note on @p err
 /// when gnuplot is not installed or fails (no plot; the script stays).
-[[nodiscard]] bool write_and_run_gnuplot(const std::string& script_path, const std::string& script,
-                                         const char* program, std::FILE* err);
+[[nodiscard]] bool write_and_run_gnuplot(const std::string& script_path, const std::string& script, const char* program,
+                                         std::FILE* err);
 
 }  // namespace cellguard::host
 
