@@ -201,7 +201,11 @@ find "$cov_build" -name '*.gcda' -delete
 unit=$(find "$cov_build/tests" -maxdepth 1 -name cellguard_unit_tests -type f | head -n 1)
 # Six shards, two at a time (tools/run-unit-tests.sh; libgcov merges the .gcda files under a file
 # lock): more shards than cores even out a split in which a few long cases fall together.
-CELLGUARD_UNIT_JOBS=2 tools/run-unit-tests.sh "$unit" 6 >"$out/.unit.log" 2>&1 || { cat "$out/.unit.log" >&2; fail "unit tests failed in the coverage build"; }
+# The group "long replay" (tests/support/test_tags.hpp: scenes replayed over many cycles, whose
+# per-cycle code shorter cases run) is left out, as under qemu in tools/cross.sh: it ran natively in
+# the README step and the clang step, and was most of this run's time (CI time, issue 32).
+CELLGUARD_UNIT_JOBS=2 tools/run-unit-tests.sh "$unit" 6 --test-suite-exclude="long replay" >"$out/.unit.log" 2>&1 ||
+    { cat "$out/.unit.log" >&2; fail "unit tests failed in the coverage build"; }
 rm -f "$out/.unit.log"
 # --exclude-unreachable-branches: drops branches gcc attributes to lines without
 # code (closing braces, compiler-generated cleanup); no branch a test could take.
