@@ -131,8 +131,25 @@ bool write_outputs(const Options& o, const DetectionResult& result) {
                                        kProgram, stderr);
 }
 
-/// The settings the options of @p o give (in o.settings).
-void settle_settings(Options& o) {
+/// The depth filter of the run: @p configured (the configuration's) unless
+/// one of the filter options is given; then the options', each one not given off.
+cell::DepthConditioning depth_filter(const Options& o, const cell::DepthConditioning& configured) {
+    if (o.edge_tenths < 0 && o.tolerance_tenths < 0 && o.edge_radius == 0 && o.speckle_neighbours < 0) {
+        return configured;  // what the monitor runs with this file
+    }
+    cell::DepthConditioning f;
+    if (o.edge_tenths > 0) {
+        f.edge_jump_per_m = o.edge_tenths / 1000.0;
+        f.edge_jump_min_m = 0.05;
+    }
+    f.edge_radius = std::max(o.edge_radius, 1);
+    f.background_tolerance_per_m = std::max(o.tolerance_tenths, 0) / 1000.0;
+    f.speckle_min_neighbours = std::max(o.speckle_neighbours, 0);
+    return f;
+}
+
+/// The settings the options of @p o give (in o.settings), the filter of @p cfg unless the options set one.
+void settle_settings(Options& o, const cell::MonitorConfig& cfg) {
     DetectionSettings& s = o.settings;
     if (o.noise_tenths > 0) {
         s.noise = sim::tof_camera_noise(o.noise_tenths / 1000.0);
@@ -142,13 +159,7 @@ void settle_settings(Options& o) {
         s.noise = sim::NoiseModel{};
     }
     s.seed = static_cast<std::uint64_t>(o.seed);
-    if (o.edge_tenths > 0) {
-        s.conditioning.edge_jump_per_m = o.edge_tenths / 1000.0;
-        s.conditioning.edge_jump_min_m = 0.05;
-    }
-    s.conditioning.edge_radius = std::max(o.edge_radius, 1);
-    s.conditioning.background_tolerance_per_m = std::max(o.tolerance_tenths, 0) / 1000.0;
-    s.conditioning.speckle_min_neighbours = std::max(o.speckle_neighbours, 0);
+    s.conditioning = depth_filter(o, cfg.depth_filter.filter);
     if (o.shape != "both") {
         const sim::PieceShape keep = o.shape == "sphere" ? sim::PieceShape::kSphere : sim::PieceShape::kCylinder;
         std::vector<PieceSize> kept;
@@ -173,15 +184,12 @@ int main(int argc, char** argv) {
     if (const int status = cli.parse(argc, argv); status >= 0) {
         return status;
     }
-    settle_settings(o);
     const cell::ConfigLoad load = cell::load_monitor_config(o.config_path);
     if (!load.ok) {
         static_cast<void>(std::fprintf(stderr, "%s: %s\n", kProgram, load.error.c_str()));
         return host::kExitUsage;
     }
-    if (o.edge_tenths < 0 && o.tolerance_tenths < 0 && o.edge_radius == 0 && o.speckle_neighbours < 0) {
-        o.settings.conditioning = load.config.depth_filter.filter;  // what the monitor runs with this file
-    }
+    settle_settings(o, load.config);
     const auto t0 = std::chrono::steady_clock::now();
     const DetectionResult result = run_detection(load.config, o.settings, stderr);
     if (!result.error.empty()) {

@@ -13,35 +13,30 @@ namespace {
 bool has_reading(float d) noexcept { return d > 0.0F && std::isfinite(d); }
 
 /// The nearest and farthest reading up to @p reach pixels from pixel (u, v)
-/// of @p img along its row and column (NaN: no reading, passed over:
-/// std::max(a, b) and std::min(a, b) keep a when b is NaN); none: the pixel's own @p d.
+/// of @p img along its row and column (NaN: no reading, passed over); none:
+/// the pixel's own @p d.
 struct Extremes {
     float near;  ///< the nearest
     float far;   ///< the farthest
+
+    /// Takes @p x in: std::min(a, b) and std::max(a, b) keep a when b is NaN.
+    void take(float x) noexcept {
+        near = std::min(near, x);
+        far = std::max(far, x);
+    }
 };
 Extremes neighbour_extremes(const float* img, std::int32_t w, std::int32_t h, std::int32_t u, std::int32_t v,
                             std::int32_t reach, float d) noexcept {
     const auto row = static_cast<std::ptrdiff_t>(w);
     const float* p = img + static_cast<std::ptrdiff_t>(v) * row + u;
+    const bool inside = u >= reach && v >= reach && u + reach < w && v + reach < h;  // no bound to check
     Extremes e{d, d};
-    if (u >= reach && v >= reach && u + reach < w && v + reach < h) {  // inside: no bound to check
-        for (std::int32_t k = 1; k <= reach; ++k) {
-            const std::ptrdiff_t down = k * row;
-            e.far = std::max(std::max(std::max(e.far, p[-k]), std::max(e.far, p[k])),
-                             std::max(std::max(e.far, p[-down]), p[down]));
-            e.near = std::min(std::min(std::min(e.near, p[-k]), std::min(e.near, p[k])),
-                              std::min(std::min(e.near, p[-down]), p[down]));
-        }
-        return e;
-    }
     for (std::int32_t k = 1; k <= reach; ++k) {
         const std::ptrdiff_t down = k * row;
-        const float l = u >= k ? p[-k] : d;
-        const float r = u + k < w ? p[k] : d;
-        const float up = v >= k ? p[-down] : d;
-        const float dn = v + k < h ? p[down] : d;
-        e.far = std::max(std::max(std::max(e.far, l), std::max(e.far, r)), std::max(std::max(e.far, up), dn));
-        e.near = std::min(std::min(std::min(e.near, l), std::min(e.near, r)), std::min(std::min(e.near, up), dn));
+        e.take(inside || u >= k ? p[-k] : d);
+        e.take(inside || u + k < w ? p[k] : d);
+        e.take(inside || v >= k ? p[-down] : d);
+        e.take(inside || v + k < h ? p[down] : d);
     }
     return e;
 }

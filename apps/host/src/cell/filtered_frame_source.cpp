@@ -28,17 +28,17 @@ bool FilteredFrameSource::load_frame(std::uint64_t cycle, SensorReading& reading
         return true;  // a point set: the filter works on images
     }
     const std::size_t n = image_.size();
-    const bool fits = reading.intrinsics.width == width_ && reading.intrinsics.height == height_ &&
-                      (reading.kind == SensorDataKind::kDepthImage ? reading.depth.size() : reading.depth_u16.size()) ==
-                          n;
-    if (fits && view_.size() == n) {
+    const std::size_t given = reading.kind == SensorDataKind::kDepthImage ? reading.depth.size()
+                                                                          : reading.depth_u16.size();
+    const bool fits = reading.intrinsics.width == width_ && reading.intrinsics.height == height_ && given == n &&
+                      view_.size() == n;
+    if (fits) {
         for (std::size_t i = 0U; i < n; ++i) {
             image_[i] = depth_value(reading, i);
         }
     }
-    if (!fits || view_.size() != n ||
-        !condition_depth({image_.data(), n}, view_, {scratch_.data(), scratch_.size()}, width_, height_, filter_,
-                         &counts_)) {
+    if (!fits || !condition_depth({image_.data(), n}, view_, {scratch_.data(), scratch_.size()}, width_, height_,
+                                  filter_, &counts_)) {
         static_cast<void>(std::snprintf(
             status.reason, sizeof status.reason, "depth filter: a %dx%d image, the sensor's view is %dx%d",
             static_cast<int>(reading.intrinsics.width), static_cast<int>(reading.intrinsics.height),
