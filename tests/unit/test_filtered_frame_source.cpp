@@ -70,7 +70,7 @@ TEST_CASE("filtered frame source: a float image is filtered against the view, th
     stub->reading.depth = {raw.data(), raw.size()};
     stub->reading.intrinsics = intrinsics(kW, kH);
     StubSource* inner = stub.get();
-    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, tolerance_and_edges());
+    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, tolerance_and_edges(), "cam");
     SensorReading r;
     FrameStatus st;
     REQUIRE(f.load_frame(0U, r, st));
@@ -92,6 +92,15 @@ TEST_CASE("filtered frame source: a float image is filtered against the view, th
     CHECK_FALSE(f.has_new_frame());
     f.write_summary(nullptr);
     CHECK(inner->summaries == 1);
+    // The filter's counts under the sensor's name.
+    std::FILE* out = std::tmpfile();
+    REQUIRE(out != nullptr);
+    f.write_summary(out);
+    std::rewind(out);
+    char line[256] = {};
+    CHECK(std::fgets(line, sizeof line, out) != nullptr);
+    static_cast<void>(std::fclose(out));
+    CHECK(std::string(line).find("depth filter (cam): 1 frames, 5 readings dropped at edges") == 0U);
 }
 
 // verifies: SR-CAM-011
@@ -107,7 +116,7 @@ TEST_CASE("filtered frame source: a uint16 image reads as the fusion reads it, r
     stub->reading.intrinsics = intrinsics(kW, kH);
     DepthConditioning c;
     c.background_tolerance_per_m = 0.05;
-    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, c);
+    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, c, "cam");
     SensorReading r;
     FrameStatus st;
     REQUIRE(f.load_frame(1U, r, st));
@@ -129,7 +138,7 @@ TEST_CASE("filtered frame source: a point set passes, a refusal passes, an image
     stub->reading.kind = SensorDataKind::kPointSet;
     stub->reading.points = {points.data(), points.size()};
     StubSource* inner = stub.get();
-    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, tolerance_and_edges());
+    FilteredFrameSource f(std::move(stub), {view.data(), view.size()}, kW, kH, tolerance_and_edges(), "cam");
     SensorReading r;
     FrameStatus st;
     REQUIRE(f.load_frame(0U, r, st));

@@ -365,9 +365,9 @@ struct MethodRun {
             auto piece = std::make_unique<PieceFrameSource>(spec, monitor_cell.layout.depth[s], settings, s);
             pieces.push_back(piece.get());
             if (settings.conditioning.on()) {  // the monitor's filter, against the view it would use
-                owned.push_back(
-                    std::make_unique<cell::FilteredFrameSource>(std::move(piece), monitor_cell.backgrounds[s].depth,
-                                                                spec.width, spec.height, settings.conditioning));
+                owned.push_back(std::make_unique<cell::FilteredFrameSource>(
+                    std::move(piece), monitor_cell.backgrounds[s].depth, spec.width, spec.height, settings.conditioning,
+                    cfg.sensors[s].name));
             } else {
                 owned.push_back(std::move(piece));
             }

@@ -406,7 +406,7 @@ std::vector<std::unique_ptr<FrameSource>> with_depth_filter(const MonitorConfig&
         if (cfg.sensors[s].pcd_files.empty()) {
             sources[s] = std::make_unique<cell::FilteredFrameSource>(std::move(sources[s]), cell.backgrounds[s].depth,
                                                                      cell.specs[s].width, cell.specs[s].height,
-                                                                     cfg.depth_filter.filter);
+                                                                     cfg.depth_filter.filter, cfg.sensors[s].name);
         }
     }
     return sources;

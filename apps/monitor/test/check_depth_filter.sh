@@ -29,8 +29,10 @@ TOML
 grep -q '^depth filter: off' "$work/plain.out" || { echo "FAIL: the plain run does not say the filter is off"; exit 1; }
 grep -q '^depth filter: edge jump 4.0 % of depth, at least 50 mm, radius 2; background tolerance 5.0 %' \
   "$work/filtered.out" || { echo "FAIL: the filtered run does not print its filter"; exit 1; }
-counts=$(grep -c '^depth filter: 60 frames' "$work/filtered.out" || true)
+counts=$(grep -c '^depth filter ([a-z0-9-]*): 60 frames' "$work/filtered.out" || true)
 [ "$counts" -eq 4 ] || { echo "FAIL: $counts of 4 sensors report the filter's counts"; exit 1; }
+named=$(grep -o '^depth filter ([a-z0-9-]*)' "$work/filtered.out" | sort -u | wc -l)
+[ "$named" -eq 4 ] || { echo "FAIL: the filter's counts name $named sensors, not 4"; exit 1; }
 if grep -E -q 'fault latched|faults latched: [^-]|[|] faults [^-]' "$work/filtered.out"; then
   grep -E 'fault latched|faults latched: [^-]|[|] faults [^-]' "$work/filtered.out" | head -n 3
   echo "FAIL: a fault in the filtered run (the frozen-sensor check on the filtered frames?)"

@@ -11,12 +11,13 @@
 namespace cellguard::cell {
 
 FilteredFrameSource::FilteredFrameSource(std::unique_ptr<FrameSource> inner, Span<const float> view, std::int32_t width,
-                                         std::int32_t height, const DepthConditioning& filter)
+                                         std::int32_t height, const DepthConditioning& filter, std::string sensor)
     : inner_(std::move(inner)),
       view_(view),
       width_(width),
       height_(height),
       filter_(filter),
+      sensor_(std::move(sensor)),
       image_(static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0))),
       scratch_(image_.size()) {}
 
@@ -63,9 +64,9 @@ void FilteredFrameSource::write_summary(std::FILE* out) const noexcept {
     }
     static_cast<void>(std::fprintf(
         out,
-        "depth filter: %llu frames, %llu readings dropped at edges, %llu put onto the "
+        "depth filter (%s): %llu frames, %llu readings dropped at edges, %llu put onto the "
         "empty cell's depth, %llu speckles dropped\n",
-        static_cast<unsigned long long>(frames_), static_cast<unsigned long long>(counts_.dropped),
+        sensor_.c_str(), static_cast<unsigned long long>(frames_), static_cast<unsigned long long>(counts_.dropped),
         static_cast<unsigned long long>(counts_.snapped), static_cast<unsigned long long>(counts_.speckles)));
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "cellguard/base/span.hpp"
@@ -30,14 +31,15 @@ namespace cellguard::cell {
 class FilteredFrameSource final : public FrameSource {
 public:
     /// Filters @p inner's frames with @p filter against @p view (width x
-    /// height depths of the sensor's empty cell, which must outlive the source).
+    /// height depths of the sensor's empty cell, which must outlive the
+    /// source); @p sensor names the sensor in the summary.
     FilteredFrameSource(std::unique_ptr<FrameSource> inner, Span<const float> view, std::int32_t width,
-                        std::int32_t height, const DepthConditioning& filter);
+                        std::int32_t height, const DepthConditioning& filter, std::string sensor);
 
     bool load_frame(std::uint64_t cycle, SensorReading& reading, FrameStatus& status) noexcept override;
     /// The inner source's: the filter makes no frame of its own.
     [[nodiscard]] bool has_new_frame() const noexcept override { return inner_->has_new_frame(); }
-    /// The inner source's line, then the filter's counts (nothing when it has not run).
+    /// The inner source's line, then the filter's counts under the sensor's name (nothing when it has not run).
     void write_summary(std::FILE* out) const noexcept override;
 
     /// What the filter changed so far.
@@ -51,6 +53,7 @@ private:
     std::int32_t width_;
     std::int32_t height_;
     DepthConditioning filter_;
+    std::string sensor_;
     std::vector<float> image_;
     std::vector<float> scratch_;
     ConditioningCounts counts_{};
