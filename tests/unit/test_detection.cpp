@@ -65,6 +65,47 @@ TEST_CASE("detection: the Clopper-Pearson lower bound meets its closed forms") {
     CHECK(clopper_pearson_lower(6, 10) > clopper_pearson_lower(5, 10));
     CHECK(clopper_pearson_lower(500, 1000) > clopper_pearson_lower(5, 10));
     CHECK(clopper_pearson_lower(500, 1000) < 0.5);
+    // The upper bound: no event in n trials, 1 - (1 - p)^n = 0.05 at the bound (the rule of three's exact form).
+    for (const int n : {1, 10, 100000}) {
+        CHECK(clopper_pearson_upper(0, n) == doctest::Approx(1.0 - std::pow(0.05, 1.0 / n)).epsilon(1e-9));
+    }
+    CHECK(clopper_pearson_upper(10, 10) == 1.0);
+    CHECK(clopper_pearson_upper(0, 0) == 1.0);
+    CHECK(clopper_pearson_upper(2, 120000) > clopper_pearson_upper(1, 120000));
+}
+
+// verifies: SR-EVAL-004
+TEST_CASE("detection: the trade-off over min_foreground_voxels gives false stops per hour against d") {
+    DetectionResult r;
+    const auto rod = [](double d) { return PieceSize{sim::PieceShape::kCylinder, d, 0.3}; };
+    r.rows.push_back({PriorMethod::kProbabilistic, rod(0.04), Placement::kFree, 10, 10, 0.74, {10, 9, 9, 9}});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod(0.055), Placement::kFree, 10, 10, 0.74, {10, 10, 9, 9}});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod(0.07), Placement::kFree, 10, 10, 0.74, {10, 10, 10, 9}});
+    EmptyCellRow e;
+    e.cycles = 100000;
+    e.intruded = 2;
+    e.stops_with = {2, 0, 0, 0};
+    r.empty.push_back(e);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 1U) == 0.04);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 2U) == 0.055);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 3U) == 0.07);
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 4U) == 0.0);
+    DetectionSettings s;
+    s.methods = {PriorMethod::kProbabilistic};
+    std::FILE* f = std::tmpfile();
+    REQUIRE(f != nullptr);
+    write_detection_table(f, s, r, 30.0);
+    std::rewind(f);
+    std::string table;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, f) != nullptr) {
+        table += buf;
+    }
+    static_cast<void>(std::fclose(f));
+    // 2 in 10^5 cycles at 30 Hz: 2.16 an hour; none: the upper bound 1 - 0.05^(1/10^5) of a cycle, 3.24 an hour.
+    CHECK(table.find("| probabilistic | 1 | 2 | 100000 | 2.16 | ") != std::string::npos);
+    CHECK(table.find("| probabilistic | 2 | 0 | 100000 | 0.00 | 3.24 | 55 mm | none |") != std::string::npos);
+    CHECK(table.find("| probabilistic | 4 | 0 | 100000 | 0.00 | 3.24 | none | none |") != std::string::npos);
 }
 
 // verifies: SR-EVAL-004
@@ -140,7 +181,33 @@ TEST_CASE("detection: noise-free, a 40 mm rod on the real cell's floor is missed
     CHECK(r.empty[0].intruded == 0);
     CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder) == 0.07);
     CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kSphere) == 0.0);
+    // The configured min_foreground_voxels is 1: its column is the detected count.
+    for (const DetectionRow& row : r.rows) {
+        CHECK(row.detected_with[0] == row.detected);
+        CHECK(row.detected_at(0U) == row.detected);
+        for (std::size_t n = 1U; n < kMinVoxelsColumns; ++n) {
+            CHECK(row.detected_with[n] <= row.detected_with[n - 1U]);  // more voxels needed, never more found
+        }
+    }
+    CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 1U) == 0.07);
     CHECK(r.cycles_run == static_cast<std::uint64_t>(5 + 5 + 4 * 6 * s.cycles));
+    // Two shards on two threads: the same poses (noise-free: the same outcomes), the empty cycles split.
+    DetectionSettings two = s;
+    two.jobs = 2;
+    const DetectionResult r2 = run_detection(cfg, two, nullptr);
+    REQUIRE_MESSAGE(r2.error.empty(), r2.error);
+    REQUIRE(r2.rows.size() == r.rows.size());
+    for (std::size_t i = 0U; i < r.rows.size(); ++i) {
+        CHECK(r2.rows[i].poses == r.rows[i].poses);
+        CHECK(r2.rows[i].detected == r.rows[i].detected);
+        CHECK(r2.rows[i].detected_with == r.rows[i].detected_with);
+        CHECK(r2.rows[i].lower_bound == r.rows[i].lower_bound);
+    }
+    CHECK(r2.empty[0].cycles == 5);
+    CHECK(r2.empty[0].intruded == 0);
+    CHECK(r2.cycles_run == static_cast<std::uint64_t>(2 * 5 + 5 + 4 * 6 * s.cycles));  // each shard warms up
+    two.jobs = 0;
+    CHECK(run_detection(cfg, two, nullptr).error.find("jobs") != std::string::npos);
     // An unknown zone is refused.
     s.zone = "nowhere";
     CHECK(run_detection(cfg, s, nullptr).error.find("nowhere") != std::string::npos);
@@ -159,6 +226,8 @@ TEST_CASE(
     REQUIRE(raw.error.empty());
     CHECK(raw.empty[0].intruded == 3);
     CHECK(raw.empty[0].max_foreground > 20U);
+    CHECK(raw.empty[0].stops_with[0] == 3);  // the configured n = 1: every INTRUDED cycle is a stop
+    CHECK(raw.empty[0].stops_with[kMinVoxelsColumns - 1U] == 3);  // over 20 voxels: a stop at every n tried
     s.conditioning.edge_jump_min_m = 0.05;
     s.conditioning.edge_jump_per_m = 0.04;
     s.conditioning.edge_radius = 2;
@@ -167,7 +236,10 @@ TEST_CASE(
     const DetectionResult filtered = run_detection(cfg, s, nullptr);
     REQUIRE(filtered.error.empty());
     CHECK(filtered.empty[0].intruded == 0);
+    CHECK(filtered.empty[0].unseen == 0);
+    CHECK(filtered.empty[0].stops_with[0] == 0);
     CHECK(filtered.rows[0].detected == 2);  // a 200 mm ball free in the zone is still found
+    CHECK(filtered.rows[0].detected_with[kMinVoxelsColumns - 1U] == 2);  // with many voxels
 }
 
 // verifies: SR-EVAL-004
@@ -175,11 +247,11 @@ TEST_CASE("detection: the CSV has a row per tried row, the plot a line per prior
     DetectionResult r;
     const PieceSize rod20{sim::PieceShape::kCylinder, 0.020, 0.3};
     const PieceSize rod55{sim::PieceShape::kCylinder, 0.055, 0.3};
-    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFree, 10, 10, 0.74});
-    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFloor, 10, 0, 0.0});
-    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kBoxTop, 0, 0, 0.0});  // did not fit
-    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFree, 10, 10, 0.74});
-    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFloor, 10, 5, 0.22});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFree, 10, 10, 0.74, {10, 9, 8, 7}});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kFloor, 10, 0, 0.0, {}});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kBoxTop, 0, 0, 0.0, {}});  // did not fit
+    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFree, 10, 10, 0.74, {10, 10, 10, 10}});
+    r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFloor, 10, 5, 0.22, {5, 5, 4, 4}});
     std::FILE* f = std::tmpfile();
     REQUIRE(f != nullptr);
     write_detection_csv(f, "cell.toml", r);
@@ -191,11 +263,12 @@ TEST_CASE("detection: the CSV has a row per tried row, the plot a line per prior
     }
     static_cast<void>(std::fclose(f));
     CHECK(csv ==
-          "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound\n"
-          "cell.toml,probabilistic,cylinder,20,300,free,10,10,1.0000,0.7400\n"
-          "cell.toml,probabilistic,cylinder,20,300,floor,0,10,0.0000,0.0000\n"
-          "cell.toml,probabilistic,cylinder,55,300,free,10,10,1.0000,0.7400\n"
-          "cell.toml,probabilistic,cylinder,55,300,floor,5,10,0.5000,0.2200\n");
+          "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound,"
+          "detected_min1,detected_min2,detected_min3,detected_min4\n"
+          "cell.toml,probabilistic,cylinder,20,300,free,10,10,1.0000,0.7400,10,9,8,7\n"
+          "cell.toml,probabilistic,cylinder,20,300,floor,0,10,0.0000,0.0000,0,0,0,0\n"
+          "cell.toml,probabilistic,cylinder,55,300,free,10,10,1.0000,0.7400,10,10,10,10\n"
+          "cell.toml,probabilistic,cylinder,55,300,floor,5,10,0.5000,0.2200,5,5,4,4\n");
     const std::string gp = detection_plot_script("out.png", "t", r);
     // Two lines (free, floor; the box top had no pose), each with its points in order of size.
     CHECK(gp.find("$line0 << EOD\n20 1.0000\n55 1.0000\nEOD\n") != std::string::npos);

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <utility>
 
 #include "cellguard/host/cell/filtered_frame_source.hpp"
@@ -36,12 +38,13 @@ constexpr double kPi = 3.14159265358979323846;
 class PieceFrameSource final : public cell::FrameSource {
 public:
     PieceFrameSource(const sim::SensorSpec& spec, const std::vector<float>& empty_view,
-                     const DetectionSettings& settings, std::size_t index)
+                     const DetectionSettings& settings, std::size_t index, std::uint64_t cycle_offset)
         : spec_(spec),
           rays_(spec),
           noise_(settings.noise),
           index_(index),
           seed_(settings.seed),
+          cycle_offset_(cycle_offset),
           background_(empty_view),
           image_(empty_view.size()),
           ideal_(empty_view.size()) {}
@@ -63,7 +66,7 @@ public:
         if (noise_.kind == sim::SensorKind::kIdeal) {
             cell::dither_depth(cycle, image);  // else the frozen-sensor check takes it for frozen
         } else {
-            sim::Rng rng(sim::sensor_seed(seed_ * 1000003U + cycle, index_));
+            sim::Rng rng(sim::sensor_seed(seed_ * 1000003U + cycle_offset_ + cycle, index_));
             static_cast<void>(sim::apply_noise(spec_, noise_, image, {ideal_.data(), ideal_.size()}, rng));
         }
         reading = sim::depth_reading(spec_, {image_.data(), image_.size()});
@@ -124,6 +127,7 @@ private:
     sim::NoiseModel noise_;
     std::size_t index_;
     std::uint64_t seed_;  ///< the run's seed: frame noise of cycle c from sensor_seed(seed * 1000003 + c, index)
+    std::uint64_t cycle_offset_;  ///< added to c: the shard's own noise (0 for the first)
     const std::vector<float>& background_;
     std::vector<float> image_;
     std::vector<float> ideal_;
@@ -274,6 +278,13 @@ double clopper_pearson_lower(int successes, int trials, double confidence) noexc
     return lo;
 }
 
+double clopper_pearson_upper(int events, int trials, double confidence) noexcept {
+    if (trials <= 0) {
+        return 1.0;
+    }
+    return 1.0 - clopper_pearson_lower(trials - std::clamp(events, 0, trials), trials, confidence);
+}
+
 bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placement, const std::vector<sim::Box>& boxes,
                  sim::Rng& rng, sim::TestPiece& out) {
     Eigen::Vector3d lo;
@@ -317,7 +328,8 @@ bool random_pose(const ZoneConfig& zone, const PieceSize& size, Placement placem
     return false;
 }
 
-double DetectionResult::smallest_always_detected(PriorMethod method, sim::PieceShape shape) const noexcept {
+double DetectionResult::smallest_always_detected(PriorMethod method, sim::PieceShape shape,
+                                                 std::size_t min_voxels) const noexcept {
     // Sizes from the largest down: the smallest of the unbroken run detected every time.
     std::vector<double> diameters;
     for (const DetectionRow& r : rows) {
@@ -335,7 +347,7 @@ double DetectionResult::smallest_always_detected(PriorMethod method, sim::PieceS
         for (const DetectionRow& r : rows) {
             if (r.method == method && r.size.shape == shape && r.size.diameter == *it && r.poses > 0) {
                 tried = true;
-                all = all && r.detected == r.poses;
+                all = all && r.detected_at(min_voxels) == r.poses;
             }
         }
         if (!all || !tried) {
@@ -350,7 +362,8 @@ namespace {
 
 /// One method's monitor: the cell, its sources, a PLC selecting the first case, the loop.
 struct MethodRun {
-    MethodRun(cell::MonitorConfig config, PriorMethod method, const DetectionSettings& settings, std::string& error)
+    MethodRun(cell::MonitorConfig config, PriorMethod method, const DetectionSettings& settings,
+              std::uint64_t cycle_offset, std::string& error)
         : cfg(std::move(config)), clock(false, real_clock) {
         cfg.budget_us = 60000000U;  // the decisions, not this host's speed
         SetupError e;
@@ -362,7 +375,8 @@ struct MethodRun {
         }
         for (std::size_t s = 0U; s < monitor_cell.specs.size(); ++s) {
             const sim::SensorSpec& spec = monitor_cell.specs[s];
-            auto piece = std::make_unique<PieceFrameSource>(spec, monitor_cell.layout.depth[s], settings, s);
+            auto piece = std::make_unique<PieceFrameSource>(spec, monitor_cell.layout.depth[s], settings, s,
+                                                            cycle_offset);
             pieces.push_back(piece.get());
             if (settings.conditioning.on()) {  // the monitor's filter, against the view it would use
                 owned.push_back(std::make_unique<cell::FilteredFrameSource>(
@@ -391,11 +405,16 @@ struct MethodRun {
     }
 
     /// Runs the next cycle; true when zone @p zone was evaluated and INTRUDED.
+    /// Keeps the zone's foreground count (0 when not evaluated) and whether
+    /// its unseen voxels were over its limit.
     bool intruded(std::size_t zone) noexcept {
         const CycleReport& r = loop->run_cycle(next++);
         const std::uint32_t bit = 1U << zone;
-        foreground = r.zones.zones[zone].foreground;
-        return (r.zones.active_mask & bit) != 0U && (r.zones.intruded_mask & bit) != 0U;
+        const bool active = (r.zones.active_mask & bit) != 0U;
+        const ZoneReport& z = r.zones.zones[zone];
+        foreground = active ? z.foreground : 0U;
+        unseen_over = active && z.unseen > cfg.zones[zone].zone.max_unseen_voxels;
+        return active && (r.zones.intruded_mask & bit) != 0U;
     }
 
     cell::MonitorConfig cfg;
@@ -412,6 +431,7 @@ struct MethodRun {
     std::unique_ptr<MonitorLoop> loop;
     int next = 0;
     std::uint32_t foreground = 0U;  ///< the zone's foreground voxels in the last cycle
+    bool unseen_over = false;       ///< the zone's unseen voxels over its limit in the last cycle
 };
 
 /// The index of the zone named @p name, or -1.
@@ -424,20 +444,40 @@ int zone_index(const cell::MonitorConfig& cfg, const std::string& name) {
     return -1;
 }
 
-}  // namespace
-
 /// The run's progress: a line at every whole per cent of its cycles (at most
-/// 100 lines), with the time since the first cycle and an estimate of the time left.
+/// 100 lines), with the time since the first cycle and an estimate of the
+/// time left. Shared by the shards' threads.
 class Progress {
 public:
     Progress(std::FILE* out, std::uint64_t total) : out_(out), total_(std::max<std::uint64_t>(total, 1U)) {}
 
     /// Counts one cycle run.
     void cycle() noexcept {
+        const std::lock_guard<std::mutex> lock(mutex_);
         if (done_++ == 0U) {
             start_ = std::chrono::steady_clock::now();  // from the first cycle: the cell's set-up is not a cycle's
         }
-        const std::uint64_t percent = 100U * done_ / total_;
+        show();
+    }
+
+    /// Takes @p cycles out of the plan (a row whose piece does not fit).
+    void drop(std::uint64_t cycles) noexcept {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        total_ = std::max<std::uint64_t>(total_ - std::min(cycles, total_), 1U);
+    }
+
+    /// Writes @p line (a row's result) between the progress lines.
+    void line(const char* text) noexcept {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (out_ != nullptr) {
+            static_cast<void>(std::fprintf(out_, "detection: %s\n", text));
+            static_cast<void>(std::fflush(out_));
+        }
+    }
+
+private:
+    void show() noexcept {
+        const std::uint64_t percent = 100U * std::min(done_, total_) / total_;
         if (out_ == nullptr || percent == shown_) {
             return;
         }
@@ -456,7 +496,7 @@ public:
         static_cast<void>(std::fflush(out_));
     }
 
-private:
+    std::mutex mutex_;
     std::FILE* out_;
     std::uint64_t total_;
     std::uint64_t done_ = 0U;
@@ -468,9 +508,132 @@ private:
 std::uint64_t planned_cycles(const DetectionSettings& settings) {
     const auto n = [](int v) { return static_cast<std::uint64_t>(std::max(v, 0)); };
     const std::uint64_t rows = settings.sizes.size() * settings.placements.size();
+    const std::uint64_t warmups = n(settings.warmup_cycles) * n(settings.jobs);
     return settings.methods.size() *
-           (n(settings.warmup_cycles) + n(settings.empty_cycles) + rows * n(settings.poses) * n(settings.cycles));
+           (warmups + n(settings.empty_cycles) + rows * n(settings.poses) * n(settings.cycles));
 }
+
+/// One shard's share of one prior's run: the empty cell's cycles of shard j
+/// of J (every J-th, from j), and of every row the poses p with p mod J = j.
+struct Shard {
+    EmptyCellRow empty;
+    std::vector<DetectionRow> rows;
+    std::uint64_t cycles = 0U;
+    std::string error;
+};
+
+/// Runs the empty cell's share of shard @p j of @p jobs on @p run.
+void run_empty(MethodRun& run, const DetectionSettings& settings, std::size_t zone, int j, int jobs, Progress& bar,
+               EmptyCellRow& empty) {
+    run.show(nullptr);
+    for (int i = 0; i < settings.warmup_cycles; ++i) {
+        static_cast<void>(run.intruded(zone));
+        bar.cycle();
+    }
+    empty.cycles = settings.empty_cycles / jobs + (j < settings.empty_cycles % jobs ? 1 : 0);
+    for (int i = 0; i < empty.cycles; ++i) {
+        empty.intruded += run.intruded(zone) ? 1 : 0;
+        bar.cycle();
+        empty.max_foreground = std::max(empty.max_foreground, run.foreground);
+        empty.foreground_sum += run.foreground;
+        empty.unseen += run.unseen_over ? 1 : 0;
+        for (std::size_t n = 1U; n <= kMinVoxelsColumns; ++n) {
+            empty.stops_with[n - 1U] += run.foreground >= n || run.unseen_over ? 1 : 0;
+        }
+    }
+}
+
+/// Runs shard @p j of @p jobs of @p method: the whole poses of each row are
+/// drawn in order (the same poses at every J), the shard runs its own.
+Shard run_shard(const cell::MonitorConfig& cfg, PriorMethod method, const DetectionSettings& settings, std::size_t zone,
+                int j, Progress& bar) {
+    Shard out;
+    const int jobs = settings.jobs;
+    MethodRun run(cfg, method, settings, static_cast<std::uint64_t>(j) << 40U, out.error);
+    if (!out.error.empty()) {
+        return out;
+    }
+    const ZoneConfig& zc = cfg.zones[zone].zone;
+    const std::vector<sim::Box> boxes = run.monitor_cell.background_scene().boxes;
+    out.empty.method = method;
+    run_empty(run, settings, zone, j, jobs, bar, out.empty);
+    std::uint64_t row_seed = 0U;
+    for (const PieceSize& size : settings.sizes) {
+        for (const Placement placement : settings.placements) {
+            DetectionRow row{method, size, placement, 0, 0, 0.0, {}};
+            sim::Rng rng(sim::sensor_seed(settings.seed, row_seed++));
+            int p = 0;
+            for (; p < settings.poses; ++p) {
+                sim::TestPiece piece;
+                if (!random_pose(zc, size, placement, boxes, rng, piece)) {
+                    break;  // does not fit: the row has fewer poses (0: not tried)
+                }
+                if (p % jobs != j) {
+                    continue;  // another shard's
+                }
+                run.show(&piece);
+                bool seen = false;
+                std::uint32_t most = 0U;  // the zone's most foreground voxels in the k cycles
+                for (int c = 0; c < settings.cycles; ++c) {
+                    seen = run.intruded(zone) || seen;
+                    most = std::max(most, run.foreground);
+                    bar.cycle();
+                }
+                ++row.poses;
+                row.detected += seen ? 1 : 0;
+                for (std::size_t n = 1U; n <= kMinVoxelsColumns; ++n) {
+                    row.detected_with[n - 1U] += most >= n ? 1 : 0;
+                }
+            }
+            const int left = settings.poses - p;  // poses not drawn: the piece did not fit
+            const int mine = left / jobs + (j < left % jobs ? 1 : 0);
+            bar.drop(static_cast<std::uint64_t>(mine) * static_cast<std::uint64_t>(settings.cycles));
+            char text[160];
+            int at = std::snprintf(text, sizeof text, "%s %s %.0f mm %s: %d of %d", sim::method_name(method),
+                                   sim::to_string(size.shape), size.diameter * 1000.0, to_string(placement),
+                                   row.detected, row.poses);
+            if (jobs > 1 && at > 0 && static_cast<std::size_t>(at) < sizeof text) {
+                static_cast<void>(std::snprintf(text + at, sizeof text - static_cast<std::size_t>(at),
+                                                " (shard %d of %d)", j + 1, jobs));
+            }
+            bar.line(text);
+            out.rows.push_back(row);
+        }
+    }
+    out.cycles = static_cast<std::uint64_t>(run.next);
+    return out;
+}
+
+/// Adds shard @p s into @p total (the rows in the same order; bounds after the last).
+void merge(Shard& total, const Shard& s) {
+    if (total.rows.empty()) {
+        total.empty.method = s.empty.method;
+        total.rows = s.rows;
+        for (DetectionRow& r : total.rows) {
+            r.poses = r.detected = 0;
+            r.detected_with = {};
+        }
+    }
+    EmptyCellRow& e = total.empty;
+    e.cycles += s.empty.cycles;
+    e.intruded += s.empty.intruded;
+    e.max_foreground = std::max(e.max_foreground, s.empty.max_foreground);
+    e.foreground_sum += s.empty.foreground_sum;
+    e.unseen += s.empty.unseen;
+    for (std::size_t n = 0U; n < kMinVoxelsColumns; ++n) {
+        e.stops_with[n] += s.empty.stops_with[n];
+    }
+    for (std::size_t i = 0U; i < total.rows.size() && i < s.rows.size(); ++i) {
+        total.rows[i].poses += s.rows[i].poses;
+        total.rows[i].detected += s.rows[i].detected;
+        for (std::size_t n = 0U; n < kMinVoxelsColumns; ++n) {
+            total.rows[i].detected_with[n] += s.rows[i].detected_with[n];
+        }
+    }
+    total.cycles += s.cycles;
+}
+
+}  // namespace
 
 DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSettings& settings, std::FILE* progress) {
     DetectionResult result;
@@ -479,68 +642,83 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
         result.error = "no zone named '" + settings.zone + "' in the configuration";
         return result;
     }
-    if (settings.poses < 1 || settings.cycles < 1 || settings.empty_cycles < 0 || settings.warmup_cycles < 0) {
-        result.error = "poses and cycles must be at least 1, empty and warm-up cycles at least 0";
+    if (settings.poses < 1 || settings.cycles < 1 || settings.empty_cycles < 0 || settings.warmup_cycles < 0 ||
+        settings.jobs < 1 || settings.jobs > kMaxDetectionJobs) {
+        result.error = "poses, cycles and jobs (up to 64) must be at least 1, empty and warm-up cycles at least 0";
         return result;
     }
-    const ZoneConfig& zc = cfg.zones[static_cast<std::size_t>(zone)].zone;
-    const auto bit = static_cast<std::size_t>(zone);
     Progress bar(progress, planned_cycles(settings));
     for (const PriorMethod method : settings.methods) {
-        MethodRun run(cfg, method, settings, result.error);
-        if (!result.error.empty()) {
-            return result;
+        std::vector<Shard> shards(static_cast<std::size_t>(settings.jobs));
+        std::vector<std::thread> threads;
+        for (int j = 1; j < settings.jobs; ++j) {
+            threads.emplace_back([&, j] {
+                shards[static_cast<std::size_t>(j)] = run_shard(cfg, method, settings, static_cast<std::size_t>(zone),
+                                                                j, bar);
+            });
         }
-        const std::vector<sim::Box> boxes = run.monitor_cell.background_scene().boxes;
-        run.show(nullptr);
-        for (int i = 0; i < settings.warmup_cycles; ++i) {
-            static_cast<void>(run.intruded(bit));
-            bar.cycle();
+        shards[0] = run_shard(cfg, method, settings, static_cast<std::size_t>(zone), 0, bar);
+        for (std::thread& t : threads) {
+            t.join();
         }
-        EmptyCellRow empty{method, settings.empty_cycles, 0};
-        for (int i = 0; i < settings.empty_cycles; ++i) {
-            empty.intruded += run.intruded(bit) ? 1 : 0;
-            bar.cycle();
-            empty.max_foreground = std::max(empty.max_foreground, run.foreground);
-            empty.foreground_sum += run.foreground;
-        }
-        result.empty.push_back(empty);
-        std::uint64_t row_seed = 0U;
-        for (const PieceSize& size : settings.sizes) {
-            for (const Placement placement : settings.placements) {
-                DetectionRow row{method, size, placement, 0, 0, 0.0};
-                sim::Rng rng(sim::sensor_seed(settings.seed, row_seed++));
-                for (int p = 0; p < settings.poses; ++p) {
-                    sim::TestPiece piece;
-                    if (!random_pose(zc, size, placement, boxes, rng, piece)) {
-                        break;  // does not fit: the row has fewer poses (0: not tried)
-                    }
-                    run.show(&piece);
-                    bool seen = false;
-                    for (int c = 0; c < settings.cycles; ++c) {
-                        seen = run.intruded(bit) || seen;
-                        bar.cycle();
-                    }
-                    ++row.poses;
-                    row.detected += seen ? 1 : 0;
-                }
-                row.lower_bound = clopper_pearson_lower(row.detected, row.poses);
-                result.rows.push_back(row);
-                if (progress != nullptr) {
-                    static_cast<void>(std::fprintf(progress, "detection: %s %s %.0f mm %s: %d of %d\n",
-                                                   sim::method_name(method), sim::to_string(size.shape),
-                                                   size.diameter * 1000.0, to_string(placement), row.detected,
-                                                   row.poses));
-                    static_cast<void>(std::fflush(progress));
-                }
+        Shard total;
+        for (const Shard& s : shards) {
+            if (!s.error.empty()) {
+                result.error = s.error;
+                return result;
             }
+            merge(total, s);
         }
-        result.cycles_run += static_cast<std::uint64_t>(run.next);
+        for (DetectionRow& r : total.rows) {
+            r.lower_bound = clopper_pearson_lower(r.detected, r.poses);
+        }
+        result.empty.push_back(total.empty);
+        result.rows.insert(result.rows.end(), total.rows.begin(), total.rows.end());
+        result.cycles_run += total.cycles;
     }
     return result;
 }
 
-void write_detection_table(std::FILE* out, const DetectionSettings& settings, const DetectionResult& result) {
+namespace {
+
+/// The trade-off over the zone's min_foreground_voxels: per prior and n, the
+/// empty cell's false stops (a count, per hour at @p cycle_hz and its one-sided
+/// 95 % upper bound) beside the smallest sizes detected every time.
+void write_trade_off(std::FILE* out, const DetectionResult& result, double cycle_hz) {
+    static_cast<void>(std::fprintf(
+        out,
+        "\nTrade-off over the zone's min_foreground_voxels (n; the zone's foreground count does not depend on it, so "
+        "one run gives each): false stops of the empty cell (INTRUDED or UNSEEN) and the smallest diameters "
+        "detected in every pose, at %.1f cycles a second:\n\n"
+        "| prior | n | false stops | of cycles | per hour | 95 %% upper, per hour | rods | spheres |\n"
+        "|---|---|---|---|---|---|---|---|\n",
+        cycle_hz));
+    const double per_hour = 3600.0 * cycle_hz;
+    for (const EmptyCellRow& e : result.empty) {
+        for (std::size_t n = 1U; n <= kMinVoxelsColumns; ++n) {
+            const int stops = e.stops_with[n - 1U];
+            const double rate = e.cycles > 0 ? static_cast<double>(stops) / e.cycles : 0.0;
+            const double rod = result.smallest_always_detected(e.method, sim::PieceShape::kCylinder, n);
+            const double sphere = result.smallest_always_detected(e.method, sim::PieceShape::kSphere, n);
+            char rods[16] = "none";
+            char spheres[16] = "none";
+            if (rod > 0.0) {
+                static_cast<void>(std::snprintf(rods, sizeof rods, "%.0f mm", rod * 1000.0));
+            }
+            if (sphere > 0.0) {
+                static_cast<void>(std::snprintf(spheres, sizeof spheres, "%.0f mm", sphere * 1000.0));
+            }
+            static_cast<void>(std::fprintf(out, "| %s | %zu | %d | %d | %.2f | %.2f | %s | %s |\n",
+                                           sim::method_name(e.method), n, stops, e.cycles, rate * per_hour,
+                                           clopper_pearson_upper(stops, e.cycles) * per_hour, rods, spheres));
+        }
+    }
+}
+
+}  // namespace
+
+void write_detection_table(std::FILE* out, const DetectionSettings& settings, const DetectionResult& result,
+                           double cycle_hz) {
     const sim::FlashLidarNoise& n = settings.noise.lidar;
     const bool noisy = settings.noise.kind == sim::SensorKind::kFlashLidar;
     const cell::DepthConditioning& c = settings.conditioning;
@@ -565,12 +743,13 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
     }
     static_cast<void>(std::fprintf(out, "\nEmpty cell (zone '%s', the same noise), cycles with the zone INTRUDED:\n\n",
                                    settings.zone.c_str()));
-    static_cast<void>(
-        std::fprintf(out, "| prior | cycles | INTRUDED | foreground voxels, mean | most |\n|---|---|---|---|---|\n"));
+    static_cast<void>(std::fprintf(
+        out,
+        "| prior | cycles | INTRUDED | unseen over the limit | foreground voxels, mean | most |\n|---|---|---|---|---|---|\n"));
     for (const EmptyCellRow& e : result.empty) {
-        static_cast<void>(
-            std::fprintf(out, "| %s | %d | %d | %.1f | %u |\n", sim::method_name(e.method), e.cycles, e.intruded,
-                         e.cycles > 0 ? static_cast<double>(e.foreground_sum) / e.cycles : 0.0, e.max_foreground));
+        static_cast<void>(std::fprintf(
+            out, "| %s | %d | %d | %d | %.1f | %u |\n", sim::method_name(e.method), e.cycles, e.intruded, e.unseen,
+            e.cycles > 0 ? static_cast<double>(e.foreground_sum) / e.cycles : 0.0, e.max_foreground));
     }
     static_cast<void>(
         std::fprintf(out, "\nSmallest diameter detected in every pose of every placement, every larger one too:\n\n"));
@@ -584,19 +763,23 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
             }
         }
     }
+    write_trade_off(out, result, cycle_hz);
 }
 
 void write_detection_csv(std::FILE* out, const std::string& cell, const DetectionResult& result) {
-    static_cast<void>(
-        std::fprintf(out, "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound\n"));
+    static_assert(kMinVoxelsColumns == 4U, "the CSV has four detected_min columns");
+    static_cast<void>(std::fprintf(out,
+                                   "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound,"
+                                   "detected_min1,detected_min2,detected_min3,detected_min4\n"));
     for (const DetectionRow& r : result.rows) {
         if (r.poses == 0) {
             continue;  // the piece did not fit: no rate
         }
-        static_cast<void>(std::fprintf(out, "%s,%s,%s,%.0f,%.0f,%s,%d,%d,%.4f,%.4f\n", cell.c_str(),
+        static_cast<void>(std::fprintf(out, "%s,%s,%s,%.0f,%.0f,%s,%d,%d,%.4f,%.4f,%d,%d,%d,%d\n", cell.c_str(),
                                        sim::method_name(r.method), sim::to_string(r.size.shape),
                                        r.size.diameter * 1000.0, r.size.length * 1000.0, to_string(r.placement),
-                                       r.detected, r.poses, static_cast<double>(r.detected) / r.poses, r.lower_bound));
+                                       r.detected, r.poses, static_cast<double>(r.detected) / r.poses, r.lower_bound,
+                                       r.detected_with[0], r.detected_with[1], r.detected_with[2], r.detected_with[3]));
     }
 }
 
