@@ -513,8 +513,9 @@ std::uint64_t planned_cycles(const DetectionSettings& settings) {
            (warmups + n(settings.empty_cycles) + rows * n(settings.poses) * n(settings.cycles));
 }
 
-/// One shard's share of one prior's run: the empty cell's cycles of shard j
-/// of J (every J-th, from j), and of every row the poses p with p mod J = j.
+/// One shard's share of one prior's run: shard j of J runs an even share of
+/// the empty cell's cycles (the first empty_cycles mod J shards one more)
+/// and of every row the poses p with p mod J = j.
 struct Shard {
     EmptyCellRow empty;
     std::vector<DetectionRow> rows;
@@ -606,8 +607,8 @@ Shard run_shard(const cell::MonitorConfig& cfg, PriorMethod method, const Detect
 
 /// Adds shard @p s into @p total (the rows in the same order; bounds after the last).
 void merge(Shard& total, const Shard& s) {
+    total.empty.method = s.empty.method;
     if (total.rows.empty()) {
-        total.empty.method = s.empty.method;
         total.rows = s.rows;
         for (DetectionRow& r : total.rows) {
             r.poses = r.detected = 0;
@@ -644,7 +645,8 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
     }
     if (settings.poses < 1 || settings.cycles < 1 || settings.empty_cycles < 0 || settings.warmup_cycles < 0 ||
         settings.jobs < 1 || settings.jobs > kMaxDetectionJobs) {
-        result.error = "poses, cycles and jobs (up to 64) must be at least 1, empty and warm-up cycles at least 0";
+        result.error = "poses, cycles and jobs (up to " + std::to_string(kMaxDetectionJobs) +
+                       ") must be at least 1, empty and warm-up cycles at least 0";
         return result;
     }
     Progress bar(progress, planned_cycles(settings));
