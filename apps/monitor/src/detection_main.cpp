@@ -38,7 +38,7 @@ constexpr const char* kFooter =
     "noise-free, 65 ms with noise and the depth filter (the noise's generation and the\n"
     "filter dominate); the default (1,000 poses, 16 pieces, 3 placements, 2 cycles, 2\n"
     "priors) runs up to about 190,000 cycles: about 1 h noise-free, 3.5 h with noise;\n"
-    "--jobs 2 runs two shards on two cores (about 0.55 of the time).\n"
+    "--jobs 2 runs two shards on two cores (80,024 noisy cycles in 49 min, 2026-12-07).\n"
     "Progress: a line on the standard error at every per cent, with the time left.\n"
     "Exit status: 0 it ran, 1 the cell could not be set up, 2 bad command line or configuration.";
 
