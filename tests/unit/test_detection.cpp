@@ -47,6 +47,22 @@ DetectionSettings one_row(const PieceSize& size, Placement placement, int poses)
     return s;
 }
 
+/// What @p write writes to a temporary file, read back whole.
+template <typename Write>
+std::string written_by(Write write) {
+    std::FILE* f = std::tmpfile();
+    REQUIRE(f != nullptr);
+    write(f);
+    std::rewind(f);
+    std::string text;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, f) != nullptr) {
+        text += buf;
+    }
+    static_cast<void>(std::fclose(f));
+    return text;
+}
+
 }  // namespace
 
 // verifies: SR-EVAL-004
@@ -92,16 +108,7 @@ TEST_CASE("detection: the trade-off over min_foreground_voxels gives false stops
     CHECK(r.smallest_always_detected(PriorMethod::kProbabilistic, sim::PieceShape::kCylinder, 4U) == 0.0);
     DetectionSettings s;
     s.methods = {PriorMethod::kProbabilistic};
-    std::FILE* f = std::tmpfile();
-    REQUIRE(f != nullptr);
-    write_detection_table(f, s, r, 30.0);
-    std::rewind(f);
-    std::string table;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, f) != nullptr) {
-        table += buf;
-    }
-    static_cast<void>(std::fclose(f));
+    const std::string table = written_by([&](std::FILE* f) { write_detection_table(f, s, r, 30.0); });
     // 2 in 10^5 cycles at 30 Hz: 2.16 an hour; none: the upper bound 1 - 0.05^(1/10^5) of a cycle, 3.24 an hour.
     CHECK(table.find("| probabilistic | 1 | 2 | 100000 | 2.16 | ") != std::string::npos);
     CHECK(table.find("| probabilistic | 2 | 0 | 100000 | 0.00 | 3.24 | 55 mm | none |") != std::string::npos);
@@ -252,16 +259,7 @@ TEST_CASE("detection: the CSV has a row per tried row, the plot a line per prior
     r.rows.push_back({PriorMethod::kProbabilistic, rod20, Placement::kBoxTop, 0, 0, 0.0, {}});  // did not fit
     r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFree, 10, 10, 0.74, {10, 10, 10, 10}});
     r.rows.push_back({PriorMethod::kProbabilistic, rod55, Placement::kFloor, 10, 5, 0.22, {5, 5, 4, 4}});
-    std::FILE* f = std::tmpfile();
-    REQUIRE(f != nullptr);
-    write_detection_csv(f, "cell.toml", r);
-    std::rewind(f);
-    std::string csv;
-    char buf[256];
-    while (std::fgets(buf, sizeof buf, f) != nullptr) {
-        csv += buf;
-    }
-    static_cast<void>(std::fclose(f));
+    const std::string csv = written_by([&](std::FILE* f) { write_detection_csv(f, "cell.toml", r); });
     CHECK(csv ==
           "cell,prior,shape,diameter_mm,length_mm,placement,detected,poses,rate,lower_bound,"
           "detected_min1,detected_min2,detected_min3,detected_min4\n"
