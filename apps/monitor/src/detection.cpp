@@ -686,6 +686,19 @@ namespace {
 /// The trade-off over the zone's min_foreground_voxels: per prior and n, the
 /// empty cell's false stops (a count, per hour at @p cycle_hz and its one-sided
 /// 95 % upper bound) beside the smallest sizes detected every time.
+/// A smallest diameter as the tables print it: "70 mm", or "none" for 0.
+struct DiameterText {
+    char text[16] = "none";
+};
+
+DiameterText diameter_text(double d) noexcept {
+    DiameterText t;
+    if (d > 0.0) {
+        static_cast<void>(std::snprintf(t.text, sizeof t.text, "%.0f mm", d * 1000.0));
+    }
+    return t;
+}
+
 void write_trade_off(std::FILE* out, const DetectionResult& result, double cycle_hz) {
     static_cast<void>(std::fprintf(
         out,
@@ -700,19 +713,13 @@ void write_trade_off(std::FILE* out, const DetectionResult& result, double cycle
         for (std::size_t n = 1U; n <= kMinVoxelsColumns; ++n) {
             const int stops = e.stops_with[n - 1U];
             const double rate = e.cycles > 0 ? static_cast<double>(stops) / e.cycles : 0.0;
-            const double rod = result.smallest_always_detected(e.method, sim::PieceShape::kCylinder, n);
-            const double sphere = result.smallest_always_detected(e.method, sim::PieceShape::kSphere, n);
-            char rods[16] = "none";
-            char spheres[16] = "none";
-            if (rod > 0.0) {
-                static_cast<void>(std::snprintf(rods, sizeof rods, "%.0f mm", rod * 1000.0));
-            }
-            if (sphere > 0.0) {
-                static_cast<void>(std::snprintf(spheres, sizeof spheres, "%.0f mm", sphere * 1000.0));
-            }
+            const DiameterText rods = diameter_text(
+                result.smallest_always_detected(e.method, sim::PieceShape::kCylinder, n));
+            const DiameterText spheres = diameter_text(
+                result.smallest_always_detected(e.method, sim::PieceShape::kSphere, n));
             static_cast<void>(std::fprintf(out, "| %s | %zu | %d | %d | %.2f | %.2f | %s | %s |\n",
                                            sim::method_name(e.method), n, stops, e.cycles, rate * per_hour,
-                                           clopper_pearson_upper(stops, e.cycles) * per_hour, rods, spheres));
+                                           clopper_pearson_upper(stops, e.cycles) * per_hour, rods.text, spheres.text));
         }
     }
 }
@@ -757,12 +764,8 @@ void write_detection_table(std::FILE* out, const DetectionSettings& settings, co
         std::fprintf(out, "\nSmallest diameter detected in every pose of every placement, every larger one too:\n\n"));
     for (const PriorMethod m : settings.methods) {
         for (const sim::PieceShape shape : {sim::PieceShape::kCylinder, sim::PieceShape::kSphere}) {
-            const double d = result.smallest_always_detected(m, shape);
-            static_cast<void>(
-                std::fprintf(out, "- %s, %s: %s", sim::method_name(m), sim::to_string(shape), d > 0.0 ? "" : "none\n"));
-            if (d > 0.0) {
-                static_cast<void>(std::fprintf(out, "%.0f mm\n", d * 1000.0));
-            }
+            static_cast<void>(std::fprintf(out, "- %s, %s: %s\n", sim::method_name(m), sim::to_string(shape),
+                                           diameter_text(result.smallest_always_detected(m, shape)).text));
         }
     }
     write_trade_off(out, result, cycle_hz);
