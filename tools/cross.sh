@@ -3,12 +3,13 @@
 # SPDX-License-Identifier: Apache-2.0
 # Cross-compilation CI steps (toolchains/*.cmake):
 #  1. x86-64 (the industrial PC): builds cellguard-firmware-digest, runs it;
-#  2. aarch64 (the SoC): builds the doctest unit tests and the firmware digest program, runs
-#     the unit test cases but the group "long replay" (tests/support/test_tags.hpp) under
+#  2. aarch64 (the SoC): builds the doctest unit tests of lib/ and the port (the preset's
+#     CELLGUARD_UNIT_TEST_SUBJECTS=lib, tests/CMakeLists.txt) and the firmware digest program,
+#     runs those test cases but the group "long replay" (tests/support/test_tags.hpp) under
 #     qemu-aarch64 in parallel shards (tools/run-unit-tests.sh, one
 #     process per shard: under qemu-user a process per case cost more than the cases), then the
-#     digest. The programs' own CMake tests (command lines, files, sockets) run natively in the
-#     README's build; they do not depend on the architecture;
+#     digest. The programs' unit tests and their own CMake tests (command lines, files, sockets)
+#     run natively in the README's build; they do not depend on the architecture;
 #  3. Cortex-M7: builds the firmware (the build itself fails on heap or
 #     exception runtime in the image, or a prior outside flash), runs it on
 #     qemu-system-arm -M mps2-an500 with a timeout (its ctest), copies the size report to
