@@ -683,9 +683,6 @@ DetectionResult run_detection(const cell::MonitorConfig& cfg, const DetectionSet
 
 namespace {
 
-/// The trade-off over the zone's min_foreground_voxels: per prior and n, the
-/// empty cell's false stops (a count, per hour at @p cycle_hz and its one-sided
-/// 95 % upper bound) beside the smallest sizes detected every time.
 /// A smallest diameter as the tables print it: "70 mm", or "none" for 0.
 struct DiameterText {
     char text[16] = "none";
@@ -699,6 +696,9 @@ DiameterText diameter_text(double d) noexcept {
     return t;
 }
 
+/// The trade-off over the zone's min_foreground_voxels: per prior and n, the
+/// empty cell's false stops (a count, per hour at @p cycle_hz and its one-sided
+/// 95 % upper bound) beside the smallest sizes detected every time.
 void write_trade_off(std::FILE* out, const DetectionResult& result, double cycle_hz) {
     static_cast<void>(std::fprintf(
         out,
