@@ -146,19 +146,21 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
     bool was_valid = false;
     std::uint8_t crc_bytes[4] = {};
     bool crc_page_seen[4] = {};
-    std::vector<LinkFields> answers_due;       // per link frame of the monitor not yet answered: its reply's echo
-    std::vector<int> due_cycles;               // the cycle of each of those link frames
+    // Per link frame of the monitor not yet answered: the echo its reply carries, and the frame's cycle.
+    struct AnswerDue {
+        LinkFields echo;
+        int cycle;
+    };
+    std::vector<AnswerDue> answers_due;
     std::vector<CandumpRecord> early_replies;  // replies logged before the link frame they answer
     // One reply of the PLC: the sequence and session its endpoint (re-run here) sends, the echo due.
-    const auto check_reply = [&plc, &answers_due, &due_cycles, &out](const CandumpRecord& reply,
-                                                                     const std::string& where) {
+    const auto check_reply = [&plc, &answers_due, &out](const CandumpRecord& reply, const std::string& where) {
         const LinkFields want = plc.next_link(reply.timestamp_us);
-        const LinkFields due = answers_due.front();
+        const AnswerDue answer = answers_due.front();
         answers_due.erase(answers_due.begin());
-        const int due_cycle = due_cycles.front();
-        due_cycles.erase(due_cycles.begin());
-        if (due_cycle >= 0 && static_cast<std::size_t>(due_cycle) < out.cycles.size()) {
-            out.cycles[static_cast<std::size_t>(due_cycle)].reply_t_us = reply.timestamp_us;
+        const LinkFields& due = answer.echo;
+        if (answer.cycle >= 0 && static_cast<std::size_t>(answer.cycle) < out.cycles.size()) {
+            out.cycles[static_cast<std::size_t>(answer.cycle)].reply_t_us = reply.timestamp_us;
         }
         const auto got = [&reply](const SignalLayout& s) { return get_signal(reply.frame, s); };
         const bool same = got(link_layout::kSequence) == want.sequence && got(link_layout::kSession) == want.session &&
@@ -258,8 +260,7 @@ bool parse_log(const char* path, const MonitorConfig& cfg, Parsed& out) {
         } else if (f.id == rc.link.peer.can_id) {
             expect(expect_next == 3, where + "the monitor's link frame not right after a safety pair");
             PlcReceiver peek = plc;  // what the PLC's reply to this frame echoes, without advancing the model
-            answers_due.push_back(peek.next_link(rec.timestamp_us));
-            due_cycles.push_back(expect_next == 3 ? cycle : -1);
+            answers_due.push_back({peek.next_link(rec.timestamp_us), expect_next == 3 ? cycle : -1});
             if (!early_replies.empty()) {
                 check_reply(early_replies.front(), where);
                 early_replies.erase(early_replies.begin());
