@@ -4,8 +4,8 @@
 
 #include <cmath>
 
+#include "cellguard/grid/reading_class.hpp"
 #include "placement.hpp"
-#include "reading_class.hpp"
 
 namespace cellguard {
 
