@@ -9,6 +9,7 @@
 #include <cmath>
 #include <string>
 
+#include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/sim/experiment.hpp"
 #include "cellguard/host/sim/ground_truth.hpp"
 #include "cellguard/host/sim/noise.hpp"
@@ -306,6 +307,53 @@ TEST_CASE("simulator: precision-recall sweep counts exactly from the histograms"
     CHECK(s.max_recall == 1.0);
     CHECK(s.recall_at_precision_90 == 0.5);
     CHECK(s.precision_at_recall_90 == doctest::Approx(2.0 / 3.0));
+}
+
+// verifies: SR-EVAL-002
+TEST_CASE("simulator: the fine sweep adds a threshold where recall passes each step, and counts as the plain sweep") {
+    // 400 foreground scores, two on each value from 0 to 199 units (P 0.5 to 0.68), and 100 not-foreground
+    // ones: the default sweep's 0.01 steps give few recall values where the scores crowd.
+    sim::ScoreHistogram h;
+    std::vector<std::int16_t> sub;
+    sim::GroundTruth t;
+    for (int i = 0; i < 400; ++i) {
+        sub.push_back(static_cast<std::int16_t>(i / 2));
+        t.label.push_back(sim::Truth::kForeground);
+    }
+    for (int i = 0; i < 100; ++i) {
+        sub.push_back(static_cast<std::int16_t>(3 * i - 100));
+        t.label.push_back(sim::Truth::kNotForeground);
+    }
+    sim::add_scores(h, sub, t);
+    const std::vector<sim::PrPoint> plain = sim::pr_curve(h, sim::default_thresholds());
+    const std::vector<sim::PrPoint> fine = sim::fine_pr_curve(h, 200);
+    MESSAGE("distinct recalls: plain " << sim::distinct_recalls(plain) << ", fine " << sim::distinct_recalls(fine));
+    CHECK(sim::distinct_recalls(plain) < 30U);
+    CHECK(sim::distinct_recalls(fine) >= 200U);  // each 1/200 step of recall is 2 scores: one value
+    // Every default threshold is on the fine curve with the same counts; t_f ascends.
+    for (const sim::PrPoint& p : plain) {
+        const auto same = std::find_if(fine.begin(), fine.end(), [&](const sim::PrPoint& q) { return q.t_f == p.t_f; });
+        REQUIRE(same != fine.end());
+        CHECK(same->tp == p.tp);
+        CHECK(same->fp == p.fp);
+    }
+    for (std::size_t i = 1; i < fine.size(); ++i) {
+        CHECK(fine[i - 1].t_f < fine[i].t_f);
+    }
+    // Every point counts the scores whose probability is at least its t_f, recounted here from the scores.
+    for (const sim::PrPoint& p : fine) {
+        std::uint64_t tp = 0U;
+        std::uint64_t fp = 0U;
+        for (std::size_t i = 0; i < sub.size(); ++i) {
+            const bool called = probability_from_log_odds(sub[i]) >= p.t_f;
+            tp += called && t.label[i] == sim::Truth::kForeground ? 1U : 0U;
+            fp += called && t.label[i] == sim::Truth::kNotForeground ? 1U : 0U;
+        }
+        CHECK_MESSAGE(p.tp == tp, "t_f " << p.t_f);
+        CHECK_MESSAGE(p.fp == fp, "t_f " << p.t_f);
+    }
+    // No foreground scores: the default sweep alone.
+    CHECK(sim::fine_pr_curve(sim::ScoreHistogram{}, 200).size() == plain.size());
 }
 
 // verifies: SR-EVAL-001, SR-EVAL-004

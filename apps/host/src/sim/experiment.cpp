@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
+#include <set>
 
 #include "cellguard/grid/log_odds.hpp"
 #include "cellguard/host/owned_footprint.hpp"
@@ -33,6 +35,28 @@ SimulatedFrame render(const SceneFile& file, const ExperimentConfig& cfg, const 
         return render_frame(file.sensors, scene);
     }
     return render_noisy_frame(file.sensors, file.noise, scene, seed);
+}
+
+/// The integer table of the profile @p cfg fuses with: paper_profile() for the paper's model, cfg.sensor_model for
+/// the product's.
+Result<SensorModelTable> model_table(const ExperimentConfig& cfg) {
+    return SensorModelTable::make(cfg.model == EvalSensorModel::kPaper ? paper_profile() : cfg.sensor_model);
+}
+
+/// Clears @p frame and fuses @p f into it with @p cfg's model (footprint fusion through @p footprint, made on the
+/// first call, when cfg.footprint).
+Result<FusionStats> fuse_experiment_frame(const ExperimentConfig& cfg, const SensorModelTable& table, OwnedGrid& frame,
+                                          const SimulatedFrame& f,
+                                          std::unique_ptr<host::OwnedFootprintWorkspaces>& footprint) {
+    frame.grid.clear();
+    const Span<const SensorReading> readings(f.readings.data(), f.readings.size());
+    if (cfg.model == EvalSensorModel::kPaper) {
+        return fuse_frame_per_ray(frame.grid, readings, table, cfg.rasterization);
+    }
+    if (cfg.footprint && footprint == nullptr) {
+        footprint = std::make_unique<host::OwnedFootprintWorkspaces>(frame.grid.geometry(), f.readings);
+    }
+    return host::fuse_frame_by(frame.grid, readings, table, frame.fusion_scratch(), cfg.rasterization, footprint.get());
 }
 }  // namespace
 
@@ -68,31 +92,81 @@ std::vector<double> default_thresholds() {
     return t;
 }
 
-std::vector<PrPoint> pr_curve(const ScoreHistogram& h, const std::vector<double>& thresholds) {
-    // Suffix sums: counts of values >= each raw value.
-    std::vector<std::uint64_t> fg_at_least(65537U, 0U);
-    std::vector<std::uint64_t> bg_at_least(65537U, 0U);
-    for (std::size_t i = 65536U; i-- > 0U;) {
-        fg_at_least[i] = fg_at_least[i + 1U] + h.foreground[i];
-        bg_at_least[i] = bg_at_least[i + 1U] + h.not_foreground[i];
+namespace {
+
+/// Counts of scores at or above each histogram bin, for the points of a curve.
+struct AtLeast {
+    std::vector<std::uint64_t> fg = std::vector<std::uint64_t>(65537U, 0U);
+    std::vector<std::uint64_t> bg = std::vector<std::uint64_t>(65537U, 0U);
+    explicit AtLeast(const ScoreHistogram& h) {
+        for (std::size_t i = 65536U; i-- > 0U;) {
+            fg[i] = fg[i + 1U] + h.foreground[i];
+            bg[i] = bg[i + 1U] + h.not_foreground[i];
+        }
     }
-    const std::uint64_t fg_total = fg_at_least[0];
-    std::vector<PrPoint> curve;
-    for (const double t : thresholds) {
-        const std::int16_t raw = threshold_log_odds(t);
-        // The sentinel bin (0) is never foreground: thresholds are >= kLogOddsMin.
+    /// The point where every score >= @p raw is called foreground, labelled @p t_f. The sentinel bin (0) is never
+    /// foreground: thresholds are >= kLogOddsMin.
+    [[nodiscard]] PrPoint at(std::int16_t raw, double t_f) const {
         const std::size_t b = bin_of(raw);
+        const std::uint64_t fg_total = fg[0];
         PrPoint p;
-        p.t_f = t;
-        p.tp = fg_at_least[b];
-        p.fp = bg_at_least[b];
+        p.t_f = t_f;
+        p.tp = fg[b];
+        p.fp = bg[b];
         p.fn = fg_total - p.tp;
         p.precision = (p.tp + p.fp) > 0U ? static_cast<double>(p.tp) / static_cast<double>(p.tp + p.fp) : 1.0;
         p.recall = fg_total > 0U ? static_cast<double>(p.tp) / static_cast<double>(fg_total) : 0.0;
         p.f1 = (p.precision + p.recall) > 0.0 ? 2.0 * p.precision * p.recall / (p.precision + p.recall) : 0.0;
-        curve.push_back(p);
+        return p;
+    }
+};
+
+}  // namespace
+
+std::vector<PrPoint> pr_curve(const ScoreHistogram& h, const std::vector<double>& thresholds) {
+    const AtLeast counts(h);
+    std::vector<PrPoint> curve;
+    curve.reserve(thresholds.size());
+    for (const double t : thresholds) {
+        curve.push_back(counts.at(threshold_log_odds(t), t));
     }
     return curve;
+}
+
+std::vector<PrPoint> fine_pr_curve(const ScoreHistogram& h, int steps) {
+    // Raw thresholds: the default sweep's (with their exact t_f) and, per recall step, the largest raw value whose
+    // count of foreground scores at or above it reaches the step (points made at the raw value itself: the round
+    // trip through a probability may be off by one unit, threshold_log_odds).
+    const AtLeast counts(h);
+    std::map<std::int16_t, double> at;
+    for (const double t : default_thresholds()) {
+        at.emplace(threshold_log_odds(t), t);
+    }
+    const std::uint64_t fg_total = counts.fg[0];  // recall's denominator: the sentinel bin's too
+    if (fg_total > 0U && steps > 0) {
+        const auto n = static_cast<std::uint64_t>(steps);
+        std::uint64_t step = 1U;
+        for (std::size_t b = 65536U; b-- > 1U && step <= n;) {
+            for (; step <= n && counts.fg[b] * n >= step * fg_total; ++step) {
+                const auto raw = static_cast<std::int16_t>(static_cast<std::int32_t>(b) - 32768);
+                at.emplace(raw, probability_from_log_odds(raw));
+            }
+        }
+    }
+    std::vector<PrPoint> curve;
+    curve.reserve(at.size());
+    for (const auto& [raw, t] : at) {
+        curve.push_back(counts.at(raw, t));
+    }
+    return curve;
+}
+
+std::size_t distinct_recalls(const std::vector<PrPoint>& curve) {
+    std::set<std::uint64_t> tps;
+    for (const PrPoint& p : curve) {
+        tps.insert(p.tp);
+    }
+    return tps.size();
 }
 
 double precision_at_recall(const std::vector<PrPoint>& curve, double recall) {
@@ -144,8 +218,8 @@ void add_scores(ScoreHistogram& h, const std::vector<std::int16_t>& subtracted, 
 
 bool build_background(const SceneFile& file, const ExperimentConfig& cfg, EvidenceGrid& background,
                       double* fuse_ms_total, double* render_ms_total) {
-    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
-    if (!model.ok()) {
+    const Result<SensorModelTable> table = model_table(cfg);
+    if (!table.ok() || (cfg.footprint && cfg.model == EvalSensorModel::kPaper)) {
         return false;
     }
     OwnedGrid frame(background.geometry());
@@ -156,29 +230,20 @@ bool build_background(const SceneFile& file, const ExperimentConfig& cfg, Eviden
         const Clock::time_point t0 = Clock::now();
         const SimulatedFrame f = render(file, cfg, bg, file.seed * kSeedStride + static_cast<std::uint64_t>(i));
         const Clock::time_point t1 = Clock::now();
-        if (cfg.footprint && footprint == nullptr) {
-            footprint = std::make_unique<host::OwnedFootprintWorkspaces>(background.geometry(), f.readings);
-        }
-        Result<FusionStats> r = FusionStats{};
-        if (footprint == nullptr) {
-            r = fuse_background_frame(background, frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
-                                      frame.fusion_scratch(), cfg.rasterization);
-        } else {
-            frame.grid.clear();
-            r = host::fuse_frame_by(frame.grid, {f.readings.data(), f.readings.size()}, model.value(),
-                                    frame.fusion_scratch(), cfg.rasterization, footprint.get());
-            if (r.ok() && !accumulate_background(background, frame.grid).ok()) {
-                return false;
-            }
+        // The product's ray-by-ray path builds G_B as the monitor and the commissioning tool do.
+        const bool direct = cfg.model == EvalSensorModel::kProduct && !cfg.footprint;
+        const Result<FusionStats> r = direct ? fuse_background_frame(
+                                                   background, frame.grid, {f.readings.data(), f.readings.size()},
+                                                   table.value(), frame.fusion_scratch(), cfg.rasterization)
+                                             : fuse_experiment_frame(cfg, table.value(), frame, f, footprint);
+        if (!r.ok() || (!direct && !accumulate_background(background, frame.grid).ok())) {
+            return false;
         }
         if (fuse_ms_total != nullptr) {
             *fuse_ms_total += ms_since(t1);
         }
         if (render_ms_total != nullptr) {
             *render_ms_total += std::chrono::duration<double, std::milli>(t1 - t0).count();
-        }
-        if (!r.ok()) {
-            return false;
         }
     }
     return true;
@@ -220,12 +285,16 @@ bool prepare_background(const SceneFile& file, const ExperimentConfig& cfg, cons
         std::copy(background->observed().begin(), background->observed().end(), out.background_grid.observed.begin());
         return true;
     }
-    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    const Result<SensorModelTable> model = model_table(cfg);
     std::uint32_t need = 1U;
     for (const PriorMethod m : kAllMethods) {
         AccessibilityParams p = cfg.params;
         p.method = m;
-        need = std::max(need, model.ok() ? min_background_frames(p, model.value()) : 1U);
+        const std::uint32_t frames = !model.ok() ? 1U
+                                     : cfg.model == EvalSensorModel::kPaper
+                                         ? paper_min_background_frames(p.t_e, model.value())
+                                         : min_background_frames(p, model.value());
+        need = std::max(need, frames);
     }
     if (cfg.background_frames < 0 || static_cast<std::uint32_t>(cfg.background_frames) < need) {
         error = std::to_string(cfg.background_frames);
@@ -277,13 +346,7 @@ bool run_foreground(const SceneFile& file, const ExperimentConfig& cfg, const Se
             file, cfg, scene, file.seed * kSeedStride + kForegroundSeedOffset + static_cast<std::uint64_t>(j));
         const Clock::time_point t1 = Clock::now();
         times.render_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-        out.last_frame.grid.clear();
-        if (cfg.footprint && footprint == nullptr) {
-            footprint = std::make_unique<host::OwnedFootprintWorkspaces>(cfg.geometry, f.readings);
-        }
-        if (!host::fuse_frame_by(out.last_frame.grid, {f.readings.data(), f.readings.size()}, model,
-                                 out.last_frame.fusion_scratch(), cfg.rasterization, footprint.get())
-                 .ok()) {
+        if (!fuse_experiment_frame(cfg, model, out.last_frame, f, footprint).ok()) {
             error = "fusing a foreground frame failed";
             return false;
         }
@@ -306,6 +369,10 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
                const EvidenceGrid* background) {
     out.name = file.name;
     out.background = background_of(file.scene);
+    if (cfg.footprint && cfg.model == EvalSensorModel::kPaper) {
+        error = "footprint fusion is the product model's path: the paper's model fuses ray by ray";
+        return false;
+    }
     SceneTimes times;
     int fused_frames = cfg.foreground_frames;
     if (!prepare_background(file, cfg, background, out, times, fused_frames, error)) {
@@ -314,7 +381,7 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
     if (!compute_priors(cfg, out, error)) {
         return false;
     }
-    const Result<SensorModelTable> model = SensorModelTable::make(cfg.sensor_model);
+    const Result<SensorModelTable> model = model_table(cfg);
     if (!model.ok()) {
         error = "invalid sensor model";
         return false;
@@ -326,9 +393,8 @@ bool run_scene(const SceneFile& file, const ExperimentConfig& cfg, SceneResult& 
     out.fuse_ms_per_frame = frames > 0 ? times.fuse_ms / frames : 0.0;
     out.render_ms_per_frame = frames > 0 ? times.render_ms / frames : 0.0;
     out.subtract_ms_per_frame = times.subtractions > 0 ? times.subtract_ms / times.subtractions : 0.0;
-    const std::vector<double> thresholds = default_thresholds();
     for (MethodResult& r : out.methods) {
-        r.curve = pr_curve(r.scores, thresholds);
+        r.curve = fine_pr_curve(r.scores);
         r.summary = summarize(r.curve);
     }
     return true;

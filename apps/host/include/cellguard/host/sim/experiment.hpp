@@ -6,8 +6,10 @@
 /// (tests/unit/test_paper_claims.cpp):
 ///
 /// 1. G_B: `background_frames` noisy frames of the scene's background
-///    (background_of) fused one by one (fuse_frame) and summed into G_B
-///    (accumulate_background, default clamp).
+///    (background_of) fused one by one with the configured sensor model
+///    (the paper's per-ray profile, paper_sensor_model.hpp, or the
+///    product's, fusion.hpp) and summed into G_B (accumulate_background,
+///    default clamp).
 /// 2. The prior of each of the four methods (compute_accessibility_prior).
 /// 3. `foreground_frames` noisy frames of the full scene, each fused into a
 ///    fresh frame grid; subtraction adds the prior (add_saturating, the
@@ -16,7 +18,8 @@
 /// 4. Scores against the ideal ground truth (ground_truth.hpp), unknown
 ///    voxels left out, summed over the foreground frames: histograms of the
 ///    subtracted log-odds of foreground and not-foreground voxels give the
-///    counts at every t_f exactly.
+///    counts at every t_f exactly; the curve holds the default sweep and the
+///    thresholds where recall passes each 1/200 (fine_pr_curve).
 ///
 /// Frame seeds: background frame i uses seed * 1000003 + i, foreground frame
 /// j uses seed * 1000003 + 500000 + j (seed = the scene file's; with a
@@ -34,6 +37,7 @@
 #include "cellguard/grid/evidence_grid.hpp"
 #include "cellguard/grid/fusion.hpp"
 #include "cellguard/host/sim/ground_truth.hpp"
+#include "cellguard/host/sim/paper_sensor_model.hpp"
 #include "cellguard/host/sim/scene_file.hpp"
 #include "cellguard/prior/accessibility.hpp"
 
@@ -71,14 +75,18 @@ const char* method_name(PriorMethod method);
 /// How to run one scene.
 struct ExperimentConfig {
     GridGeometry geometry = paper_grid_geometry();  ///< the grid
-    AccessibilityParams params{};      ///< t_B, t_E, r, A_0 (the paper's by default; method is set per run)
-    SensorModelParams sensor_model{};  ///< the 1-D profile (0.44 / 0.56 by default)
+    AccessibilityParams params{};  ///< t_B, t_E, r, A_0 (the paper's by default; method is set per run)
+    /// Which model fuses the frames: the paper's per-ray profile (the
+    /// default of the paper's experiments) or the monitor's.
+    EvalSensorModel model = EvalSensorModel::kPaper;
+    SensorModelParams sensor_model{};  ///< the product model's parameters (model kProduct)
     /// Ray rasterisation of fusion and of the ground truth: the paper's 3D
     /// Bresenham by default (the exact traversal visits every voxel a ray
     /// grazes and so clears more of the voxels that a surface only clips).
     Rasterization rasterization = Rasterization::kBresenham3d;
     /// Fuse depth images by footprint fusion (footprint_fusion.hpp) instead
     /// of ray by ray; the ground truth stays ray by ray with rasterization.
+    /// The product model's path only: refused with the paper's model.
     bool footprint = false;
     int background_frames = 100;    ///< empty frames summed into G_B
     int foreground_frames = 5;      ///< frames with the foreground, scores summed
@@ -124,6 +132,15 @@ std::vector<double> default_thresholds();
 /// The curve at every threshold of @p thresholds.
 std::vector<PrPoint> pr_curve(const ScoreHistogram& h, const std::vector<double>& thresholds);
 
+/// The curve at default_thresholds() and, for k = 1 .. @p steps, at the
+/// largest scored log-odds value where recall reaches k / steps (its t_f is
+/// probability_from_log_odds of that value): where the scores take enough
+/// values, recall takes up to @p steps distinct values. Ascending t_f.
+std::vector<PrPoint> fine_pr_curve(const ScoreHistogram& h, int steps = 200);
+
+/// Number of distinct recall values on @p curve.
+std::size_t distinct_recalls(const std::vector<PrPoint>& curve);
+
 /// Summary of @p curve.
 PrSummary summarize(const std::vector<PrPoint>& curve);
 
@@ -140,7 +157,7 @@ struct MethodResult {
     std::vector<std::int16_t> last_subtracted;       ///< frame + prior of the last foreground frame
     double prior_ms = 0.0;                           ///< time to compute the prior
     ScoreHistogram scores;                           ///< summed over the foreground frames
-    std::vector<PrPoint> curve;                      ///< over default_thresholds()
+    std::vector<PrPoint> curve;                      ///< fine_pr_curve of the scores
     PrSummary summary;                               ///< of the curve
 };
 
