@@ -2,7 +2,7 @@
 set terminal pngcairo size 720,540 font 'sans,11'
 set output 'apps/evaluation/results/pr-large.png'
 set datafile separator ','
-set title 'Precision-recall, large object (one more box)'
+set title 'Precision-recall, large object (one more box), the paper''s sensor model'
 set xlabel 'recall'
 set ylabel 'precision'
 set xrange [0:1]

@@ -2,7 +2,7 @@
 set terminal pngcairo size 720,540 font 'sans,11'
 set output 'apps/evaluation/results/pr-person.png'
 set datafile separator ','
-set title 'Precision-recall, a walking person (not in the paper)'
+set title 'Precision-recall, a walking person (not in the paper), the paper''s sensor model'
 set xlabel 'recall'
 set ylabel 'precision'
 set xrange [0:1]

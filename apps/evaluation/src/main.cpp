@@ -44,7 +44,19 @@ struct Options {
     bool plots = true;
     bool paper_scenes = true;
     bool scale = false;
+    std::string model = "both";  ///< paper, product or both (paper first)
 };
+
+/// The file-name suffix of a model's outputs: none for the paper's (the paper's figures), "-product" for the
+/// monitor's.
+std::string suffix_of(sim::EvalSensorModel model) {
+    return model == sim::EvalSensorModel::kPaper ? std::string() : std::string("-product");
+}
+
+/// A model's name in headings.
+const char* title_of(sim::EvalSensorModel model) {
+    return model == sim::EvalSensorModel::kPaper ? "the paper's sensor model" : "the product's sensor model";
+}
 
 std::string fmt(double v, int digits = 3) {
     if (v < 0.0) {
@@ -108,7 +120,20 @@ std::string table_of(const sim::SceneResult& r) {
     return s.str();
 }
 
-/// Writes pr-<scene>.gp and runs gnuplot on it; false when the script cannot be written.
+/// @p text for a single-quoted gnuplot string: each ' doubled.
+std::string gnuplot_quoted(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        out += c;
+        if (c == '\'') {
+            out += '\'';
+        }
+    }
+    return out;
+}
+
+/// Writes pr-<scene>.gp and runs gnuplot on it (@p scene: the scene's name and the model's suffix); false when
+/// the script cannot be written.
 [[nodiscard]] bool write_plot(const Options& o, const std::string& scene, const std::string& title) {
     const std::string gp = o.out_dir + "/pr-" + scene + ".gp";
     std::ostringstream s;
@@ -116,7 +141,7 @@ std::string table_of(const sim::SceneResult& r) {
       << "set terminal pngcairo size 720,540 font 'sans,11'\n"
       << "set output '" << o.out_dir << "/pr-" << scene << ".png'\n"
       << "set datafile separator ','\n"
-      << "set title '" << title << "'\n"
+      << "set title '" << gnuplot_quoted(title) << "'\n"
       << "set xlabel 'recall'\nset ylabel 'precision'\n"
       << "set xrange [0:1]\nset yrange [0:1.02]\nset grid\nset key bottom left\n"
       << "f(m) = '" << o.out_dir << "/pr-" << scene << ".csv'\n";
@@ -267,11 +292,12 @@ int run_scale(const Options& o, const sim::ExperimentConfig& base, std::ostrings
 int parse_args(int argc, char** argv, Options& o) {
     host::CommandLine cli(
         "cellguard-eval", "cellguard-eval [options]",
-        "Runs the paper's experiments on the simulated workcell and writes, into the output folder:\n"
-        "pr-<scene>.csv (precision and recall over a sweep of t_f, four methods), results.md (a table per\n"
-        "scene: best F1, precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
-        "pr-<scene>.png (gnuplot, when installed) and render-<scene>-<method>.png (foreground red over the\n"
-        "background grey at t_f = 0.73, from the position of the sensor stereo-a, zoomed on the boxes).",
+        "Runs the paper's experiments on the simulated workcell, with the paper's sensor model and the\n"
+        "product's, and writes, into the output folder: pr-<scene>[-product].csv (precision and recall over a\n"
+        "sweep of t_f, four methods), results.md (the models side by side; a table per scene: best F1,\n"
+        "precision at recall 0.9, recall at precision 0.9; timings; the empty-scene check),\n"
+        "pr-<scene>[-product].png (gnuplot, when installed) and render-<scene>-<method>.png (the paper's model:\n"
+        "foreground red over the background grey at t_f = 0.73, from the sensor stereo-a, zoomed on the boxes).",
         "Exit status: 0 done, 1 an experiment or an output failed, 2 bad command line.");
     cli.text("--scenes", o.scenes_dir, "DIR",
              "scene files large.toml, small.toml, empty.toml, person.toml (default: the source tree's)");
@@ -280,10 +306,14 @@ int parse_args(int argc, char** argv, Options& o) {
                 "empty frames summed into G_B (default 100)");
     cli.integer("--foreground-frames", o.foreground_frames, 1, 10000, "N",
                 "frames with the foreground, scores summed (default 5)");
+    cli.choice("--model", o.model, {"paper", "product", "both"},
+               "sensor model of fusion: the paper's per-ray profile, the product's (the monitor's),\n"
+               "or both, one after the other (default both; the product's files end in -product)");
     cli.flag("--ideal", o.ideal, "ideal sensors instead of the scenes' noise models");
     cli.flag("--exact", o.exact, "rasterise rays with the exact traversal (default: the paper's 3D Bresenham)");
     cli.flag("--footprint", o.footprint,
-             "fuse depth images by footprint fusion (the ground truth stays ray by ray; compare with --exact)");
+             "fuse depth images by footprint fusion (the product's model only; the ground truth stays\n"
+             "ray by ray; compare with --exact)");
     bool no_plots = false;
     cli.flag("--no-plots", no_plots, "do not call gnuplot");
     cli.flag("--scale", o.scale,
@@ -294,6 +324,14 @@ int parse_args(int argc, char** argv, Options& o) {
     cli.integer("--scale-background-frames", o.scale_background_frames, 1, 10000, "N",
                 "G_B frames of the scale run (default 10)");
     const int status = cli.parse(argc, argv);
+    if (status < 0 && o.footprint && o.model == "paper") {
+        static_cast<void>(std::fprintf(
+            stderr, "cellguard-eval: --footprint fuses with the product's model, not the paper's (see --help)\n"));
+        return 2;
+    }
+    if (o.footprint) {
+        o.model = "product";  // footprint fusion is the product model's path
+    }
     o.plots = !no_plots;
     o.scale = o.scale || scale_only;
     o.paper_scenes = !scale_only;
@@ -311,8 +349,9 @@ bool make_output_folder(const std::string& dir) {
     return true;
 }
 
-sim::ExperimentConfig experiment_config(const Options& o) {
+sim::ExperimentConfig experiment_config(const Options& o, sim::EvalSensorModel model) {
     sim::ExperimentConfig cfg;
+    cfg.model = model;
     cfg.background_frames = o.background_frames;
     cfg.foreground_frames = o.foreground_frames;
     cfg.ideal_sensors = o.ideal;
@@ -321,22 +360,29 @@ sim::ExperimentConfig experiment_config(const Options& o) {
     return cfg;
 }
 
-/// The opening paragraph of results.md: grid, parameters, sensors, how the scores are read.
+/// The opening paragraph of results.md: grid, parameters, sensors, models, how the scores are read.
 void write_results_intro(const Options& o, const sim::ExperimentConfig& cfg, std::ostringstream& md) {
+    const SensorModelParams paper = sim::paper_profile();
     md << "# cellguard-eval results\n\n"
        << "Written by `cellguard-eval` (apps/evaluation). Grid: the paper's 34 x 30 x 30 voxels of 5 cm; r = 10 cm "
           "(2 voxels), t_B = "
-       << cfg.params.t_b << ", t_E = " << cfg.params.t_e << ", sensor model: per sensor and frame p_miss "
-       << cfg.sensor_model.p_miss << ", p_hit " << cfg.sensor_model.p_hit << ", pooled frame evidence clamped to ["
-       << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max
-       << "]; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
+       << cfg.params.t_b << ", t_E = " << cfg.params.t_e
+       << "; sensors: " << (o.ideal ? "ideal" : "2 flash lidars and 2 stereo cameras with noise")
        << "; rasterisation: " << (o.exact ? "exact traversal" : "3D Bresenham")
        << (o.footprint ? "; fusion: footprint" : "") << "; one G_B (background.toml) from " << cfg.background_frames
        << " empty frames; scores summed over " << cfg.foreground_frames
-       << " frames with the foreground. Precision at recall 0.9 is the largest precision among the swept t_f with "
-          "recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 likewise. P / R at t_f 0.45 "
-          "and 0.2: precision and recall where the thresholded (below 0.5) and the probabilistic (below 0.25) "
-          "baselines keep the interiors of the background boxes.\n\n";
+       << " frames with the foreground. Two sensor models: **the paper's** (section IV: every ray adds its "
+          "profile, trough "
+       << paper.p_miss << " up to " << paper.ramp_length * 100.0 << " cm before the reading, peak " << paper.p_hit
+       << " at it; files without a suffix) and **the product's** (the monitor's: one opinion per sensor, voxel "
+          "and frame, p_miss "
+       << cfg.sensor_model.p_miss << ", p_hit " << cfg.sensor_model.p_hit << ", pooled frame evidence clamped to ["
+       << cfg.sensor_model.p_clamp_min << ", " << cfg.sensor_model.p_clamp_max
+       << "]; files with the suffix -product). Each curve holds the t_f sweep 0.001, 0.005, 0.01 ... 0.99, 0.995, "
+          "0.999 and the t_f where recall passes each 1/200. Precision at recall 0.9 is the largest precision "
+          "among those t_f with recall >= 0.9 (n/a: recall 0.9 is never reached); recall at precision 0.9 "
+          "likewise. P / R at t_f 0.45 and 0.2: precision and recall where the thresholded (below 0.5) and the "
+          "probabilistic (below 0.25) baselines keep the interiors of the background boxes.\n\n";
 }
 
 /// Whether the plots are drawn: asked for and gnuplot installed (else says so).
@@ -388,31 +434,71 @@ void write_timing(const sim::SceneResult& result, std::ostringstream& md) {
     md << "ground truth " << fmt(result.truth_ms, 0) << " ms.\n\n";
 }
 
-/// The scenes with a foreground: CSV, table, plot, renders (large and small),
-/// the timing (large); false when a scene fails. Clears @p written when an
-/// output file cannot be written.
+/// One method's figures on one scene under one model, for the comparison table.
+struct ComparisonRow {
+    std::string scene;
+    sim::EvalSensorModel model = sim::EvalSensorModel::kPaper;
+    PriorMethod method = PriorMethod::kThresholded;
+    sim::PrSummary summary;
+    double precision_at_recall_80 = -1.0;
+    double precision_at_recall_50 = -1.0;
+    double recall_at_precision_50 = 0.0;
+    std::size_t distinct_recalls = 0U;
+};
+
+/// Largest recall among points of @p curve with precision >= @p precision and something called foreground.
+double recall_at_precision(const std::vector<sim::PrPoint>& curve, double precision) {
+    double best = 0.0;
+    for (const sim::PrPoint& p : curve) {
+        if (p.tp > 0U && p.precision >= precision && p.recall > best) {
+            best = p.recall;
+        }
+    }
+    return best;
+}
+
+/// Appends the rows of @p r under @p model to @p rows.
+void add_rows(const sim::SceneResult& r, sim::EvalSensorModel model, std::vector<ComparisonRow>& rows) {
+    for (const sim::MethodResult& m : r.methods) {
+        ComparisonRow row;
+        row.scene = r.name;
+        row.model = model;
+        row.method = m.method;
+        row.summary = m.summary;
+        row.precision_at_recall_80 = sim::precision_at_recall(m.curve, 0.8);
+        row.precision_at_recall_50 = sim::precision_at_recall(m.curve, 0.5);
+        row.recall_at_precision_50 = recall_at_precision(m.curve, 0.5);
+        row.distinct_recalls = sim::distinct_recalls(m.curve);
+        rows.push_back(row);
+    }
+}
+
+/// The scenes with a foreground: CSV, table, plot, renders (large and small, the paper's model), the timing
+/// (large); false when a scene fails. Clears @p written when an output file cannot be written.
 bool run_foreground_scenes(const Options& o, const sim::ExperimentConfig& cfg, const EvidenceGrid& background,
-                           bool plots, std::ostringstream& md, bool& written) {
+                           bool plots, std::ostringstream& md, bool& written, std::vector<ComparisonRow>& rows) {
     const char* scenes[] = {"large", "small", "person"};
-    const char* titles[] = {"Precision-recall, large object (one more box)",
-                            "Precision-recall, small object (a 2x4 on a box)",
-                            "Precision-recall, a walking person (not in the paper)"};
+    const char* titles[] = {"large object (one more box)", "small object (a 2x4 on a box)",
+                            "a walking person (not in the paper)"};
+    const std::string suffix = suffix_of(cfg.model);
     for (int s = 0; s < 3; ++s) {
         sim::SceneFile file;
         sim::SceneResult result(cfg.geometry);
         if (!run(o, scenes[s], cfg, file, result, &background)) {
             return false;
         }
-        written = write_text(o.out_dir + "/pr-" + result.name + ".csv", csv_of(result)) && written;
-        md << "## Scene \"" << result.name << "\": " << file.description << "\n\n"
+        add_rows(result, cfg.model, rows);
+        written = write_text(o.out_dir + "/pr-" + result.name + suffix + ".csv", csv_of(result)) && written;
+        md << "### Scene \"" << result.name << "\": " << file.description << "\n\n"
            << "Ground truth (last frame): " << result.last_truth.foreground << " foreground, "
            << result.last_truth.not_foreground << " not foreground, " << result.last_truth.unknown
            << " unknown (not scored) voxels.\n\n"
            << table_of(result) << "\n";
         if (plots) {
-            written = write_plot(o, result.name, titles[s]) && written;
+            const std::string title = std::string("Precision-recall, ") + titles[s] + ", " + title_of(cfg.model);
+            written = write_plot(o, result.name + suffix, title) && written;
         }
-        if (s < 2) {
+        if (s < 2 && cfg.model == sim::EvalSensorModel::kPaper) {
             write_renders(o, result, file.sensors.size() > 2 ? file.sensors[2] : file.sensors.front());
         }
         if (s == 0) {
@@ -430,7 +516,7 @@ bool run_empty_scene(const Options& o, const sim::ExperimentConfig& cfg, const E
     if (!run(o, "empty", cfg, file, result, &background)) {
         return false;
     }
-    md << "## Scene \"empty\": the background alone\n\n"
+    md << "### Scene \"empty\": the background alone\n\n"
        << "Foreground voxels of the last frame after subtraction, inside background boxes (voxels wholly inside) "
           "and anywhere, at t_f = 0.001 and at the figures' t_f = 0.73.\n\n"
        << "| method | inside, t_f 0.001 | anywhere, t_f 0.001 | inside, t_f 0.73 | anywhere, t_f 0.73 |\n"
@@ -448,13 +534,57 @@ bool run_empty_scene(const Options& o, const sim::ExperimentConfig& cfg, const E
     return true;
 }
 
-/// The paper's scenes on one shared G_B, appended to @p md; false when one fails.
+/// The paper's scenes on one shared G_B under @p cfg's model, as a section of @p md; false when one fails.
 bool run_paper_scenes(const Options& o, const sim::ExperimentConfig& cfg, bool plots, std::ostringstream& md,
-                      bool& written) {
+                      bool& written, std::vector<ComparisonRow>& rows) {
+    static_cast<void>(std::printf("== %s\n", title_of(cfg.model)));
+    md << "## With " << title_of(cfg.model) << "\n\n";
     sim::OwnedGrid background(cfg.geometry);
     return build_shared_background(o, cfg, background, md) &&
-           run_foreground_scenes(o, cfg, background.grid, plots, md, written) &&
+           run_foreground_scenes(o, cfg, background.grid, plots, md, written, rows) &&
            run_empty_scene(o, cfg, background.grid, md);
+}
+
+/// The two models side by side: the plots, then per scene and method the figures of each model.
+void write_comparison(const std::vector<sim::EvalSensorModel>& models, bool plots,
+                      const std::vector<ComparisonRow>& rows, std::ostringstream& md) {
+    md << "## The two sensor models side by side\n\n";
+    if (plots && models.size() == 2U) {
+        md << "| scene | " << title_of(models[0]) << " | " << title_of(models[1]) << " |\n|---|---|---|\n";
+        for (const char* scene : {"large", "small", "person"}) {
+            md << "| " << scene << " | ![" << scene << ", paper](pr-" << scene << ".png) | ![" << scene
+               << ", product](pr-" << scene << "-product.png) |\n";
+        }
+        md << "\n";
+    }
+    md << "| scene | method | model | best F1 (t_f) | precision at recall 0.9 | at recall 0.8 | at recall 0.5 | "
+          "recall at precision 0.5 | max recall | distinct recalls |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const char* scene : {"large", "small", "person"}) {
+        for (const PriorMethod m : sim::kAllMethods) {
+            for (const ComparisonRow& r : rows) {
+                if (r.scene == scene && r.method == m) {
+                    md << "| " << scene << " | " << sim::method_name(m) << " | " << sim::model_name(r.model) << " | "
+                       << fmt(r.summary.best_f1) << " (" << fmt(r.summary.best_f1_t_f, 2) << ") | "
+                       << fmt(r.summary.precision_at_recall_90) << " | " << fmt(r.precision_at_recall_80) << " | "
+                       << fmt(r.precision_at_recall_50) << " | " << fmt(r.recall_at_precision_50) << " | "
+                       << fmt(r.summary.max_recall) << " | " << r.distinct_recalls << " |\n";
+                }
+            }
+        }
+    }
+    md << "\n";
+}
+
+/// The models --model names, the paper's first.
+std::vector<sim::EvalSensorModel> models_of(const Options& o) {
+    std::vector<sim::EvalSensorModel> m;
+    if (o.model != "product") {
+        m.push_back(sim::EvalSensorModel::kPaper);
+    }
+    if (o.model != "paper") {
+        m.push_back(sim::EvalSensorModel::kProduct);
+    }
+    return m;
 }
 
 }  // namespace
@@ -468,21 +598,27 @@ int main(int argc, char** argv) {
     if (!make_output_folder(o.out_dir)) {
         return 1;
     }
-    const sim::ExperimentConfig cfg = experiment_config(o);
+    const std::vector<sim::EvalSensorModel> models = models_of(o);
     std::ostringstream md;
-    write_results_intro(o, cfg, md);
+    write_results_intro(o, experiment_config(o, models.front()), md);
     const bool plots = plots_wanted(o);
     bool written = true;  // every output file written
-    if (o.paper_scenes && !run_paper_scenes(o, cfg, plots, md, written)) {
-        return 1;
+    std::ostringstream sections;
+    std::vector<ComparisonRow> rows;
+    for (const sim::EvalSensorModel model : models) {
+        if (o.paper_scenes && !run_paper_scenes(o, experiment_config(o, model), plots, sections, written, rows)) {
+            return 1;
+        }
     }
     int status = 0;
     if (o.scale) {
         std::ostringstream scale_md;
-        status = run_scale(o, cfg, scale_md);
+        status = run_scale(o, experiment_config(o, models.back()), scale_md);  // the product's, when run
         written = write_text(o.out_dir + "/scale.md", scale_md.str()) && written;
     }
     if (o.paper_scenes) {
+        write_comparison(models, plots, rows, md);
+        md << sections.str();
         written = write_text(o.out_dir + "/results.md", md.str()) && written;
         static_cast<void>(std::printf("wrote %s/results.md, pr-*.csv%s, render-*.png\n", o.out_dir.c_str(),
                                       plots ? ", pr-*.png" : ""));
