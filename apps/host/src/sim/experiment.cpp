@@ -72,16 +72,6 @@ OwnedGrid::OwnedGrid(const GridGeometry& g)
     grid.clear();
 }
 
-const char* method_name(PriorMethod method) {
-    switch (method) {
-        case PriorMethod::kThresholded: return "thresholded";
-        case PriorMethod::kProbabilistic: return "probabilistic";
-        case PriorMethod::kThresholdedBaseline: return "thresholded-baseline";
-        case PriorMethod::kProbabilisticBaseline: return "probabilistic-baseline";
-    }
-    return "unknown";
-}
-
 std::vector<double> default_thresholds() {
     std::vector<double> t = {0.001, 0.005};
     for (int i = 1; i <= 99; ++i) {
