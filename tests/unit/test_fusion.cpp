@@ -389,3 +389,38 @@ TEST_CASE(
     CHECK(op[g.index_of(VoxelCoord{0, 1, 1})] == model.constant_free_evidence());
     CHECK(std::count(op.begin(), op.end(), model.reading_evidence()) == 0);
 }
+
+// verifies: SR-FUSE-001, SR-EVAL-005
+TEST_CASE(
+    "fusion: the reading loop hands every valid reading to its visitor as a ray, in pixel order, placed as fusion places it") {
+    struct Recorder final : RayVisitor {
+        std::vector<Eigen::Vector3d> origins;
+        std::vector<Eigen::Vector3d> readings;
+        RayOutcome ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& reading) noexcept override {
+            origins.push_back(origin);
+            readings.push_back(reading);
+            return RayOutcome{3U, readings.size() % 2U == 1U};  // odd rays "in the grid"
+        }
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<float> depth = {1.0F, nan, 0.0F, 2.0F, -1.0F, 9.0F};  // 3 x 2: two valid
+    SensorReading r = looking_along_x(Span<const Eigen::Vector3f>());
+    r.kind = SensorDataKind::kDepthImage;
+    r.depth = Span<const float>(depth.data(), depth.size());
+    r.intrinsics = PinholeIntrinsics{100.0, 100.0, 1.0, 0.5, 3, 2};
+    REQUIRE(validate_sensor_reading(r).ok());
+    Recorder rec;
+    const FusionStats s = for_each_reading_ray(r, rec);
+    REQUIRE(rec.readings.size() == 2U);
+    const PinholeIntrinsics& k = r.intrinsics;
+    CHECK(rec.readings[0] == reading_in_cell(r.pose, depth_pixel_point(k, 1.0 / k.fx, 1.0 / k.fy, 0, 0, 1.0F)));
+    CHECK(rec.readings[1] == reading_in_cell(r.pose, depth_pixel_point(k, 1.0 / k.fx, 1.0 / k.fy, 0, 1, 2.0F)));
+    CHECK(rec.origins[0] == r.pose.translation());
+    CHECK(s.rays_fused == 2U);
+    CHECK(s.readings_in_grid == 1U);
+    CHECK(s.voxel_updates == 6U);
+    CHECK(s.skipped_nan == 1U);
+    CHECK(s.skipped_zero == 1U);
+    CHECK(s.skipped_behind == 1U);
+    CHECK(s.skipped_out_of_range == 1U);  // 9 m beyond max_range 5 m
+}

@@ -11,9 +11,9 @@
 #include <immintrin.h>
 #endif
 
-#include "cellguard/grid/reading_class.hpp"
 #include "hit_pass.hpp"
 #include "placement.hpp"
+#include "reading_class.hpp"
 
 namespace cellguard {
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "cellguard/grid/reading_class.hpp"
 #include "placement.hpp"
+#include "reading_class.hpp"
 
 namespace cellguard {
 
@@ -122,27 +122,45 @@ using detail::classify_point;
 using detail::count_skipped;
 using detail::ReadingClass;
 
-void fuse_point(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& r, const Eigen::Vector3f& p,
-                const SensorModelTable& model, Rasterization rasterization, FusionStats& s) noexcept {
+void visit_point(const SensorReading& r, const Eigen::Vector3f& p, RayVisitor& visitor, FusionStats& s) noexcept {
     const ReadingClass c = classify_point(p, r.min_range, r.max_range);
     if (c != ReadingClass::kValid) {
         count_skipped(s, c);
         return;
     }
-    bool in_grid = false;
-    s.voxel_updates += trace_ray_opinions(opinions, g, r.pose.translation(), detail::cell_point(r.pose, p), model,
-                                          rasterization, &in_grid);
+    const RayOutcome o = visitor.ray(r.pose.translation(), detail::cell_point(r.pose, p));
+    s.voxel_updates += o.visits;
     ++s.rays_fused;
-    s.readings_in_grid += in_grid ? 1U : 0U;
+    s.readings_in_grid += o.reading_in_grid ? 1U : 0U;
 }
 
-/// Writes the opinions of every valid reading of @p reading (already validated) into @p opinions.
-FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, const SensorReading& reading,
-                         const SensorModelTable& model, Rasterization rasterization) noexcept {
+/// The opinions of one sensor's rays, written into its scratch (fuse_sensor).
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class OpinionRays final : public RayVisitor {
+public:
+    OpinionRays(Span<std::int16_t> opinions, const GridGeometry& g, const SensorModelTable& model,
+                Rasterization rasterization) noexcept
+        : opinions_(opinions), g_(g), model_(model), rasterization_(rasterization) {}
+    RayOutcome ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& reading) noexcept override {
+        RayOutcome o;
+        o.visits = trace_ray_opinions(opinions_, g_, origin, reading, model_, rasterization_, &o.reading_in_grid);
+        return o;
+    }
+
+private:
+    Span<std::int16_t> opinions_;
+    const GridGeometry& g_;
+    const SensorModelTable& model_;
+    Rasterization rasterization_;
+};
+
+}  // namespace
+
+FusionStats for_each_reading_ray(const SensorReading& reading, RayVisitor& visitor) noexcept {
     FusionStats s;
     if (reading.kind == SensorDataKind::kPointSet) {
         for (const Eigen::Vector3f& p : reading.points) {
-            fuse_point(opinions, g, reading, p, model, rasterization, s);
+            visit_point(reading, p, visitor, s);
         }
         return s;
     }
@@ -159,13 +177,11 @@ FusionStats trace_sensor(Span<std::int16_t> opinions, const GridGeometry& g, con
                 count_skipped(s, raw);
                 continue;
             }
-            fuse_point(opinions, g, reading, detail::pixel_point(k, inv_fx, inv_fy, u, v, d), model, rasterization, s);
+            visit_point(reading, detail::pixel_point(k, inv_fx, inv_fy, u, v, d), visitor, s);
         }
     }
     return s;
 }
-
-}  // namespace
 
 Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading, const SensorModelTable& model,
                                 Span<std::int16_t> scratch, Rasterization rasterization) noexcept {
@@ -181,7 +197,8 @@ Result<FusionStats> fuse_sensor(EvidenceGrid& grid, const SensorReading& reading
     for (std::int16_t& e : opinions) {
         e = kNoOpinion;
     }
-    const FusionStats s = trace_sensor(opinions, grid.geometry(), reading, model, rasterization);
+    OpinionRays rays(opinions, grid.geometry(), model, rasterization);
+    const FusionStats s = for_each_reading_ray(reading, rays);
     pool_opinions(grid, Span<const std::int16_t>(opinions), model);
     return s;
 }

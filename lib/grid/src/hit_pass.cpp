@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "cellguard/grid/reading_class.hpp"
 #include "placement.hpp"
+#include "reading_class.hpp"
 
 #if defined(__x86_64__)
 #include <immintrin.h>

@@ -5,57 +5,28 @@
 #include <cmath>
 
 #include "cellguard/grid/log_odds.hpp"
-#include "cellguard/grid/reading_class.hpp"
 
 namespace cellguard::sim {
 
 namespace {
 
-using detail::classify_depth;
-using detail::classify_point;
-using detail::count_skipped;
-using detail::ReadingClass;
+/// Adds each ray's profile to the grid (fuse_frame_per_ray).
+// NOLINTNEXTLINE(cppcoreguidelines-virtual-class-destructor): final, and the base's destructor is protected: never deleted through the base
+class ProfileRays final : public RayVisitor {
+public:
+    ProfileRays(EvidenceGrid& grid, const SensorModelTable& profile, Rasterization rasterization) noexcept
+        : grid_(grid), profile_(profile), rasterization_(rasterization) {}
+    RayOutcome ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& reading) noexcept override {
+        RayOutcome o;
+        o.visits = add_ray_profile(grid_, origin, reading, profile_, rasterization_, &o.reading_in_grid);
+        return o;
+    }
 
-void add_point(EvidenceGrid& grid, const SensorReading& r, const Eigen::Vector3f& p, const SensorModelTable& profile,
-               Rasterization rasterization, FusionStats& s) noexcept {
-    const ReadingClass c = classify_point(p, r.min_range, r.max_range);
-    if (c != ReadingClass::kValid) {
-        count_skipped(s, c);
-        return;
-    }
-    bool in_grid = false;
-    s.voxel_updates += add_ray_profile(grid, r.pose.translation(), reading_in_cell(r.pose, p), profile, rasterization,
-                                       &in_grid);
-    ++s.rays_fused;
-    s.readings_in_grid += in_grid ? 1U : 0U;
-}
-
-FusionStats add_sensor(EvidenceGrid& grid, const SensorReading& r, const SensorModelTable& profile,
-                       Rasterization rasterization) noexcept {
-    FusionStats s;
-    if (r.kind == SensorDataKind::kPointSet) {
-        for (const Eigen::Vector3f& p : r.points) {
-            add_point(grid, r, p, profile, rasterization, s);
-        }
-        return s;
-    }
-    const PinholeIntrinsics& k = r.intrinsics;
-    const double inv_fx = 1.0 / k.fx;
-    const double inv_fy = 1.0 / k.fy;
-    std::size_t i = 0U;
-    for (std::int32_t v = 0; v < k.height; ++v) {
-        for (std::int32_t u = 0; u < k.width; ++u, ++i) {
-            const float d = depth_value(r, i);
-            const ReadingClass raw = classify_depth(d);  // before the point: 0 * inf would hide an infinity
-            if (raw != ReadingClass::kValid) {
-                count_skipped(s, raw);
-                continue;
-            }
-            add_point(grid, r, depth_pixel_point(k, inv_fx, inv_fy, u, v, d), profile, rasterization, s);
-        }
-    }
-    return s;
-}
+private:
+    EvidenceGrid& grid_;
+    const SensorModelTable& profile_;
+    Rasterization rasterization_;
+};
 
 }  // namespace
 
@@ -115,9 +86,10 @@ Result<FusionStats> fuse_frame_per_ray(EvidenceGrid& grid, Span<const SensorRead
             return valid.error();
         }
     }
+    ProfileRays rays(grid, profile, rasterization);
     FusionStats total;
     for (const SensorReading& r : sensors) {
-        total.add(add_sensor(grid, r, profile, rasterization));
+        total.add(for_each_reading_ray(r, rays));
     }
     return total;
 }

@@ -112,6 +112,35 @@ std::uint32_t trace_ray_opinions(Span<std::int16_t> opinions, const GridGeometry
                                  const Eigen::Vector3d& reading, const SensorModelTable& model,
                                  Rasterization rasterization, bool* reading_in_grid) noexcept;
 
+/// What one ray did, as the receiver of for_each_reading_ray reports it.
+struct RayOutcome {
+    std::uint32_t visits = 0U;     ///< voxels the ray reached
+    bool reading_in_grid = false;  ///< the reading's voxel lies in the grid
+};
+
+/// Receives the rays of a sensor's valid readings (for_each_reading_ray).
+class RayVisitor {
+public:
+    /// One valid reading's ray, from the sensor's @p origin to @p reading (cell frame, metres).
+    virtual RayOutcome ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& reading) noexcept = 0;
+
+protected:
+    RayVisitor() = default;
+    ~RayVisitor() = default;
+    RayVisitor(const RayVisitor&) = default;
+    RayVisitor& operator=(const RayVisitor&) = default;
+    RayVisitor(RayVisitor&&) = default;
+    RayVisitor& operator=(RayVisitor&&) = default;
+};
+
+/// The one reading loop of every per-ray path: hands each valid reading of
+/// @p reading (already validated: validate_sensor_reading) to @p visitor as a
+/// ray, points in order and depth pixels row by row, placed as every path
+/// places them (depth_pixel_point, reading_in_cell); skips and counts the
+/// readings fusion skips (the file comment), and counts the rays, the
+/// readings in the grid and the voxel visits the visitor reports.
+[[nodiscard]] FusionStats for_each_reading_ray(const SensorReading& reading, RayVisitor& visitor) noexcept;
+
 /// Pools a sensor's @p opinions (kNoOpinion: none) into @p grid and sets the
 /// observed flag of every voxel with an opinion; shared by fuse_sensor and
 /// tools that gather opinions themselves. The spans must hold at least

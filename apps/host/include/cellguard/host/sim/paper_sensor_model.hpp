@@ -25,10 +25,10 @@
 /// 640 x 480 a quarter of real Kinect frames' surface voxels were lost that
 /// way (issue 24; safety manual 1.1). The product keeps every reading.
 ///
-/// Readings are skipped by the product's rules, through its own
-/// classification (grid/reading_class.hpp): NaN, infinite, zero, behind the
-/// sensor (z < 0), nearer than min_range or beyond max_range. Host code: the
-/// evaluation's experiments and their tests.
+/// Readings are taken, placed and skipped by the product's one reading loop
+/// (for_each_reading_ray, fusion.hpp): NaN, infinite, zero, behind the
+/// sensor (z < 0), nearer than min_range or beyond max_range are skipped.
+/// Host code: the evaluation's experiments and their tests.
 #ifndef CELLGUARD_HOST_SIM_PAPER_SENSOR_MODEL_HPP
 #define CELLGUARD_HOST_SIM_PAPER_SENSOR_MODEL_HPP
 

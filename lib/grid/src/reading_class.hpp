@@ -1,11 +1,10 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
 /// @file reading_class.hpp
-/// How every fusion path (fusion.cpp, footprint_fusion.cpp, hit_pass.cpp,
-/// and the evaluation's per-ray paper model in apps/host) decides whether a
-/// reading is fused or skipped, and counts the skipped ones. One
-/// implementation, so the paths skip the same readings. In `detail`: the
-/// building blocks of fusion, not an interface of its own.
+/// Private to the grid module: how every fusion path (fusion.cpp,
+/// footprint_fusion.cpp) decides whether a reading is fused or skipped, and
+/// counts the skipped ones. One implementation, so the paths skip the same
+/// readings.
 #ifndef CELLGUARD_GRID_READING_CLASS_HPP
 #define CELLGUARD_GRID_READING_CLASS_HPP
 
