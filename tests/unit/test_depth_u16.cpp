@@ -18,6 +18,7 @@
 #include "cellguard/grid/ray_table.hpp"
 #include "cellguard/host/owned_ray_table.hpp"
 #include "cellguard/safety/background_check.hpp"
+#include "fusion_stats_check.hpp"
 
 using namespace cellguard;
 
@@ -99,17 +100,6 @@ SensorReading float_reading(const std::vector<float>& depth) {
     r.kind = SensorDataKind::kDepthImage;
     r.depth = Span<const float>(depth.data(), depth.size());
     return r;
-}
-
-void check_same_stats(const FusionStats& a, const FusionStats& b) {
-    CHECK(a.rays_fused == b.rays_fused);
-    CHECK(a.readings_in_grid == b.readings_in_grid);
-    CHECK(a.skipped_nan == b.skipped_nan);
-    CHECK(a.skipped_infinite == b.skipped_infinite);
-    CHECK(a.skipped_zero == b.skipped_zero);
-    CHECK(a.skipped_behind == b.skipped_behind);
-    CHECK(a.skipped_out_of_range == b.skipped_out_of_range);
-    CHECK(a.voxel_updates == b.voxel_updates);
 }
 
 /// The scale and offset pairs the equality tests run: millimetres, half
