@@ -139,12 +139,12 @@ std::string gnuplot_quoted(const std::string& text) {
     std::ostringstream s;
     s << "# gnuplot script written by cellguard-eval: precision-recall curves of pr-" << scene << ".csv\n"
       << "set terminal pngcairo size 720,540 font 'sans,11'\n"
-      << "set output '" << o.out_dir << "/pr-" << scene << ".png'\n"
+      << "set output '" << gnuplot_quoted(o.out_dir) << "/pr-" << scene << ".png'\n"
       << "set datafile separator ','\n"
       << "set title '" << gnuplot_quoted(title) << "'\n"
       << "set xlabel 'recall'\nset ylabel 'precision'\n"
       << "set xrange [0:1]\nset yrange [0:1.02]\nset grid\nset key bottom left\n"
-      << "f(m) = '" << o.out_dir << "/pr-" << scene << ".csv'\n";
+      << "f(m) = '" << gnuplot_quoted(o.out_dir) << "/pr-" << scene << ".csv'\n";
     const char* names[4] = {"thresholded", "probabilistic", "thresholded-baseline", "probabilistic-baseline"};
     const char* styles[4] = {"lw 2 pt 7 ps 0.5 lc rgb '#1f77b4'", "lw 2 pt 5 ps 0.5 lc rgb '#d62728'",
                              "lw 1.5 dt 2 pt 6 ps 0.5 lc rgb '#1f77b4'", "lw 1.5 dt 2 pt 4 ps 0.5 lc rgb '#d62728'"};

@@ -16,6 +16,10 @@ namespace cellguard::host {
 /// True when a `gnuplot` program is on the PATH.
 [[nodiscard]] bool have_gnuplot();
 
+/// @p text as one single-quoted word for the POSIX shell: each ' written as
+/// '\'' (so a path with a quote in it stays one argument and runs nothing).
+[[nodiscard]] std::string shell_quoted(const std::string& text);
+
 /// Writes @p script to @p script_path and, when gnuplot is installed, runs
 /// it. False, with the reason on @p err (the calling program's name first),
 /// when the script cannot be written; true otherwise, with a note on @p err
