@@ -346,15 +346,7 @@ void run_paper(const char* name, int k, sim::SceneResult& out) {
 }
 
 /// Largest recall among points with precision >= @p precision; 0 when none.
-double recall_at(const sim::MethodResult& m, double precision) {
-    double best = 0.0;
-    for (const sim::PrPoint& p : m.curve) {
-        if (p.precision >= precision && p.tp > 0U && p.recall > best) {
-            best = p.recall;
-        }
-    }
-    return best;
-}
+double recall_at(const sim::MethodResult& m, double precision) { return sim::recall_at_precision(m.curve, precision); }
 
 /// Phantom voxels of the last frame at @p t_f: called foreground, not foreground by the ground truth, and
 /// background in G_B (P(occ; G_B) >= t_B: a surface of the background, where only a change in the evidence

@@ -446,17 +446,6 @@ struct ComparisonRow {
     std::size_t distinct_recalls = 0U;
 };
 
-/// Largest recall among points of @p curve with precision >= @p precision and something called foreground.
-double recall_at_precision(const std::vector<sim::PrPoint>& curve, double precision) {
-    double best = 0.0;
-    for (const sim::PrPoint& p : curve) {
-        if (p.tp > 0U && p.precision >= precision && p.recall > best) {
-            best = p.recall;
-        }
-    }
-    return best;
-}
-
 /// Appends the rows of @p r under @p model to @p rows.
 void add_rows(const sim::SceneResult& r, sim::EvalSensorModel model, std::vector<ComparisonRow>& rows) {
     for (const sim::MethodResult& m : r.methods) {
@@ -467,7 +456,7 @@ void add_rows(const sim::SceneResult& r, sim::EvalSensorModel model, std::vector
         row.summary = m.summary;
         row.precision_at_recall_80 = sim::precision_at_recall(m.curve, 0.8);
         row.precision_at_recall_50 = sim::precision_at_recall(m.curve, 0.5);
-        row.recall_at_precision_50 = recall_at_precision(m.curve, 0.5);
+        row.recall_at_precision_50 = sim::recall_at_precision(m.curve, 0.5);
         row.distinct_recalls = sim::distinct_recalls(m.curve);
         rows.push_back(row);
     }

@@ -169,6 +169,16 @@ double precision_at_recall(const std::vector<PrPoint>& curve, double recall) {
     return best;
 }
 
+double recall_at_precision(const std::vector<PrPoint>& curve, double precision) {
+    double best = 0.0;
+    for (const PrPoint& p : curve) {
+        if (p.tp > 0U && p.precision >= precision && p.recall > best) {
+            best = p.recall;
+        }
+    }
+    return best;
+}
+
 PrSummary summarize(const std::vector<PrPoint>& curve) {
     PrSummary s;
     for (const PrPoint& p : curve) {

@@ -125,6 +125,10 @@ struct PrSummary {
 /// (interpolated precision); -1 when no point reaches that recall.
 double precision_at_recall(const std::vector<PrPoint>& curve, double recall);
 
+/// Largest recall among points of @p curve with precision >= @p precision
+/// that call something foreground (tp > 0); 0 when none.
+double recall_at_precision(const std::vector<PrPoint>& curve, double precision);
+
 /// The default sweep of t_f: 0.001, 0.005, 0.01 to 0.99 by 0.01, 0.995,
 /// 0.999, and 0.73 (the paper's figures' value, already in the grid).
 std::vector<double> default_thresholds();
