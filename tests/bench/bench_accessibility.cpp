@@ -142,6 +142,24 @@ struct Figures {
     std::size_t reduced;  // voxels with -inf < prior < 0
 };
 
+/// Milliseconds of @p runs calls of @p call (a Status), sorted; exits naming @p what when a call fails.
+template <class Call>
+std::vector<double> sorted_ms(int runs, const char* what, Call&& call) {
+    std::vector<double> ms;
+    for (int k = 0; k < runs; ++k) {
+        const auto t0 = Clock::now();
+        const Status s = call();
+        const auto t1 = Clock::now();
+        if (!s.ok()) {
+            std::fprintf(stderr, "%s failed: %s\n", what, to_string(s.error()));
+            std::exit(1);
+        }
+        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    std::sort(ms.begin(), ms.end());
+    return ms;
+}
+
 /// Subtraction at run time, as the cycle does it: evaluate_zones adds the prior to a frame and counts one zone
 /// that covers the whole grid (frame: the background itself). Median ms over @p runs, and the paper's figure.
 void bench_subtraction(Background& bg, const std::vector<std::int16_t>& prior, int runs) {
@@ -158,20 +176,11 @@ void bench_subtraction(Background& bg, const std::vector<std::int16_t>& prior, i
         std::exit(1);
     }
     const EvidenceGrid frame = bg.grid();
-    std::vector<double> ms;
     ZoneEvaluation out;
-    for (int k = 0; k < runs; ++k) {
-        const auto t0 = Clock::now();
-        const Status s = evaluate_zones(frame, Span<const std::int16_t>(prior.data(), prior.size()), zones.value(),
-                                        ZoneEvaluationParams{}, out);
-        const auto t1 = Clock::now();
-        if (!s.ok()) {
-            std::fprintf(stderr, "evaluate_zones failed: %s\n", to_string(s.error()));
-            std::exit(1);
-        }
-        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
+    const std::vector<double> ms = sorted_ms(runs, "evaluate_zones", [&] {
+        return evaluate_zones(frame, Span<const std::int16_t>(prior.data(), prior.size()), zones.value(),
+                              ZoneEvaluationParams{}, out);
+    });
     std::printf("  %-24s %12.4f %12.4f %12s %12s   %s\n", "subtraction + 1 zone", ms[ms.size() / 2], ms.front(), "-",
                 "-", "< 1 ms (paper) / -");
 }
@@ -184,22 +193,12 @@ Figures run(Background& bg, PriorMethod method, int runs, std::vector<std::int16
     std::vector<std::uint8_t> bytes(need.bytes);
     std::vector<std::int16_t> prior(bg.lo.size());
     const EvidenceGrid grid = bg.grid();
-    std::vector<double> ms;
-    for (int k = 0; k < runs; ++k) {
-        const auto t0 = Clock::now();
-        const Status s = compute_accessibility_prior(
-            grid, p,
-            AccessibilityScratch{Span<std::uint32_t>(words.data(), words.size()),
-                                 Span<std::uint8_t>(bytes.data(), bytes.size())},
-            Span<std::int16_t>(prior.data(), prior.size()), Span<float>());
-        const auto t1 = Clock::now();
-        if (!s.ok()) {
-            std::fprintf(stderr, "compute_accessibility_prior failed: %s\n", to_string(s.error()));
-            std::exit(1);
-        }
-        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
+    const std::vector<double> ms = sorted_ms(runs, "compute_accessibility_prior", [&] {
+        return compute_accessibility_prior(grid, p,
+                                           AccessibilityScratch{Span<std::uint32_t>(words.data(), words.size()),
+                                                                Span<std::uint8_t>(bytes.data(), bytes.size())},
+                                           Span<std::int16_t>(prior.data(), prior.size()), Span<float>());
+    });
     if (prior_out != nullptr) {
         *prior_out = prior;
     }
