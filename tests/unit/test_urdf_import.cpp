@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Verifies urdf_import.hpp: the demo arm's URDF as a RobotModel, the capsules of each geometry (meshes from STL
 // included, each vertex inside), and every refusal naming its link, joint or file.
-// Requirements: SR-ROB-101, SR-ROB-102, SR-ROB-103, SR-ROB-104, SR-ROB-106, SR-ROB-107
+// Requirements: SR-ROB-101, SR-ROB-102, SR-ROB-103, SR-ROB-104, SR-ROB-106, SR-ROB-107, SR-ROB-108
 #include <doctest/doctest.h>
 
 #if defined(CELLGUARD_HOST_URDF) && CELLGUARD_HOST_URDF  // a cross build has no liburdfdom (apps/host/CMakeLists.txt)
@@ -345,16 +345,124 @@ TEST_CASE("urdf import: joint limits: velocity, order, range, continuous joints,
 }
 
 // verifies: SR-ROB-104
-TEST_CASE("urdf import: floating, planar and mimic joints are refused naming the joint") {
+TEST_CASE("urdf import: floating and planar joints, and a mimic of an arm joint, are refused naming the joint") {
     const UrdfImportOptions none = order({});
     refusal(robot(link("base") + link("arm") + joint("free", "base", "arm", "floating", "")), none,
             {"joint 'free' is floating"});
     refusal(robot(link("base") + link("arm") + joint("plane", "base", "arm", "planar", R"(<axis xyz="0 0 1"/>)")), none,
             {"joint 'plane' is planar"});
-    refusal(
-        robot(link("base") + link("a") + link("b") + joint("j1", "base", "a") +
-              joint("j2", "base", "b", "revolute", std::string(R"(<axis xyz="0 0 1"/><mimic joint="j1"/>)") + kLimit)),
-        order({"j1", "j2"}), {"joint 'j2' mimics joint 'j1'"});
+    const std::string mimic_arm = robot(
+        link("base") + link("a") + link("b") + joint("j1", "base", "a") +
+        joint("j2", "base", "b", "revolute", std::string(R"(<axis xyz="0 0 1"/><mimic joint="j1"/>)") + kLimit));
+    refusal(mimic_arm, order({"j1", "j2"}), {"joint 'j2' mimics joint 'j1'", "name 'j1' a stroke joint"});
+    refusal(mimic_arm, order({"j1"}), {"joint 'j2' mimics joint 'j1'"});
+}
+
+namespace {
+
+const char* const kFingerLimit = R"(<limit lower="0" upper="0.04" velocity="0.2" effort="20"/>)";
+
+/// A Panda-like hand: j1 (revolute) to "hand", two prismatic fingers along +y and -y, the second a mimic of the
+/// first with @p mimic (attributes of <mimic>), a 10 x 20 x 50 mm box on each finger.
+std::string gripper(const std::string& mimic = R"(joint="finger_joint1")") {
+    const std::string finger = collision(R"(<box size="0.01 0.02 0.05"/>)", R"(<origin xyz="0 0 0.025"/>)");
+    return robot(
+        link("base") + link("hand", collision(R"(<box size="0.05 0.2 0.06"/>)")) + link("left", finger) +
+        link("right", finger) + joint("j1", "base", "hand") +
+        joint("finger_joint1", "hand", "left", "prismatic", std::string(R"(<axis xyz="0 1 0"/>)") + kFingerLimit) +
+        joint("finger_joint2", "hand", "right", "prismatic",
+              std::string(R"(<axis xyz="0 -1 0"/><mimic )") + mimic + "/>" + kFingerLimit));
+}
+
+UrdfImportOptions gripper_options() {
+    UrdfImportOptions o = order({"j1"});
+    o.stroke_joints = {"finger_joint1"};
+    return o;
+}
+
+}  // namespace
+
+// verifies: SR-ROB-108
+TEST_CASE("urdf import: a gripper's fingers, one a mimic, fold into the hand, enclosed over the whole stroke") {
+    UrdfImport r;
+    const IoStatus st = host::import_urdf_text(gripper(), gripper_options(), r);
+    REQUIRE_MESSAGE(st.ok(), st.message());
+    // base, hand: the fingers are no links of the model, no finger joint goes over CAN.
+    CHECK(r.model.link_count == 2U);
+    CHECK(r.model.joint_count == 1U);
+    REQUIRE(r.model.capsule_count == 4U);  // the base's sphere, the hand's box, a finger's envelope each
+    REQUIRE(r.folded.size() == 2U);
+    CHECK(r.folded[0].anchor == "hand");
+    CHECK(r.model.capsules[2].link == 1U);
+    CHECK(r.model.capsules[3].link == 1U);
+    // Each finger's box corners, at 2,001 positions of the stroke (finger 2 at -y, the mimic), inside its envelope.
+    for (std::size_t f = 0U; f < 2U; ++f) {
+        const RobotCapsule& c = r.model.capsules[2U + f];
+        const std::string& name = r.folded[f].link;
+        const double sign = name == "left" ? 1.0 : -1.0;
+        bool all = true;
+        for (int k = 0; k <= 2000; ++k) {
+            const double q = 0.04 * k / 2000.0;
+            for (int corner = 0; corner < 8; ++corner) {
+                const Eigen::Vector3d p((corner & 1) != 0 ? 0.005 : -0.005, ((corner & 2) != 0 ? 0.01 : -0.01),
+                                        ((corner & 4) != 0 ? 0.05 : 0.0));
+                all = all && contains(c, p + Eigen::Vector3d(0.0, sign * q, 0.1));
+            }
+        }
+        CHECK_MESSAGE(all, name);
+    }
+    // What it costs: the finger's 50 mm capsule swept 40 mm sideways: a capsule along the finger, thicker by
+    // half the stroke (20 mm), and no more than a millimetre beyond that.
+    const host::Capsule& before = r.folded[0].original;
+    const host::Capsule& after = r.folded[0].envelope;
+    MESSAGE("finger capsule radius " << before.radius << " -> " << after.radius << " m, volume "
+                                     << host::capsule_volume(before) * 1e3 << " -> "
+                                     << host::capsule_volume(after) * 1e3 << " L");
+    CHECK(after.radius >= before.radius + 0.02);
+    CHECK(after.radius <= before.radius + 0.021);
+    CHECK((after.b - after.a).norm() == doctest::Approx(0.05).epsilon(0.02));
+    bool noted = false;
+    for (const std::string& note : r.notes) {
+        noted = noted || note.find("link 'left' folded into 'hand' over its stroke") != std::string::npos;
+    }
+    CHECK(noted);
+}
+
+// verifies: SR-ROB-108
+TEST_CASE("urdf import: a mimic ratio that drives the finger outside its own limits is refused as a wrong ratio") {
+    refusal(gripper(R"(joint="finger_joint1" multiplier="2")"), gripper_options(),
+            {"joint 'finger_joint2' mimics joint 'finger_joint1' (x 2 + 0)", "0 .. 0.08", "outside its own limits",
+             "a wrong multiplier or offset?"});
+    refusal(gripper(R"(joint="finger_joint1" offset="-0.01")"), gripper_options(), {"-0.01 .. 0.03"});
+    refusal(gripper(R"(joint="ghost")"), gripper_options(), {"mimics joint 'ghost', which is not a movable joint"});
+    // Named itself, a mimic is enclosed over its own limits (and the notes say so).
+    UrdfImportOptions both = gripper_options();
+    both.stroke_joints.emplace_back("finger_joint2");
+    UrdfImport r;
+    REQUIRE(host::import_urdf_text(gripper(R"(joint="finger_joint1" multiplier="2")"), both, r).ok());
+    CHECK(r.folded.size() == 2U);
+}
+
+// verifies: SR-ROB-108
+TEST_CASE("urdf import: stroke joints are movable joints of the URDF, named once, never also sent by the PLC") {
+    UrdfImportOptions o = gripper_options();
+    o.stroke_joints = {"nope"};
+    refusal(gripper(), o, {"stroke joint 'nope' is not a movable joint of the URDF"});
+    o.stroke_joints = {"finger_joint1", "finger_joint1"};
+    refusal(gripper(), o, {"stroke joint 'finger_joint1' named twice"});
+    o = order({"j1", "finger_joint1"});
+    o.stroke_joints = {"finger_joint1"};
+    refusal(gripper(), o, {"joint 'finger_joint1' is named both in the PLC's order and a stroke joint"});
+    // The arm below a stroke joint cannot be sent by the PLC.
+    o = order({"j1"});
+    o.stroke_joints = {"j1"};
+    refusal(gripper(), o, {"stroke joint", "j1"});
+    o = order({});
+    o.stroke_joints = {"j1"};
+    refusal(gripper(), o, {"joint 'finger_joint1' moves below a stroke joint: name it a stroke joint too"});
+    // Without naming the fingers: the missing joint says what to do.
+    refusal(gripper(), order({"j1", "finger_joint1"}), {"joint 'finger_joint2' mimics joint 'finger_joint1'"});
+    refusal(gripper(R"(joint="j1")"), order({"j1", "finger_joint1"}), {"joint 'finger_joint2' mimics joint 'j1'"});
 }
 
 // verifies: SR-ROB-106

@@ -32,7 +32,9 @@ constexpr const char* kDescription =
     "Imports a robot's URDF (liburdfdom) and writes the robot image the\n"
     "controllers load: the kinematic tree, the movable joints in the PLC's\n"
     "order with their limits, and each link's collision geometry as capsules\n"
-    "(spheres, cylinders, boxes, STL meshes; COLLADA is refused). Reads the\n"
+    "(spheres, cylinders, boxes, STL meshes; COLLADA is refused); a gripper's\n"
+    "finger links folded into the link they hang from, enclosed over their\n"
+    "whole stroke (--stroke-joints). Reads the\n"
     "image back with the controller's loader and prints a summary with the\n"
     "image's CRC-32 and the robot id (its low 16 bits) the PLC must send.\n"
     "Mesh paths: package://NAME/... through --package NAME=DIR, relative paths\n"
@@ -46,6 +48,7 @@ struct Options {
     std::string urdf;
     std::string out;
     std::vector<std::string> joints;
+    std::vector<std::string> strokes;
     std::map<std::string, std::string> packages;
     double base[4] = {0.0, 0.0, 0.0, 0.0};
 };
@@ -82,6 +85,15 @@ void take_joints(const std::string& v, Options& o) {
     }
 }
 
+void take_strokes(const std::string& v, Options& o) {
+    o.strokes = split(v, ',');
+    for (const std::string& name : o.strokes) {
+        if (name.empty()) {
+            host::reject("--stroke-joints expects joint names separated by commas, got '" + v + "'");
+        }
+    }
+}
+
 void take_base(const std::string& v, Options& o) {
     const std::vector<std::string> parts = split(v, ',');
     bool ok = parts.size() == 3U || parts.size() == 4U;
@@ -111,6 +123,11 @@ int parse_args(const std::vector<std::string>& args, Options& o, std::ostream& o
     cli.value("--joints", "A,B,...", "the PLC's joint order: every movable joint, once (required)",
               [&o](const std::string& v) { take_joints(v, o); })
         .required();
+    cli.value("--stroke-joints", "A,B,...",
+              "joints the PLC does not send (a gripper's fingers): their\n"
+              "links, and their mimic joints', are enclosed over the\n"
+              "whole stroke by capsules on the link they hang from",
+              [&o](const std::string& v) { take_strokes(v, o); });
     cli.value("--base", "X,Y,Z[,YAW]",
               "the root link's position in the cell, metres, and its\n"
               "rotation about the cell's z axis, degrees (required)",
@@ -194,6 +211,7 @@ bool write_image(const RobotModel& model, const std::string& path, std::uint32_t
 int run(const Options& o, std::ostream& out, std::ostream& err) {
     host::UrdfImportOptions options;
     options.joint_order = o.joints;
+    options.stroke_joints = o.strokes;
     options.packages = o.packages;
     options.base_xyz = Eigen::Vector3d(o.base[0], o.base[1], o.base[2]);
     options.base_rotation = Eigen::AngleAxisd(o.base[3] * kPi / 180.0, Eigen::Vector3d::UnitZ());

@@ -16,12 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// Capsule volume: the cylinder between the ends and a sphere.
-double capsule_volume(const Capsule& c) {
-    const double r = c.radius;
-    return kPi * r * r * (c.b - c.a).norm() + 4.0 / 3.0 * kPi * r * r * r;
-}
-
 /// The capsule along unit @p axis: its line through the centre of the
 /// points' bounding rectangle across the axis, radius the largest distance
 /// from that line, and the shortest segment that contains every point.
@@ -61,6 +55,11 @@ Capsule capsule_along(const std::vector<Eigen::Vector3d>& points, const Eigen::V
 }
 
 }  // namespace
+
+double capsule_volume(const Capsule& c) noexcept {
+    const double r = c.radius;
+    return kPi * r * r * (c.b - c.a).norm() + 4.0 / 3.0 * kPi * r * r * r;
+}
 
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     const Eigen::Vector3d ab = b - a;

@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "cellguard/host/io/stl.hpp"
+#include "cellguard/host/io/stroke_envelope.hpp"
 
 namespace cellguard::host {
 
@@ -309,10 +310,6 @@ JointType joint_type(const urdf::Joint& joint) {
 
 void put_joint(const urdf::Joint& joint, RobotLink& link, std::vector<std::string>& notes) {
     link.joint = joint_type(joint);
-    if (joint.mimic) {
-        fail(ErrorCode::kUnsupportedType, "joint '%s' mimics joint '%s': mimic joints are not supported",
-             joint.name.c_str(), joint.mimic->joint_name.c_str());
-    }
     put_pose(joint.parent_to_joint_origin_transform, joint.name, link);
     if (link.joint != JointType::kFixed) {
         put_axis(joint, link, notes);
@@ -349,11 +346,252 @@ void put_command_order(const std::vector<Node>& nodes, const std::vector<std::st
     }
     for (std::size_t i = 1U; i < nodes.size(); ++i) {
         if (model.links[i].joint != JointType::kFixed && model.links[i].command_index == kNoCommandIndex) {
-            fail(ErrorCode::kInvalidArgument, "joint order: movable joint '%s' is missing (the PLC must send it)",
+            fail(ErrorCode::kInvalidArgument,
+                 "joint order: movable joint '%s' is missing (the PLC must send it; a gripper's finger joint is "
+                 "named a stroke joint instead)",
                  nodes[i].joint->name.c_str());
         }
     }
     model.joint_count = static_cast<std::uint8_t>(order.size());
+}
+
+// ---------------------------------------------------------------- strokes
+
+/// Which nodes the PLC does not move, and the stroke variable of each
+/// stroke joint (see stroke_envelope.hpp).
+struct StrokePlan {
+    std::vector<bool> folded;         ///< node i is a stroke joint's child or below one
+    std::vector<int> variable;        ///< stroke joints: their variable; -1 elsewhere
+    std::vector<double> multiplier;   ///< stroke joints: position = multiplier * variable + offset
+    std::vector<double> offset;       ///< see multiplier
+    std::vector<StrokeRange> ranges;  ///< per variable: its joint's limits
+    std::vector<std::string> names;   ///< per variable: its joint's name
+};
+
+int find_node(const std::vector<Node>& nodes, const std::string& joint) {
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        if (nodes[i].joint->name == joint) {
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+bool named(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// The stroke joints as named: each a movable joint of the URDF, once, not also sent by the PLC.
+void check_stroke_names(const std::vector<Node>& nodes, const UrdfImportOptions& options) {
+    for (std::size_t k = 0U; k < options.stroke_joints.size(); ++k) {
+        const std::string& name = options.stroke_joints[k];
+        const int i = find_node(nodes, name);
+        if (i < 0 || !is_movable(*nodes[static_cast<std::size_t>(i)].joint)) {
+            fail(ErrorCode::kInvalidArgument, "stroke joint '%s' is not a movable joint of the URDF", name.c_str());
+        }
+        if (named(options.joint_order, name)) {
+            fail(ErrorCode::kInvalidArgument, "joint '%s' is named both in the PLC's order and a stroke joint",
+                 name.c_str());
+        }
+        if (std::find(options.stroke_joints.begin(), options.stroke_joints.begin() + static_cast<long>(k), name) !=
+            options.stroke_joints.begin() + static_cast<long>(k)) {
+            fail(ErrorCode::kInvalidArgument, "stroke joint '%s' named twice", name.c_str());
+        }
+    }
+}
+
+/// The master of mimic joint @p i, which must be in the URDF and not a mimic itself.
+std::size_t mimic_master(const std::vector<Node>& nodes, std::size_t i) {
+    const urdf::Joint& joint = *nodes[i].joint;
+    const int master = find_node(nodes, joint.mimic->joint_name);
+    if (master < 0 || !is_movable(*nodes[static_cast<std::size_t>(master)].joint)) {
+        fail(ErrorCode::kInvalidArgument, "joint '%s' mimics joint '%s', which is not a movable joint of the URDF",
+             joint.name.c_str(), joint.mimic->joint_name.c_str());
+    }
+    if (nodes[static_cast<std::size_t>(master)].joint->mimic) {
+        fail(ErrorCode::kUnsupportedType, "joint '%s' mimics joint '%s', itself a mimic joint: not supported",
+             joint.name.c_str(), joint.mimic->joint_name.c_str());
+    }
+    return static_cast<std::size_t>(master);
+}
+
+/// A mimic's position over its master's range must stay within its own
+/// limits: a wrong multiplier or offset in the file shows there.
+void check_mimic_range(const urdf::Joint& joint, const StrokeRange& master, const RobotLink& own) {
+    const double m = joint.mimic->multiplier;
+    const double o = joint.mimic->offset;
+    if (!std::isfinite(m) || !std::isfinite(o)) {
+        fail(ErrorCode::kNonFiniteValue, "joint '%s': mimic multiplier or offset is not finite", joint.name.c_str());
+    }
+    const double lo = std::min(m * master.lower + o, m * master.upper + o);
+    const double hi = std::max(m * master.lower + o, m * master.upper + o);
+    const double slack = 1e-6 * std::max(1.0, std::max(std::abs(own.lower), std::abs(own.upper)));
+    if (lo < own.lower - slack || hi > own.upper + slack) {
+        fail(ErrorCode::kInvalidArgument,
+             "joint '%s' mimics joint '%s' (x %g + %g): its master's range gives %g .. %g, outside its own limits "
+             "%g .. %g (a wrong multiplier or offset?)",
+             joint.name.c_str(), joint.mimic->joint_name.c_str(), m, o, lo, hi, own.lower, own.upper);
+    }
+}
+
+/// Stroke joint @p i's own limits, checked as any movable joint's.
+StrokeRange stroke_limits(const urdf::Joint& joint, std::vector<std::string>& notes) {
+    RobotLink scratch;
+    scratch.joint = joint_type(joint);
+    put_limits(joint, scratch, notes);
+    return StrokeRange{scratch.lower, scratch.upper};
+}
+
+/// Gives node @p i (a stroke joint) its variable: a mimic of a stroke joint
+/// follows its master's (which must have its own already); any other
+/// stroke joint has its own.
+void plan_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const UrdfImportOptions& options,
+                       StrokePlan& plan, std::vector<std::string>& notes) {
+    const urdf::Joint& joint = *nodes[i].joint;
+    const bool follows = joint.mimic && !named(options.stroke_joints, joint.name);
+    if (!follows) {
+        plan.variable[i] = static_cast<int>(plan.ranges.size());
+        plan.ranges.push_back(stroke_limits(joint, notes));
+        plan.names.push_back(joint.name);
+        if (joint.mimic) {
+            notes.push_back("joint '" + joint.name + "' mimics '" + joint.mimic->joint_name +
+                            "' but is named a stroke joint: enclosed over its own limits");
+        }
+        return;
+    }
+    const std::size_t master = mimic_master(nodes, i);
+    RobotLink own;
+    own.joint = joint_type(joint);
+    put_limits(joint, own, notes);
+    check_mimic_range(joint, plan.ranges[static_cast<std::size_t>(plan.variable[master])], own);
+    plan.variable[i] = plan.variable[master];
+    plan.multiplier[i] = joint.mimic->multiplier;
+    plan.offset[i] = joint.mimic->offset;
+}
+
+/// Whether node @p i's joint is a stroke joint: named, or a mimic of a named one.
+bool is_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const UrdfImportOptions& options) {
+    const urdf::Joint& joint = *nodes[i].joint;
+    if (!is_movable(joint)) {
+        return false;
+    }
+    if (named(options.stroke_joints, joint.name)) {
+        return true;
+    }
+    if (!joint.mimic) {
+        return false;
+    }
+    const std::size_t master = mimic_master(nodes, i);
+    if (named(options.stroke_joints, nodes[master].joint->name)) {
+        return true;
+    }
+    fail(ErrorCode::kUnsupportedType,
+         "joint '%s' mimics joint '%s': the controller takes every arm joint from the PLC's command, so a mimic "
+         "joint must move a gripper: name '%s' a stroke joint (its links are then enclosed over the whole stroke)",
+         joint.name.c_str(), joint.mimic->joint_name.c_str(), joint.mimic->joint_name.c_str());
+}
+
+StrokePlan plan_strokes(const std::vector<Node>& nodes, const UrdfImportOptions& options,
+                        std::vector<std::string>& notes) {
+    check_stroke_names(nodes, options);
+    StrokePlan plan;
+    plan.folded.assign(nodes.size(), false);
+    plan.variable.assign(nodes.size(), -1);
+    plan.multiplier.assign(nodes.size(), 1.0);
+    plan.offset.assign(nodes.size(), 0.0);
+    std::vector<bool> stroke_joint(nodes.size(), false);
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        const bool stroke = is_stroke_joint(nodes, i, options);
+        plan.folded[i] = stroke || plan.folded[static_cast<std::size_t>(nodes[i].parent)];
+        if (plan.folded[i] && named(options.joint_order, nodes[i].joint->name)) {
+            fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' hangs below a stroke joint: not sent by the PLC",
+                 nodes[i].joint->name.c_str());
+        }
+        if (plan.folded[i] && is_movable(*nodes[i].joint) && !stroke) {
+            fail(ErrorCode::kInvalidArgument,
+                 "joint '%s' moves below a stroke joint: name it a stroke joint too (the PLC cannot send it)",
+                 nodes[i].joint->name.c_str());
+        }
+        stroke_joint[i] = stroke;
+    }
+    for (const bool followers : {false, true}) {  // masters first, then the mimics that follow them
+        for (std::size_t i = 1U; i < nodes.size(); ++i) {
+            const bool follows = nodes[i].joint->mimic && !named(options.stroke_joints, nodes[i].joint->name);
+            if (stroke_joint[i] && follows == followers) {
+                plan_stroke_joint(nodes, i, options, plan, notes);
+            }
+        }
+    }
+    return plan;
+}
+
+/// The nodes the model keeps (not folded), parents renumbered; @p index maps old to new (-1: folded).
+std::vector<Node> kept_nodes(const std::vector<Node>& nodes, const StrokePlan& plan, std::vector<int>& index) {
+    std::vector<Node> out;
+    index.assign(nodes.size(), -1);
+    for (std::size_t i = 0U; i < nodes.size(); ++i) {
+        if (!plan.folded[i]) {
+            index[i] = static_cast<int>(out.size());
+            Node n = nodes[i];
+            n.parent = n.parent < 0 ? -1 : index[static_cast<std::size_t>(n.parent)];
+            out.push_back(n);
+        }
+    }
+    return out;
+}
+
+/// The chain from folded node @p i's anchor (returned in @p anchor, an old index) down to it.
+std::vector<StrokeStep> stroke_chain(const std::vector<Node>& nodes, const StrokePlan& plan, std::size_t i,
+                                     std::size_t& anchor, std::vector<std::string>& notes) {
+    std::vector<std::size_t> path;
+    std::size_t k = i;
+    while (plan.folded[k]) {
+        path.insert(path.begin(), k);
+        k = static_cast<std::size_t>(nodes[k].parent);
+    }
+    anchor = k;
+    std::vector<StrokeStep> chain;
+    for (const std::size_t n : path) {
+        const urdf::Joint& joint = *nodes[n].joint;
+        RobotLink scratch;
+        put_pose(joint.parent_to_joint_origin_transform, joint.name, scratch);
+        StrokeStep step;
+        step.origin = Eigen::Translation3d(scratch.origin_xyz[0], scratch.origin_xyz[1], scratch.origin_xyz[2]) *
+                      Eigen::Quaterniond(scratch.origin_wxyz[0], scratch.origin_wxyz[1], scratch.origin_wxyz[2],
+                                         scratch.origin_wxyz[3]);
+        step.type = joint_type(joint);
+        if (step.type != JointType::kFixed) {
+            put_axis(joint, scratch, notes);
+            step.axis = Eigen::Vector3d(scratch.axis[0], scratch.axis[1], scratch.axis[2]);
+            step.variable = static_cast<std::size_t>(plan.variable[n]);
+            step.multiplier = plan.multiplier[n];
+            step.offset = plan.offset[n];
+        }
+        chain.push_back(step);
+    }
+    return chain;
+}
+
+/// Folded node @p i's capsule @p c as an envelope on its anchor.
+Capsule fold_capsule(const std::vector<Node>& nodes, const StrokePlan& plan, std::size_t i, const Capsule& c,
+                     UrdfImport& result) {
+    std::size_t anchor = 0U;
+    const std::vector<StrokeStep> chain = stroke_chain(nodes, plan, i, anchor, result.notes);
+    StrokeEnvelope envelope;
+    const IoStatus st = envelope_capsule(chain, plan.ranges, c, envelope);
+    if (!st) {
+        fail(st.error(), "link '%s': %s", nodes[i].link->name.c_str(), st.message());
+    }
+    result.folded.push_back(FoldedCapsule{nodes[i].link->name, nodes[anchor].link->name, c, envelope.capsule,
+                                          envelope.between, envelope.poses});
+    char text[256];
+    static_cast<void>(std::snprintf(
+        text, sizeof(text),
+        "link '%s' folded into '%s' over its stroke: capsule radius %.4f -> %.4f m, volume %.3f -> %.3f L (%zu poses)",
+        nodes[i].link->name.c_str(), nodes[anchor].link->name.c_str(), c.radius, envelope.capsule.radius,
+        1e3 * capsule_volume(c), 1e3 * capsule_volume(envelope.capsule), envelope.poses));
+    result.notes.emplace_back(text);
+    return envelope.capsule;
 }
 
 // ---------------------------------------------------------------- geometry
@@ -554,13 +792,21 @@ std::vector<LinkCapsule> link_capsules(const urdf::Link& link, const UrdfImportO
     return parts;
 }
 
-void put_capsules(const std::vector<Node>& nodes, const UrdfImportOptions& options, UrdfImport& result) {
+/// Every node's capsules: a kept node's on its own link, a folded node's as
+/// envelopes on its anchor (@p index maps nodes to model links).
+void put_capsules(const std::vector<Node>& nodes, const StrokePlan& plan, const std::vector<int>& index,
+                  const UrdfImportOptions& options, UrdfImport& result) {
     std::vector<std::pair<std::size_t, Capsule>> all;
     std::vector<std::string> per_link;
     for (std::size_t i = 0U; i < nodes.size(); ++i) {
         const std::vector<LinkCapsule> parts = link_capsules(*nodes[i].link, options, result.notes);
+        std::size_t k = i;
+        while (plan.folded[k]) {
+            k = static_cast<std::size_t>(nodes[k].parent);
+        }
         for (const LinkCapsule& p : parts) {
-            all.emplace_back(i, p.capsule);
+            const Capsule c = plan.folded[i] ? fold_capsule(nodes, plan, i, p.capsule, result) : p.capsule;
+            all.emplace_back(static_cast<std::size_t>(index[k]), c);
         }
         if (!parts.empty()) {
             per_link.push_back(nodes[i].link->name + " " + std::to_string(parts.size()));
@@ -610,7 +856,10 @@ void put_name_and_base(const std::string& name, const UrdfImportOptions& options
 void import_model(const std::string& text, const UrdfImportOptions& options, UrdfImport& result) {
     const urdf::ModelInterfaceSharedPtr urdf = parse_model(text);
     check_xml(text);
-    std::vector<Node> nodes = drop_empty_frames(depth_first(*urdf), result.notes);
+    const std::vector<Node> all = drop_empty_frames(depth_first(*urdf), result.notes);
+    const StrokePlan plan = plan_strokes(all, options, result.notes);
+    std::vector<int> index;
+    const std::vector<Node> nodes = kept_nodes(all, plan, index);
     if (nodes.size() > kMaxRobotLinks) {
         fail(ErrorCode::kCapacityExceeded, "%zu links, at most %zu", nodes.size(), kMaxRobotLinks);
     }
@@ -629,7 +878,7 @@ void import_model(const std::string& text, const UrdfImportOptions& options, Urd
         result.joint_names.push_back(nodes[i].joint->name);
     }
     put_command_order(nodes, options.joint_order, model);
-    put_capsules(nodes, options, result);
+    put_capsules(all, plan, index, options, result);
     put_name_and_base(urdf->getName(), options, result);
     const RobotModelError error = check_robot_model(model);
     if (error.code != ErrorCode::kOk) {

@@ -17,7 +17,8 @@
 /// limits -2 pi .. +2 pi (kinematics are periodic: the PLC sends the
 /// position wrapped into that range, which the command's +-6.5534 rad
 /// carries), and the notes say so. Refused, naming the joint: floating and
-/// planar joints, mimic joints, a movable joint without <axis>, a zero axis,
+/// planar joints, a mimic joint that is not a stroke joint (below), a mimic
+/// of a mimic or of a joint the URDF lacks, a movable joint without <axis>, a zero axis,
 /// an axis whose length differs from 1 by more than kUrdfAxisTolerance
 /// (within it, the axis is normalised and the notes say so: URDFs write
 /// "0.7071 0 0.7071"), lower > upper, velocity <= 0 (a continuous joint
@@ -26,6 +27,22 @@
 /// joint names (UrdfImportOptions::joint_order), matched by name: each must
 /// name a movable joint, once; every movable joint must be named; at most
 /// kMaxRobotJoints. A zero pose outside the limits is allowed (real arms).
+///
+/// Grippers: UrdfImportOptions::stroke_joints names the joints the PLC does
+/// not send (a gripper's fingers). A mimic joint of a stroke joint is one
+/// too and follows it (position = multiplier x master + offset); its
+/// master's range must map inside its own limits, or the file is refused
+/// as a wrong multiplier or offset. A stroke joint named itself is enclosed
+/// over its own limits (also a mimic: the notes say so). Every link below a
+/// stroke joint is folded into the nearest link above that is not (the
+/// anchor): it leaves the model, and each of its capsules becomes, on the
+/// anchor, a capsule that encloses it over every position of the stroke
+/// joints that move it (stroke_envelope.hpp; at most kMaxStrokeVariables
+/// per capsule). Refused: a stroke joint that is not a movable joint of the
+/// URDF, named twice or also in the PLC's order; a joint in the PLC's order
+/// below a stroke joint; a movable joint below a stroke joint that is not
+/// named a stroke joint. FoldedCapsule records each fold; the notes give
+/// the radius and volume before and after.
 ///
 /// Structure: liburdfdom's own refusals (two roots, no root, a joint to a
 /// missing link) and, checked on the XML, a link with two parent joints.
@@ -94,6 +111,11 @@ struct UrdfImportOptions {
     std::string base_directory;
     /// See the file comment; 0 merges only spheres fully inside.
     double merge_tolerance = kUrdfMergeTolerance;
+    /// Stroke joints: movable joints the PLC does not send (a gripper's
+    /// fingers). Each, every mimic joint of it and every link below it are
+    /// folded into the link above (the anchor), whose capsules then enclose
+    /// theirs over the whole stroke (stroke_envelope.hpp).
+    std::vector<std::string> stroke_joints;
 };
 
 /// A capsule in some frame: the points within radius of the segment a-b.
@@ -103,12 +125,23 @@ struct Capsule {
     double radius = 0.0;                          ///< metres
 };
 
+/// A capsule of a link folded into its anchor: what it became.
+struct FoldedCapsule {
+    std::string link;        ///< URDF name of the folded link
+    std::string anchor;      ///< URDF name of the link that carries the envelope
+    Capsule original{};      ///< the capsule in the folded link's frame
+    Capsule envelope{};      ///< in the anchor's frame, enclosing the original over the stroke
+    double between = 0.0;    ///< the envelope's margin for movement between sampled poses, metres
+    std::size_t poses = 0U;  ///< sampled poses
+};
+
 /// The imported robot and what the import did.
 struct UrdfImport {
     RobotModel model{};                    ///< checked with check_robot_model()
     std::vector<std::string> link_names;   ///< URDF name of model link i
     std::vector<std::string> joint_names;  ///< URDF name of the joint above link i ("" for the root)
-    std::vector<std::string> notes;        ///< merges, normalised axes, dropped frames, continuous joints
+    std::vector<std::string> notes;        ///< merges, normalised axes, dropped frames, continuous joints, folds
+    std::vector<FoldedCapsule> folded;     ///< capsules of links below stroke joints, as enveloped
 };
 
 /// Imports the URDF @p text. Errors (the message names the link, joint or
@@ -130,6 +163,9 @@ IoStatus import_urdf_file(const std::string& path, const UrdfImportOptions& opti
 /// least volume; its radius is then raised to the largest distance of any
 /// point from its segment, so that containment holds as computed.
 Capsule bounding_capsule(const std::vector<Eigen::Vector3d>& points);
+
+/// Volume of @p c, cubic metres: a cylinder and a sphere.
+[[nodiscard]] double capsule_volume(const Capsule& c) noexcept;
 
 /// Distance of @p p from the segment @p a - @p b.
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
