@@ -15,10 +15,11 @@
 # --demo installs only what tools/demo.sh needs to build and run the programs
 # (the demo preset: no tests, benchmarks, browser or camera libraries), instead
 # of the default set: the compiler, CMake and Ninja, Eigen, toml++, CLI11,
-# libpng and liburdfdom (the robot demo commissions its arm from a URDF).
+# libpng, liburdfdom and assimp (the robot demo commissions its arm from a URDF;
+# assimp reads collision meshes: STL, COLLADA, OBJ).
 set -euo pipefail
 demo_pkgs=(build-essential cmake ninja-build pkg-config libeigen3-dev libtomlplusplus-dev libcli11-dev
-           libpng-dev liburdfdom-dev)
+           libpng-dev liburdfdom-dev libassimp-dev)
 # gnuplot-nox: cellguard-eval draws the precision-recall plots with it (pngcairo).
 # libcli11-dev: the host programs' command lines; libpng-dev: their PNG writer.
 # python3-canmatrix: the third-party DBC decoder of tools/dbc_decode_check.py (ctest dbc_decoded_by_canmatrix).
@@ -31,7 +32,7 @@ demo_pkgs=(build-essential cmake ninja-build pkg-config libeigen3-dev libtomlplu
 # chromium, python3-websocket: the headless-browser test of that view (DevTools protocol).
 pkgs=(build-essential cmake ninja-build clang clang-tidy cppcheck libclang-rt-14-dev
       libeigen3-dev doctest-dev libtomlplusplus-dev liboctomap-dev valgrind gcovr python3
-      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev python3-canmatrix
+      gnuplot-nox libcli11-dev libpng-dev liburdfdom-dev libassimp-dev python3-canmatrix
       libaravis-dev libusb-1.0-0-dev aravis-tools aravis-tools-cli libsystemd-dev pkg-config iproute2
       systemd python3-numpy libcivetweb-dev libjs-three chromium python3-websocket)
 arm64=0

@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/stl.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
 #include "cellguard/robot/kinematics.hpp"
 #include "cellguard/robot/robot_image.hpp"
 #include "cellguard/robot/robot_model.hpp"
+#include "stl_reference.hpp"
 #include "temp_dir.hpp"
 
 using namespace cellguard;
@@ -563,12 +563,78 @@ TEST_CASE("urdf import: STL meshes, binary and ASCII, package:// and relative: t
         }
     }
     CHECK(r.model.capsules[1].radius < 0.06);  // along the 0.8 m edge, not around it
-    host::StlMesh wedge;
-    REQUIRE(host::read_stl_file(std::string(CELLGUARD_TEST_DATA_DIR) + "/urdf/wedge.stl", wedge).ok());
+    test::StlMesh wedge;
+    REQUIRE(test::read_stl_file(std::string(CELLGUARD_TEST_DATA_DIR) + "/urdf/wedge.stl", wedge).ok());
     CHECK(wedge.ascii);
     for (const Eigen::Vector3d& p : wedge.vertices) {
         CHECK(contains(r.model.capsules[2], p));
     }
+}
+
+// verifies: SR-ROB-105
+TEST_CASE("urdf import: a COLLADA mesh in millimetres and an OBJ mesh give capsules in metres that hold them") {
+    TempDir dir("urdf-formats");
+    // A 400 x 100 x 50 mm box as COLLADA in millimetres, and the same box in metres as OBJ.
+    std::string corners;
+    for (int k = 0; k < 8; ++k) {
+        corners += std::to_string((k & 1) != 0 ? 400 : 0) + " " + std::to_string((k & 2) != 0 ? 100 : 0) + " " +
+                   std::to_string((k & 4) != 0 ? 50 : 0) + " ";
+    }
+    write_text(
+        dir.file("meshes/box.dae"),
+        std::string(R"(<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" )"
+                    R"(version="1.4.1"><asset><unit meter="0.001"/><up_axis>Z_UP</up_axis></asset>)"
+                    R"(<library_geometries><geometry id="g"><mesh><source id="p"><float_array id="a" count="24">)") +
+            corners +
+            R"(</float_array><technique_common><accessor source="#a" count="8" stride="3"><param name="X" )"
+            R"(type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor>)"
+            R"(</technique_common></source><vertices id="v"><input semantic="POSITION" source="#p"/>)"
+            R"(</vertices><triangles count="4"><input semantic="VERTEX" source="#v" offset="0"/>)"
+            R"(<p>0 1 2 1 3 2 4 5 6 5 7 6</p></triangles></mesh></geometry></library_geometries>)"
+            R"(<library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/>)"
+            R"(</node></visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene>)"
+            R"(</COLLADA>)");
+    write_text(dir.file("meshes/box.obj"),
+               "v 0 0 0\nv 0.4 0 0\nv 0 0.1 0\nv 0.4 0.1 0\nv 0 0 0.05\nv 0.4 0 0.05\n"
+               "v 0 0.1 0.05\nv 0.4 0.1 0.05\nf 1 2 3\nf 2 4 3\nf 5 6 7\nf 6 8 7\n");
+    for (const char* file : {"meshes/box.dae", "meshes/box.obj"}) {
+        write_text(dir.file("robot.urdf"), two_links(collision("<mesh filename=\"" + std::string(file) + "\"/>")));
+        UrdfImport r;
+        const IoStatus st = host::import_urdf_file(dir.file("robot.urdf"), order({"j1"}), r);
+        REQUIRE_MESSAGE(st.ok(), st.message());
+        const RobotCapsule& c = r.model.capsules[1];
+        for (int k = 0; k < 8; ++k) {
+            CHECK(contains(
+                c, Eigen::Vector3d((k & 1) != 0 ? 0.4 : 0.0, (k & 2) != 0 ? 0.1 : 0.0, (k & 4) != 0 ? 0.05 : 0.0)));
+        }
+        CHECK(c.radius < 0.06);  // along the 0.4 m edge: metres, not millimetres
+    }
+}
+
+// verifies: SR-ROB-105
+TEST_CASE("urdf import: a mesh in the wrong unit is refused: millimetres read as metres, metres scaled as mm") {
+    TempDir dir("urdf-units");
+    write_binary_stl(dir.file("meshes/mm.stl"), box_triangles(400.0F, 100.0F, 50.0F));  // millimetres, no scale
+    write_binary_stl(dir.file("meshes/m.stl"), box_triangles(0.4F, 0.1F, 0.05F));
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"(<mesh filename="meshes/mm.stl"/>)", "415.331"},
+        {R"(<mesh filename="meshes/m.stl" scale="0.001 0.001 0.001"/>)", "0.000415331"}};
+    for (const auto& [mesh, across] : cases) {
+        write_text(dir.file("robot.urdf"), two_links(collision(mesh)));
+        UrdfImport r;
+        const IoStatus st = host::import_urdf_file(dir.file("robot.urdf"), order({"j1"}), r);
+        CHECK_FALSE(st.ok());
+        const std::string message = st.message();
+        INFO("message: " << message);
+        CHECK(message.find("link 'arm'") != std::string::npos);
+        CHECK(message.find(across + " m across") != std::string::npos);
+        CHECK(message.find("a mesh in the wrong unit?") != std::string::npos);
+    }
+    // The millimetre file with its scale stated is accepted.
+    write_text(dir.file("robot.urdf"),
+               two_links(collision(R"(<mesh filename="meshes/mm.stl" scale="0.001 0.001 0.001"/>)")));
+    UrdfImport r;
+    CHECK(host::import_urdf_file(dir.file("robot.urdf"), order({"j1"}), r).ok());
 }
 
 // verifies: SR-ROB-102
@@ -576,8 +642,7 @@ TEST_CASE("urdf import: unsupported and unresolvable meshes are refused naming t
     const UrdfImportOptions o = order({"j1"});
     auto mesh = [](const std::string& file) { return two_links(collision("<mesh filename=\"" + file + "\"/>")); };
     refusal(mesh("package://arm/meshes/forearm.dae"), o,
-            {"link 'arm'", "package://arm/meshes/forearm.dae", "COLLADA (.dae) is not supported"});
-    refusal(mesh("meshes/forearm.obj"), o, {"link 'arm'", "meshes/forearm.obj", "only STL"});
+            {"link 'arm'", "package://arm/meshes/forearm.dae", "package 'arm' not given"});
     refusal(mesh("package://arm/meshes/forearm.stl"), o, {"link 'arm'", "package 'arm' not given"});
     refusal(mesh("file:///opt/arm/forearm.stl"), o, {"link 'arm'", "only package:// and paths relative"});
     refusal(mesh("/opt/arm/forearm.stl"), o, {"link 'arm'", "only package:// and paths relative"});
@@ -585,6 +650,8 @@ TEST_CASE("urdf import: unsupported and unresolvable meshes are refused naming t
     UrdfImportOptions with_dir = o;
     with_dir.base_directory = "/nonexistent/cellguard";
     refusal(mesh("meshes/forearm.stl"), with_dir, {"link 'arm'", "forearm.stl: cannot open"});
+    refusal(mesh("meshes/forearm.obj"), with_dir, {"link 'arm'", "forearm.obj: cannot open"});
+    refusal(mesh("meshes/forearm.ply"), with_dir, {"link 'arm'", "only STL, COLLADA (.dae) and OBJ meshes are read"});
 }
 
 // verifies: SR-ROB-102

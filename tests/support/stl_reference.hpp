@@ -1,9 +1,10 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-/// @file stl.hpp
-/// STL triangle meshes, binary and ASCII, for commissioning: the URDF
-/// importer (urdf_import.hpp) bounds a link's mesh by a capsule computed
-/// from its vertices. Host side only (heap).
+/// @file stl_reference.hpp
+/// STL triangle meshes, binary and ASCII, read by the project's own reader:
+/// the independent reference the tests compare the mesh library's reading
+/// with (commissioning reads meshes through mesh.hpp since issue 39; this
+/// reader was the product's until then). Tests only (heap).
 ///
 /// Which form: a file whose size is exactly 84 + 50 n bytes, n being the
 /// little-endian uint32 at byte 80, is binary (even when its 80-byte header
@@ -23,8 +24,8 @@
 /// triangle at all, NaN or infinity in any vertex or normal, a truncated
 /// file, trailing bytes after a binary file's triangles, and any ASCII
 /// token out of place. Normals are checked but not used.
-#ifndef CELLGUARD_HOST_IO_STL_HPP
-#define CELLGUARD_HOST_IO_STL_HPP
+#ifndef CELLGUARD_TEST_STL_REFERENCE_HPP
+#define CELLGUARD_TEST_STL_REFERENCE_HPP
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -34,7 +35,7 @@
 
 #include "cellguard/host/io/io_status.hpp"
 
-namespace cellguard::host {
+namespace cellguard::test {
 
 /// Largest STL input, bytes (a robot link's mesh is a few MB).
 constexpr std::size_t kStlMaxBytes = std::size_t{64} << 20U;
@@ -60,6 +61,6 @@ IoStatus parse_stl(const std::uint8_t* data, std::size_t size, StlMesh& mesh);
 /// starts with the path.
 IoStatus read_stl_file(const std::string& path, StlMesh& mesh);
 
-}  // namespace cellguard::host
+}  // namespace cellguard::test
 
-#endif  // CELLGUARD_HOST_IO_STL_HPP
+#endif  // CELLGUARD_TEST_STL_REFERENCE_HPP

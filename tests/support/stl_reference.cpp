@@ -1,6 +1,7 @@
 // SPDX-FileCopyrightText: 2026 The cellguard authors
 // SPDX-License-Identifier: Apache-2.0
-#include "cellguard/host/io/stl.hpp"
+// The project's own STL reader, kept as the tests' independent reference (stl_reference.hpp).
+#include "stl_reference.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -10,8 +11,9 @@
 #include <string_view>
 
 #include "cellguard/host/io/file.hpp"
+#include "cellguard/host/io/io_status.hpp"
 
-namespace cellguard::host {
+namespace cellguard::test {
 
 namespace {
 
@@ -243,7 +245,7 @@ IoStatus parse_stl(const std::uint8_t* data, std::size_t size, StlMesh& mesh) {
 }
 
 IoStatus read_stl_file(const std::string& path, StlMesh& mesh) {
-    FilePtr file = open_file(path.c_str(), "rb");
+    host::FilePtr file = host::open_file(path.c_str(), "rb");
     if (!file) {
         return IoStatus::failure(ErrorCode::kInvalidArgument, "%s: cannot open: %s", path.c_str(),
                                  std::strerror(errno));
@@ -267,4 +269,4 @@ IoStatus read_stl_file(const std::string& path, StlMesh& mesh) {
     return parse_stl(bytes.data(), n, mesh).prefixed(path.c_str());
 }
 
-}  // namespace cellguard::host
+}  // namespace cellguard::test
