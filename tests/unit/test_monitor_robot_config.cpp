@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include <string>
+#include <vector>
 
 #include "cellguard/host/cell/config.hpp"
 
@@ -50,6 +51,11 @@ TEST_CASE("monitor config: the robot-cell example loads its cases, robot, separa
     REQUIRE(c.robot.enabled);
     CHECK(c.robot.joints.size() == 6U);
     CHECK(c.robot.joints[2] == "elbow_joint");
+    CHECK(c.robot.stroke_joints.empty());  // the demo arm has no gripper
+    const ConfigLoad gripper = parse_monitor_config(
+        edited("[robot]", "[robot]\nstroke_joints = [\"finger_joint1\", \"finger_joint3\"]"), "cell.toml");
+    REQUIRE_MESSAGE(gripper.ok, gripper.error);
+    CHECK(gripper.config.robot.stroke_joints == std::vector<std::string>{"finger_joint1", "finger_joint3"});
     CHECK(c.robot.urdf.find("/apps/monitor/config/robot-arm.urdf") != std::string::npos);
     CHECK(c.robot.margin_m == doctest::Approx(0.25));
     CHECK(c.robot.max_command_age_us == 200000U);
@@ -142,6 +148,9 @@ TEST_CASE("monitor config: bad robot, separation and speed class values are refu
                   "distinct");
     check_refused(edited("urdf = \"builtin:robot-arm.urdf\"", "urdf = \"\""), "robot.urdf");
     check_refused(edited("[robot]", "[robot]\nspeed = 1"), "robot");
+    check_refused(edited("[robot]", "[robot]\nstroke_joints = \"finger\""), "robot.stroke_joints", "finger joints");
+    check_refused(edited("[robot]", "[robot]\nstroke_joints = [\"f\", \"f\"]"), "robot.stroke_joints", "distinct");
+    check_refused(edited("[robot]", "[robot]\nstroke_joints = [\"\"]"), "robot.stroke_joints", "non-empty");
     // [separation] without a robot.
     std::string text = builtin_text("robot-cell.toml");
     const std::size_t from = text.find("[robot]");

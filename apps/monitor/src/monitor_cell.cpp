@@ -72,6 +72,21 @@ SetupError read_prior(const cell::MonitorConfig& cfg, const GridGeometry& g, std
     return {};
 }
 
+#if CELLGUARD_HOST_URDF
+// What the URDF import needs from [robot]: the PLC's joint order, the stroke joints, the base, the URDF's folder.
+host::UrdfImportOptions urdf_options(const cell::RobotSettings& robot) {
+    host::UrdfImportOptions options;
+    options.joint_order = robot.joints;
+    options.stroke_joints = robot.stroke_joints;
+    options.base_xyz = robot.base;
+    options.base_rotation = Eigen::Quaterniond(
+        Eigen::AngleAxisd(robot.base_yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
+    const std::size_t slash = robot.urdf.find_last_of('/');
+    options.base_directory = slash == std::string::npos ? "." : robot.urdf.substr(0U, slash);
+    return options;
+}
+#endif
+
 // The robot of @p cfg as a checked model: the URDF imported in the PLC's joint order at the configured base.
 SetupError import_robot(const cell::MonitorConfig& cfg, RobotModel& model) {
 #if CELLGUARD_HOST_URDF
@@ -80,15 +95,8 @@ SetupError import_robot(const cell::MonitorConfig& cfg, RobotModel& model) {
         return failure(2, "configuration error: line %d: robot.urdf: cannot read '%s'", cfg.robot.line,
                        cfg.robot.urdf.c_str());
     }
-    host::UrdfImportOptions options;
-    options.joint_order = cfg.robot.joints;
-    options.base_xyz = cfg.robot.base;
-    options.base_rotation = Eigen::Quaterniond(
-        Eigen::AngleAxisd(cfg.robot.base_yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
-    const std::size_t slash = cfg.robot.urdf.find_last_of('/');
-    options.base_directory = slash == std::string::npos ? "." : cfg.robot.urdf.substr(0U, slash);
     host::UrdfImport imported;
-    const IoStatus st = host::import_urdf_text(text, options, imported);
+    const IoStatus st = host::import_urdf_text(text, urdf_options(cfg.robot), imported);
     if (!st.ok()) {
         return failure(2, "configuration error: line %d: robot.urdf '%s': %s", cfg.robot.line, cfg.robot.urdf.c_str(),
                        st.message());

@@ -167,10 +167,24 @@ void load_separation(const Loader& L, const toml::table& root, RobotSettings& r)
     check_intrusion_distance(L, t, p, r);
 }
 
+/// Most names in [robot] stroke_joints (a gripper with many fingers; the import checks each).
+constexpr std::size_t kMaxStrokeJointNames = 16U;
+
+/// Appends the names of @p a to @p names: distinct, non-empty strings.
+void load_joint_names(const Loader& L, const toml::array& a, const std::string& key, std::vector<std::string>& names) {
+    for (const toml::node& e : a) {
+        const std::optional<std::string> name = e.value<std::string>();
+        if (!name || name->empty() || std::find(names.begin(), names.end(), *name) != names.end()) {
+            L.fail(e.source(), key, "expected distinct, non-empty joint names");
+        }
+        names.push_back(*name);
+    }
+}
+
 /// The [robot] table's own keys.
 void load_robot_table(const Loader& L, const toml::table& t, RobotSettings& r, const std::string& base_dir) {
     const std::string p = "robot";
-    L.check_keys(t, p, {"urdf", "joints", "base", "base_yaw_deg", "margin", "max_command_age_ms"});
+    L.check_keys(t, p, {"urdf", "joints", "stroke_joints", "base", "base_yaw_deg", "margin", "max_command_age_ms"});
     r.line = static_cast<int>(t.source().begin.line);
     r.urdf = L.string(t, p, "urdf");
     if (r.urdf.empty()) {
@@ -184,12 +198,13 @@ void load_robot_table(const Loader& L, const toml::table& t, RobotSettings& r, c
     if (a == nullptr || a->empty() || a->size() > kMaxCommandJoints) {
         L.fail(j.source(), p + ".joints", "expected 1..7 joint names in the PLC's command order");
     }
-    for (const toml::node& e : *a) {
-        const std::optional<std::string> name = e.value<std::string>();
-        if (!name || name->empty() || std::find(r.joints.begin(), r.joints.end(), *name) != r.joints.end()) {
-            L.fail(e.source(), p + ".joints", "expected distinct, non-empty joint names");
+    load_joint_names(L, *a, p + ".joints", r.joints);
+    if (const toml::node* s = t.get("stroke_joints")) {
+        const toml::array* sa = s->as_array();
+        if (sa == nullptr || sa->size() > kMaxStrokeJointNames) {
+            L.fail(s->source(), p + ".stroke_joints", "expected up to 16 joint names: a gripper's finger joints");
         }
-        r.joints.push_back(*name);
+        load_joint_names(L, *sa, p + ".stroke_joints", r.stroke_joints);
     }
     r.base = L.vec3(t, p, "base");
     r.base_yaw_deg = L.number_or(t, p, "base_yaw_deg", 0.0);

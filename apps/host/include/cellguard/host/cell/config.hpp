@@ -140,6 +140,7 @@ struct RobotSettings {
     bool enabled = false;                            ///< a [robot] table is present
     std::string urdf;                                ///< robot description (relative: to the config file's directory)
     std::vector<std::string> joints;                 ///< movable joints in the PLC's command order
+    std::vector<std::string> stroke_joints;          ///< a gripper's finger joints (urdf_import.hpp), not sent
     Eigen::Vector3d base = Eigen::Vector3d::Zero();  ///< robot base position in the cell, metres
     double base_yaw_deg = 0.0;                       ///< rotation of the base about the cell's z axis
     double margin_m = 0.0;                           ///< growth of every capsule for the robot's voxel mask
