@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -145,7 +146,36 @@ TEST_CASE("mesh: every public robot's STL mesh gives the mesh library the same v
         CHECK_MESSAGE(same, entry.path().string());
         ++files;
     }
-    CHECK(files == 25U);  // UR5e 7, Panda 10, Gen3 8
+    CHECK(files == 27U);  // UR5e 7, Panda 10, Gen3 8, two Jaco2 parts
+}
+
+// verifies: SR-ROB-105
+TEST_CASE("mesh: the maker's COLLADA files give the vertices of its own STL exports of the same parts") {
+    const std::string dir = std::string(CELLGUARD_SOURCE_DIR) + "/tests/data/robots/kinova_jaco2_parts/meshes/";
+    auto sorted = [](std::vector<Eigen::Vector3d> v) {
+        std::sort(v.begin(), v.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+            return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+        });
+        return v;
+    };
+    for (const char* part : {"finger_distal", "ring_small"}) {
+        Mesh dae;
+        const IoStatus st = host::read_mesh_file(dir + part + ".dae", dae);
+        REQUIRE_MESSAGE(st.ok(), st.message());
+        test::StlMesh stl;
+        REQUIRE(test::read_stl_file(dir + part + ".STL", stl).ok());
+        CHECK(dae.unit == 1.0);
+        CHECK(dae.faces == stl.triangle_count);
+        REQUIRE(dae.vertices.size() == stl.vertices.size());
+        const std::vector<Eigen::Vector3d> a = sorted(dae.vertices);
+        const std::vector<Eigen::Vector3d> b = sorted(stl.vertices);
+        double worst = 0.0;
+        for (std::size_t k = 0U; k < a.size(); ++k) {
+            worst = std::max(worst, (a[k] - b[k]).norm());
+        }
+        INFO(std::string(part) << ": largest difference " << worst << " m");
+        CHECK(worst < 1e-6);
+    }
 }
 
 // verifies: SR-ROB-105
