@@ -488,8 +488,8 @@ bool is_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const UrdfIm
         return true;
     }
     fail(ErrorCode::kUnsupportedType,
-         "joint '%s' mimics joint '%s': the controller takes every arm joint from the PLC's command, so a mimic "
-         "joint must move a gripper: name '%s' a stroke joint (its links are then enclosed over the whole stroke)",
+         "joint '%s' mimics joint '%s': name '%s' a stroke joint if it moves a gripper (a mimic of an arm joint is "
+         "not supported)",
          joint.name.c_str(), joint.mimic->joint_name.c_str(), joint.mimic->joint_name.c_str());
 }
 
