@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "stl_reference.hpp"
 #include "cellguard/host/io/urdf_import.hpp"
 #include "cellguard/robot/kinematics.hpp"
 #include "cellguard/robot/robot_image.hpp"
+#include "stl_reference.hpp"
 
 using namespace cellguard;
 using cellguard::host::UrdfImport;
