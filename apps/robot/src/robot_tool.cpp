@@ -73,26 +73,27 @@ std::vector<std::string> split(const std::string& text, char separator) {
     }
 }
 
-void take_joints(const std::string& v, Options& o) {
-    o.joints = split(v, ',');
-    for (const std::string& name : o.joints) {
+/// The joint names of option @p option's value @p v: comma-separated, none empty.
+std::vector<std::string> joint_names(const std::string& option, const std::string& v) {
+    std::vector<std::string> names = split(v, ',');
+    for (const std::string& name : names) {
         if (name.empty()) {
-            host::reject("--joints expects joint names separated by commas, got '" + v + "'");
+            std::string message = option;
+            message.append(" expects joint names separated by commas, got '").append(v).append("'");
+            host::reject(message);
         }
     }
+    return names;
+}
+
+void take_joints(const std::string& v, Options& o) {
+    o.joints = joint_names("--joints", v);
     if (o.joints.size() > kMaxRobotJoints) {
         host::reject("--joints expects at most " + std::to_string(kMaxRobotJoints) + " joints, got '" + v + "'");
     }
 }
 
-void take_strokes(const std::string& v, Options& o) {
-    o.strokes = split(v, ',');
-    for (const std::string& name : o.strokes) {
-        if (name.empty()) {
-            host::reject("--stroke-joints expects joint names separated by commas, got '" + v + "'");
-        }
-    }
-}
+void take_strokes(const std::string& v, Options& o) { o.strokes = joint_names("--stroke-joints", v); }
 
 void take_base(const std::string& v, Options& o) {
     const std::vector<std::string> parts = split(v, ',');

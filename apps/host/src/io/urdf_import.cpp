@@ -184,6 +184,22 @@ std::vector<Node> depth_first(const urdf::ModelInterface& model) {
     return nodes;
 }
 
+/// The nodes with @p keep set, parents renumbered (a kept node's parent must
+/// be kept); @p index maps old indices to new ones (-1: not kept).
+std::vector<Node> kept_nodes(const std::vector<Node>& nodes, const std::vector<bool>& keep, std::vector<int>& index) {
+    std::vector<Node> out;
+    index.assign(nodes.size(), -1);
+    for (std::size_t i = 0U; i < nodes.size(); ++i) {
+        if (keep[i]) {
+            index[i] = static_cast<int>(out.size());
+            Node n = nodes[i];
+            n.parent = n.parent < 0 ? -1 : index[static_cast<std::size_t>(n.parent)];
+            out.push_back(n);
+        }
+    }
+    return out;
+}
+
 /// Drops fixed leaf frames without collision geometry (repeatedly: a chain of them).
 std::vector<Node> drop_empty_frames(const std::vector<Node>& nodes, std::vector<std::string>& notes) {
     std::vector<bool> keep(nodes.size(), false);
@@ -198,20 +214,11 @@ std::vector<Node> drop_empty_frames(const std::vector<Node>& nodes, std::vector<
         }
     }
     keep[0] = true;
-    std::vector<int> new_index(nodes.size(), -1);
-    std::vector<Node> out;
-    for (std::size_t i = 0U; i < nodes.size(); ++i) {
-        if (keep[i]) {
-            new_index[i] = static_cast<int>(out.size());
-            Node n = nodes[i];
-            n.parent = n.parent < 0 ? -1 : new_index[static_cast<std::size_t>(n.parent)];
-            out.push_back(n);
-        }
-    }
     if (!dropped.empty()) {
         notes.push_back("dropped frame link(s) without collision geometry on fixed joints: " + join(dropped, ", "));
     }
-    return out;
+    std::vector<int> index;
+    return kept_nodes(nodes, keep, index);
 }
 
 // ---------------------------------------------------------------- joints
@@ -363,11 +370,11 @@ void put_command_order(const std::vector<Node>& nodes, const std::vector<std::st
 /// stroke joint (see stroke_envelope.hpp).
 struct StrokePlan {
     std::vector<bool> folded;         ///< node i is a stroke joint's child or below one
+    std::vector<std::size_t> anchor;  ///< the nearest node at or above node i that is not folded
     std::vector<int> variable;        ///< stroke joints: their variable; -1 elsewhere
     std::vector<double> multiplier;   ///< stroke joints: position = multiplier * variable + offset
     std::vector<double> offset;       ///< see multiplier
     std::vector<StrokeRange> ranges;  ///< per variable: its joint's limits
-    std::vector<std::string> names;   ///< per variable: its joint's name
 };
 
 int find_node(const std::vector<Node>& nodes, const std::string& joint) {
@@ -419,7 +426,7 @@ std::size_t mimic_master(const std::vector<Node>& nodes, std::size_t i) {
 
 /// A mimic's position over its master's range must stay within its own
 /// limits: a wrong multiplier or offset in the file shows there.
-void check_mimic_range(const urdf::Joint& joint, const StrokeRange& master, const RobotLink& own) {
+void check_mimic_range(const urdf::Joint& joint, const StrokeRange& master, const StrokeRange& own) {
     const double m = joint.mimic->multiplier;
     const double o = joint.mimic->offset;
     if (!std::isfinite(m) || !std::isfinite(o)) {
@@ -436,6 +443,11 @@ void check_mimic_range(const urdf::Joint& joint, const StrokeRange& master, cons
     }
 }
 
+/// Whether stroke joint @p joint follows its master: a mimic not named a stroke joint itself.
+bool follows_master(const urdf::Joint& joint, const UrdfImportOptions& options) {
+    return joint.mimic && !named(options.stroke_joints, joint.name);
+}
+
 /// Stroke joint @p i's own limits, checked as any movable joint's.
 StrokeRange stroke_limits(const urdf::Joint& joint, std::vector<std::string>& notes) {
     RobotLink scratch;
@@ -450,11 +462,9 @@ StrokeRange stroke_limits(const urdf::Joint& joint, std::vector<std::string>& no
 void plan_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const UrdfImportOptions& options,
                        StrokePlan& plan, std::vector<std::string>& notes) {
     const urdf::Joint& joint = *nodes[i].joint;
-    const bool follows = joint.mimic && !named(options.stroke_joints, joint.name);
-    if (!follows) {
+    if (!follows_master(joint, options)) {
         plan.variable[i] = static_cast<int>(plan.ranges.size());
         plan.ranges.push_back(stroke_limits(joint, notes));
-        plan.names.push_back(joint.name);
         if (joint.mimic) {
             notes.push_back("joint '" + joint.name + "' mimics '" + joint.mimic->joint_name +
                             "' but is named a stroke joint: enclosed over its own limits");
@@ -462,10 +472,7 @@ void plan_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const Urdf
         return;
     }
     const std::size_t master = mimic_master(nodes, i);
-    RobotLink own;
-    own.joint = joint_type(joint);
-    put_limits(joint, own, notes);
-    check_mimic_range(joint, plan.ranges[static_cast<std::size_t>(plan.variable[master])], own);
+    check_mimic_range(joint, plan.ranges[static_cast<std::size_t>(plan.variable[master])], stroke_limits(joint, notes));
     plan.variable[i] = plan.variable[master];
     plan.multiplier[i] = joint.mimic->multiplier;
     plan.offset[i] = joint.mimic->offset;
@@ -498,13 +505,16 @@ StrokePlan plan_strokes(const std::vector<Node>& nodes, const UrdfImportOptions&
     check_stroke_names(nodes, options);
     StrokePlan plan;
     plan.folded.assign(nodes.size(), false);
+    plan.anchor.assign(nodes.size(), 0U);
     plan.variable.assign(nodes.size(), -1);
     plan.multiplier.assign(nodes.size(), 1.0);
     plan.offset.assign(nodes.size(), 0.0);
     std::vector<bool> stroke_joint(nodes.size(), false);
     for (std::size_t i = 1U; i < nodes.size(); ++i) {
         const bool stroke = is_stroke_joint(nodes, i, options);
-        plan.folded[i] = stroke || plan.folded[static_cast<std::size_t>(nodes[i].parent)];
+        const auto parent = static_cast<std::size_t>(nodes[i].parent);
+        plan.folded[i] = stroke || plan.folded[parent];
+        plan.anchor[i] = plan.folded[i] ? plan.anchor[parent] : i;
         if (plan.folded[i] && named(options.joint_order, nodes[i].joint->name)) {
             fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' hangs below a stroke joint: not sent by the PLC",
                  nodes[i].joint->name.c_str());
@@ -518,8 +528,7 @@ StrokePlan plan_strokes(const std::vector<Node>& nodes, const UrdfImportOptions&
     }
     for (const bool followers : {false, true}) {  // masters first, then the mimics that follow them
         for (std::size_t i = 1U; i < nodes.size(); ++i) {
-            const bool follows = nodes[i].joint->mimic && !named(options.stroke_joints, nodes[i].joint->name);
-            if (stroke_joint[i] && follows == followers) {
+            if (stroke_joint[i] && follows_master(*nodes[i].joint, options) == followers) {
                 plan_stroke_joint(nodes, i, options, plan, notes);
             }
         }
@@ -527,31 +536,13 @@ StrokePlan plan_strokes(const std::vector<Node>& nodes, const UrdfImportOptions&
     return plan;
 }
 
-/// The nodes the model keeps (not folded), parents renumbered; @p index maps old to new (-1: folded).
-std::vector<Node> kept_nodes(const std::vector<Node>& nodes, const StrokePlan& plan, std::vector<int>& index) {
-    std::vector<Node> out;
-    index.assign(nodes.size(), -1);
-    for (std::size_t i = 0U; i < nodes.size(); ++i) {
-        if (!plan.folded[i]) {
-            index[i] = static_cast<int>(out.size());
-            Node n = nodes[i];
-            n.parent = n.parent < 0 ? -1 : index[static_cast<std::size_t>(n.parent)];
-            out.push_back(n);
-        }
-    }
-    return out;
-}
-
-/// The chain from folded node @p i's anchor (returned in @p anchor, an old index) down to it.
+/// The chain from folded node @p i's anchor down to it.
 std::vector<StrokeStep> stroke_chain(const std::vector<Node>& nodes, const StrokePlan& plan, std::size_t i,
-                                     std::size_t& anchor, std::vector<std::string>& notes) {
+                                     std::vector<std::string>& notes) {
     std::vector<std::size_t> path;
-    std::size_t k = i;
-    while (plan.folded[k]) {
+    for (std::size_t k = i; k != plan.anchor[i]; k = static_cast<std::size_t>(nodes[k].parent)) {
         path.insert(path.begin(), k);
-        k = static_cast<std::size_t>(nodes[k].parent);
     }
-    anchor = k;
     std::vector<StrokeStep> chain;
     for (const std::size_t n : path) {
         const urdf::Joint& joint = *nodes[n].joint;
@@ -577,8 +568,8 @@ std::vector<StrokeStep> stroke_chain(const std::vector<Node>& nodes, const Strok
 /// Folded node @p i's capsule @p c as an envelope on its anchor.
 Capsule fold_capsule(const std::vector<Node>& nodes, const StrokePlan& plan, std::size_t i, const Capsule& c,
                      UrdfImport& result) {
-    std::size_t anchor = 0U;
-    const std::vector<StrokeStep> chain = stroke_chain(nodes, plan, i, anchor, result.notes);
+    const std::size_t anchor = plan.anchor[i];
+    const std::vector<StrokeStep> chain = stroke_chain(nodes, plan, i, result.notes);
     StrokeEnvelope envelope;
     const IoStatus st = envelope_capsule(chain, plan.ranges, c, envelope);
     if (!st) {
@@ -794,13 +785,9 @@ void put_capsules(const std::vector<Node>& nodes, const StrokePlan& plan, const 
     std::vector<std::string> per_link;
     for (std::size_t i = 0U; i < nodes.size(); ++i) {
         const std::vector<LinkCapsule> parts = link_capsules(*nodes[i].link, options, result.notes);
-        std::size_t k = i;
-        while (plan.folded[k]) {
-            k = static_cast<std::size_t>(nodes[k].parent);
-        }
         for (const LinkCapsule& p : parts) {
             const Capsule c = plan.folded[i] ? fold_capsule(nodes, plan, i, p.capsule, result) : p.capsule;
-            all.emplace_back(static_cast<std::size_t>(index[k]), c);
+            all.emplace_back(static_cast<std::size_t>(index[plan.anchor[i]]), c);
         }
         if (!parts.empty()) {
             per_link.push_back(nodes[i].link->name + " " + std::to_string(parts.size()));
@@ -853,7 +840,9 @@ void import_model(const std::string& text, const UrdfImportOptions& options, Urd
     const std::vector<Node> all = drop_empty_frames(depth_first(*urdf), result.notes);
     const StrokePlan plan = plan_strokes(all, options, result.notes);
     std::vector<int> index;
-    const std::vector<Node> nodes = kept_nodes(all, plan, index);
+    std::vector<bool> keep(all.size());
+    std::transform(plan.folded.begin(), plan.folded.end(), keep.begin(), [](bool folded) { return !folded; });
+    const std::vector<Node> nodes = kept_nodes(all, keep, index);
     if (nodes.size() > kMaxRobotLinks) {
         fail(ErrorCode::kCapacityExceeded, "%zu links, at most %zu", nodes.size(), kMaxRobotLinks);
     }
