@@ -15,7 +15,7 @@
 // - mode bits 2..7: the joint positions' fraction of each joint's range
 //   (0..63 of 63) for the kinematics.
 // Seeds: tests/fuzz/corpus/fuzz_robot_image/ (the test arm's image, as is and
-// with the CRC fix-up mode).
+// with the CRC fix-up mode; a palletizer with mimic joints, format version 2).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -70,7 +70,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const RobotModel& model = r.value().model;
     require(is_no_error(check_robot_model(model)));
-    require(img.size() == robot_image_size(model.link_count, model.capsule_count));
+    require(img.size() == robot_image_size(model.link_count, model.capsule_count, robot_image_version(model)));
     require(r.value().crc == crc32(Span<const std::uint8_t>(img.data(), img.size() - 4U)));
 
     // Re-encode what was accepted: the bytes must come out identical.
@@ -86,7 +86,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const double share = static_cast<double>(mode >> 2U) / 63.0;
     for (std::size_t i = 1; i < model.link_count; ++i) {
         const RobotLink& l = model.links[i];
-        if (l.joint != JointType::kFixed) {
+        if (l.joint != JointType::kFixed && !l.mimic) {  // a mimic follows its master's position
             q.q[l.command_index] = l.lower + share * (l.upper - l.lower);
         }
     }

@@ -88,6 +88,30 @@ inline RobotModel make_test_arm(double x = 0.0, double y = 0.0, double z = 0.0) 
     return m;
 }
 
+/// The test arm with a parallel bar, as a palletizer's parallelogram has: link
+/// 7 hangs from the pan link 0.1 m behind the shoulder, turns about y as a
+/// mimic of the shoulder lift (command index 1) at @p multiplier x lift +
+/// @p offset, its limits exactly the lift's range mapped, and carries capsule
+/// 7 (0.5 m up its z axis, radius 0.04 m). Still 6 commanded joints.
+inline RobotModel make_test_arm_with_mimic(double multiplier = 1.0, double offset = 0.0) {
+    constexpr double kTwoPi = 6.283185307179586;
+    RobotModel m = make_test_arm();
+    RobotLink bar = test_arm_joint(1U, 1U, 1, 0.0, kTwoPi, 2.094);
+    bar.origin_xyz[0] = -0.1;
+    bar.mimic = true;
+    bar.mimic_multiplier = multiplier;
+    bar.mimic_offset = offset;
+    const double at_lower = multiplier * -kTwoPi + offset;
+    const double at_upper = multiplier * kTwoPi + offset;
+    bar.lower = at_lower < at_upper ? at_lower : at_upper;
+    bar.upper = at_lower < at_upper ? at_upper : at_lower;
+    m.links[7] = bar;
+    m.link_count = 8U;
+    m.capsules[7] = test_arm_capsule(7U, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.04);
+    m.capsule_count = 8U;
+    return m;
+}
+
 /// Joint positions of the test arm (6 joints), radians.
 inline JointPositions test_arm_joints(double q0, double q1, double q2, double q3, double q4, double q5) {
     JointPositions q;

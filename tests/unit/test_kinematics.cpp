@@ -368,3 +368,65 @@ TEST_CASE("joint_positions on a model whose joints lack a link is a contract vio
     arm.links[2].joint = JointType::kFixed;  // joint 1 has no link now: not a checked model
     CHECK(test::violates_contract([&] { (void)joint_positions(arm, crc, command_for(crc, 2U, {0, 0})); }));
 }
+
+// verifies: SR-ROB-007
+TEST_CASE("a mimic joint stands at multiplier x master + offset: the same bits as that position commanded") {
+    using cellguard::test::make_test_arm_with_mimic;
+    for (const double multiplier : {1.0, -0.5, 3.0}) {
+        const double offset = multiplier == 1.0 ? 0.0 : 0.25;
+        const RobotModel bar = make_test_arm_with_mimic(multiplier, offset);
+        REQUIRE(is_no_error(check_robot_model(bar)));
+        // The reference: the bar an independent, commanded seventh joint, sent the mimic's position.
+        RobotModel seven = bar;
+        seven.links[7].mimic = false;
+        seven.links[7].mimic_multiplier = 1.0;
+        seven.links[7].mimic_offset = 0.0;
+        seven.links[7].command_index = 6U;
+        seven.joint_count = 7U;
+        REQUIRE(is_no_error(check_robot_model(seven)));
+        for (const double lift : {-1.1, 0.0, 0.4, 2.5}) {
+            const JointPositions q = test_arm_joints(0.3, lift, 1.0, 0.7, -2.5, 1.9);
+            JointPositions q7 = q;
+            q7.count = 7U;
+            q7.q[6] = multiplier * lift + offset;
+            RobotPose pose;
+            {
+                const cellguard::test::AllocationScope guard;
+                place_robot(bar, q, pose);
+                CHECK(guard.allocations() == 0U);
+            }
+            const RobotPose reference = test_arm_pose(seven, q7);
+            REQUIRE(pose.count == 8U);
+            INFO("multiplier " << multiplier << ", lift " << lift);
+            CHECK(std::memcmp(&pose.capsules[7], &reference.capsules[7], sizeof(PlacedCapsule)) == 0);
+            CHECK(std::memcmp(&pose.capsules[2], &reference.capsules[2], sizeof(PlacedCapsule)) == 0);
+        }
+    }
+    // Multiplier 1, offset 0: the bar turns with the upper arm, so the two stay parallel (a parallelogram).
+    const RobotModel bar = make_test_arm_with_mimic();
+    const RobotPose pose = test_arm_pose(bar, test_arm_joints(0.3, -0.8, 1.0, 0.0, 0.0, 0.0));
+    const PlacedCapsule& upper = pose.capsules[2];
+    const PlacedCapsule& rear = pose.capsules[7];
+    for (int k = 0; k < 3; ++k) {
+        CHECK((rear.b[k] - rear.a[k]) / 0.5 == doctest::Approx((upper.b[k] - upper.a[k]) / 0.61).epsilon(1e-12));
+    }
+}
+
+// verifies: SR-ROB-007
+TEST_CASE("joint_positions reads a model with a mimic joint by its commanded joints only") {
+    using cellguard::test::make_test_arm_with_mimic;
+    const RobotModel bar = make_test_arm_with_mimic(-0.5, 0.25);
+    RobotCommand command;
+    command.robot_id = robot_id(0x1234U);
+    command.joint_count = 6U;
+    command.joint_raw[1] = 5000;  // the lift at 1.0 rad (0.2 mrad per raw unit)
+    const Result<JointPositions, JointCheck> q = joint_positions(bar, 0x1234U, command);
+    REQUIRE(q.ok());
+    CHECK(q.value().count == 6U);
+    CHECK(q.value().q[1] == doctest::Approx(1.0));
+    command.joint_count = 7U;  // the mimic is not a joint the PLC sends
+    command.joint_raw[6] = 0;
+    const Result<JointPositions, JointCheck> seven = joint_positions(bar, 0x1234U, command);
+    REQUIRE(!seven.ok());
+    CHECK(seven.error() == JointCheck::kJointCountMismatch);
+}

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -17,6 +18,7 @@
 
 using namespace cellguard;
 using cellguard::test::make_test_arm;
+using cellguard::test::make_test_arm_with_mimic;
 namespace layout = cellguard::robot_image_layout;
 
 namespace {
@@ -75,6 +77,9 @@ void check_same(const RobotModel& a, const RobotModel& b) {
         CHECK(x.lower == y.lower);
         CHECK(x.upper == y.upper);
         CHECK(x.max_velocity == y.max_velocity);
+        CHECK(x.mimic == y.mimic);
+        CHECK(x.mimic_multiplier == y.mimic_multiplier);
+        CHECK(x.mimic_offset == y.mimic_offset);
     }
     for (std::size_t i = 0; i < a.capsule_count; ++i) {
         CHECK(a.capsules[i].link == b.capsules[i].link);
@@ -213,9 +218,13 @@ TEST_CASE("a robot image with the wrong magic, version, counts, size field or re
     reseal(bad);
     CHECK(why_refused(bad) == ErrorCode::kBadMagic);
     bad = img;
-    bad[layout::kVersion] = 2U;
+    bad[layout::kVersion] = 3U;
     reseal(bad);
     CHECK(why_refused(bad) == ErrorCode::kUnsupportedVersion);
+    bad = img;
+    bad[layout::kVersion] = 2U;  // version 2's link records are longer: the size field disagrees
+    reseal(bad);
+    CHECK(why_refused(bad) == ErrorCode::kMalformedInput);
     for (const std::uint8_t links : {0, 17, 255}) {
         bad = img;
         bad[layout::kLinkCount] = links;
@@ -296,4 +305,80 @@ TEST_CASE("the writer's bytes equal an image made independently from the format 
     CHECK(img.size() == 1288U);
     CHECK(stored_crc(img) == 0xE811646AU);
     CHECK(robot_id(stored_crc(img)) == 0x646AU);
+}
+
+// verifies: SR-ROB-007
+TEST_CASE("a model with a mimic joint is written as format version 2 and round-trips, one without stays version 1") {
+    const RobotModel bar = make_test_arm_with_mimic(-0.5, 0.25);
+    CHECK(robot_image_version(bar) == kRobotImageMimicFormatVersion);
+    CHECK(robot_image_version(make_test_arm()) == kRobotImageFormatVersion);
+    const std::vector<std::uint8_t> img = encode(bar);
+    CHECK(img.size() == robot_image_size(8U, 8U, kRobotImageMimicFormatVersion));
+    CHECK(img.size() == 112U + 8U * 124U + 8U * 60U);
+    CHECK(img[layout::kVersion] == 2U);
+    CHECK(img[layout::kJointCount] == 6U);
+    const std::size_t bar_record = kRobotImageHeaderBytes + 7U * kRobotImageMimicLinkBytes;
+    CHECK(img[bar_record + 2U] == 1U);  // the master's command index
+    CHECK(img[bar_record + 3U] == 1U);  // the mimic flag
+    Result<LoadedRobot, RobotModelError> r = load_robot_image(span_of(img));
+    {
+        const cellguard::test::AllocationScope scope;
+        r = load_robot_image(span_of(img));
+        CHECK(scope.allocations() == 0U);
+    }
+    REQUIRE(r.ok());
+    check_same(bar, r.value().model);
+    CHECK(encode(r.value().model) == img);
+    // The plain arm's bytes are unchanged by mimic support: the same size and CRC as before it.
+    CHECK(encode(make_test_arm()).size() == 1288U);
+    CHECK(stored_crc(encode(make_test_arm())) == 0xE811646AU);
+}
+
+// verifies: SR-ROB-007
+TEST_CASE("a version 2 robot image: every changed byte, reserved flag bits and a model without a mimic are refused") {
+    const std::vector<std::uint8_t> img = encode(make_test_arm_with_mimic(-0.5, 0.25));
+    std::size_t refused = 0;
+    for (std::size_t i = 0; i < img.size(); ++i) {
+        for (unsigned bit = 0; bit < 8U; ++bit) {
+            std::vector<std::uint8_t> bad = img;
+            bad[i] = static_cast<std::uint8_t>(bad[i] ^ (1U << bit));
+            refused += why_refused(bad) != ErrorCode::kOk ? 1U : 0U;
+        }
+    }
+    CHECK(refused == img.size() * 8U);
+    const std::size_t bar_record = kRobotImageHeaderBytes + 7U * kRobotImageMimicLinkBytes;
+    for (const std::uint8_t flags : {0x02, 0x81, 0xFF}) {
+        std::vector<std::uint8_t> bad = img;
+        bad[bar_record + 3U] = flags;
+        reseal(bad);
+        INFO("flags " << int{flags});
+        CHECK(why_refused(bad) == ErrorCode::kMalformedInput);
+    }
+    // The bar made a fixed link (no index, no flag, multiplier 1, offset 0): a valid model, but version 2 is
+    // only for a model with a mimic (each model has exactly one image).
+    std::vector<std::uint8_t> plain = img;
+    plain[bar_record + 1U] = 0U;
+    plain[bar_record + 2U] = kNoCommandIndex;
+    plain[bar_record + 3U] = 0U;
+    put_double(plain, bar_record + 108U, 1.0);
+    put_double(plain, bar_record + 116U, 0.0);
+    reseal(plain);
+    const Result<LoadedRobot, RobotModelError> r = load_robot_image(span_of(plain));
+    REQUIRE(!r.ok());
+    CHECK(r.error().code == ErrorCode::kMalformedInput);
+    CHECK(std::string(r.error().reason).find("without a mimic") != std::string::npos);
+    // A mimic whose ratio was changed in the file, CRC resealed: the model check refuses it.
+    std::vector<std::uint8_t> ratio = img;
+    put_double(ratio, bar_record + 108U, -0.6);
+    reseal(ratio);
+    CHECK(why_refused(ratio) == ErrorCode::kInvalidArgument);
+}
+
+// verifies: SR-ROB-007
+TEST_CASE("the writer's version 2 bytes equal an image made independently from the format page") {
+    // tests/fuzz/corpus/fuzz_robot_image/palletizer_bar (after its mode byte) was made with Python's struct and
+    // zlib.crc32 from certification/robot-image-format.md by tools/robot_image_v2_seed.py: 1,584 bytes, CRC-32 0xCBDB99F2.
+    const std::vector<std::uint8_t> img = encode(make_test_arm_with_mimic(-0.5, 0.25));
+    CHECK(img.size() == 1584U);
+    CHECK(stored_crc(img) == 0xCBDB99F2U);
 }

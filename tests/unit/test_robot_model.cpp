@@ -187,3 +187,62 @@ TEST_CASE("the model check refuses a root rotation that differs from the identit
         CHECK(std::string(e.reason).find("identity") != std::string::npos);
     }
 }
+
+// verifies: SR-ROB-007
+TEST_CASE("a mimic joint passes the model check when its master's range maps inside its limits") {
+    using cellguard::test::make_test_arm_with_mimic;
+    const RobotModel bar = make_test_arm_with_mimic();
+    CHECK(is_no_error(check_robot_model(bar)));
+    CHECK(bar.joint_count == 6U);  // the mimic is not sent
+    CHECK(has_mimic_joint(bar));
+    CHECK_FALSE(has_mimic_joint(make_test_arm()));
+    CHECK(is_no_error(check_robot_model(make_test_arm_with_mimic(-0.5, 0.25))));
+    CHECK(is_no_error(check_robot_model(make_test_arm_with_mimic(3.0, -1.0))));
+    // commanded_link skips the mimic: index 1 is the shoulder lift (link 2), not the bar (link 7).
+    CHECK(commanded_link(bar, 1U) == &bar.links[2]);
+    CHECK(commanded_link(bar, 6U) == nullptr);
+    // Limits a little wider than the mapped range are fine; within the tolerance too.
+    RobotModel wider = bar;
+    wider.links[7].upper += 0.5;
+    CHECK(is_no_error(check_robot_model(wider)));
+    RobotModel within = bar;
+    within.links[7].upper -= 0.5 * kMimicRangeTolerance * within.links[7].upper;
+    CHECK(is_no_error(check_robot_model(within)));
+}
+
+// verifies: SR-ROB-007
+TEST_CASE("the model check refuses a mimic with a wrong ratio, a zero or non-finite one, or without a master") {
+    using cellguard::test::make_test_arm_with_mimic;
+    const auto refused = [](const std::function<void(RobotModel&)>& change, ErrorCode code, std::size_t index) {
+        RobotModel m = make_test_arm_with_mimic();
+        change(m);
+        const RobotModelError e = check_robot_model(m);
+        INFO(std::string(e.reason));
+        CHECK(e.code == code);
+        CHECK(e.index == index);
+    };
+    // The master's range maps outside the mimic's own limits: a wrong multiplier or offset.
+    refused([](RobotModel& m) { m.links[7].mimic_multiplier = 1.01; }, ErrorCode::kInvalidArgument, 7U);
+    refused([](RobotModel& m) { m.links[7].mimic_offset = 0.01; }, ErrorCode::kInvalidArgument, 7U);
+    refused([](RobotModel& m) { m.links[7].upper -= 1e-3; }, ErrorCode::kInvalidArgument, 7U);
+    refused([](RobotModel& m) { m.links[7].mimic_multiplier = 0.0; }, ErrorCode::kInvalidArgument, 7U);
+    refused([](RobotModel& m) { m.links[7].mimic_multiplier = kNaN; }, ErrorCode::kNonFiniteValue, 7U);
+    refused([](RobotModel& m) { m.links[7].mimic_offset = kInf; }, ErrorCode::kNonFiniteValue, 7U);
+    // A master that is not a commanded joint: beyond joint_count, or a mimic itself.
+    refused([](RobotModel& m) { m.links[7].command_index = 6U; }, ErrorCode::kInvalidArgument, 7U);
+    refused(
+        [](RobotModel& m) {
+            m.links[2].mimic = true;  // the lift a mimic too: index 1 has no commanded joint
+        },
+        ErrorCode::kInvalidArgument, 0U);
+    // A fixed joint or the root cannot be a mimic; a link that is not one carries multiplier 1 and offset 0.
+    refused([](RobotModel& m) { m.links[7].joint = JointType::kFixed; }, ErrorCode::kInvalidArgument, 7U);
+    refused([](RobotModel& m) { m.links[0].mimic = true; }, ErrorCode::kInvalidArgument, 0U);
+    refused([](RobotModel& m) { m.links[3].mimic_multiplier = 2.0; }, ErrorCode::kInvalidArgument, 3U);
+    refused([](RobotModel& m) { m.links[3].mimic_offset = 0.1; }, ErrorCode::kInvalidArgument, 3U);
+    refused(
+        [](RobotModel& m) {
+            m.links[7].mimic = false;  // the bar commanded with index 1 as well: two joints share it
+        },
+        ErrorCode::kInvalidArgument, 7U);
+}

@@ -123,16 +123,16 @@ Eigen::Vector3d mul(const Eigen::Matrix3d& a, const Eigen::Vector3d& v) noexcept
 
 Eigen::Vector3d vec(const double v[3]) noexcept { return {v[0], v[1], v[2]}; }
 
-/// Raw unit of the joint at command index @p k (kRevoluteJointUnitRad or
-/// kPrismaticJointUnitM), and the link that has it.
-const RobotLink* link_of_joint(const RobotModel& model, std::size_t k) noexcept {
-    for (std::size_t i = 1U; i < model.link_count; ++i) {
-        const RobotLink& l = model.links[i];
-        if (l.joint != JointType::kFixed && l.command_index == k) {
-            return &l;
-        }
+/// Position of movable link @p l's joint: its command's, or for a mimic
+/// multiplier x its master's + offset (two operations, no fused multiply-add).
+double joint_value(const RobotLink& l, const JointPositions& q) noexcept {
+    CG_ENFORCE(l.command_index < q.count, "joint's command index beyond the positions");
+    const double master = q.q[l.command_index];
+    if (!l.mimic) {
+        return master;
     }
-    return nullptr;
+    const double scaled = l.mimic_multiplier * master;
+    return scaled + l.mimic_offset;
 }
 
 }  // namespace
@@ -165,7 +165,7 @@ Result<JointPositions, JointCheck> joint_positions(const RobotModel& model, std:
     JointPositions out;
     out.count = model.joint_count;
     for (std::size_t k = 0U; k < model.joint_count; ++k) {
-        const RobotLink* link = link_of_joint(model, k);
+        const RobotLink* link = commanded_link(model, k);
         CG_ENFORCE(link != nullptr, "joint_positions needs a checked model");
         const double unit = link->joint == JointType::kPrismatic ? kPrismaticJointUnitM : kRevoluteJointUnitRad;
         const double q = static_cast<double>(command.joint_raw[k]) * unit;
@@ -194,11 +194,9 @@ void place_robot(const RobotModel& model, const JointPositions& q, RobotPose& ou
         Eigen::Vector3d offset = vec(l.origin_xyz);
         Eigen::Matrix3d joint_rot = origin_rot;
         if (l.joint == JointType::kRevolute) {
-            CG_ENFORCE(l.command_index < q.count, "joint's command index beyond the positions");
-            joint_rot = mul(origin_rot, axis_rotation(l.axis, q.q[l.command_index]));
+            joint_rot = mul(origin_rot, axis_rotation(l.axis, joint_value(l, q)));
         } else if (l.joint == JointType::kPrismatic) {
-            CG_ENFORCE(l.command_index < q.count, "joint's command index beyond the positions");
-            const double d = q.q[l.command_index];
+            const double d = joint_value(l, q);
             const Eigen::Vector3d along(l.axis[0] * d, l.axis[1] * d, l.axis[2] * d);
             const Eigen::Vector3d moved = mul(origin_rot, along);
             offset = Eigen::Vector3d(offset(0) + moved(0), offset(1) + moved(1), offset(2) + moved(2));

@@ -15,6 +15,7 @@ namespace {
 static_assert(layout::kBaseWxyz + std::size_t{32U} == kRobotImageHeaderBytes, "the base rotation ends the header");
 static_assert(layout::kName + kRobotNameBytes == layout::kBaseXyz, "the name precedes the base position");
 static_assert(4U + 13U * 8U == kRobotImageLinkBytes, "a link record: 4 bytes, then 13 binary64");
+static_assert(kRobotImageLinkBytes + std::size_t{16U} == kRobotImageMimicLinkBytes, "version 2 adds two binary64");
 static_assert(4U + 7U * 8U == kRobotImageCapsuleBytes, "a capsule record: 4 bytes, then 7 binary64");
 static_assert(sizeof(double) == 8U, "binary64 doubles");
 
@@ -74,24 +75,34 @@ private:
     std::size_t at_;
 };
 
-void write_link(Writer& w, const RobotLink& l) noexcept {
+/// Version 2's flags byte (version 1: reserved, 0): bit 0 marks a mimic joint.
+constexpr std::uint8_t kMimicFlag = 0x01U;
+
+void write_link(Writer& w, const RobotLink& l, std::uint16_t version) noexcept {
     w.u(l.parent, 1U);
     w.u(static_cast<std::uint8_t>(l.joint), 1U);
     w.u(l.command_index, 1U);
-    w.u(0U, 1U);  // reserved
+    w.u(l.mimic ? kMimicFlag : 0U, 1U);  // version 1: reserved (a model with a mimic is written as version 2)
     w.d(l.origin_xyz, 3U);
     w.d(l.origin_wxyz, 4U);
     w.d(l.axis, 3U);
     const double limits[3] = {l.lower, l.upper, l.max_velocity};
     w.d(limits, 3U);
+    if (version == kRobotImageMimicFormatVersion) {
+        const double mimic[2] = {l.mimic_multiplier, l.mimic_offset};
+        w.d(mimic, 2U);
+    }
 }
 
-/// Reads a link record; false when its reserved byte is not 0.
-bool read_link(Reader& r, RobotLink& l) noexcept {
+/// Reads a link record; false when a reserved bit is set (version 1: any
+/// bit of the fourth byte; version 2: any but the mimic flag).
+bool read_link(Reader& r, RobotLink& l, std::uint16_t version) noexcept {
     l.parent = r.u8();
     l.joint = static_cast<JointType>(r.u8());  // an unknown type is refused by check_robot_model
     l.command_index = r.u8();
-    const bool reserved_zero = r.u8() == 0U;
+    const std::uint8_t flags = r.u8();
+    const std::uint8_t allowed = version == kRobotImageMimicFormatVersion ? kMimicFlag : 0U;
+    l.mimic = (flags & kMimicFlag) != 0U;
     r.d(l.origin_xyz, 3U);
     r.d(l.origin_wxyz, 4U);
     r.d(l.axis, 3U);
@@ -100,7 +111,13 @@ bool read_link(Reader& r, RobotLink& l) noexcept {
     l.lower = limits[0];
     l.upper = limits[1];
     l.max_velocity = limits[2];
-    return reserved_zero;
+    if (version == kRobotImageMimicFormatVersion) {
+        double mimic[2] = {};
+        r.d(mimic, 2U);
+        l.mimic_multiplier = mimic[0];
+        l.mimic_offset = mimic[1];
+    }
+    return (flags & static_cast<std::uint8_t>(~allowed)) == 0U;
 }
 
 void write_capsule(Writer& w, const RobotCapsule& c) noexcept {
@@ -122,7 +139,7 @@ bool read_capsule(Reader& r, RobotCapsule& c) noexcept {
 }
 
 /// The header's counts and size against the input; kOk when they agree.
-RobotModelError check_frame(Span<const std::uint8_t> bytes, std::size_t& size) noexcept {
+RobotModelError check_frame(Span<const std::uint8_t> bytes, std::size_t& size, std::uint16_t& version) noexcept {
     if (bytes.size() < sizeof kRobotImageMagic) {
         return fail(ErrorCode::kTruncatedInput, "robot image shorter than its magic");
     }
@@ -135,7 +152,8 @@ RobotModelError check_frame(Span<const std::uint8_t> bytes, std::size_t& size) n
         return fail(ErrorCode::kTruncatedInput, "robot image shorter than its header");
     }
     Reader r(bytes, layout::kVersion);
-    if (r.u(2U) != kRobotImageFormatVersion) {
+    version = static_cast<std::uint16_t>(r.u(2U));
+    if (version != kRobotImageFormatVersion && version != kRobotImageMimicFormatVersion) {
         return fail(ErrorCode::kUnsupportedVersion, "robot image format version not supported");
     }
     const std::uint8_t links = r.u8();
@@ -144,7 +162,7 @@ RobotModelError check_frame(Span<const std::uint8_t> bytes, std::size_t& size) n
     if (links == 0U || links > kMaxRobotLinks || capsules == 0U || capsules > kMaxRobotCapsules) {
         return fail(ErrorCode::kMalformedInput, "robot image link or capsule count outside 1..capacity");
     }
-    size = robot_image_size(links, capsules);
+    size = robot_image_size(links, capsules, version);
     Reader sized(bytes, layout::kImageSize);
     if (sized.u(4U) != size) {
         return fail(ErrorCode::kMalformedInput, "robot image size field disagrees with its counts");
@@ -164,12 +182,17 @@ RobotModelError check_frame(Span<const std::uint8_t> bytes, std::size_t& size) n
 
 }  // namespace
 
+std::uint16_t robot_image_version(const RobotModel& model) noexcept {
+    return has_mimic_joint(model) ? kRobotImageMimicFormatVersion : kRobotImageFormatVersion;
+}
+
 Result<std::size_t, RobotModelError> write_robot_image(const RobotModel& model, Span<std::uint8_t> out) noexcept {
     const RobotModelError e = check_robot_model(model);
     if (!is_no_error(e)) {
         return e;
     }
-    const std::size_t size = robot_image_size(model.link_count, model.capsule_count);
+    const std::uint16_t version = robot_image_version(model);
+    const std::size_t size = robot_image_size(model.link_count, model.capsule_count, version);
     if (out.size() < size) {
         return fail(ErrorCode::kStorageTooSmall, "robot image storage too small");
     }
@@ -177,7 +200,7 @@ Result<std::size_t, RobotModelError> write_robot_image(const RobotModel& model, 
     for (const std::uint8_t m : kRobotImageMagic) {
         w.u(m, 1U);
     }
-    w.u(kRobotImageFormatVersion, 2U);
+    w.u(version, 2U);
     w.u(model.link_count, 1U);
     w.u(model.joint_count, 1U);
     w.u(model.capsule_count, 1U);
@@ -189,7 +212,7 @@ Result<std::size_t, RobotModelError> write_robot_image(const RobotModel& model, 
     w.d(model.base_xyz, 3U);
     w.d(model.base_wxyz, 4U);
     for (std::size_t i = 0U; i < model.link_count; ++i) {
-        write_link(w, model.links[i]);
+        write_link(w, model.links[i], version);
     }
     for (std::size_t i = 0U; i < model.capsule_count; ++i) {
         write_capsule(w, model.capsules[i]);
@@ -201,7 +224,8 @@ Result<std::size_t, RobotModelError> write_robot_image(const RobotModel& model, 
 
 Result<LoadedRobot, RobotModelError> load_robot_image(Span<const std::uint8_t> bytes) noexcept {
     std::size_t size = 0U;
-    const RobotModelError frame = check_frame(bytes, size);
+    std::uint16_t version = 0U;
+    const RobotModelError frame = check_frame(bytes, size, version);
     if (!is_no_error(frame)) {
         return frame;
     }
@@ -219,13 +243,16 @@ Result<LoadedRobot, RobotModelError> load_robot_image(Span<const std::uint8_t> b
     r.d(m.base_xyz, 3U);
     r.d(m.base_wxyz, 4U);
     for (std::size_t i = 0U; i < m.link_count; ++i) {
-        reserved_zero = read_link(r, m.links[i]) && reserved_zero;
+        reserved_zero = read_link(r, m.links[i], version) && reserved_zero;
     }
     for (std::size_t i = 0U; i < m.capsule_count; ++i) {
         reserved_zero = read_capsule(r, m.capsules[i]) && reserved_zero;
     }
     if (!reserved_zero) {
         return fail(ErrorCode::kMalformedInput, "robot image reserved byte is not 0");
+    }
+    if (version != robot_image_version(m)) {
+        return fail(ErrorCode::kMalformedInput, "robot image version 2 without a mimic joint");
     }
     out.crc = static_cast<std::uint32_t>(r.u(4U));
     const RobotModelError e = check_robot_model(m);

@@ -94,13 +94,16 @@ RobotModelError check_root(const RobotLink& root) noexcept {
 
 RobotModelError check_link(const RobotModel& m, std::size_t i) noexcept {
     const RobotLink& l = m.links[i];
-    const double numbers[] = {l.lower, l.upper, l.max_velocity};
+    const double numbers[] = {l.lower, l.upper, l.max_velocity, l.mimic_multiplier, l.mimic_offset};
     if (!all_finite(l.origin_xyz, 3U) || !all_finite(l.origin_wxyz, 4U) || !all_finite(l.axis, 3U) ||
-        !all_finite(numbers, 3U)) {
+        !all_finite(numbers, 5U)) {
         return fail(ErrorCode::kNonFiniteValue, i, "link has a value that is not finite");
     }
+    if (!l.mimic && (l.mimic_multiplier != 1.0 || l.mimic_offset != 0.0)) {
+        return fail(ErrorCode::kInvalidArgument, i, "a joint that is not a mimic has a mimic multiplier or offset");
+    }
     if (i == 0U) {
-        return check_root(l);
+        return l.mimic ? fail(ErrorCode::kInvalidArgument, 0U, "the root link cannot be a mimic") : check_root(l);
     }
     if (l.parent >= i) {
         return fail(ErrorCode::kInvalidArgument, i, "link's parent does not come before it (broken chain)");
@@ -115,8 +118,8 @@ RobotModelError check_link(const RobotModel& m, std::size_t i) noexcept {
         return fail(ErrorCode::kInvalidArgument, i, "joint origin farther than kMaxRobotReach");
     }
     if (l.joint == JointType::kFixed) {
-        if (l.command_index != kNoCommandIndex) {
-            return fail(ErrorCode::kInvalidArgument, i, "fixed joint with a command index");
+        if (l.command_index != kNoCommandIndex || l.mimic) {
+            return fail(ErrorCode::kInvalidArgument, i, "fixed joint with a command index or a mimic");
         }
         return RobotModelError{};
     }
@@ -135,6 +138,29 @@ RobotModelError check_link(const RobotModel& m, std::size_t i) noexcept {
     }
     if (!(l.max_velocity > 0.0)) {
         return fail(ErrorCode::kInvalidArgument, i, "joint's max_velocity is not positive");
+    }
+    return RobotModelError{};
+}
+
+/// Mimic link @p i: a non-zero multiplier, and its master's whole range
+/// mapped inside its own limits (a wrong multiplier or offset shows there).
+RobotModelError check_mimic(const RobotModel& m, std::size_t i) noexcept {
+    const RobotLink& l = m.links[i];
+    const RobotLink* master = commanded_link(m, l.command_index);
+    if (master == nullptr) {
+        return fail(ErrorCode::kInvalidArgument, i, "mimic joint's master is not a commanded joint");
+    }
+    if (l.mimic_multiplier == 0.0) {
+        return fail(ErrorCode::kInvalidArgument, i, "mimic multiplier is 0 (a fixed joint?)");
+    }
+    const double at_lower = l.mimic_multiplier * master->lower + l.mimic_offset;
+    const double at_upper = l.mimic_multiplier * master->upper + l.mimic_offset;
+    const double lo = at_lower < at_upper ? at_lower : at_upper;
+    const double hi = at_lower < at_upper ? at_upper : at_lower;
+    const double largest = std::fmax(1.0, std::fmax(std::fabs(l.lower), std::fabs(l.upper)));
+    const double slack = kMimicRangeTolerance * largest;
+    if (lo < l.lower - slack || hi > l.upper + slack) {
+        return fail(ErrorCode::kInvalidArgument, i, "mimic's master range maps outside its limits (wrong ratio?)");
     }
     return RobotModelError{};
 }
@@ -169,7 +195,7 @@ RobotModelError check_robot_model(const RobotModel& model) noexcept {
         if (!is_no_error(e)) {
             return e;
         }
-        if (model.links[i].joint != JointType::kFixed) {
+        if (model.links[i].joint != JointType::kFixed && !model.links[i].mimic) {
             const std::uint32_t bit = 1U << model.links[i].command_index;  // < joint_count <= 7
             if ((indices_seen & bit) != 0U) {
                 return fail(ErrorCode::kInvalidArgument, i, "two movable joints share a command index");
@@ -180,6 +206,12 @@ RobotModelError check_robot_model(const RobotModel& model) noexcept {
     if (indices_seen != (1U << model.joint_count) - 1U) {
         return fail(ErrorCode::kInvalidArgument, 0U, "movable joints do not use command indices 0..joint_count-1");
     }
+    for (std::size_t i = 1U; i < model.link_count; ++i) {
+        e = model.links[i].mimic ? check_mimic(model, i) : RobotModelError{};
+        if (!is_no_error(e)) {
+            return e;
+        }
+    }
     for (std::size_t i = 0U; i < model.capsule_count; ++i) {
         e = check_capsule(model, i);
         if (!is_no_error(e)) {
@@ -187,6 +219,25 @@ RobotModelError check_robot_model(const RobotModel& model) noexcept {
         }
     }
     return RobotModelError{};
+}
+
+const RobotLink* commanded_link(const RobotModel& model, std::size_t k) noexcept {
+    for (std::size_t i = 1U; i < model.link_count && i < kMaxRobotLinks; ++i) {
+        const RobotLink& l = model.links[i];
+        if (l.joint != JointType::kFixed && !l.mimic && l.command_index == k) {
+            return &l;
+        }
+    }
+    return nullptr;
+}
+
+bool has_mimic_joint(const RobotModel& model) noexcept {
+    for (std::size_t i = 0U; i < model.link_count && i < kMaxRobotLinks; ++i) {
+        if (model.links[i].mimic) {
+            return true;
+        }
+    }
+    return false;
 }
 
 }  // namespace cellguard

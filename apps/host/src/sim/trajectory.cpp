@@ -27,17 +27,6 @@ std::string keyframe_key(std::size_t i) { return "robot.keyframe[" + std::to_str
 
 std::string joint_key(std::size_t i, std::size_t j) { return keyframe_key(i) + ".joints[" + std::to_string(j) + "]"; }
 
-// The movable joint of @p model with command index @p k, or nullptr.
-const RobotLink* joint_link(const RobotModel& model, std::size_t k) noexcept {
-    const std::size_t links = std::min<std::size_t>(model.link_count, kMaxRobotLinks);
-    for (std::size_t i = 0U; i < links; ++i) {
-        if (model.links[i].joint != JointType::kFixed && model.links[i].command_index == k) {
-            return &model.links[i];
-        }
-    }
-    return nullptr;
-}
-
 const char* unit_of(const RobotLink& link) { return link.joint == JointType::kPrismatic ? "m" : "rad"; }
 
 // Joint j of keyframe i against its link's limits, and its speed from keyframe i - 1.
@@ -120,7 +109,7 @@ std::string check_trajectory(const JointTrajectory& trajectory, const RobotModel
                                 std::to_string(model.joint_count) + " movable joints");
         }
         for (std::size_t j = 0U; j < f.q.count; ++j) {
-            const RobotLink* link = joint_link(model, j);
+            const RobotLink* link = commanded_link(model, j);
             if (link == nullptr) {
                 return error_at(f.place, joint_key(i, j), "the robot has no joint with this command index");
             }
@@ -212,7 +201,7 @@ RobotCommand simulated_command(const RobotModel& model, std::uint32_t image_crc,
     c.joint_count = static_cast<std::uint8_t>(std::min<std::size_t>(q.count, kMaxCommandJoints));
     c.robot_id = static_cast<std::uint16_t>(image_crc & 0xFFFFU);
     for (std::size_t j = 0U; j < c.joint_count; ++j) {
-        const RobotLink* link = joint_link(model, j);
+        const RobotLink* link = commanded_link(model, j);
         c.joint_raw[j] = joint_raw(link != nullptr ? link->joint : JointType::kRevolute, q.q[j]);
     }
     return c;

@@ -43,7 +43,9 @@ constexpr bool is_no_error(JointCheck check) noexcept { return check == JointChe
 /// A position beyond a limit by less than half a raw unit is accepted (the
 /// wire cannot say it more exactly). Checks in this order, the first failure
 /// returned: robot id, joint count, raw values (used ones not
-/// kJointRawInvalid, unused ones 0), limits (by command index).
+/// kJointRawInvalid, unused ones 0), limits (by command index). A mimic
+/// joint is not checked here: check_robot_model has shown that its master's
+/// whole range maps inside its limits.
 /// @p model must pass check_robot_model (contract).
 [[nodiscard]] Result<JointPositions, JointCheck> joint_positions(const RobotModel& model, std::uint32_t image_crc,
                                                                  const RobotCommand& command) noexcept;
@@ -63,8 +65,9 @@ struct RobotPose {
 };
 
 /// Places every capsule of @p model at joint positions @p q (q.count must be
-/// the model's joint_count and the model checked: contracts). Work: one
-/// transform per link and two points per capsule. Sine and cosine come from
+/// the model's joint_count and the model checked: contracts). A mimic joint
+/// stands at its multiplier times its master's position plus its offset.
+/// Work: one transform per link and two points per capsule. Sine and cosine come from
 /// a fixed polynomial (fdlibm's kernels after a Cody-Waite reduction, within
 /// 4e-16 of the C library's over the wire's joint range), not the C library,
 /// and every product is written out in scalar operations: the same bits on

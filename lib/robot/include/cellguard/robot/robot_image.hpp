@@ -28,12 +28,18 @@ constexpr std::size_t kRobotImageMaxBytes = 4096U;
 
 /// The image's first eight bytes, ASCII "CGROBOT1".
 constexpr std::uint8_t kRobotImageMagic[8] = {0x43U, 0x47U, 0x52U, 0x4FU, 0x42U, 0x4FU, 0x54U, 0x31U};
-/// The format version this build writes and reads.
+/// The format version of a model without mimic joints: written for every
+/// such model, so its bytes, CRC and robot id are those of every earlier build.
 constexpr std::uint16_t kRobotImageFormatVersion = 1U;
+/// The format version of a model with a mimic joint: each link record adds
+/// the mimic flag, multiplier and offset. This build reads both versions.
+constexpr std::uint16_t kRobotImageMimicFormatVersion = 2U;
 /// Bytes of the image's header (magic .. base rotation).
 constexpr std::size_t kRobotImageHeaderBytes = 108U;
-/// Bytes of one link record.
+/// Bytes of one link record (version 1).
 constexpr std::size_t kRobotImageLinkBytes = 108U;
+/// Bytes of one link record (version 2: version 1's and two binary64).
+constexpr std::size_t kRobotImageMimicLinkBytes = 124U;
 /// Bytes of one capsule record.
 constexpr std::size_t kRobotImageCapsuleBytes = 60U;
 
@@ -52,13 +58,20 @@ constexpr std::size_t kBaseWxyz = 76U;      ///< 4 binary64
 }  // namespace robot_image_layout
 
 /// Size in bytes of the image of a model with @p links links and @p capsules
-/// capsules: header, link records, capsule records and the 4-byte CRC.
-[[nodiscard]] constexpr std::size_t robot_image_size(std::size_t links, std::size_t capsules) noexcept {
-    return kRobotImageHeaderBytes + links * kRobotImageLinkBytes + capsules * kRobotImageCapsuleBytes + 4U;
+/// capsules in format @p version (1 or 2): header, link records, capsule
+/// records and the 4-byte CRC.
+[[nodiscard]] constexpr std::size_t robot_image_size(std::size_t links, std::size_t capsules,
+                                                     std::uint16_t version = kRobotImageFormatVersion) noexcept {
+    const std::size_t link_bytes = version == kRobotImageMimicFormatVersion ? kRobotImageMimicLinkBytes
+                                                                            : kRobotImageLinkBytes;
+    return kRobotImageHeaderBytes + links * link_bytes + capsules * kRobotImageCapsuleBytes + 4U;
 }
 
-static_assert(robot_image_size(kMaxRobotLinks, kMaxRobotCapsules) <= kRobotImageMaxBytes,
+static_assert(robot_image_size(kMaxRobotLinks, kMaxRobotCapsules, kRobotImageMimicFormatVersion) <= kRobotImageMaxBytes,
               "the largest robot image fits kRobotImageMaxBytes");
+
+/// The format version @p model is written in: 2 when it has a mimic joint, else 1.
+[[nodiscard]] std::uint16_t robot_image_version(const RobotModel& model) noexcept;
 
 /// A loaded robot image: the model and the image's CRC-32.
 struct LoadedRobot {
@@ -73,15 +86,17 @@ struct LoadedRobot {
     return static_cast<std::uint16_t>(image_crc & 0xFFFFU);
 }
 
-/// Writes @p model (checked first with check_robot_model) as an image into
+/// Writes @p model (checked first with check_robot_model) as an image in
+/// format robot_image_version(model) into
 /// @p out; returns the number of bytes written. Errors: the model's own, or
 /// kStorageTooSmall when @p out is shorter than the image.
 [[nodiscard]] Result<std::size_t, RobotModelError> write_robot_image(const RobotModel& model,
                                                                      Span<std::uint8_t> out) noexcept;
 
-/// Reads and checks an image. Errors: kTruncatedInput, kBadMagic,
-/// kUnsupportedVersion, kMalformedInput (size or counts disagree),
-/// kCrcMismatch, then check_robot_model's.
+/// Reads and checks an image of either version. Errors: kTruncatedInput,
+/// kBadMagic, kUnsupportedVersion, kMalformedInput (size or counts disagree,
+/// a reserved bit set, a version 2 image without a mimic joint: each model
+/// has one image), kCrcMismatch, then check_robot_model's.
 [[nodiscard]] Result<LoadedRobot, RobotModelError> load_robot_image(Span<const std::uint8_t> bytes) noexcept;
 
 }  // namespace cellguard

@@ -15,7 +15,10 @@
 /// about the axis; a prismatic joint translates it by q metres along the
 /// axis. The root link sits at base_translation / base_rotation in the
 /// cell's world frame. Movable joints take their position from the PLC's
-/// command: command_index k reads RobotCommand::joint_raw[k].
+/// command: command_index k reads RobotCommand::joint_raw[k]. A mimic joint
+/// (a parallelogram linkage's passive joint, URDF <mimic>) is not sent: it
+/// reads its master's position q (the joint that owns command_index) and
+/// stands at mimic_multiplier * q + mimic_offset.
 #ifndef CELLGUARD_ROBOT_MODEL_HPP
 #define CELLGUARD_ROBOT_MODEL_HPP
 
@@ -44,6 +47,9 @@ constexpr double kMaxRobotReach = 10.0;
 /// Largest |limit| of a revolute joint, radians (16 turns; the command carries
 /// +-6.5534 rad, and the kinematics' sine and cosine are exact far beyond).
 constexpr double kMaxRevoluteLimit = 100.0;
+/// Slack of a mimic's mapped range against its own limits, relative to the
+/// larger of 1 and its largest |limit| (URDFs print limits to a few digits).
+constexpr double kMimicRangeTolerance = 1e-6;
 /// Tolerance of a joint axis' or a quaternion's unit length (|len - 1| <= this).
 constexpr double kUnitLengthTolerance = 1e-6;
 
@@ -65,6 +71,9 @@ struct RobotLink {
     double lower = 0.0;                            ///< movable joints: lowest position (rad or m)
     double upper = 0.0;                            ///< movable joints: highest position (rad or m), >= lower
     double max_velocity = 0.0;                     ///< movable joints: largest speed (rad/s or m/s), > 0
+    bool mimic = false;             ///< movable joints: follows the joint that owns command_index (not sent)
+    double mimic_multiplier = 1.0;  ///< mimic joints: position = multiplier * master + offset (non-zero); else 1
+    double mimic_offset = 0.0;      ///< mimic joints: see mimic_multiplier (rad or m); else 0
 };
 
 /// A capsule: all points within radius of the segment a-b, in its link's frame.
@@ -103,7 +112,11 @@ constexpr bool is_no_error(const RobotModelError& e) noexcept { return e.code ==
 /// identity origin (base_xyz / base_wxyz place it); known joint types; unit
 /// quaternions and unit axes of movable joints (within
 /// kUnitLengthTolerance); movable joints' command indices exactly
-/// 0..joint_count-1, each once; lower <= upper, both within
+/// 0..joint_count-1, each once (mimic joints excepted: theirs names their
+/// master, which must not be a mimic); a mimic's multiplier non-zero and its
+/// master's whole range mapped inside its own limits (within
+/// kMimicRangeTolerance); a link that is not a mimic with multiplier 1 and
+/// offset 0; lower <= upper, both within
 /// +-kMaxRevoluteLimit (revolute) or +-kMaxRobotReach (prismatic);
 /// max_velocity > 0; fixed
 /// joints without a command index; capsules on existing links with
@@ -114,6 +127,13 @@ constexpr bool is_no_error(const RobotModelError& e) noexcept { return e.code ==
 /// infinity, kInvalidArgument for everything else (index = the link or
 /// capsule; 0 for the counts, the name and the base).
 [[nodiscard]] RobotModelError check_robot_model(const RobotModel& model) noexcept;
+
+/// The link whose joint owns command index @p k (movable, not a mimic), or
+/// nullptr when no link does. One per index in a checked model.
+[[nodiscard]] const RobotLink* commanded_link(const RobotModel& model, std::size_t k) noexcept;
+
+/// Whether @p model has a mimic joint (its image then needs format version 2).
+[[nodiscard]] bool has_mimic_joint(const RobotModel& model) noexcept;
 
 }  // namespace cellguard
 
