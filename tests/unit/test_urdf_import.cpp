@@ -7,6 +7,7 @@
 
 #if defined(CELLGUARD_HOST_URDF) && CELLGUARD_HOST_URDF  // a cross build has no liburdfdom (apps/host/CMakeLists.txt)
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -345,17 +346,102 @@ TEST_CASE("urdf import: joint limits: velocity, order, range, continuous joints,
 }
 
 // verifies: SR-ROB-104
-TEST_CASE("urdf import: floating and planar joints, and a mimic of an arm joint, are refused naming the joint") {
+TEST_CASE("urdf import: floating and planar joints are refused naming the joint") {
     const UrdfImportOptions none = order({});
     refusal(robot(link("base") + link("arm") + joint("free", "base", "arm", "floating", "")), none,
             {"joint 'free' is floating"});
     refusal(robot(link("base") + link("arm") + joint("plane", "base", "arm", "planar", R"(<axis xyz="0 0 1"/>)")), none,
             {"joint 'plane' is planar"});
-    const std::string mimic_arm = robot(
-        link("base") + link("a") + link("b") + joint("j1", "base", "a") +
-        joint("j2", "base", "b", "revolute", std::string(R"(<axis xyz="0 0 1"/><mimic joint="j1"/>)") + kLimit));
-    refusal(mimic_arm, order({"j1", "j2"}), {"joint 'j2' mimics joint 'j1'", "name 'j1' a stroke joint"});
-    refusal(mimic_arm, order({"j1"}), {"joint 'j2' mimics joint 'j1'"});
+}
+
+namespace {
+
+/// A palletizer's arm: pan j1 to "turret", lift j2 to "upper_arm", elbow j3 to "forearm"; a rear bar on the
+/// turret that mimics the lift (@p bar_mimic: attributes of its <mimic>), and "wrist" on the forearm kept level
+/// by a mimic of the elbow (x -1 + 0.2). Each link a 0.1 m sphere.
+std::string palletizer(const std::string& bar_mimic = R"(joint="j2")") {
+    const std::string y_axis = R"(<axis xyz="0 1 0"/>)";
+    return robot(link("base") + link("turret") + link("upper_arm") + link("rear_bar") + link("forearm") +
+                 link("wrist") + joint("j1", "base", "turret") +
+                 joint("j2", "turret", "upper_arm", "revolute", y_axis + kLimit) +
+                 joint("j3", "upper_arm", "forearm", "revolute", y_axis + kLimit) +
+                 joint("bar", "turret", "rear_bar", "revolute", y_axis + "<mimic " + bar_mimic + "/>" + kLimit) +
+                 joint("wrist_level", "forearm", "wrist", "revolute",
+                       y_axis + R"(<mimic joint="j3" multiplier="-1" offset="0.2"/>)" +
+                           R"(<limit lower="-1" upper="1.3" velocity="2" effort="1"/>)"));
+}
+
+std::size_t link_named(const UrdfImport& r, const std::string& name) {
+    const auto it = std::find(r.link_names.begin(), r.link_names.end(), name);
+    REQUIRE(it != r.link_names.end());
+    return static_cast<std::size_t>(it - r.link_names.begin());
+}
+
+}  // namespace
+
+// verifies: SR-ROB-111
+TEST_CASE("urdf import: an arm joint's mimic follows its master, is not sent, and places as that position sent") {
+    UrdfImport r;
+    REQUIRE(host::import_urdf_text(palletizer(), order({"j1", "j2", "j3"}), r).ok());
+    const RobotModel& m = r.model;
+    CHECK(m.link_count == 6U);
+    CHECK(m.joint_count == 3U);
+    const RobotLink& bar = m.links[link_named(r, "rear_bar")];
+    const RobotLink& level = m.links[link_named(r, "wrist")];
+    CHECK(bar.mimic);
+    CHECK(bar.command_index == 1U);
+    CHECK(bar.mimic_multiplier == 1.0);
+    CHECK(bar.mimic_offset == 0.0);
+    CHECK(level.mimic);
+    CHECK(level.command_index == 2U);
+    CHECK(level.mimic_multiplier == -1.0);
+    CHECK(level.mimic_offset == 0.2);
+    CHECK_FALSE(m.links[link_named(r, "upper_arm")].mimic);
+    CHECK(std::any_of(r.notes.begin(), r.notes.end(),
+                      [](const std::string& n) { return n.find("joint 'wrist_level' mimics 'j3': not sent") == 0U; }));
+    CHECK(robot_image_version(m) == kRobotImageMimicFormatVersion);
+    // The reference: the same arm without <mimic>, all five joints sent, the followers at their positions.
+    std::string plain = palletizer();
+    for (const std::string tag : {R"(<mimic joint="j2"/>)", R"(<mimic joint="j3" multiplier="-1" offset="0.2"/>)"}) {
+        plain.erase(plain.find(tag), tag.size());
+    }
+    UrdfImport reference;
+    REQUIRE(host::import_urdf_text(plain, order({"j1", "j2", "j3", "bar", "wrist_level"}), reference).ok());
+    REQUIRE(reference.model.capsule_count == m.capsule_count);
+    for (const double lift : {-0.9, 0.0, 0.6}) {
+        for (const double elbow : {-1.0, 0.3, 1.0}) {
+            JointPositions q;
+            q.count = 3U;
+            q.q[0] = 0.4;
+            q.q[1] = lift;
+            q.q[2] = elbow;
+            JointPositions q5 = q;
+            q5.count = 5U;
+            q5.q[3] = 1.0 * lift + 0.0;
+            q5.q[4] = -1.0 * elbow + 0.2;
+            RobotPose got;
+            RobotPose want;
+            place_robot(m, q, got);
+            place_robot(reference.model, q5, want);
+            for (std::size_t c = 0U; c < m.capsule_count; ++c) {
+                INFO("capsule " << c << ", lift " << lift << ", elbow " << elbow);
+                CHECK(std::memcmp(&got.capsules[c], &want.capsules[c], sizeof(PlacedCapsule)) == 0);
+            }
+        }
+    }
+}
+
+// verifies: SR-ROB-111
+TEST_CASE("urdf import: an arm joint's mimic that is sent, has a wrong ratio or follows a mimic is refused") {
+    const UrdfImportOptions arm = order({"j1", "j2", "j3"});
+    refusal(palletizer(), order({"j1", "j2", "j3", "bar"}),
+            {"joint order: joint 'bar' mimics 'j2' and follows it: the PLC does not send it"});
+    refusal(palletizer(R"(joint="j2" multiplier="2")"), arm,
+            {"joint 'bar' mimics joint 'j2' (x 2 + 0)", "outside its own limits", "a wrong multiplier or offset?"});
+    refusal(palletizer(R"(joint="j2" offset="0.5")"), arm, {"joint 'bar' mimics joint 'j2' (x 1 + 0.5)"});
+    refusal(palletizer(R"(joint="j2" multiplier="0" offset="0")"), arm, {"joint 'bar': mimic multiplier 0"});
+    refusal(palletizer(R"(joint="wrist_level")"), arm, {"joint 'bar' mimics joint 'wrist_level', itself a mimic"});
+    refusal(palletizer(R"(joint="ghost")"), arm, {"joint 'bar' mimics joint 'ghost', which is not a movable joint"});
 }
 
 namespace {
@@ -461,8 +547,13 @@ TEST_CASE("urdf import: stroke joints are movable joints of the URDF, named once
     o.stroke_joints = {"j1"};
     refusal(gripper(), o, {"joint 'finger_joint1' moves below a stroke joint: name it a stroke joint too"});
     // Without naming the fingers: the missing joint says what to do.
-    refusal(gripper(), order({"j1", "finger_joint1"}), {"joint 'finger_joint2' mimics joint 'finger_joint1'"});
-    refusal(gripper(R"(joint="j1")"), order({"j1", "finger_joint1"}), {"joint 'finger_joint2' mimics joint 'j1'"});
+    // A finger the PLC sends: its mimic follows it as an arm joint's mimic would.
+    UrdfImport sent;
+    REQUIRE(host::import_urdf_text(gripper(), order({"j1", "finger_joint1"}), sent).ok());
+    CHECK(sent.model.joint_count == 2U);
+    CHECK(sent.model.links[link_named(sent, "right")].mimic);
+    refusal(gripper(R"(joint="j1")"), order({"j1", "finger_joint1"}),
+            {"joint 'finger_joint2' mimics joint 'j1'", "a wrong multiplier or offset?"});
 }
 
 // verifies: SR-ROB-106

@@ -243,7 +243,7 @@ TEST_CASE("public robots: a UR5e, a Panda with its gripper and a Kinova Gen3 com
         REQUIRE(written.ok());
         CHECK(load_robot_image(Span<const std::uint8_t>(bytes.data(), written.value())).ok());
     }
-    // Without naming the fingers, the Panda's mimic finger is refused with what to do.
+    // Without naming the fingers, the Panda has 8 joints to send: refused with what to do.
     PublicRobot bare = panda();
     bare.strokes.clear();
     UrdfImportOptions o;
@@ -251,7 +251,9 @@ TEST_CASE("public robots: a UR5e, a Panda with its gripper and a Kinova Gen3 com
     UrdfImport r;
     const IoStatus st = host::import_urdf_file(robots_dir() + bare.urdf, o, r);
     CHECK_FALSE(st.ok());
-    CHECK(std::string(st.message()).find("name 'panda_finger_joint1' a stroke joint") != std::string::npos);
+    CHECK(std::string(st.message()).find("8 movable joints to send, at most 7 (name a gripper's fingers stroke") !=
+          std::string::npos);
+    CHECK(std::string(st.message()).find("panda_finger_joint1") != std::string::npos);
 }
 
 // verifies: SR-ROB-109

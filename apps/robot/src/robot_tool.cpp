@@ -162,8 +162,13 @@ void print_links(const host::UrdfImport& r, std::ostream& out) {
         if (l.joint != JointType::kFixed) {
             const char* unit = l.joint == JointType::kRevolute ? "rad" : "m";
             out << ", axis " << l.axis[0] << " " << l.axis[1] << " " << l.axis[2] << ", " << l.lower << " .. "
-                << l.upper << " " << unit << ", " << l.max_velocity << " " << unit << "/s, command position "
-                << int{l.command_index};
+                << l.upper << " " << unit << ", " << l.max_velocity << " " << unit << "/s, ";
+            if (l.mimic) {
+                out << "mimic: " << l.mimic_multiplier << " x command position " << int{l.command_index} << " + "
+                    << l.mimic_offset;
+            } else {
+                out << "command position " << int{l.command_index};
+            }
         }
         out << ")\n";
     }

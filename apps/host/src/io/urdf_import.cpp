@@ -326,17 +326,26 @@ void put_joint(const urdf::Joint& joint, RobotLink& link, std::vector<std::strin
     }
 }
 
-/// Command indices from the PLC's joint order.
+/// Whether node @p i's joint is an arm joint's mimic: movable, kept (not
+/// folded, so its master is no stroke joint) and following its master.
+bool is_arm_mimic(const std::vector<Node>& nodes, std::size_t i) {
+    return is_movable(*nodes[i].joint) && nodes[i].joint->mimic != nullptr;
+}
+
+/// Command indices from the PLC's joint order; an arm joint's mimic is not
+/// in it (put_mimics gives it its master's).
 void put_command_order(const std::vector<Node>& nodes, const std::vector<std::string>& order, RobotModel& model) {
     std::vector<std::string> movable;
     for (std::size_t i = 1U; i < nodes.size(); ++i) {
-        if (model.links[i].joint != JointType::kFixed) {
+        if (model.links[i].joint != JointType::kFixed && !is_arm_mimic(nodes, i)) {
             movable.push_back(nodes[i].joint->name);
         }
     }
     if (movable.size() > kMaxRobotJoints) {
-        fail(ErrorCode::kCapacityExceeded, "%zu movable joints (%s), at most %zu", movable.size(),
-             join(movable, ", ").c_str(), kMaxRobotJoints);
+        fail(ErrorCode::kCapacityExceeded,
+             "%zu movable joints to send, at most %zu (name a gripper's fingers stroke "
+             "joints): %s",
+             movable.size(), kMaxRobotJoints, join(movable, ", ").c_str());
     }
     for (std::size_t k = 0U; k < order.size(); ++k) {
         const auto it = std::find_if(nodes.begin() + 1, nodes.end(),
@@ -344,9 +353,15 @@ void put_command_order(const std::vector<Node>& nodes, const std::vector<std::st
         if (it == nodes.end()) {
             fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' is not in the URDF", order[k].c_str());
         }
-        RobotLink& link = model.links[static_cast<std::size_t>(it - nodes.begin())];
+        const auto i = static_cast<std::size_t>(it - nodes.begin());
+        RobotLink& link = model.links[i];
         if (link.joint == JointType::kFixed) {
             fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' is fixed", order[k].c_str());
+        }
+        if (is_arm_mimic(nodes, i)) {
+            fail(ErrorCode::kInvalidArgument,
+                 "joint order: joint '%s' mimics '%s' and follows it: the PLC does not send it", order[k].c_str(),
+                 it->joint->mimic->joint_name.c_str());
         }
         if (link.command_index != kNoCommandIndex) {
             fail(ErrorCode::kInvalidArgument, "joint order: joint '%s' named twice", order[k].c_str());
@@ -354,7 +369,8 @@ void put_command_order(const std::vector<Node>& nodes, const std::vector<std::st
         link.command_index = static_cast<std::uint8_t>(k);
     }
     for (std::size_t i = 1U; i < nodes.size(); ++i) {
-        if (model.links[i].joint != JointType::kFixed && model.links[i].command_index == kNoCommandIndex) {
+        if (model.links[i].joint != JointType::kFixed && !is_arm_mimic(nodes, i) &&
+            model.links[i].command_index == kNoCommandIndex) {
             fail(ErrorCode::kInvalidArgument,
                  "joint order: movable joint '%s' is missing (the PLC must send it; a gripper's finger joint is "
                  "named a stroke joint instead)",
@@ -491,13 +507,33 @@ bool is_stroke_joint(const std::vector<Node>& nodes, std::size_t i, const UrdfIm
         return false;
     }
     const std::size_t master = mimic_master(nodes, i);
-    if (named(options.stroke_joints, nodes[master].joint->name)) {
-        return true;
+    return named(options.stroke_joints, nodes[master].joint->name);  // else an arm joint's mimic (put_mimics)
+}
+
+/// Each kept mimic joint follows its arm joint master: the master's command
+/// index, the URDF's multiplier and offset, its master's range checked
+/// against its own limits (the model check repeats that).
+void put_mimics(const std::vector<Node>& nodes, RobotModel& model, std::vector<std::string>& notes) {
+    for (std::size_t i = 1U; i < nodes.size(); ++i) {
+        if (!is_arm_mimic(nodes, i)) {
+            continue;
+        }
+        const urdf::Joint& joint = *nodes[i].joint;
+        const RobotLink& master = model.links[mimic_master(nodes, i)];
+        RobotLink& link = model.links[i];
+        check_mimic_range(joint, StrokeRange{master.lower, master.upper}, StrokeRange{link.lower, link.upper});
+        link.command_index = master.command_index;
+        link.mimic = true;
+        link.mimic_multiplier = joint.mimic->multiplier;
+        link.mimic_offset = joint.mimic->offset;
+        if (link.mimic_multiplier == 0.0) {
+            fail(ErrorCode::kInvalidArgument, "joint '%s': mimic multiplier 0 (make it a fixed joint)",
+                 joint.name.c_str());
+        }
+        notes.push_back("joint '" + joint.name + "' mimics '" + joint.mimic->joint_name +
+                        "': not sent, placed at its position x " + std::to_string(link.mimic_multiplier) + " + " +
+                        std::to_string(link.mimic_offset));
     }
-    fail(ErrorCode::kUnsupportedType,
-         "joint '%s' mimics joint '%s': name '%s' a stroke joint if it moves a gripper (a mimic of an arm joint is "
-         "not supported)",
-         joint.name.c_str(), joint.mimic->joint_name.c_str(), joint.mimic->joint_name.c_str());
 }
 
 StrokePlan plan_strokes(const std::vector<Node>& nodes, const UrdfImportOptions& options,
@@ -861,6 +897,7 @@ void import_model(const std::string& text, const UrdfImportOptions& options, Urd
         result.joint_names.push_back(nodes[i].joint->name);
     }
     put_command_order(nodes, options.joint_order, model);
+    put_mimics(nodes, model, result.notes);
     put_capsules(all, plan, index, options, result);
     put_name_and_base(urdf->getName(), options, result);
     const RobotModelError error = check_robot_model(model);

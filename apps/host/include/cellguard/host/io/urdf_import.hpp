@@ -17,8 +17,8 @@
 /// limits -2 pi .. +2 pi (kinematics are periodic: the PLC sends the
 /// position wrapped into that range, which the command's +-6.5534 rad
 /// carries), and the notes say so. Refused, naming the joint: floating and
-/// planar joints, a mimic joint that is not a stroke joint (below), a mimic
-/// of a mimic or of a joint the URDF lacks, a movable joint without <axis>, a zero axis,
+/// planar joints, a mimic of a mimic or of a joint the URDF lacks, a movable
+/// joint without <axis>, a zero axis,
 /// an axis whose length differs from 1 by more than kUrdfAxisTolerance
 /// (within it, the axis is normalised and the notes say so: URDFs write
 /// "0.7071 0 0.7071"), lower > upper, velocity <= 0 (a continuous joint
@@ -27,6 +27,13 @@
 /// joint names (UrdfImportOptions::joint_order), matched by name: each must
 /// name a movable joint, once; every movable joint must be named; at most
 /// kMaxRobotJoints. A zero pose outside the limits is allowed (real arms).
+///
+/// Mimic joints of sent joints (a palletizer's parallelogram): a mimic whose
+/// master the PLC sends is not in the joint order (refused when named there)
+/// and becomes a mimic link (robot_model.hpp) with its master's command
+/// index and the URDF's multiplier and offset; its master's range must map
+/// inside its own limits ("a wrong multiplier or offset?"), and a multiplier
+/// of 0 is refused. The notes list each mimic.
 ///
 /// Grippers: UrdfImportOptions::stroke_joints names the joints the PLC does
 /// not send (a gripper's fingers). A mimic joint of a stroke joint is one
