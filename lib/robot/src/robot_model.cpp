@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "cellguard/base/contract.hpp"
+
 namespace cellguard {
 
 namespace {
@@ -142,14 +144,14 @@ RobotModelError check_link(const RobotModel& m, std::size_t i) noexcept {
     return RobotModelError{};
 }
 
-/// Mimic link @p i: a non-zero multiplier, and its master's whole range
-/// mapped inside its own limits (a wrong multiplier or offset shows there).
+/// Mimic link @p i (command indices already checked): a non-zero multiplier,
+/// and its master's whole range mapped inside its own limits (a wrong
+/// multiplier or offset shows there).
 RobotModelError check_mimic(const RobotModel& m, std::size_t i) noexcept {
     const RobotLink& l = m.links[i];
     const RobotLink* master = commanded_link(m, l.command_index);
-    if (master == nullptr) {
-        return fail(ErrorCode::kInvalidArgument, i, "mimic joint's master is not a commanded joint");
-    }
+    // check_link put the index below joint_count, and every index there has its commanded joint.
+    CG_ENFORCE(master != nullptr, "check_mimic runs after the command indices are checked");
     if (l.mimic_multiplier == 0.0) {
         return fail(ErrorCode::kInvalidArgument, i, "mimic multiplier is 0 (a fixed joint?)");
     }
