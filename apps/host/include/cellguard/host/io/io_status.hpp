@@ -7,7 +7,9 @@
 ///
 /// The message lives in a fixed buffer inside the object, so making an error
 /// never allocates and never throws; a longer message is cut at
-/// kMessageCapacity - 1 characters.
+/// kMessageCapacity - 1 characters (512 bytes: room for a file path of a
+/// deep checkout in front of a message that ends with its advice or a list
+/// of names).
 #ifndef CELLGUARD_HOST_IO_IO_STATUS_HPP
 #define CELLGUARD_HOST_IO_IO_STATUS_HPP
 
@@ -21,7 +23,7 @@ namespace cellguard {
 class [[nodiscard]] IoStatus {
 public:
     /// Capacity of the message buffer, terminating NUL included.
-    static constexpr std::size_t kMessageCapacity = 256;
+    static constexpr std::size_t kMessageCapacity = 512;
 
     /// Success (empty message).
     IoStatus() noexcept = default;
