@@ -442,6 +442,17 @@ TEST_CASE("urdf import: an arm joint's mimic that is sent, has a wrong ratio or 
     refusal(palletizer(R"(joint="j2" multiplier="0" offset="0")"), arm, {"joint 'bar': mimic multiplier 0"});
     refusal(palletizer(R"(joint="wrist_level")"), arm, {"joint 'bar' mimics joint 'wrist_level', itself a mimic"});
     refusal(palletizer(R"(joint="ghost")"), arm, {"joint 'bar' mimics joint 'ghost', which is not a movable joint"});
+    // Without a velocity limit a mimic takes its master's x |multiplier|; a negative one is still refused.
+    std::string slow = palletizer();
+    const std::string bar_limit = R"(<mimic joint="j2"/><limit lower="-1" upper="1" velocity="2")";
+    REQUIRE(slow.find(bar_limit) != std::string::npos);
+    slow.replace(slow.find(bar_limit), bar_limit.size(),
+                 R"(<mimic joint="j2"/><limit lower="-1" upper="1" velocity="0")");
+    UrdfImport r;
+    REQUIRE(host::import_urdf_text(slow, arm, r).ok());
+    CHECK(r.model.links[link_named(r, "rear_bar")].max_velocity == 2.0);
+    slow.replace(slow.find("velocity=\"0\""), 12, "velocity=\"-1\"");
+    refusal(slow, arm, {"joint 'bar': velocity limit -1, must be > 0"});
 }
 
 namespace {

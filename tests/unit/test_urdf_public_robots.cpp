@@ -5,7 +5,8 @@
 // points of their stroke too) the controller's kinematics place every capsule where an independent forward
 // kinematics (Eigen over liburdfdom's model, written here) puts its link, and every vertex of every collision mesh
 // lies inside a capsule of its link (a finger's: of the hand).
-// Requirements: SR-ROB-101, SR-ROB-102, SR-ROB-108, SR-ROB-109
+// A FANUC M-900iA/260L (ROS-Industrial) adds an arm whose parallel links are mimic joints of joint 3.
+// Requirements: SR-ROB-101, SR-ROB-102, SR-ROB-108, SR-ROB-109, SR-ROB-111
 #include <doctest/doctest.h>
 
 #if defined(CELLGUARD_HOST_URDF) && CELLGUARD_HOST_URDF  // a cross build has no liburdfdom (apps/host/CMakeLists.txt)
@@ -56,6 +57,12 @@ PublicRobot panda() {
 PublicRobot gen3() {
     return {"kinova_gen3/kinova_gen3.urdf",
             {"joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6", "joint_7"},
+            {}};
+}
+
+PublicRobot fanuc_m900() {
+    return {"fanuc_m900ia260l/fanuc_m900ia260l.urdf",
+            {"joint_1", "joint_2", "joint_3", "joint_4", "joint_5", "joint_6"},
             {}};
 }
 
@@ -261,6 +268,33 @@ TEST_CASE("public robots: in 25 random poses each, the capsules sit on the links
     CHECK(check_poses(ur5e(), 25, 1U) > 10000U);
     CHECK(check_poses(panda(), 25, 2U) > 10000U);
     CHECK(check_poses(gen3(), 25, 3U) > 10000U);
+}
+
+// verifies: SR-ROB-111
+TEST_CASE("public robots: a FANUC M-900iA/260L's parallel links follow joint 3 as mimics and hold every vertex") {
+    const UrdfImport r = commission(fanuc_m900());
+    CHECK(r.model.link_count == 9U);
+    CHECK(r.model.joint_count == 6U);
+    CHECK(r.model.capsule_count == 9U);
+    int mimics = 0;
+    for (std::size_t i = 0U; i < r.model.link_count; ++i) {
+        const RobotLink& l = r.model.links[i];
+        if (l.mimic) {
+            ++mimics;
+            CHECK(l.command_index == 2U);  // joint_3
+            CHECK(std::abs(l.mimic_multiplier) == 1.0);
+            CHECK(l.max_velocity == r.model.links[3].max_velocity);  // no limit in the file: its master's
+        }
+    }
+    CHECK(mimics == 2);
+    CHECK(robot_image_version(r.model) == kRobotImageMimicFormatVersion);
+    std::vector<std::uint8_t> bytes(kRobotImageMaxBytes);
+    const auto written = write_robot_image(r.model, Span<std::uint8_t>(bytes.data(), bytes.size()));
+    REQUIRE(written.ok());
+    CHECK(written.value() == robot_image_size(9U, 9U, kRobotImageMimicFormatVersion));
+    CHECK(load_robot_image(Span<const std::uint8_t>(bytes.data(), written.value())).ok());
+    // The independent kinematics moves plink_1 and plink_2 by joint_3 x -1 and x 1 as the URDF's <mimic> says.
+    CHECK(check_poses(fanuc_m900(), 25, 4U) > 5000U);
 }
 
 #endif

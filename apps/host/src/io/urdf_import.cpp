@@ -278,7 +278,7 @@ void put_limits(const urdf::Joint& joint, RobotLink& link, std::vector<std::stri
     if (!std::isfinite(lower) || !std::isfinite(upper) || !std::isfinite(velocity)) {
         fail(ErrorCode::kNonFiniteValue, "joint '%s': a limit is not finite", name);
     }
-    if (!(velocity > 0.0)) {
+    if (!(velocity > 0.0) && !(joint.mimic && velocity == 0.0)) {  // a mimic without one: put_mimics
         fail(ErrorCode::kInvalidArgument, "joint '%s': velocity limit %g, must be > 0 (<limit velocity=...>)", name,
              velocity);
     }
@@ -529,6 +529,10 @@ void put_mimics(const std::vector<Node>& nodes, RobotModel& model, std::vector<s
         if (link.mimic_multiplier == 0.0) {
             fail(ErrorCode::kInvalidArgument, "joint '%s': mimic multiplier 0 (make it a fixed joint)",
                  joint.name.c_str());
+        }
+        if (!(link.max_velocity > 0.0)) {
+            link.max_velocity = std::abs(link.mimic_multiplier) * master.max_velocity;
+            notes.push_back("joint '" + joint.name + "': no velocity limit, its master's x |multiplier| taken");
         }
         notes.push_back("joint '" + joint.name + "' mimics '" + joint.mimic->joint_name +
                         "': not sent, placed at its position x " + std::to_string(link.mimic_multiplier) + " + " +

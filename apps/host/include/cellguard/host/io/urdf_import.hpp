@@ -33,7 +33,8 @@
 /// and becomes a mimic link (robot_model.hpp) with its master's command
 /// index and the URDF's multiplier and offset; its master's range must map
 /// inside its own limits ("a wrong multiplier or offset?"), and a multiplier
-/// of 0 is refused. The notes list each mimic.
+/// of 0 is refused. A mimic without a velocity limit (0 or no <limit>) gets
+/// its master's x |multiplier|. The notes list each mimic.
 ///
 /// Grippers: UrdfImportOptions::stroke_joints names the joints the PLC does
 /// not send (a gripper's fingers). A mimic joint of a stroke joint is one
