@@ -146,7 +146,7 @@ TEST_CASE("mesh: every public robot's STL mesh gives the mesh library the same v
         CHECK_MESSAGE(same, entry.path().string());
         ++files;
     }
-    CHECK(files == 27U);  // UR5e 7, Panda 10, Gen3 8, two Jaco2 parts
+    CHECK(files == 36U);  // UR5e 7, Panda 10, Gen3 8, two Jaco2 parts, FANUC M-900iA 9
 }
 
 // verifies: SR-ROB-105
